@@ -1,0 +1,311 @@
+//! The BSDF interface every model implements.
+//!
+//! # Conventions
+//!
+//! * **Local shading frame**: the normal is +z; cos θ(ω) = ω.z. Every direction is a unit vector
+//!   pointing *away* from the surface.
+//! * **Names follow Mitsuba 3**: `wi` is the direction the path arrived from (towards the camera
+//!   in [`TransportMode::Radiance`]); `wo` is the direction being sampled or evaluated (towards
+//!   the light in radiance mode). pbrt-v4 swaps the two names.
+//! * [`Bsdf::eval`] returns the BSDF value **f(wi, wo) without the cosine** (1/sr), non-delta
+//!   lobes only; a delta lobe evaluates to 0.
+//! * [`Bsdf::pdf`] is the solid-angle density with which [`Bsdf::sample`] produces `wo`,
+//!   including the probability of choosing the lobe, over the non-delta lobes enabled in the
+//!   context. Delta lobes have pdf 0 here.
+//! * [`Bsdf::sample`] returns [`BsdfSample`] with `weight = f·|cos θo| / pdf` for a smooth lobe,
+//!   and for a delta lobe the lobe's throughput divided by the probability of choosing it
+//!   (stored in `pdf`, a discrete probability). `eta` is the relative index crossed,
+//!   n(wo side)/n(wi side) (see [`BsdfSample::eta`]), 1 for reflections.
+//! * **Transport mode**: in radiance mode a refraction multiplies the weight by
+//!   (η_wi / η_wo)², the compression of radiance into a smaller solid angle; in importance mode
+//!   it does not. So f_importance(a, b) = f_radiance(b, a): importance mode is the transpose.
+//! * **Wavelengths**: every call carries the path's [`SampledWavelengths`]. `sample` takes them
+//!   mutably because a dispersive refraction terminates the secondaries (see `crate::ior`).
+//! * A call never allocates and never performs I/O.
+//!
+//! # Extensions without a rewrite
+//!
+//! Stochastic models (Heitz 2016 random walks, layered BSDFs) seed their own generator from a
+//! hash of (wi, wo) so `eval`/`pdf` stay deterministic functions of their arguments, and draw the
+//! rest of their randomness in `sample` from the `u1`, `u2` they are given. Polarization would add
+//! a method with a default that depolarizes (a Mueller matrix diag(f, 0, 0, 0)), leaving every
+//! unpolarized caller unchanged.
+
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3};
+
+/// Lobe kinds, as bit sets. A lobe is one kind of scattering (`REFLECTION | DIFFUSE`, ...); a
+/// BSDF's flags are the union of its lobes'.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
+pub struct BsdfFlags(pub u32);
+
+impl BsdfFlags {
+    /// No lobe.
+    pub const NONE: Self = Self(0);
+    /// Leaves on the side of `wi`.
+    pub const REFLECTION: Self = Self(1);
+    /// Leaves on the other side.
+    pub const TRANSMISSION: Self = Self(2);
+    /// Lambertian-like, broad.
+    pub const DIFFUSE: Self = Self(4);
+    /// Rough specular.
+    pub const GLOSSY: Self = Self(8);
+    /// A Dirac delta (ideal mirror, ideal refraction).
+    pub const DELTA: Self = Self(16);
+    /// Passes straight through without changing the medium (thin sheet); used with TRANSMISSION.
+    pub const NULL: Self = Self(32);
+    /// The lobe is not reciprocal (refraction in radiance mode).
+    pub const NON_SYMMETRIC: Self = Self(64);
+
+    /// Lambertian reflection.
+    pub const DIFFUSE_REFLECTION: Self = Self(1 | 4);
+    /// Diffuse transmission.
+    pub const DIFFUSE_TRANSMISSION: Self = Self(2 | 4);
+    /// Rough reflection.
+    pub const GLOSSY_REFLECTION: Self = Self(1 | 8);
+    /// Rough transmission.
+    pub const GLOSSY_TRANSMISSION: Self = Self(2 | 8);
+    /// Mirror reflection.
+    pub const DELTA_REFLECTION: Self = Self(1 | 16);
+    /// Ideal refraction.
+    pub const DELTA_TRANSMISSION: Self = Self(2 | 16);
+    /// Every kind enabled (the default context mask).
+    pub const ALL: Self = Self(1 | 2 | 4 | 8 | 16 | 32 | 64);
+    /// Diffuse or glossy: lobes with a density.
+    pub const SMOOTH: Self = Self(4 | 8);
+
+    /// True when every bit of `other` is set in `self`.
+    #[inline]
+    pub const fn contains(self, other: Self) -> bool {
+        self.0 & other.0 == other.0
+    }
+    /// True when `self` and `other` share a bit.
+    #[inline]
+    pub const fn intersects(self, other: Self) -> bool {
+        self.0 & other.0 != 0
+    }
+    /// True for a Dirac lobe.
+    #[inline]
+    pub const fn is_delta(self) -> bool {
+        self.intersects(Self::DELTA)
+    }
+    /// True when some lobe has a density (diffuse or glossy).
+    #[inline]
+    pub const fn has_smooth(self) -> bool {
+        self.intersects(Self::SMOOTH)
+    }
+    /// True for a reflection.
+    #[inline]
+    pub const fn is_reflection(self) -> bool {
+        self.intersects(Self::REFLECTION)
+    }
+    /// True for a transmission.
+    #[inline]
+    pub const fn is_transmission(self) -> bool {
+        self.intersects(Self::TRANSMISSION)
+    }
+    /// Both sets of bits.
+    #[inline]
+    pub const fn union(self, other: Self) -> Self {
+        Self(self.0 | other.0)
+    }
+}
+
+impl std::ops::BitOr for BsdfFlags {
+    type Output = Self;
+    #[inline]
+    fn bitor(self, o: Self) -> Self {
+        Self(self.0 | o.0)
+    }
+}
+impl std::ops::BitAnd for BsdfFlags {
+    type Output = Self;
+    #[inline]
+    fn bitand(self, o: Self) -> Self {
+        Self(self.0 & o.0)
+    }
+}
+
+impl std::fmt::Display for BsdfFlags {
+    /// `reflection|delta`-style names, used by `gonio bsdf sample`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        const NAMES: [(BsdfFlags, &str); 7] = [
+            (BsdfFlags::REFLECTION, "reflection"),
+            (BsdfFlags::TRANSMISSION, "transmission"),
+            (BsdfFlags::DIFFUSE, "diffuse"),
+            (BsdfFlags::GLOSSY, "glossy"),
+            (BsdfFlags::DELTA, "delta"),
+            (BsdfFlags::NULL, "null"),
+            (BsdfFlags::NON_SYMMETRIC, "nonsymmetric"),
+        ];
+        let mut first = true;
+        for (flag, name) in NAMES {
+            if self.contains(flag) {
+                if !first {
+                    f.write_str("|")?;
+                }
+                f.write_str(name)?;
+                first = false;
+            }
+        }
+        if first {
+            f.write_str("none")?;
+        }
+        Ok(())
+    }
+}
+
+/// Which quantity a path carries.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default, Hash)]
+pub enum TransportMode {
+    /// Paths from the camera carrying radiance: refraction scales by (η_wi/η_wo)².
+    #[default]
+    Radiance,
+    /// Paths from lights carrying importance (adjoint BSDF): no η² factor.
+    Importance,
+}
+
+impl TransportMode {
+    /// The other mode.
+    pub fn reverse(self) -> Self {
+        match self {
+            TransportMode::Radiance => TransportMode::Importance,
+            TransportMode::Importance => TransportMode::Radiance,
+        }
+    }
+}
+
+/// Per-call settings: the transport mode and the lobes enabled (Mitsuba's `BSDFContext`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BsdfContext {
+    /// Radiance or importance.
+    pub mode: TransportMode,
+    /// A lobe with flags `L` takes part iff `lobes.contains(L's kind bits)`; default all.
+    pub lobes: BsdfFlags,
+}
+
+impl Default for BsdfContext {
+    fn default() -> Self {
+        Self { mode: TransportMode::Radiance, lobes: BsdfFlags::ALL }
+    }
+}
+
+impl BsdfContext {
+    /// Radiance mode, all lobes.
+    pub const fn radiance() -> Self {
+        Self { mode: TransportMode::Radiance, lobes: BsdfFlags::ALL }
+    }
+    /// Importance mode, all lobes.
+    pub const fn importance() -> Self {
+        Self { mode: TransportMode::Importance, lobes: BsdfFlags::ALL }
+    }
+    /// The same mode with only the lobes whose kinds are in `lobes`.
+    pub const fn with_lobes(self, lobes: BsdfFlags) -> Self {
+        Self { mode: self.mode, lobes }
+    }
+    /// True when a lobe with these flags is enabled. Only the kind bits (reflection,
+    /// transmission, diffuse, glossy, delta) are compared.
+    #[inline]
+    pub const fn is_enabled(&self, lobe: BsdfFlags) -> bool {
+        let kind = lobe.0 & 0b11111;
+        self.lobes.0 & kind == kind
+    }
+}
+
+/// The result of [`Bsdf::sample`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BsdfSample {
+    /// The sampled direction, local frame, unit length.
+    pub wo: Vec3,
+    /// f·|cos θo|/pdf for smooth lobes; throughput/selection probability for delta lobes.
+    pub weight: SampledSpectrum,
+    /// Solid-angle density (smooth lobe) or discrete selection probability (delta lobe).
+    pub pdf: f32,
+    /// The lobe that was sampled.
+    pub flags: BsdfFlags,
+    /// Relative index crossed, n(wo side)/n(wi side) for a refraction (Mitsuba's `eta`); 1 for
+    /// reflections and for null transmission. An integrator multiplies its running η product by
+    /// it so that Russian roulette can undo the radiance η² scaling.
+    pub eta: f32,
+}
+
+/// A bidirectional scattering distribution function in its local frame. See the module docs for
+/// every convention.
+pub trait Bsdf: Send + Sync {
+    /// Union of the lobes' flags.
+    fn flags(&self) -> BsdfFlags;
+
+    /// f(wi, wo) without the cosine, non-delta lobes enabled in `ctx`.
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum;
+
+    /// Density of [`Bsdf::sample`] producing `wo`, per solid angle, non-delta lobes enabled in
+    /// `ctx`, lobe selection included.
+    fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32;
+
+    /// Draws a direction: `u1` chooses the lobe, `u2` the direction. `None` when no direction
+    /// was produced (e.g. `wi` below a one-sided surface); a returned sample never has a zero
+    /// pdf or a zero weight.
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample>;
+
+    /// Transmittance of a sheet that light crosses without deviation (thin dielectric), for
+    /// shadow rays; `None` for every other BSDF.
+    fn null_transmission(&self, _wi: Vec3, _wl: &SampledWavelengths) -> Option<SampledSpectrum> {
+        None
+    }
+
+    /// `eval` and `pdf` together (models may share work).
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        (self.eval(ctx, wi, wo, wl), self.pdf(ctx, wi, wo, wl))
+    }
+}
+
+/// cos θ of a local-frame direction.
+#[inline]
+pub fn cos_theta(w: Vec3) -> f32 {
+    w.z
+}
+
+/// True when both directions are on the same side of the surface.
+#[inline]
+pub fn same_hemisphere(a: Vec3, b: Vec3) -> bool {
+    a.z * b.z > 0.0
+}
+
+/// Mirror reflection about the normal in the local frame: (−x, −y, z).
+#[inline]
+pub fn reflect(w: Vec3) -> Vec3 {
+    Vec3::new(-w.x, -w.y, w.z)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn context_masks_lobes_by_kind() {
+        let diffuse_only = BsdfContext::radiance().with_lobes(BsdfFlags::DIFFUSE_REFLECTION);
+        assert!(diffuse_only.is_enabled(BsdfFlags::DIFFUSE_REFLECTION));
+        assert!(!diffuse_only.is_enabled(BsdfFlags::DELTA_REFLECTION));
+        let all = BsdfContext::radiance();
+        assert!(all.is_enabled(BsdfFlags::DELTA_TRANSMISSION | BsdfFlags::NON_SYMMETRIC));
+    }
+
+    #[test]
+    fn flags_print_as_names() {
+        assert_eq!(BsdfFlags::DELTA_REFLECTION.to_string(), "reflection|delta");
+        assert_eq!(BsdfFlags::NONE.to_string(), "none");
+    }
+}

@@ -1,0 +1,22 @@
+//! # gonio-core
+//!
+//! The physics of gonio, after the lecture *Reflection Models I: Ideal Materials*: spectra and
+//! hero-wavelength sampling, colour, Fresnel equations, sampling warps, one file per BSDF model,
+//! and the checks every model must pass (χ², reciprocity, energy).
+//!
+//! Invariants: no file or scene I/O in this crate; `eval`, `pdf` and `sample` never allocate.
+#![warn(missing_docs)]
+
+pub mod bsdf;
+pub mod bsdfs;
+pub mod frame;
+pub mod ior;
+pub mod spectra;
+pub mod spectrum;
+pub mod warp;
+
+pub use bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
+pub use frame::Frame;
+pub use ior::Ior;
+pub use spectra::Spectrum;
+pub use spectrum::{SampledSpectrum, SampledWavelengths};

@@ -1,0 +1,367 @@
+//! Spectral samples carried along a path: [`SampledSpectrum`] and [`SampledWavelengths`].
+//!
+//! A path carries radiance at [`N_SPECTRUM_SAMPLES`] = 4 wavelengths at once (hero wavelength
+//! sampling, Wilkie et al. 2014): the hero λ₀ is drawn from a pdf over the visible range
+//! [`LAMBDA_MIN`, `LAMBDA_MAX`] = [360, 830] nm and the other three are the hero rotated by
+//! ¼, ½ and ¾ in the sampling domain. Every spectral estimate is
+//!
+//! ```text
+//!     (1/N) Σᵢ g(λᵢ) / p(λᵢ)        (safe division: a zero pdf contributes nothing)
+//! ```
+//!
+//! **Dispersion.** After a wavelength-dependent refraction only the hero survives
+//! ([`SampledWavelengths::terminate_secondary`]: p₁ = p₂ = p₃ = 0, p₀ /= N), and the estimator
+//! above stays unbiased. Two rules make this impossible to forget:
+//! 1. the pdfs are private; the only way to turn a spectral value into colour is through the
+//!    estimator (`crate::color`), which divides by the pdfs and so drops terminated wavelengths;
+//! 2. a refraction needs one scalar η, and the only way to get a scalar η out of a dispersive
+//!    [`crate::ior::Ior`] is [`crate::ior::Ior::hero_eta`], which takes `&mut SampledWavelengths`
+//!    and terminates the secondaries itself.
+//!
+//! pbrt-v4's SpectralFilm forgot rule 1 (PR #550); here no accumulator sees a wavelength
+//! without its pdf.
+
+use glam::Vec4;
+use std::ops::{Add, AddAssign, Div, DivAssign, Index, IndexMut, Mul, MulAssign, Neg, Sub, SubAssign};
+
+/// Wavelengths per path.
+pub const N_SPECTRUM_SAMPLES: usize = 4;
+/// Lower end of the visible range, nm.
+pub const LAMBDA_MIN: f32 = 360.0;
+/// Upper end of the visible range, nm.
+pub const LAMBDA_MAX: f32 = 830.0;
+
+/// A spectral quantity at the [`N_SPECTRUM_SAMPLES`] wavelengths of a path (radiance, throughput,
+/// reflectance...). Element-wise arithmetic on an SSE `Vec4`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SampledSpectrum(pub Vec4);
+
+impl SampledSpectrum {
+    /// All zero.
+    pub const ZERO: Self = Self(Vec4::ZERO);
+    /// All one.
+    pub const ONE: Self = Self(Vec4::ONE);
+
+    /// The same value at every wavelength.
+    #[inline]
+    pub fn splat(v: f32) -> Self {
+        Self(Vec4::splat(v))
+    }
+    /// From four values, one per wavelength.
+    #[inline]
+    pub fn new(v: [f32; N_SPECTRUM_SAMPLES]) -> Self {
+        Self(Vec4::from_array(v))
+    }
+    /// Evaluates `f` at each index 0..4.
+    #[inline]
+    pub fn from_fn(mut f: impl FnMut(usize) -> f32) -> Self {
+        Self::new([f(0), f(1), f(2), f(3)])
+    }
+    /// The four values.
+    #[inline]
+    pub fn to_array(self) -> [f32; N_SPECTRUM_SAMPLES] {
+        self.0.to_array()
+    }
+    /// Applies `f` to each value.
+    #[inline]
+    pub fn map(self, f: impl Fn(f32) -> f32) -> Self {
+        Self(Vec4::new(f(self.0.x), f(self.0.y), f(self.0.z), f(self.0.w)))
+    }
+    /// Largest value.
+    #[inline]
+    pub fn max_component(self) -> f32 {
+        self.0.max_element()
+    }
+    /// Smallest value.
+    #[inline]
+    pub fn min_component(self) -> f32 {
+        self.0.min_element()
+    }
+    /// Mean of the four values.
+    #[inline]
+    pub fn average(self) -> f32 {
+        self.0.element_sum() / N_SPECTRUM_SAMPLES as f32
+    }
+    /// True when every value is zero.
+    #[inline]
+    pub fn is_black(self) -> bool {
+        self.0 == Vec4::ZERO
+    }
+    /// True when every value is finite (no NaN, no infinity).
+    #[inline]
+    pub fn is_finite(self) -> bool {
+        self.0.is_finite()
+    }
+    /// Element-wise `self / d`, with 0 where `d` is 0.
+    #[inline]
+    pub fn safe_div(self, d: Self) -> Self {
+        Self::from_fn(|i| if d[i] != 0.0 { self[i] / d[i] } else { 0.0 })
+    }
+    /// Element-wise square root (of max(0, x)).
+    #[inline]
+    pub fn sqrt(self) -> Self {
+        Self(self.0.max(Vec4::ZERO).sqrt())
+    }
+    /// Element-wise exponential.
+    #[inline]
+    pub fn exp(self) -> Self {
+        self.map(f32::exp)
+    }
+    /// Element-wise clamp to [lo, hi].
+    #[inline]
+    pub fn clamp(self, lo: f32, hi: f32) -> Self {
+        Self(self.0.clamp(Vec4::splat(lo), Vec4::splat(hi)))
+    }
+    /// Element-wise max(x, 0).
+    #[inline]
+    pub fn clamp_zero(self) -> Self {
+        Self(self.0.max(Vec4::ZERO))
+    }
+}
+
+impl Index<usize> for SampledSpectrum {
+    type Output = f32;
+    #[inline]
+    fn index(&self, i: usize) -> &f32 {
+        &self.0.as_ref()[i]
+    }
+}
+impl IndexMut<usize> for SampledSpectrum {
+    #[inline]
+    fn index_mut(&mut self, i: usize) -> &mut f32 {
+        &mut self.0.as_mut()[i]
+    }
+}
+
+macro_rules! spectrum_binop {
+    ($tr:ident, $f:ident, $tra:ident, $fa:ident, $op:tt) => {
+        impl $tr for SampledSpectrum {
+            type Output = Self;
+            #[inline]
+            fn $f(self, o: Self) -> Self { Self(self.0 $op o.0) }
+        }
+        impl $tr<f32> for SampledSpectrum {
+            type Output = Self;
+            #[inline]
+            fn $f(self, o: f32) -> Self { Self(self.0 $op Vec4::splat(o)) }
+        }
+        impl $tra for SampledSpectrum {
+            #[inline]
+            fn $fa(&mut self, o: Self) { self.0 = self.0 $op o.0; }
+        }
+        impl $tra<f32> for SampledSpectrum {
+            #[inline]
+            fn $fa(&mut self, o: f32) { self.0 = self.0 $op Vec4::splat(o); }
+        }
+    };
+}
+spectrum_binop!(Add, add, AddAssign, add_assign, +);
+spectrum_binop!(Sub, sub, SubAssign, sub_assign, -);
+spectrum_binop!(Mul, mul, MulAssign, mul_assign, *);
+spectrum_binop!(Div, div, DivAssign, div_assign, /);
+
+impl Mul<SampledSpectrum> for f32 {
+    type Output = SampledSpectrum;
+    #[inline]
+    fn mul(self, s: SampledSpectrum) -> SampledSpectrum {
+        s * self
+    }
+}
+impl Sub<SampledSpectrum> for f32 {
+    type Output = SampledSpectrum;
+    #[inline]
+    fn sub(self, s: SampledSpectrum) -> SampledSpectrum {
+        SampledSpectrum(Vec4::splat(self) - s.0)
+    }
+}
+impl Neg for SampledSpectrum {
+    type Output = Self;
+    #[inline]
+    fn neg(self) -> Self {
+        Self(-self.0)
+    }
+}
+
+/// Parameters of the visible-wavelength pdf p(λ) = A / cosh²(B (λ − 538 nm)) on [360, 830] nm
+/// (Radziszewski et al., as in pbrt-v4 `SampleVisibleWavelengths`), fitted to x̄ + ȳ + z̄.
+const VISIBLE_B: f64 = 0.0072;
+const VISIBLE_CENTER: f64 = 538.0;
+
+fn visible_tanh_range() -> (f64, f64) {
+    let lo = (VISIBLE_B * (LAMBDA_MIN as f64 - VISIBLE_CENTER)).tanh();
+    let hi = (VISIBLE_B * (LAMBDA_MAX as f64 - VISIBLE_CENTER)).tanh();
+    (lo, hi)
+}
+
+/// Density of [`sample_visible_wavelength`], in 1/nm; 0 outside [360, 830].
+pub fn visible_wavelength_pdf(lambda: f32) -> f32 {
+    if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
+        return 0.0;
+    }
+    let (lo, hi) = visible_tanh_range();
+    let a = VISIBLE_B / (hi - lo);
+    let c = (VISIBLE_B * (lambda as f64 - VISIBLE_CENTER)).cosh();
+    (a / (c * c)) as f32
+}
+
+/// Inverse-CDF sample of the visible pdf: λ(u) = 538 − atanh(tanh(B(360−538)) ·(1−u) … )/B.
+pub fn sample_visible_wavelength(u: f32) -> f32 {
+    let (lo, hi) = visible_tanh_range();
+    let t = lo + (hi - lo) * u as f64;
+    let l = VISIBLE_CENTER + t.atanh() / VISIBLE_B;
+    (l as f32).clamp(LAMBDA_MIN, LAMBDA_MAX)
+}
+
+/// The wavelengths a path carries and the density each was drawn with.
+///
+/// Fields are private so that no code can use a wavelength without its pdf (see the module
+/// docs on dispersion).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampledWavelengths {
+    lambda: [f32; N_SPECTRUM_SAMPLES],
+    pdf: [f32; N_SPECTRUM_SAMPLES],
+}
+
+impl SampledWavelengths {
+    /// Hero wavelength from the visible pdf, the others rotated by i/4 in sample space
+    /// (Mitsuba's `sample_shifted`, pbrt's `SampleVisible`).
+    pub fn sample_visible(u: f32) -> Self {
+        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
+        let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
+        for i in 0..N_SPECTRUM_SAMPLES {
+            let mut up = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
+            if up >= 1.0 {
+                up -= 1.0;
+            }
+            lambda[i] = sample_visible_wavelength(up);
+            pdf[i] = visible_wavelength_pdf(lambda[i]);
+        }
+        Self { lambda, pdf }
+    }
+
+    /// Hero wavelength uniform in [lo, hi], the others spaced (hi − lo)/4 apart, wrapped.
+    pub fn sample_uniform(u: f32, lo: f32, hi: f32) -> Self {
+        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
+        lambda[0] = lo + (hi - lo) * u;
+        let delta = (hi - lo) / N_SPECTRUM_SAMPLES as f32;
+        for i in 1..N_SPECTRUM_SAMPLES {
+            let mut l = lambda[i - 1] + delta;
+            if l > hi {
+                l = lo + (l - hi);
+            }
+            lambda[i] = l;
+        }
+        Self { lambda, pdf: [1.0 / (hi - lo); N_SPECTRUM_SAMPLES] }
+    }
+
+    /// One fixed wavelength, for point queries (`gonio bsdf eval ... lambda_nm`): all four
+    /// entries are `lambda` with pdf 1, so each slot of a result holds the value at `lambda`.
+    pub fn fixed(lambda: f32) -> Self {
+        Self { lambda: [lambda; N_SPECTRUM_SAMPLES], pdf: [1.0; N_SPECTRUM_SAMPLES] }
+    }
+
+    /// Four given wavelengths with given pdfs (tests, instruments).
+    pub fn from_parts(lambda: [f32; N_SPECTRUM_SAMPLES], pdf: [f32; N_SPECTRUM_SAMPLES]) -> Self {
+        Self { lambda, pdf }
+    }
+
+    /// Wavelength `i`, nm.
+    #[inline]
+    pub fn lambda(&self, i: usize) -> f32 {
+        self.lambda[i]
+    }
+    /// All four wavelengths, nm.
+    #[inline]
+    pub fn lambdas(&self) -> [f32; N_SPECTRUM_SAMPLES] {
+        self.lambda
+    }
+    /// The hero wavelength λ₀, nm.
+    #[inline]
+    pub fn hero(&self) -> f32 {
+        self.lambda[0]
+    }
+    /// The pdfs, 1/nm (zero for terminated secondaries).
+    #[inline]
+    pub fn pdf(&self) -> SampledSpectrum {
+        SampledSpectrum::new(self.pdf)
+    }
+
+    /// Keeps only the hero wavelength: p₁..p₃ = 0 and p₀ /= N (idempotent). Called by every
+    /// wavelength-dependent change of direction (dispersion).
+    pub fn terminate_secondary(&mut self) {
+        if self.secondary_terminated() {
+            return;
+        }
+        for p in &mut self.pdf[1..] {
+            *p = 0.0;
+        }
+        self.pdf[0] /= N_SPECTRUM_SAMPLES as f32;
+    }
+
+    /// True once [`Self::terminate_secondary`] has been called.
+    #[inline]
+    pub fn secondary_terminated(&self) -> bool {
+        self.pdf[1..].iter().all(|&p| p == 0.0)
+    }
+
+    /// The Monte Carlo estimate (1/N) Σ g(λᵢ)/p(λᵢ) of ∫ g(λ) dλ from one spectral sample
+    /// (safe division: terminated wavelengths contribute nothing).
+    pub fn estimate(&self, g: SampledSpectrum) -> f32 {
+        g.safe_div(self.pdf()).average()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn visible_pdf_integrates_to_one() {
+        let n = 47_000;
+        let h = (LAMBDA_MAX - LAMBDA_MIN) as f64 / n as f64;
+        let s: f64 = (0..n)
+            .map(|i| visible_wavelength_pdf(LAMBDA_MIN + ((i as f64 + 0.5) * h) as f32) as f64 * h)
+            .sum();
+        assert!((s - 1.0).abs() < 1e-5, "integral {s}");
+    }
+
+    #[test]
+    fn visible_sampling_matches_reference_values() {
+        // testing.md §6.13: λ(0) = 360, λ(0.5) = 545.90, λ(1) = 830.
+        assert!((sample_visible_wavelength(0.0) - 360.0).abs() < 1e-3);
+        assert!((sample_visible_wavelength(0.5) - 545.90).abs() < 0.01);
+        assert!((sample_visible_wavelength(1.0) - 830.0).abs() < 1e-3);
+        assert!((visible_wavelength_pdf(538.0) - 0.0039398042).abs() < 1e-8);
+    }
+
+    #[test]
+    fn hero_rotation_is_stratified_in_sample_space() {
+        let wl = SampledWavelengths::sample_visible(0.1);
+        for i in 0..4 {
+            let expect = sample_visible_wavelength(0.1 + 0.25 * i as f32);
+            assert!((wl.lambda(i) - expect).abs() < 1e-3);
+        }
+    }
+
+    #[test]
+    fn terminate_secondary_keeps_estimator_unbiased() {
+        // ∫ g over [360, 830] for g(λ) = λ/100 with uniform wavelengths, estimated with and
+        // without termination: both must converge to the same value.
+        let g = |wl: &SampledWavelengths| SampledSpectrum::from_fn(|i| wl.lambda(i) / 100.0);
+        let exact = (830.0f64.powi(2) - 360.0f64.powi(2)) / 200.0;
+        let n = 20_000;
+        let (mut full, mut term) = (0.0f64, 0.0f64);
+        for k in 0..n {
+            let u = (k as f32 + 0.5) / n as f32;
+            let wl = SampledWavelengths::sample_uniform(u, LAMBDA_MIN, LAMBDA_MAX);
+            full += wl.estimate(g(&wl)) as f64;
+            let mut wt = wl;
+            wt.terminate_secondary();
+            wt.terminate_secondary(); // idempotent
+            assert!(wt.secondary_terminated());
+            term += wt.estimate(g(&wt)) as f64;
+        }
+        assert!((full / n as f64 - exact).abs() / exact < 1e-4);
+        assert!((term / n as f64 - exact).abs() / exact < 1e-4);
+    }
+}

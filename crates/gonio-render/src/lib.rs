@@ -1,0 +1,5 @@
+//! # gonio-render
+//!
+//! Scenes (the Mitsuba 3 XML reader), shapes and acceleration, camera, emitters, textures, the
+//! spectral path tracer, film and image files. Depends only on `gonio-core`.
+#![warn(missing_docs)]
