@@ -3,3 +3,8 @@
 //! Scenes (the Mitsuba 3 XML reader), shapes and acceleration, camera, emitters, textures, the
 //! spectral path tracer, film and image files. Depends only on `gonio-core`.
 #![warn(missing_docs)]
+
+pub mod image;
+pub mod material;
+pub mod scene;
+pub mod texture;

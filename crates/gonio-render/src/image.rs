@@ -1,0 +1,352 @@
+//! Linear-RGB images and image files: reading EXR (`exr`), PNG/JPEG (`image`, sRGB-decoded) and
+//! Radiance HDR (`image`), writing float EXR and 8-bit sRGB PNG, always atomically.
+//!
+//! Formats are recognized by their magic bytes, not by the file name, so a mislabelled file still
+//! reads and a file that is none of them gives a clear [`ImageError`] naming it.
+//!
+//! Every write goes to a temporary file in the destination's folder which is then renamed over the
+//! destination: a reader never sees a half-written image, and a crash leaves the old file in place.
+
+use std::io::{Cursor, Write};
+use std::path::{Path, PathBuf};
+
+/// A linear RGB image in row-major order (row 0 at the top), one `[r, g, b]` per pixel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RgbImage {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// `width * height` pixels, row-major, top row first.
+    pub data: Vec<[f32; 3]>,
+}
+
+/// How 8-bit/16-bit integer images (PNG, JPEG) are turned into floats. Float formats (EXR, HDR)
+/// are always taken as linear.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// Apply the inverse sRGB transfer curve (what colour images need; Mitsuba's default).
+    Srgb,
+    /// Use the stored values divided by the maximum integer value, unchanged (Mitsuba's `raw`,
+    /// for data such as roughness maps).
+    Raw,
+}
+
+/// Image file errors; every variant names the file.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// The file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The bytes are not an image format we read.
+    #[error("{}: not a recognized image (expected OpenEXR, PNG, JPEG or Radiance HDR)", path.display())]
+    UnknownFormat {
+        /// The file.
+        path: PathBuf,
+    },
+    /// The format was recognized but the content is broken or unsupported.
+    #[error("{}: cannot decode {format} image: {message}", path.display())]
+    Decode {
+        /// The file.
+        path: PathBuf,
+        /// "OpenEXR", "PNG", ...
+        format: &'static str,
+        /// What the decoder said.
+        message: String,
+    },
+    /// Encoding failed, or the output name has an extension we do not write.
+    #[error("{}: cannot write image: {message}", path.display())]
+    Encode {
+        /// The file.
+        path: PathBuf,
+        /// What went wrong.
+        message: String,
+    },
+}
+
+impl RgbImage {
+    /// A black image.
+    pub fn new(width: usize, height: usize) -> Self {
+        Self {
+            width,
+            height,
+            data: vec![[0.0; 3]; width * height],
+        }
+    }
+
+    /// An image from a function of the pixel coordinates `(x, y)`.
+    pub fn from_fn(width: usize, height: usize, mut f: impl FnMut(usize, usize) -> [f32; 3]) -> Self {
+        let mut data = Vec::with_capacity(width * height);
+        for y in 0..height {
+            for x in 0..width {
+                data.push(f(x, y));
+            }
+        }
+        Self { width, height, data }
+    }
+
+    /// The pixel at column `x`, row `y` (panics when out of range, like slice indexing).
+    #[inline]
+    pub fn get(&self, x: usize, y: usize) -> [f32; 3] {
+        assert!(
+            x < self.width && y < self.height,
+            "pixel ({x}, {y}) outside {}x{}",
+            self.width,
+            self.height
+        );
+        self.data[y * self.width + x]
+    }
+
+    /// Sets the pixel at column `x`, row `y`.
+    #[inline]
+    pub fn set(&mut self, x: usize, y: usize, rgb: [f32; 3]) {
+        assert!(
+            x < self.width && y < self.height,
+            "pixel ({x}, {y}) outside {}x{}",
+            self.width,
+            self.height
+        );
+        self.data[y * self.width + x] = rgb;
+    }
+
+    /// Reads an image file as linear RGB; PNG and JPEG are sRGB-decoded ([`Encoding::Srgb`]).
+    pub fn read(path: impl AsRef<Path>) -> Result<Self, ImageError> {
+        Self::read_with(path, Encoding::Srgb)
+    }
+
+    /// Reads an image file, choosing how integer formats are decoded.
+    pub fn read_with(path: impl AsRef<Path>, encoding: Encoding) -> Result<Self, ImageError> {
+        let path = path.as_ref();
+        let bytes = std::fs::read(path).map_err(|source| ImageError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::decode(&bytes, path, encoding)
+    }
+
+    /// Decodes an image held in memory; `path` only names it in errors.
+    pub fn decode(bytes: &[u8], path: &Path, encoding: Encoding) -> Result<Self, ImageError> {
+        if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
+            return decode_exr(bytes, path);
+        }
+        let (format, name) = if bytes.starts_with(b"\x89PNG") {
+            (::image::ImageFormat::Png, "PNG")
+        } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
+            (::image::ImageFormat::Jpeg, "JPEG")
+        } else if bytes.starts_with(b"#?") {
+            (::image::ImageFormat::Hdr, "Radiance HDR")
+        } else {
+            return Err(ImageError::UnknownFormat {
+                path: path.to_owned(),
+            });
+        };
+        let decoded =
+            ::image::load_from_memory_with_format(bytes, format).map_err(|e| ImageError::Decode {
+                path: path.to_owned(),
+                format: name,
+                message: e.to_string(),
+            })?;
+        let width = decoded.width() as usize;
+        let height = decoded.height() as usize;
+        let rgb = decoded.to_rgb32f();
+        let decode_srgb = encoding == Encoding::Srgb && format != ::image::ImageFormat::Hdr;
+        let data = rgb
+            .pixels()
+            .map(|p| {
+                let c = [p.0[0], p.0[1], p.0[2]];
+                if decode_srgb { c.map(srgb_to_linear) } else { c }
+            })
+            .collect();
+        Ok(Self { width, height, data })
+    }
+
+    /// Writes a float-32 RGB OpenEXR file (linear values, unclamped), atomically.
+    pub fn write_exr(&self, path: impl AsRef<Path>) -> Result<(), ImageError> {
+        let path = path.as_ref();
+        let bytes = self.encode_exr().map_err(|message| ImageError::Encode {
+            path: path.to_owned(),
+            message,
+        })?;
+        write_atomically(path, &bytes)
+    }
+
+    /// Writes an 8-bit sRGB PNG (values clamped to [0, 1], sRGB transfer curve), atomically.
+    pub fn write_png(&self, path: impl AsRef<Path>) -> Result<(), ImageError> {
+        let path = path.as_ref();
+        let bytes = self.encode_png().map_err(|message| ImageError::Encode {
+            path: path.to_owned(),
+            message,
+        })?;
+        write_atomically(path, &bytes)
+    }
+
+    /// Writes EXR or PNG according to the extension (`.exr`, `.png`, case-insensitive).
+    pub fn write(&self, path: impl AsRef<Path>) -> Result<(), ImageError> {
+        let path = path.as_ref();
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match ext.as_deref() {
+            Some("exr") => self.write_exr(path),
+            Some("png") => self.write_png(path),
+            _ => Err(ImageError::Encode {
+                path: path.to_owned(),
+                message: "unknown extension (use .exr or .png)".into(),
+            }),
+        }
+    }
+
+    /// The image as 8-bit sRGB bytes (RGB, row-major), clamped.
+    pub fn to_srgb8(&self) -> Vec<u8> {
+        self.data
+            .iter()
+            .flat_map(|p| p.map(|v| (linear_to_srgb(v.clamp(0.0, 1.0)) * 255.0 + 0.5) as u8))
+            .collect()
+    }
+
+    fn encode_exr(&self) -> Result<Vec<u8>, String> {
+        use exr::prelude::*;
+        if self.width == 0 || self.height == 0 {
+            return Err("an EXR image cannot be empty".into());
+        }
+        let w = self.width;
+        let channels = SpecificChannels::rgb(|Vec2(x, y): Vec2<usize>| {
+            let p = self.data[y * w + x];
+            (p[0], p[1], p[2])
+        });
+        let image = Image::from_channels((self.width, self.height), channels);
+        let mut cursor = Cursor::new(Vec::new());
+        image
+            .write()
+            .to_buffered(&mut cursor)
+            .map_err(|e| e.to_string())?;
+        Ok(cursor.into_inner())
+    }
+
+    fn encode_png(&self) -> Result<Vec<u8>, String> {
+        use ::image::ImageEncoder;
+        let mut out = Vec::new();
+        let (w, h) = (
+            u32::try_from(self.width).map_err(|e| e.to_string())?,
+            u32::try_from(self.height).map_err(|e| e.to_string())?,
+        );
+        ::image::codecs::png::PngEncoder::new(&mut out)
+            .write_image(&self.to_srgb8(), w, h, ::image::ExtendedColorType::Rgb8)
+            .map_err(|e| e.to_string())?;
+        Ok(out)
+    }
+}
+
+fn decode_exr(bytes: &[u8], path: &Path) -> Result<RgbImage, ImageError> {
+    use exr::prelude::*;
+    let err = |message: String| ImageError::Decode {
+        path: path.to_owned(),
+        format: "OpenEXR",
+        message,
+    };
+    let image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(Cursor::new(bytes))
+        .map_err(|e| err(e.to_string()))?;
+    let layer = image.layer_data;
+    let (width, height) = (layer.size.0, layer.size.1);
+    let list = &layer.channel_data.list;
+    // Channel names may carry a layer prefix ("diffuse.R"); match on the last component.
+    let find = |name: &str| {
+        list.iter().find(|c| {
+            let full = c.name.to_string();
+            full.rsplit('.')
+                .next()
+                .is_some_and(|last| last.eq_ignore_ascii_case(name))
+        })
+    };
+    let planes: [&FlatSamples; 3] = match (find("R"), find("G"), find("B"), find("Y")) {
+        (Some(r), Some(g), Some(b), _) => [&r.sample_data, &g.sample_data, &b.sample_data],
+        (_, _, _, Some(y)) => [&y.sample_data, &y.sample_data, &y.sample_data],
+        _ => {
+            let names: Vec<String> = list.iter().map(|c| c.name.to_string()).collect();
+            return Err(err(format!("no R, G, B (or Y) channels; found {names:?}")));
+        }
+    };
+    let n = width * height;
+    if planes.iter().any(|p| p.len() != n) {
+        return Err(err(
+            "a channel has the wrong number of samples (subsampled channels are not supported)".into(),
+        ));
+    }
+    let data = (0..n)
+        .map(|i| {
+            [
+                planes[0].value_by_flat_index(i).to_f32(),
+                planes[1].value_by_flat_index(i).to_f32(),
+                planes[2].value_by_flat_index(i).to_f32(),
+            ]
+        })
+        .collect();
+    Ok(RgbImage { width, height, data })
+}
+
+/// Writes `bytes` to `path` atomically: a temporary file in the same folder (so the rename
+/// cannot cross file systems), flushed and synced, then renamed over `path`. On failure the
+/// temporary file is removed and `path` is untouched.
+pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+    let io = |source| ImageError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
+        _ => PathBuf::from("."),
+    };
+    let file_name = path.file_name().ok_or_else(|| ImageError::Encode {
+        path: path.to_owned(),
+        message: "not a file name".into(),
+    })?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(file_name);
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = dir.join(tmp_name);
+    let result = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(bytes)?;
+        f.sync_all()?;
+        drop(f);
+        std::fs::rename(&tmp, path)
+    })();
+    if let Err(e) = result {
+        let _ = std::fs::remove_file(&tmp);
+        return Err(io(e));
+    }
+    Ok(())
+}
+
+/// The inverse sRGB transfer curve (IEC 61966-2-1). H1's `gonio_core::color` has the same curve;
+/// this private copy keeps image I/O independent of it.
+#[inline]
+fn srgb_to_linear(v: f32) -> f32 {
+    if v <= 0.04045 {
+        v / 12.92
+    } else {
+        ((v + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The sRGB transfer curve (IEC 61966-2-1).
+#[inline]
+fn linear_to_srgb(v: f32) -> f32 {
+    if v <= 0.003_130_8 {
+        v * 12.92
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    }
+}
