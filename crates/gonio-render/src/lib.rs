@@ -8,3 +8,7 @@ pub mod image;
 pub mod material;
 pub mod scene;
 pub mod texture;
+
+pub mod material;
+pub mod scene;
+pub mod texture;

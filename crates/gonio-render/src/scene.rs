@@ -1,0 +1,268 @@
+//! The scene description: what the Mitsuba 3 XML reader ([`crate::xml`]) produces and the
+//! renderer consumes. Plain data, no behaviour beyond small helpers; geometry is in object space
+//! and each shape carries its `to_world`.
+//!
+//! Conventions follow Mitsuba 3 (see `mitsuba-xml.md`): camera space is +z forward, +y up,
+//! +x left; `Sensor::fov_x_deg` is the horizontal field of view after the `fov_axis` /
+//! `focal_length` conversion.
+
+use glam::{Affine3A, Vec2, Vec3};
+use gonio_core::Spectrum;
+use std::sync::Arc;
+
+pub use crate::material::Material;
+pub use crate::texture::Texture;
+
+/// A whole scene: integrator, one sensor, shapes (with their area emitters), other emitters and
+/// the materials the shapes index into.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The integrator settings.
+    pub integrator: Integrator,
+    /// The camera.
+    pub sensor: Sensor,
+    /// All shapes, in document order.
+    pub shapes: Vec<Shape>,
+    /// Emitters that are not attached to a shape (point, spot, directional, constant, envmap).
+    pub emitters: Vec<Emitter>,
+    /// Materials; [`Shape::material`] indexes this list.
+    pub materials: Vec<Material>,
+}
+
+/// Integrator `path` settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Integrator {
+    /// Longest path, in segments; −1 = unbounded (Mitsuba `max_depth`, default −1).
+    pub max_depth: i32,
+    /// Depth at which Russian roulette starts (Mitsuba `rr_depth`, default 5).
+    pub rr_depth: u32,
+    /// Hide directly visible emitters (Mitsuba `hide_emitters`, default false).
+    pub hide_emitters: bool,
+    /// Ours: shadow rays pass through `thindielectric` sheets, attenuated (default true).
+    pub thin_shadows: bool,
+}
+
+impl Default for Integrator {
+    /// Mitsuba's `path` defaults plus `thin_shadows = true`.
+    fn default() -> Self {
+        Self {
+            max_depth: -1,
+            rr_depth: 5,
+            hide_emitters: false,
+            thin_shadows: true,
+        }
+    }
+}
+
+/// A perspective camera.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sensor {
+    /// Camera to world (camera space: +z forward, +y up, +x left).
+    pub to_world: Affine3A,
+    /// Horizontal field of view, degrees, after the `fov_axis` conversion.
+    pub fov_x_deg: f32,
+    /// Near clipping distance (default 0.01).
+    pub near_clip: f32,
+    /// Far clipping distance (default 10000).
+    pub far_clip: f32,
+    /// The film.
+    pub film: Film,
+    /// The sampler.
+    pub sampler: Sampler,
+}
+
+/// Film `hdrfilm`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Film {
+    /// Width in pixels (default 768).
+    pub width: u32,
+    /// Height in pixels (default 576).
+    pub height: u32,
+    /// Reconstruction filter (default gaussian, stddev 0.5).
+    pub filter: Filter,
+}
+
+impl Default for Film {
+    fn default() -> Self {
+        Self {
+            width: 768,
+            height: 576,
+            filter: Filter::default(),
+        }
+    }
+}
+
+/// Reconstruction filters (`rfilter`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Filter {
+    /// `box`, radius default 0.5.
+    Box {
+        /// Half width, pixels.
+        radius: f32,
+    },
+    /// `tent`, radius default 1.
+    Tent {
+        /// Half width, pixels.
+        radius: f32,
+    },
+    /// `gaussian`, stddev default 0.5, support 4σ.
+    Gaussian {
+        /// Standard deviation, pixels.
+        stddev: f32,
+    },
+}
+
+impl Default for Filter {
+    fn default() -> Self {
+        Filter::Gaussian { stddev: 0.5 }
+    }
+}
+
+impl Filter {
+    /// Support radius in pixels (gaussian: 4σ).
+    pub fn radius(&self) -> f32 {
+        match *self {
+            Filter::Box { radius } | Filter::Tent { radius } => radius,
+            Filter::Gaussian { stddev } => 4.0 * stddev,
+        }
+    }
+}
+
+/// Sampler settings.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sampler {
+    /// Which sample pattern.
+    pub kind: SamplerKind,
+    /// Samples per pixel (default 4).
+    pub sample_count: u32,
+    /// Seed (default 0).
+    pub seed: u64,
+}
+
+impl Default for Sampler {
+    fn default() -> Self {
+        Self {
+            kind: SamplerKind::Independent,
+            sample_count: 4,
+            seed: 0,
+        }
+    }
+}
+
+/// The Mitsuba sampler plugins we accept.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplerKind {
+    /// `independent`.
+    Independent,
+    /// `stratified` (`jitter`, default true).
+    Stratified {
+        /// Jitter inside strata.
+        jitter: bool,
+    },
+    /// `multijitter` (`jitter`, default true).
+    MultiJitter {
+        /// Jitter inside strata.
+        jitter: bool,
+    },
+}
+
+/// A shape: object-space geometry, its placement, its material and an optional area light.
+#[derive(Clone, Debug)]
+pub struct Shape {
+    /// Object-space geometry.
+    pub geometry: Geometry,
+    /// Object to world.
+    pub to_world: Affine3A,
+    /// Flip the geometric and shading normals (`flip_normals`, default false).
+    pub flip_normals: bool,
+    /// Ignore vertex normals, shade with face normals (`face_normals`, default false; meshes).
+    pub face_normals: bool,
+    /// Index into [`Scene::materials`].
+    pub material: usize,
+    /// Area emitter attached to this shape.
+    pub emitter: Option<AreaEmitter>,
+    /// The `id` attribute, if any.
+    pub id: Option<String>,
+}
+
+/// Object-space geometry of a [`Shape`].
+#[derive(Clone, Debug)]
+pub enum Geometry {
+    /// `sphere`: centre and radius (object space; `to_world` applies on top).
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+    },
+    /// `rectangle`: [−1, 1]² in z = 0, normal +z, uv = ((x+1)/2, (y+1)/2).
+    Rectangle,
+    /// `disk`: unit disk in z = 0, normal +z.
+    Disk,
+    /// A triangle mesh (`obj`, `ply`, `cube`).
+    Mesh(Arc<TriangleMesh>),
+}
+
+/// An indexed triangle mesh in object space.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TriangleMesh {
+    /// Vertex positions.
+    pub positions: Vec<Vec3>,
+    /// Per-vertex normals (empty if none).
+    pub normals: Vec<Vec3>,
+    /// Per-vertex texture coordinates (empty if none).
+    pub uvs: Vec<Vec2>,
+    /// Triangles, counter-clockwise seen from the front.
+    pub indices: Vec<[u32; 3]>,
+}
+
+/// `area` emitter: one-sided, on the side the (possibly flipped) normal points to.
+#[derive(Clone, Debug)]
+pub struct AreaEmitter {
+    /// Emitted radiance (`radiance`, default 1 × D65 in spectral mode).
+    pub radiance: Texture,
+}
+
+/// Emitters not attached to a shape.
+#[derive(Clone, Debug)]
+pub enum Emitter {
+    /// `point`: isotropic intensity, W/sr.
+    Point {
+        /// World position.
+        position: Vec3,
+        /// Radiant intensity.
+        intensity: Spectrum,
+    },
+    /// `spot`: cone along +z of `to_world`.
+    Spot {
+        /// Light to world (position and orientation).
+        to_world: Affine3A,
+        /// Intensity at the cone centre.
+        intensity: Spectrum,
+        /// Outer cone angle, degrees (default 20).
+        cutoff_angle_deg: f32,
+        /// Full-intensity angle, degrees (default 3/4 of cutoff).
+        beam_width_deg: f32,
+    },
+    /// `directional`: light travelling along `direction`.
+    Directional {
+        /// World direction light travels in, normalized.
+        direction: Vec3,
+        /// Irradiance on a surface facing the light.
+        irradiance: Spectrum,
+    },
+    /// `constant`: uniform environment.
+    Constant {
+        /// Radiance.
+        radiance: Spectrum,
+    },
+    /// `envmap`: lat-long environment image.
+    EnvMap {
+        /// The image (linear RGB).
+        image: Arc<crate::image::RgbImage>,
+        /// Scale factor (default 1).
+        scale: f32,
+        /// Environment to world.
+        to_world: Affine3A,
+    },
+}
