@@ -10,6 +10,7 @@
 pub mod bsdf;
 pub mod bsdfs;
 pub mod frame;
+pub mod fresnel;
 pub mod ior;
 pub mod spectra;
 pub mod spectrum;
