@@ -1,6 +1,12 @@
 //! The BSDF models, one file each. Every file opens with the formula it implements, its source
 //! (lecture slide, paper) and the Mitsuba 3 parameters with their defaults.
 
+pub mod conductor;
+pub mod dielectric;
 pub mod diffuse;
+pub mod thindielectric;
 
+pub use conductor::Conductor;
+pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
+pub use thindielectric::ThinDielectric;

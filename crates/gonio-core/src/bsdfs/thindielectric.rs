@@ -1,0 +1,315 @@
+//! `thindielectric`: a zero-thickness dielectric sheet (window pane, soap film without
+//! interference), with all internal reflections summed.
+//!
+//! Lecture, slide "Fresnel Equations" and the Stokes relations: a parallel slab reflects R at
+//! each interface and transmits T = 1 − R; light bouncing inside adds a geometric series,
+//!
+//! ```text
+//!     R' = R + T² R (1 + R² + R⁴ + …) = R + T² R/(1 − R²) = 2R/(1 + R)
+//!     T' = T²/(1 − R²) = (1 − R)/(1 + R) = 1 − R'
+//! ```
+//!
+//! with R = F(|cos θi|, η) (the same from both sides; no TIR inside a parallel slab). The
+//! transmitted ray leaves undeviated, ωo = −ωi, in the medium it came from: no η² factor, η = 1,
+//! flags `DELTA | TRANSMISSION | NULL`. Sampling picks reflection with probability R'.
+//! [`Bsdf::null_transmission`] returns T' so that shadow rays can pass the sheet.
+//!
+//! **Dispersion** needs no termination: no direction depends on λ. With a dispersive index the
+//! lobe is chosen with the hero's R'₀ and every wavelength keeps the weight R'(λᵢ)/R'₀ (or
+//! T'(λᵢ)/T'₀), which is unbiased per wavelength. (pbrt terminates here; that is conservative.)
+//!
+//! Mitsuba 3 plugin `thindielectric` (`src/bsdfs/thindielectric.cpp`), two-sided:
+//!
+//! | parameter                | type        | default                |
+//! |--------------------------|-------------|------------------------|
+//! | `int_ior`                | float, name | `bk7` 1.5046           |
+//! | `ext_ior`                | float, name | `air` 1.000277         |
+//! | `specular_reflectance`   | spectrum    | 1 (tint; not physical) |
+//! | `specular_transmittance` | spectrum    | 1 (tint; not physical) |
+
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, reflect};
+use crate::fresnel::{fresnel_dielectric, thin_slab_reflectance, thin_slab_transmittance};
+use crate::ior::{Ior, relative_eta};
+use crate::spectra::Spectrum;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3};
+
+/// A thin dielectric sheet: Stokes-summed delta reflection and straight-through transmission.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ThinDielectric {
+    /// Index of the sheet.
+    pub int_ior: Ior,
+    /// Index of the surrounding medium.
+    pub ext_ior: Ior,
+    /// Tint of the reflection (default 1).
+    pub specular_reflectance: Spectrum,
+    /// Tint of the transmission, applied once (default 1).
+    pub specular_transmittance: Spectrum,
+}
+
+impl Default for ThinDielectric {
+    /// Mitsuba's defaults: bk7 (1.5046) in air (1.000277).
+    fn default() -> Self {
+        Self::new(Ior::Constant(1.5046), Ior::Constant(1.000277))
+    }
+}
+
+impl ThinDielectric {
+    /// The lobe flags of the straight-through transmission.
+    pub const TRANSMISSION_FLAGS: BsdfFlags = BsdfFlags(BsdfFlags::DELTA_TRANSMISSION.0 | BsdfFlags::NULL.0);
+
+    /// An untinted sheet of index `int_ior` in a medium of index `ext_ior`.
+    pub fn new(int_ior: Ior, ext_ior: Ior) -> Self {
+        Self {
+            int_ior,
+            ext_ior,
+            specular_reflectance: Spectrum::Constant(1.0),
+            specular_transmittance: Spectrum::Constant(1.0),
+        }
+    }
+
+    /// Untinted (R', T') per wavelength at |cos θi| = `cos_theta`.
+    pub fn reflectance_transmittance(
+        &self,
+        cos_theta: f32,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, SampledSpectrum) {
+        let c = cos_theta.abs();
+        let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
+        let r = SampledSpectrum::from_fn(|i| fresnel_dielectric(c, eta[i]).0);
+        (r.map(thin_slab_reflectance), r.map(thin_slab_transmittance))
+    }
+}
+
+impl Bsdf for ThinDielectric {
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DELTA_REFLECTION | Self::TRANSMISSION_FLAGS
+    }
+
+    fn eval(&self, _ctx: &BsdfContext, _wi: Vec3, _wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
+        SampledSpectrum::ZERO
+    }
+
+    fn pdf(&self, _ctx: &BsdfContext, _wi: Vec3, _wo: Vec3, _wl: &SampledWavelengths) -> f32 {
+        0.0
+    }
+
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        _u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        let has_r = ctx.is_enabled(BsdfFlags::DELTA_REFLECTION);
+        let has_t = ctx.is_enabled(BsdfFlags::DELTA_TRANSMISSION);
+        if (!has_r && !has_t) || wi.z == 0.0 {
+            return None;
+        }
+        let (r, t) = self.reflectance_transmittance(wi.z, wl);
+        let reflect_chosen = if has_r && has_t { u1 < r[0] } else { has_r };
+        let (wo, lobe, tint, pdf, base) = if reflect_chosen {
+            let (pdf, base) = if has_t { (r[0], r / r[0]) } else { (1.0, r) };
+            (
+                reflect(wi),
+                BsdfFlags::DELTA_REFLECTION,
+                &self.specular_reflectance,
+                pdf,
+                base,
+            )
+        } else {
+            let (pdf, base) = if has_r { (t[0], t / t[0]) } else { (1.0, t) };
+            (
+                -wi,
+                Self::TRANSMISSION_FLAGS,
+                &self.specular_transmittance,
+                pdf,
+                base,
+            )
+        };
+        let weight = base * tint.sample(wl);
+        (pdf > 0.0 && !weight.is_black()).then_some(BsdfSample {
+            wo,
+            weight,
+            pdf,
+            flags: lobe,
+            eta: 1.0,
+        })
+    }
+
+    fn null_transmission(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
+        let (_, t) = self.reflectance_transmittance(wi.z, wl);
+        Some(t * self.specular_transmittance.sample(wl))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bsdf::TransportMode;
+    use crate::spectra::{Extrapolation, PiecewiseLinear};
+    use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN};
+    use std::sync::Arc;
+
+    fn dir(theta_deg: f32) -> Vec3 {
+        let t = theta_deg.to_radians();
+        Vec3::new(t.sin(), 0.0, t.cos())
+    }
+
+    fn close(a: f32, b: f32, tol: f32) -> bool {
+        (a - b).abs() <= tol
+    }
+
+    #[test]
+    fn stokes_table_and_sampling_values() {
+        // testing.md §6.4 at the defaults (η = 1.504183).
+        let d = ThinDielectric::default();
+        let wl = SampledWavelengths::fixed(550.0);
+        for (deg, rp, tp) in [
+            (0.0f32, 0.077914f32, 0.922086f32),
+            (45.0, 0.096734, 0.903266),
+            (60.0, 0.164935, 0.835065),
+            (80.0, 0.559496, 0.440504),
+        ] {
+            for wi in [dir(deg), -dir(deg)] {
+                let (r, t) = d.reflectance_transmittance(wi.z, &wl);
+                assert!(
+                    close(r[0], rp, 2e-6) && close(t[0], tp, 2e-6),
+                    "θ {deg}: {} {}",
+                    r[0],
+                    t[0]
+                );
+                assert!(close(d.null_transmission(wi, &wl).unwrap()[0], tp, 2e-6));
+            }
+        }
+        let ctx = BsdfContext::radiance();
+        let mut wl = SampledWavelengths::fixed(550.0);
+        let s = d.sample(&ctx, Vec3::Z, 0.01, Vec2::ZERO, &mut wl).unwrap();
+        assert!(s.flags == BsdfFlags::DELTA_REFLECTION && close(s.pdf, 0.077914, 2e-6) && s.weight[0] == 1.0);
+        let s = d.sample(&ctx, Vec3::Z, 0.99, Vec2::ZERO, &mut wl).unwrap();
+        assert_eq!(
+            (s.wo, s.flags, s.weight[0], s.eta),
+            (-Vec3::Z, ThinDielectric::TRANSMISSION_FLAGS, 1.0, 1.0)
+        );
+        assert!(close(s.pdf, 0.922086, 2e-6));
+        let wi = dir(60.0);
+        let s = d.sample(&ctx, wi, 0.01, Vec2::ZERO, &mut wl).unwrap();
+        assert!(close(s.pdf, 0.164935, 2e-6) && s.wo == reflect(wi));
+        let s = d.sample(&ctx, wi, 0.99, Vec2::ZERO, &mut wl).unwrap();
+        assert!(close(s.pdf, 0.835065, 2e-6) && s.wo == -wi, "undeviated");
+        assert!((s.wo - Vec3::new(-0.866025, 0.0, -0.5)).length() < 1e-5);
+    }
+
+    #[test]
+    fn energy_is_one_in_both_modes_and_from_both_sides() {
+        let d = ThinDielectric::default();
+        for mode in [TransportMode::Radiance, TransportMode::Importance] {
+            let ctx = BsdfContext {
+                mode,
+                lobes: BsdfFlags::ALL,
+            };
+            for deg in [0.0f32, 30.0, 45.0, 60.0, 80.0, 89.5] {
+                for wi in [dir(deg), -dir(deg)] {
+                    let mut total = 0.0;
+                    for u1 in [0.0, 1.0 - f32::EPSILON] {
+                        let mut wl = SampledWavelengths::fixed(600.0);
+                        let s = d.sample(&ctx, wi, u1, Vec2::ZERO, &mut wl).unwrap();
+                        total += s.pdf * s.weight[0];
+                    }
+                    assert!(close(total, 1.0, 1e-6), "θ {deg}: {total}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn single_lobe_contexts_weigh_by_r_and_t() {
+        let d = ThinDielectric::default();
+        let wi = dir(45.0);
+        let mut wl = SampledWavelengths::fixed(550.0);
+        let r_only = BsdfContext::radiance().with_lobes(BsdfFlags::DELTA_REFLECTION);
+        let t_only = BsdfContext::radiance().with_lobes(BsdfFlags::DELTA_TRANSMISSION);
+        for u1 in [0.0, 0.5, 0.99] {
+            let s = d.sample(&r_only, wi, u1, Vec2::ZERO, &mut wl).unwrap();
+            assert!(s.pdf == 1.0 && close(s.weight[0], 0.096734, 2e-6) && s.flags.is_reflection());
+            let s = d.sample(&t_only, wi, u1, Vec2::ZERO, &mut wl).unwrap();
+            assert!(s.pdf == 1.0 && close(s.weight[0], 0.903266, 2e-6) && s.flags.is_transmission());
+        }
+    }
+
+    #[test]
+    fn transmittance_tint_applies_once() {
+        let mut d = ThinDielectric::default();
+        d.specular_transmittance = Spectrum::Constant(0.5);
+        let wl = SampledWavelengths::fixed(550.0);
+        assert!(close(
+            d.null_transmission(Vec3::Z, &wl).unwrap()[0],
+            0.5 * 0.922086,
+            2e-6
+        ));
+        let mut wl = SampledWavelengths::fixed(550.0);
+        let s = d
+            .sample(&BsdfContext::radiance(), Vec3::Z, 0.99, Vec2::ZERO, &mut wl)
+            .unwrap();
+        assert!(close(s.weight[0], 0.5, 1e-7));
+    }
+
+    #[test]
+    fn reflection_frequency_is_stokes_reflectance() {
+        let d = ThinDielectric::default();
+        let ctx = BsdfContext::radiance();
+        let n = 100_000;
+        for deg in [0.0f32, 60.0, 80.0] {
+            let wi = dir(deg);
+            let mut hits = 0;
+            // A golden-ratio sequence: deterministic and equidistributed.
+            for j in 0..n {
+                let u1 = (0.5 + j as f64 * 0.618_033_988_749_894_9).fract() as f32;
+                let mut wl = SampledWavelengths::fixed(550.0);
+                hits += d
+                    .sample(&ctx, wi, u1, Vec2::ZERO, &mut wl)
+                    .unwrap()
+                    .flags
+                    .is_reflection() as usize;
+            }
+            let rp = d
+                .reflectance_transmittance(wi.z, &SampledWavelengths::fixed(550.0))
+                .0[0];
+            assert!((hits as f32 / n as f32 - rp).abs() < 1e-3, "θ {deg}");
+        }
+    }
+
+    #[test]
+    fn dispersive_sheet_keeps_all_wavelengths() {
+        let table = PiecewiseLinear::new(vec![400.0, 700.0], vec![1.53, 1.51], Extrapolation::Clamp).unwrap();
+        let d = ThinDielectric::new(
+            Ior::from_spectrum(Spectrum::PiecewiseLinear(Arc::new(table))),
+            Ior::Constant(1.0),
+        );
+        let ctx = BsdfContext::radiance();
+        let wi = dir(75.0);
+        let lambdas = [LAMBDA_MIN + 50.0, 500.0, 600.0, LAMBDA_MAX - 100.0];
+        let (r, t) = d.reflectance_transmittance(wi.z, &SampledWavelengths::from_parts(lambdas, [1.0; 4]));
+        assert!(r[0] != r[3], "R' depends on λ");
+        let n = 50_000;
+        let (mut mr, mut mt) = ([0.0f64; 4], [0.0f64; 4]);
+        for j in 0..n {
+            let u1 = (j as f32 + 0.5) / n as f32;
+            let mut wl = SampledWavelengths::from_parts(lambdas, [1.0; 4]);
+            let s = d.sample(&ctx, wi, u1, Vec2::ZERO, &mut wl).unwrap();
+            assert!(!wl.secondary_terminated());
+            let acc = if s.flags.is_reflection() { &mut mr } else { &mut mt };
+            for i in 0..4 {
+                acc[i] += s.weight[i] as f64 / n as f64;
+            }
+        }
+        for i in 0..4 {
+            assert!(
+                (mr[i] - r[i] as f64).abs() < 5e-5 && (mt[i] - t[i] as f64).abs() < 5e-5,
+                "λ {}",
+                lambdas[i]
+            );
+        }
+    }
+}
