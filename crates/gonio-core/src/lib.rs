@@ -9,9 +9,11 @@
 
 pub mod bsdf;
 pub mod bsdfs;
+pub mod check;
 pub mod frame;
 pub mod fresnel;
 pub mod ior;
+pub mod rng;
 pub mod spectra;
 pub mod spectrum;
 pub mod warp;

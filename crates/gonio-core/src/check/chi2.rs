@@ -1,0 +1,383 @@
+//! χ² goodness-of-fit of `sample` against `pdf` (testing.md §1): does the histogram of the
+//! directions `sample` produces match the density `pdf` claims?
+//!
+//! Recipe of Mitsuba 3 (`src/python/python/chi2.py`, pooling as in `chi2()` of
+//! `include/mitsuba/core/math.h`) and pbrt-v4 (`src/pbrt/bsdfs_test.cpp`):
+//!
+//! * **Domain**: the sphere parameterized by (φ, cos θ) ∈ [−π, π] × [−1, 1], area-preserving
+//!   (dω = dφ d cos θ), so no Jacobian appears; `res / 2` φ-bins × `res` cos θ-bins (50 × 101).
+//! * **Observed**: `samples` (10⁶) calls of `sample` with a fixed `wi`; failed samples and
+//!   **delta-lobe samples are skipped** (their pdf is a discrete probability, not a density).
+//!   Optionally the delta lobes are instead masked out of the context.
+//! * **Expected**: N × ∫∫ pdf over each cell, composite Simpson with `ires` nodes per axis; a
+//!   cell straddling the horizon is split at cos θ = 0 so a pdf that jumps there is integrated
+//!   accurately. Nodes are inset by 10⁻⁴ of the cell (Mitsuba) to avoid the poles.
+//! * **Statistic**: cells sorted by expected count; cells with expected < 5 are pooled until
+//!   the pool exceeds 5; dof = terms − 1; p = Q(dof/2, χ²/2) with Q the regularized upper
+//!   incomplete gamma function (`puruspe::gammq`).
+//! * **Sanity failures** (p = 0): a sample off the unit sphere, a cell with expected 0 but
+//!   observed > 0 (a delta spike or a pdf that misses part of the sampled support), Σexpected/N
+//!   > 1.1 (pdf normalized to more than 1), dof < 1.
+//!
+//! The test fails when p < α′ (Šidák-corrected over the configurations of a battery).
+
+use super::{Bound, CheckConfig, CheckResult, Chi2Config, SamplerKind};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags};
+use crate::rng::{Kronecker, ONE_MINUS_EPSILON, Pcg32, Stratified2D, permutation};
+use crate::spectrum::SampledWavelengths;
+use glam::{Vec2, Vec3};
+use std::f64::consts::PI;
+
+/// Pooling threshold: cells expected to receive fewer samples are merged (Mitsuba, pbrt: 5).
+pub const MIN_EXPECTED: f64 = 5.0;
+
+/// Observed and expected counts over the (φ, cos θ) grid of one configuration.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chi2Table {
+    /// Number of φ bins (columns).
+    pub n_phi: usize,
+    /// Number of cos θ bins (rows, from cos θ = −1 upwards).
+    pub n_cos: usize,
+    /// Samples per cell, row-major `[cos_bin * n_phi + phi_bin]`.
+    pub observed: Vec<f64>,
+    /// N × ∫ pdf over each cell, same layout.
+    pub expected: Vec<f64>,
+    /// Number of `sample` calls N.
+    pub samples: usize,
+    /// Samples that were not unit vectors (a sanity failure).
+    pub off_sphere: usize,
+    /// Delta-lobe samples skipped.
+    pub delta_skipped: usize,
+}
+
+/// The χ² statistic of a table and its p-value; `error` names a sanity failure (then p = 0).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chi2Stat {
+    /// Σ (O − E)²/E over the (pooled) terms.
+    pub chi2: f64,
+    /// Degrees of freedom: terms − 1.
+    pub dof: usize,
+    /// Q(dof/2, χ²/2): probability of a statistic at least this large if `sample` matches `pdf`.
+    pub p_value: f64,
+    /// A sanity failure, if any.
+    pub error: Option<String>,
+}
+
+/// One χ² configuration of a battery.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Chi2Case {
+    /// The query direction (unit).
+    pub wi: Vec3,
+    /// The uniform points fed to `sample`.
+    pub sampler: SamplerKind,
+    /// Delta lobes masked out of the context (otherwise their samples are skipped).
+    pub masked: bool,
+}
+
+/// The χ² configurations [`super::battery`] runs for `bsdf`: none for a purely delta model;
+/// otherwise every incidence × sampler, plus one masked-context case per incidence when the
+/// model mixes delta and smooth lobes.
+pub fn plan(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<Chi2Case> {
+    let flags = bsdf.flags();
+    let mut cases = Vec::new();
+    if !flags.has_smooth() {
+        return cases;
+    }
+    for &wi in &config.chi2.incidences {
+        let wi = wi.normalize();
+        for &sampler in &config.chi2.samplers {
+            cases.push(Chi2Case { wi, sampler, masked: false });
+        }
+        if config.chi2.masked_context && flags.is_delta() {
+            cases.push(Chi2Case { wi, sampler: SamplerKind::Independent, masked: true });
+        }
+    }
+    cases
+}
+
+/// Runs the configurations of [`plan`], one `chi2` row each, failing when p < `alpha_row`.
+///
+/// A configuration where `sample` never produces a smooth direction *and* the pdf integrates to
+/// less than one expected sample (a one-sided model queried from below) has nothing to test and
+/// yields no row.
+pub fn run_plan(
+    bsdf: &dyn Bsdf,
+    config: &CheckConfig,
+    cases: &[Chi2Case],
+    alpha_row: f64,
+) -> Vec<CheckResult> {
+    let mut rows = Vec::new();
+    for (i, case) in cases.iter().enumerate() {
+        let mut rng = config.rng(0x0c41_0000 + i as u64);
+        let wl = SampledWavelengths::sample_visible(rng.next_f32());
+        let ctx = if case.masked {
+            BsdfContext::radiance().with_lobes(BsdfFlags(BsdfFlags::ALL.0 & !BsdfFlags::DELTA.0))
+        } else {
+            BsdfContext::radiance()
+        };
+        let table = tabulate(bsdf, &ctx, case.wi, &wl, case.sampler, &config.chi2, &mut rng);
+        let obs_total: f64 = table.observed.iter().sum();
+        let exp_total: f64 = table.expected.iter().sum();
+        if obs_total == 0.0 && exp_total < 1.0 && table.off_sphere == 0 {
+            continue;
+        }
+        let stat = statistic(&table);
+        let detail = format!(
+            "wi=({:.3},{:.3},{:.3}) {} {}: chi2={:.1} dof={} obs/N={:.4} exp/N={:.4} delta skipped={}{}",
+            case.wi.x,
+            case.wi.y,
+            case.wi.z,
+            case.sampler,
+            if case.masked { "delta masked" } else { "delta skipped" },
+            stat.chi2,
+            stat.dof,
+            obs_total / table.samples as f64,
+            exp_total / table.samples as f64,
+            table.delta_skipped,
+            stat.error.as_deref().map(|e| format!(" [{e}]")).unwrap_or_default(),
+        );
+        rows.push(CheckResult::compare("chi2", stat.p_value, Bound::AtLeast, alpha_row, detail));
+    }
+    rows
+}
+
+/// Maps a unit direction to its (φ, cos θ) cell.
+#[inline]
+fn cell_of(w: Vec3, n_phi: usize, n_cos: usize) -> usize {
+    let phi = (w.y as f64).atan2(w.x as f64);
+    let ip = (((phi + PI) / (2.0 * PI) * n_phi as f64) as isize).clamp(0, n_phi as isize - 1) as usize;
+    let ic = (((w.z as f64 + 1.0) * 0.5 * n_cos as f64) as isize).clamp(0, n_cos as isize - 1) as usize;
+    ic * n_phi + ip
+}
+
+/// Draws `cfg.samples` directions from `bsdf.sample(ctx, wi, ..)` with the given sampler, bins
+/// them, and integrates `bsdf.pdf(ctx, wi, ..)` over every cell.
+pub fn tabulate(
+    bsdf: &dyn Bsdf,
+    ctx: &BsdfContext,
+    wi: Vec3,
+    wl: &SampledWavelengths,
+    sampler: SamplerKind,
+    cfg: &Chi2Config,
+    rng: &mut Pcg32,
+) -> Chi2Table {
+    let n_cos = cfg.res.max(3);
+    let n_phi = (cfg.res / 2).max(2);
+    let mut observed = vec![0.0f64; n_phi * n_cos];
+    let (mut off_sphere, mut delta_skipped) = (0usize, 0usize);
+    let mut draw = |u1: f32, u2: Vec2| {
+        let mut wl2 = *wl;
+        if let Some(s) = bsdf.sample(ctx, wi, u1, u2, &mut wl2) {
+            if s.flags.is_delta() {
+                delta_skipped += 1;
+                return;
+            }
+            if !s.wo.is_finite() || (s.wo.length() - 1.0).abs() > 1e-3 {
+                off_sphere += 1;
+                return;
+            }
+            observed[cell_of(s.wo, n_phi, n_cos)] += 1.0;
+        }
+    };
+    let samples = match sampler {
+        SamplerKind::Independent => {
+            for _ in 0..cfg.samples {
+                let u1 = rng.next_f32();
+                draw(u1, rng.next_vec2());
+            }
+            cfg.samples
+        }
+        SamplerKind::Stratified => {
+            let side = (cfg.samples as f64).sqrt().floor().max(1.0) as u32;
+            let n = side * side;
+            let perm = permutation(n, rng);
+            let grid = Stratified2D::new(side, side, Pcg32::new(rng.next_u32() as u64, 1));
+            for (k, u2) in grid.enumerate() {
+                let u1 = ((perm[k] as f32 + rng.next_f32()) / n as f32).min(ONE_MINUS_EPSILON);
+                draw(u1, u2);
+            }
+            n as usize
+        }
+        SamplerKind::Kronecker => {
+            let seq = Kronecker::<3>::new(rng);
+            for p in seq.take(cfg.samples) {
+                draw(p[0], Vec2::new(p[1], p[2]));
+            }
+            cfg.samples
+        }
+    };
+
+    let expected = expected_counts(bsdf, ctx, wi, wl, n_phi, n_cos, cfg.ires, samples as f64);
+    Chi2Table { n_phi, n_cos, observed, expected, samples, off_sphere, delta_skipped }
+}
+
+/// N × ∫∫ pdf dφ dcos θ over every cell (composite Simpson, `ires` nodes per axis, cells split
+/// at the horizon).
+#[allow(clippy::too_many_arguments)]
+fn expected_counts(
+    bsdf: &dyn Bsdf,
+    ctx: &BsdfContext,
+    wi: Vec3,
+    wl: &SampledWavelengths,
+    n_phi: usize,
+    n_cos: usize,
+    ires: usize,
+    n: f64,
+) -> Vec<f64> {
+    // Simpson needs an odd node count ≥ 3.
+    let m = if ires < 3 { 3 } else { ires | 1 };
+    let w: Vec<f64> = (0..m)
+        .map(|j| {
+            let c = if j == 0 || j == m - 1 {
+                1.0
+            } else if j % 2 == 1 {
+                4.0
+            } else {
+                2.0
+            };
+            c / (3.0 * (m - 1) as f64)
+        })
+        .collect();
+    let inset = 1e-4;
+    let node = |a: f64, b: f64, j: usize| a + (b - a) * (inset + (1.0 - 2.0 * inset) * j as f64 / (m - 1) as f64);
+    let dphi = 2.0 * PI / n_phi as f64;
+    let dz = 2.0 / n_cos as f64;
+    let mut expected = vec![0.0f64; n_phi * n_cos];
+    for ic in 0..n_cos {
+        let (z0, z1) = (-1.0 + ic as f64 * dz, -1.0 + (ic + 1) as f64 * dz);
+        let pieces: &[(f64, f64)] =
+            if z0 < 0.0 && z1 > 0.0 { &[(z0, 0.0), (0.0, z1)] } else { &[(z0, z1)] };
+        for ip in 0..n_phi {
+            let (p0, p1) = (-PI + ip as f64 * dphi, -PI + (ip + 1) as f64 * dphi);
+            let mut sum = 0.0;
+            for &(a, b) in pieces {
+                let mut s = 0.0;
+                for (jz, wz) in w.iter().enumerate() {
+                    let z = node(a, b, jz);
+                    let r = (1.0 - z * z).max(0.0).sqrt();
+                    for (jp, wp) in w.iter().enumerate() {
+                        let phi = node(p0, p1, jp);
+                        let wo = Vec3::new((r * phi.cos()) as f32, (r * phi.sin()) as f32, z as f32);
+                        s += wz * wp * bsdf.pdf(ctx, wi, wo, wl) as f64;
+                    }
+                }
+                sum += s * (b - a) * (p1 - p0);
+            }
+            expected[ic * n_phi + ip] = sum * n;
+        }
+    }
+    expected
+}
+
+/// The pooled χ² statistic and p-value of a table (Mitsuba's pooling rule, see module docs).
+pub fn statistic(table: &Chi2Table) -> Chi2Stat {
+    let fail = |chi2: f64, dof: usize, e: String| Chi2Stat { chi2, dof, p_value: 0.0, error: Some(e) };
+    let n = table.samples as f64;
+    if table.off_sphere > 0 {
+        return fail(f64::NAN, 0, format!("{} samples off the unit sphere", table.off_sphere));
+    }
+    let exp_total: f64 = table.expected.iter().sum();
+    if table.expected.iter().any(|e| !e.is_finite() || *e < 0.0) {
+        return fail(f64::NAN, 0, "pdf negative or not finite".into());
+    }
+    if exp_total > 1.1 * n {
+        return fail(f64::NAN, 0, format!("pdf integrates to {:.4} > 1.1", exp_total / n));
+    }
+    let mut order: Vec<usize> = (0..table.expected.len()).collect();
+    order.sort_by(|&a, &b| table.expected[a].total_cmp(&table.expected[b]));
+    let (mut chi2, mut terms) = (0.0f64, 0usize);
+    let (mut pool_o, mut pool_e) = (0.0f64, 0.0f64);
+    for &i in &order {
+        let (o, e) = (table.observed[i], table.expected[i]);
+        if e == 0.0 {
+            if o > 0.0 {
+                let (ic, ip) = (i / table.n_phi, i % table.n_phi);
+                return fail(
+                    f64::INFINITY,
+                    0,
+                    format!("{o} samples in cell (cos bin {ic}, phi bin {ip}) where the pdf is 0"),
+                );
+            }
+            continue;
+        }
+        if e < MIN_EXPECTED {
+            pool_o += o;
+            pool_e += e;
+            if pool_e > MIN_EXPECTED {
+                chi2 += (pool_o - pool_e).powi(2) / pool_e;
+                terms += 1;
+                pool_o = 0.0;
+                pool_e = 0.0;
+            }
+        } else {
+            chi2 += (o - e).powi(2) / e;
+            terms += 1;
+        }
+    }
+    if terms < 2 {
+        return fail(chi2, 0, "fewer than 2 terms (dof < 1)".into());
+    }
+    let dof = terms - 1;
+    let p_value = puruspe::gammq(dof as f64 / 2.0, chi2 / 2.0);
+    Chi2Stat { chi2, dof, p_value, error: None }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table(observed: Vec<f64>, expected: Vec<f64>, samples: usize) -> Chi2Table {
+        Chi2Table {
+            n_phi: observed.len(),
+            n_cos: 1,
+            observed,
+            expected,
+            samples,
+            off_sphere: 0,
+            delta_skipped: 0,
+        }
+    }
+
+    #[test]
+    fn perfect_fit_has_p_one_and_gross_misfit_p_zero() {
+        let e = vec![100.0; 10];
+        let s = statistic(&table(e.clone(), e.clone(), 1000));
+        assert_eq!((s.chi2, s.dof), (0.0, 9));
+        assert!((s.p_value - 1.0).abs() < 1e-12);
+        let mut o = e.clone();
+        o[0] = 200.0;
+        o[1] = 0.0;
+        let s = statistic(&table(o, e, 1000));
+        assert!((s.chi2 - 200.0).abs() < 1e-9);
+        assert!(s.p_value < 1e-30);
+    }
+
+    #[test]
+    fn p_value_matches_chi2_distribution() {
+        // χ² = 16.919 at 9 dof is the 95th percentile (tables): p = 0.05.
+        let e = vec![100.0; 10];
+        let mut o = e.clone();
+        // (O−E)²/E summed to 16.919: put it in two cells with opposite signs.
+        let d = (16.919f64 * 100.0 / 2.0).sqrt();
+        o[0] += d;
+        o[1] -= d;
+        let s = statistic(&table(o, e, 1000));
+        assert!((s.p_value - 0.05).abs() < 1e-4, "{s:?}");
+    }
+
+    #[test]
+    fn pools_small_cells_and_flags_spikes() {
+        // 10 cells of 1 expected each pool into 1 term with the big cells: 2 big + pools.
+        let mut e = vec![1.0; 12];
+        e[10] = 500.0;
+        e[11] = 500.0;
+        let s = statistic(&table(e.clone(), e.clone(), 1010));
+        // Pools close when the pooled expectation exceeds 5: after 6 cells (6 > 5), the last 4
+        // cells (4 ≤ 5) are a dropped partial pool; + 2 big cells → 3 terms, dof 2.
+        assert_eq!(s.dof, 2);
+        let mut e2 = e.clone();
+        e2[0] = 0.0;
+        let s = statistic(&table(e, e2, 1010));
+        assert!(s.error.is_some() && s.p_value == 0.0);
+    }
+}

@@ -1,0 +1,67 @@
+//! Isotropy (lecture slide "BRDF properties"; testing.md §4): an isotropic BSDF depends on the
+//! azimuths of wi and wo only through their difference, so rotating both about the normal by a
+//! common angle ψ leaves f, the pdf and every delta lobe's throughput unchanged (and rotates a
+//! delta lobe's direction with them).
+//!
+//! Row `isotropy`: the max relative change over random pairs and angles. Rotation in `f32`
+//! perturbs the directions by ~1e-7, so the tolerance is 10 × `rel_tol`. Every model of the
+//! lecture is isotropic; an anisotropic model would report its variation here.
+
+use super::{Bound, CheckConfig, CheckResult, random_wavelengths, rel_diff, uniform_sphere};
+use crate::bsdf::{Bsdf, BsdfContext};
+use glam::Quat;
+
+const TINY: f64 = 1e-12;
+
+/// The `isotropy` row.
+pub fn isotropy(bsdf: &dyn Bsdf, config: &CheckConfig) -> CheckResult {
+    let mut rng = config.rng(0x150_7a0);
+    let ctx = BsdfContext::radiance();
+    let (mut worst, mut at) = (0.0f64, String::new());
+    let mut record = |e: f64, what: &dyn Fn() -> String| {
+        let e = if e.is_nan() { f64::INFINITY } else { e };
+        if e > worst {
+            worst = e;
+            at = what();
+        }
+    };
+    for _ in 0..config.pairs {
+        let (a, b) = (uniform_sphere(&mut rng), uniform_sphere(&mut rng));
+        let psi = std::f32::consts::TAU * rng.next_f32();
+        let rot = Quat::from_rotation_z(psi);
+        let (ra, rb) = (rot * a, rot * b);
+        let wl = random_wavelengths(&mut rng);
+        let (f, p) = (bsdf.eval(&ctx, a, b, &wl), bsdf.pdf(&ctx, a, b, &wl));
+        let (fr, pr) = (bsdf.eval(&ctx, ra, rb, &wl), bsdf.pdf(&ctx, ra, rb, &wl));
+        for i in 0..4 {
+            record(rel_diff(f[i] as f64, fr[i] as f64, TINY), &|| {
+                format!("f at a={a:.4} b={b:.4}: {f:?}, rotated by {psi:.3}: {fr:?}")
+            });
+        }
+        record(rel_diff(p as f64, pr as f64, TINY), &|| {
+            format!("pdf at a={a:.4} b={b:.4}: {p}, rotated by {psi:.3}: {pr}")
+        });
+        // Delta lobes: same numbers, rotated direction.
+        let (u1, u2) = (rng.next_f32(), rng.next_vec2());
+        let (mut w1, mut w2) = (wl, wl);
+        let s = bsdf.sample(&ctx, a, u1, u2, &mut w1);
+        let sr = bsdf.sample(&ctx, ra, u1, u2, &mut w2);
+        if let (Some(s), Some(sr)) = (s, sr) {
+            if s.flags.is_delta() && sr.flags == s.flags {
+                let mut e = rel_diff(s.pdf as f64, sr.pdf as f64, TINY);
+                for i in 0..4 {
+                    e = e.max(rel_diff(s.weight[i] as f64, sr.weight[i] as f64, TINY));
+                }
+                e = e.max(((rot * s.wo) - sr.wo).length() as f64);
+                record(e, &|| format!("delta sample at a={a:.4}: {s:?}; rotated by {psi:.3}: {sr:?}"));
+            }
+        }
+    }
+    CheckResult::compare(
+        "isotropy",
+        worst,
+        Bound::AtMost,
+        10.0 * config.rel_tol,
+        format!("max relative change of f, pdf, delta samples under rotation about z over {} pairs; worst {at}", config.pairs),
+    )
+}

@@ -1,0 +1,337 @@
+//! The property checks every BSDF must pass, shared by the test suite and by `gonio check`
+//! ("one implementation"): each check returns [`CheckResult`] rows instead of panicking, and
+//! [`battery`] runs every check that applies to a model.
+//!
+//! | row | measures | module | source |
+//! |---|---|---|---|
+//! | `chi2` | histogram of `sample` vs the integral of `pdf` (p-value) | [`chi2`] | Mitsuba 3 `chi2.py`, pbrt-v4 `bsdfs_test.cpp` |
+//! | `weight_vs_eval` | weight = f·\|cos θo\|/pdf at sampled directions | [`consistency`] | testing.md §2 |
+//! | `sample_pdf_vs_pdf` | the pdf `sample` reports = `pdf(wo)` | [`consistency`] | testing.md §2 |
+//! | `eval_pdf` | `eval_pdf` = (`eval`, `pdf`) | [`consistency`] | Mitsuba `test_eval_pdf` |
+//! | `pdf_integral` | ∫ pdf dω ≤ 1 | [`consistency`] | testing.md §2 |
+//! | `pdf_normalization` | ∫ pdf dω = probability that `sample` returns a smooth lobe | [`consistency`] | (ours) |
+//! | `energy` | directional albedo R + T ≤ 1 in importance mode | [`energy`] | pbrt-v4 energy test, testing.md §3 |
+//! | `albedo_estimators` | mean sample weight = uniform-sphere integral of f·\|cos\| | [`energy`] | testing.md §3 |
+//! | `reciprocity`, `eta2_law`, `adjoint`, `delta_reciprocity` | f(a,b) = f(b,a); f(a,b)/η_a² = f(b,a)/η_b²; f_imp(a,b) = f_rad(b,a) | [`reciprocity`] | testing.md §4 |
+//! | `isotropy` | f under a common rotation about the normal | [`isotropy`] | testing.md §4 |
+//! | `health`, `lobe_flags` | no NaN/Inf/negative values, grazing included; flags match sides | [`health`] | testing.md §7 |
+//!
+//! # Thresholds
+//!
+//! Two kinds, never tuned to make a model pass:
+//! * **statistical** rows (χ², pdf integrals, albedos) share a family-wise false-alarm rate
+//!   α = [`CheckConfig::alpha`] (0.01), split with the Šidák correction α′ = 1 − (1 − α)^(1/m)
+//!   over the m statistical rows, and again over the comparisons inside a row; Monte Carlo means
+//!   are compared at k standard errors with k the normal quantile of that α′ ([`z_quantile`]).
+//! * **identities** (weight = f·cos/pdf, reciprocity, isotropy) are exact in real arithmetic;
+//!   they are compared with a relative tolerance [`CheckConfig::rel_tol`] that only absorbs `f32`
+//!   rounding (1e-4 = ~1000 ulps).
+//!
+//! Deliberately broken models, kept to prove that each row can fail, are in [`broken`].
+
+pub mod broken;
+pub mod chi2;
+pub mod consistency;
+pub mod energy;
+pub mod health;
+pub mod isotropy;
+pub mod reciprocity;
+
+use crate::bsdf::Bsdf;
+use crate::rng::Pcg32;
+use crate::spectrum::SampledWavelengths;
+use glam::Vec3;
+use std::fmt;
+
+/// How a row's figure is compared with its threshold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Bound {
+    /// Passes when `figure <= threshold` (errors, asymmetries, albedos, counts).
+    AtMost,
+    /// Passes when `figure >= threshold` (p-values).
+    AtLeast,
+}
+
+/// One row of a check report: a measured figure, its threshold and the verdict.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckResult {
+    /// Which check (`chi2`, `energy`, ...; see the module table).
+    pub name: &'static str,
+    /// The measured figure (p-value, max relative error, max albedo, number of bad values).
+    pub figure: f64,
+    /// The threshold the figure is compared with.
+    pub threshold: f64,
+    /// Direction of the comparison.
+    pub bound: Bound,
+    /// The verdict. A non-finite figure always fails.
+    pub passed: bool,
+    /// Configuration and supporting numbers, human-readable.
+    pub detail: String,
+}
+
+impl CheckResult {
+    /// A row whose verdict is the comparison of `figure` with `threshold`.
+    pub fn compare(name: &'static str, figure: f64, bound: Bound, threshold: f64, detail: String) -> Self {
+        let passed = figure.is_finite()
+            && match bound {
+                Bound::AtMost => figure <= threshold,
+                Bound::AtLeast => figure >= threshold,
+            };
+        Self { name, figure, threshold, bound, passed, detail }
+    }
+
+    /// A row with an explicit verdict (when the pass rule is not a single comparison, e.g. "every
+    /// incidence angle within its own k·σ"); `figure` and `threshold` describe the worst case.
+    pub fn with_verdict(
+        name: &'static str,
+        figure: f64,
+        bound: Bound,
+        threshold: f64,
+        passed: bool,
+        detail: String,
+    ) -> Self {
+        Self { name, figure, threshold, bound, passed: passed && !figure.is_nan(), detail }
+    }
+}
+
+impl fmt::Display for CheckResult {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let op = match self.bound {
+            Bound::AtMost => "<=",
+            Bound::AtLeast => ">=",
+        };
+        write!(
+            f,
+            "{:<4} {:<18} {:>12.6e} {op} {:<12.6e} {}",
+            if self.passed { "ok" } else { "FAIL" },
+            self.name,
+            self.figure,
+            self.threshold,
+            self.detail
+        )
+    }
+}
+
+/// Which uniform points drive `sample` in the χ² test.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SamplerKind {
+    /// Independent PCG32 uniforms for u1 and u2.
+    Independent,
+    /// u2 on a jittered √N × √N grid ([`crate::rng::Stratified2D`]), u1 jittered 1-D strata in
+    /// random order (Latin-hypercube padding).
+    Stratified,
+    /// (u1, u2) from Roberts' R₃ sequence with a random shift ([`crate::rng::Kronecker`]).
+    Kronecker,
+}
+
+impl fmt::Display for SamplerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            SamplerKind::Independent => "independent",
+            SamplerKind::Stratified => "stratified",
+            SamplerKind::Kronecker => "kronecker-R3",
+        })
+    }
+}
+
+/// Settings of the χ² test (defaults: Mitsuba 3's recipe, testing.md §1.1).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chi2Config {
+    /// Number of `sample` calls per configuration (10⁶).
+    pub samples: usize,
+    /// cos θ bins; φ gets `res / 2` (101 → 50 × 101 cells; odd keeps a bin edge off the horizon).
+    pub res: usize,
+    /// Quadrature nodes per cell and axis for the expected counts (odd, composite Simpson; 5).
+    pub ires: usize,
+    /// Query directions `wi` (normalized on use).
+    pub incidences: Vec<Vec3>,
+    /// Samplers; every incidence is tested with every sampler.
+    pub samplers: Vec<SamplerKind>,
+    /// Also test each incidence with delta lobes masked out of the context (models that have
+    /// both delta and smooth lobes), not only with delta samples skipped.
+    pub masked_context: bool,
+}
+
+impl Default for Chi2Config {
+    fn default() -> Self {
+        Self {
+            samples: 1_000_000,
+            res: 101,
+            ires: 5,
+            incidences: vec![
+                Vec3::Z,
+                Vec3::new(0.5, 0.3, 0.8),
+                Vec3::new(0.8, 0.3, 0.05), // grazing (Mitsuba roughdielectric test)
+                Vec3::new(0.2, -0.6, -0.5), // from below / inside
+            ],
+            samplers: vec![SamplerKind::Independent, SamplerKind::Stratified, SamplerKind::Kronecker],
+            masked_context: true,
+        }
+    }
+}
+
+/// Settings of [`battery`]. Sample counts are sized so one model's battery takes about a second
+/// in release mode on one core.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckConfig {
+    /// Seed of every random stream (each check uses its own stream).
+    pub seed: u64,
+    /// Family-wise false-alarm rate of the statistical rows (0.01), Šidák-split.
+    pub alpha: f64,
+    /// Relative tolerance of exact identities (`f32` rounding only): 1e-4.
+    pub rel_tol: f64,
+    /// χ² settings.
+    pub chi2: Chi2Config,
+    /// Samples for weight/pdf consistency.
+    pub consistency_samples: usize,
+    /// Query directions for the pdf integral, and uniform directions per query.
+    pub pdf_integral_queries: usize,
+    /// Uniform-sphere directions per query of the pdf integral.
+    pub pdf_integral_samples: usize,
+    /// Samples per (angle, side, wavelength, mode) albedo estimate.
+    pub energy_samples: usize,
+    /// Incidence angles of the energy check, degrees from the normal (both sides are tested).
+    pub energy_angles_deg: Vec<f32>,
+    /// Wavelengths of the energy check, nm.
+    pub energy_wavelengths: Vec<f32>,
+    /// Random direction pairs for reciprocity and isotropy.
+    pub pairs: usize,
+    /// Random queries of the health check (plus a fixed set of grazing and degenerate ones).
+    pub health_queries: usize,
+}
+
+impl Default for CheckConfig {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            alpha: 0.01,
+            rel_tol: 1e-4,
+            chi2: Chi2Config::default(),
+            consistency_samples: 100_000,
+            pdf_integral_queries: 8,
+            pdf_integral_samples: 200_000,
+            energy_samples: 32_768,
+            energy_angles_deg: vec![0.0, 30.0, 60.0, 80.0, 89.0],
+            energy_wavelengths: vec![400.0, 550.0, 700.0],
+            pairs: 20_000,
+            health_queries: 20_000,
+        }
+    }
+}
+
+impl CheckConfig {
+    /// A cheaper configuration (10× fewer samples, independent sampler only) for interactive use.
+    pub fn quick() -> Self {
+        let mut c = Self::default();
+        c.chi2.samples = 100_000;
+        c.chi2.samplers = vec![SamplerKind::Independent];
+        c.consistency_samples /= 10;
+        c.pdf_integral_samples /= 10;
+        c.energy_samples /= 10;
+        c.pairs /= 10;
+        c.health_queries /= 10;
+        c
+    }
+
+    /// The random stream of one check (`stream` distinguishes checks and configurations).
+    pub fn rng(&self, stream: u64) -> Pcg32 {
+        Pcg32::new(self.seed, stream)
+    }
+}
+
+/// Šidák's per-test level: m independent tests at α′ each have family-wise rate α.
+pub fn sidak(alpha: f64, m: usize) -> f64 {
+    if m <= 1 {
+        return alpha;
+    }
+    // 1 − (1 − α)^(1/m), computed without cancellation.
+    -((-alpha).ln_1p() / m as f64).exp_m1()
+}
+
+/// The standard normal quantile z with P(|Z| > z) = α (two-sided), via the inverse error
+/// function: z = √2 · erf⁻¹(1 − α).
+pub fn z_quantile(alpha: f64) -> f64 {
+    std::f64::consts::SQRT_2 * puruspe::inverf(1.0 - alpha)
+}
+
+/// |a − b| / max(|a|, |b|), 0 when both are below `floor` in magnitude (rounding noise of tiny
+/// values is not an asymmetry).
+pub fn rel_diff(a: f64, b: f64, floor: f64) -> f64 {
+    let m = a.abs().max(b.abs());
+    if m <= floor { 0.0 } else { (a - b).abs() / m }
+}
+
+/// A uniformly distributed unit vector.
+pub fn uniform_sphere(rng: &mut Pcg32) -> Vec3 {
+    crate::warp::square_to_uniform_sphere(rng.next_vec2())
+}
+
+/// Wavelengths drawn like a path's (hero from the visible pdf, three rotated).
+pub fn random_wavelengths(rng: &mut Pcg32) -> SampledWavelengths {
+    SampledWavelengths::sample_visible(rng.next_f32())
+}
+
+/// A direction `theta_deg` from the normal, azimuth `phi_deg`, on the side of `sign` (±1).
+pub fn direction(theta_deg: f32, phi_deg: f32, sign: f32) -> Vec3 {
+    let (st, ct) = theta_deg.to_radians().sin_cos();
+    let (sp, cp) = phi_deg.to_radians().sin_cos();
+    Vec3::new(st * cp, st * sp, sign * ct)
+}
+
+/// Runs every check that applies to `bsdf` (by its [`Bsdf::flags`]): χ² and the pdf checks
+/// only for models with a smooth lobe, the delta-lobe reciprocity only for models with a delta
+/// lobe. Rows of one statistical family share the Šidák-corrected α of `config`.
+pub fn battery(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
+    let flags = bsdf.flags();
+    let chi2_plan = chi2::plan(bsdf, config);
+    // Statistical rows: the χ² configurations, pdf_integral, pdf_normalization, energy,
+    // albedo_estimators.
+    let n_stat = chi2_plan.len() + if flags.has_smooth() { 4 } else { 2 };
+    let alpha_row = sidak(config.alpha, n_stat);
+
+    let mut rows = Vec::new();
+    rows.extend(health::health(bsdf, config));
+    if flags.has_smooth() {
+        rows.extend(chi2::run_plan(bsdf, config, &chi2_plan, alpha_row));
+        rows.extend(consistency::consistency(bsdf, config));
+        rows.extend(consistency::pdf_integral(bsdf, config, alpha_row));
+    }
+    rows.extend(energy::energy(bsdf, config, alpha_row));
+    rows.extend(reciprocity::reciprocity(bsdf, config));
+    rows.push(isotropy::isotropy(bsdf, config));
+    rows
+}
+
+/// True when every row passed.
+pub fn all_passed(rows: &[CheckResult]) -> bool {
+    rows.iter().all(|r| r.passed)
+}
+
+/// The rows that failed, one per line, for assertion messages.
+pub fn failures(rows: &[CheckResult]) -> String {
+    rows.iter().filter(|r| !r.passed).map(|r| format!("{r}\n")).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sidak_and_quantiles() {
+        // testing.md §1.2: pbrt's 5 runs at 0.01 → 0.0020080.
+        assert!((sidak(0.01, 5) - 0.002008).abs() < 1e-6);
+        assert_eq!(sidak(0.01, 1), 0.01);
+        // Normal quantiles: two-sided 5 % → 1.959964, 1 % → 2.575829.
+        assert!((z_quantile(0.05) - 1.959_964).abs() < 1e-5);
+        assert!((z_quantile(0.01) - 2.575_829).abs() < 1e-5);
+    }
+
+    #[test]
+    fn rows_compare_and_reject_nan() {
+        assert!(CheckResult::compare("x", 0.5, Bound::AtMost, 1.0, String::new()).passed);
+        assert!(!CheckResult::compare("x", 1.5, Bound::AtMost, 1.0, String::new()).passed);
+        assert!(CheckResult::compare("x", 0.5, Bound::AtLeast, 0.01, String::new()).passed);
+        assert!(!CheckResult::compare("x", f64::NAN, Bound::AtMost, 1.0, String::new()).passed);
+        assert!(!CheckResult::compare("x", f64::NAN, Bound::AtLeast, 0.0, String::new()).passed);
+    }
+}
