@@ -5,12 +5,10 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod plastic;
-pub mod tabulated;
 pub mod thindielectric;
 
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use plastic::Plastic;
-pub use tabulated::Tabulated;
 pub use thindielectric::ThinDielectric;
