@@ -1,14 +1,18 @@
 //! The BSDF models, one file each. Every file opens with the formula it implements, its source
 //! (lecture slide, paper) and the Mitsuba 3 parameters with their defaults.
 
+pub mod blendbsdf;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod plastic;
 pub mod thindielectric;
+pub mod twosided;
 
+pub use blendbsdf::BlendBsdf;
 pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use plastic::Plastic;
 pub use thindielectric::ThinDielectric;
+pub use twosided::TwoSided;
