@@ -10,9 +10,13 @@
 pub mod bsdf;
 pub mod bsdfs;
 pub mod check;
+pub mod color;
+mod data;
 pub mod frame;
 pub mod fresnel;
 pub mod ior;
+pub mod named;
+pub mod rgb2spec;
 pub mod rng;
 pub mod spectra;
 pub mod spectrum;

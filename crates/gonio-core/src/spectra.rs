@@ -2,11 +2,27 @@
 //! particular path. A [`Spectrum`] is evaluated at the four wavelengths of a path with
 //! [`Spectrum::sample`].
 //!
-//! Kinds: constant, piecewise linear (Mitsuba's `<spectrum value="400:0.1, 500:0.3"/>` and
-//! `.spd` files, pbrt's named tables), RGB-uplifted (Jakob & Hanika 2019), blackbody, and the
-//! dispersion formulas of Sellmeier and Cauchy.
+//! Kinds and their formulas:
+//! * constant;
+//! * piecewise linear (Mitsuba's `<spectrum value="400:0.1, 500:0.3"/>` and `.spd` files, pbrt's
+//!   named tables): binary search and lerp; outside the table 0 (Mitsuba `irregular`) or the end
+//!   values (measured η/k);
+//! * RGB-uplifted (Jakob & Hanika 2019, [`crate::rgb2spec`]): s(λ) = S(c₀λ² + c₁λ + c₂) with
+//!   S(x) = ½ + x/(2√(1 + x²)). *Albedo*: rgb clamped to [0, 1], value s(λ). *Unbounded* (pbrt
+//!   `RGBUnboundedSpectrum`): m = max(r, g, b), scale = 2m, coefficients of rgb/scale, value
+//!   scale·s(λ). *Illuminant* (pbrt `RGBIlluminantSpectrum`, Mitsuba's `d65` emitter texture):
+//!   unbounded × D65 normalized to unit luminance, so `rgb_illuminant([1, 1, 1])` is the sRGB white
+//!   and renders as linear sRGB (1, 1, 1);
+//! * blackbody: Planck's law B(λ, T) = 2hc² / (λ⁵ (e^{hc/(λ k_B T)} − 1)) (c = 299792458 m/s,
+//!   h = 6.62606957e-34 J s, k_B = 1.3806488e-23 J/K, as pbrt-v4) divided by its value at Wien's
+//!   peak λ_max = 2.8977721e-3 m·K / T, so the peak is 1 (pbrt `BlackbodySpectrum`, Mitsuba
+//!   `blackbody`);
+//! * Sellmeier: n²(λ) = 1 + Σⱼ Bⱼ λ²/(λ² − Cⱼ), λ in µm, Cⱼ in µm² (Schott catalogue form);
+//! * Cauchy: n(λ) = A + B/λ², λ in µm, B in µm².
 
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::color::d65_normalized;
+use crate::rgb2spec::{RgbSigmoid, srgb_to_sigmoid_refined};
+use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, SampledSpectrum, SampledWavelengths};
 use std::sync::Arc;
 
 /// What a piecewise-linear table returns outside its wavelength range.
@@ -34,7 +50,11 @@ impl PiecewiseLinear {
             && lambda.len() == value.len()
             && lambda.windows(2).all(|w| w[0] < w[1])
             && lambda.iter().chain(&value).all(|x| x.is_finite());
-        ok.then_some(Self { lambda, value, extrapolation })
+        ok.then_some(Self {
+            lambda,
+            value,
+            extrapolation,
+        })
     }
 
     /// From interleaved `[λ₀, v₀, λ₁, v₁, ...]` static data.
@@ -45,6 +65,98 @@ impl PiecewiseLinear {
         let lambda = data.iter().step_by(2).copied().collect();
         let value = data.iter().skip(1).step_by(2).copied().collect();
         Self::new(lambda, value, extrapolation)
+    }
+
+    /// Parses a Mitsuba `.spd` file: one "λ value" pair per line (whitespace or a comma between
+    /// them), `#` starts a comment, blank lines are skipped; λ must increase strictly. The error
+    /// names the offending line (1-based) and its text.
+    pub fn parse_spd(text: &str, extrapolation: Extrapolation) -> Result<PiecewiseLinear, String> {
+        let (mut lambda, mut value) = (Vec::new(), Vec::new());
+        for (n, raw) in text.lines().enumerate() {
+            let line = raw.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let fields: Vec<&str> = line
+                .split(|c: char| c.is_whitespace() || c == ',')
+                .filter(|f| !f.is_empty())
+                .collect();
+            let bad = |why: &str| format!("spectrum file line {}: {why}: \"{}\"", n + 1, raw.trim());
+            if fields.len() != 2 {
+                return Err(bad("expected two numbers \"wavelength value\""));
+            }
+            let l: f32 = fields[0].parse().map_err(|_| bad("wavelength is not a number"))?;
+            let v: f32 = fields[1].parse().map_err(|_| bad("value is not a number"))?;
+            if !l.is_finite() || !v.is_finite() {
+                return Err(bad("non-finite number"));
+            }
+            match lambda.last() {
+                Some(&prev) if l <= prev => {
+                    return Err(bad(&format!(
+                        "wavelength {l} does not increase (previous {prev})"
+                    )));
+                }
+                _ => {}
+            }
+            lambda.push(l);
+            value.push(v);
+        }
+        if lambda.is_empty() {
+            return Err("spectrum file holds no \"wavelength value\" lines".into());
+        }
+        Ok(Self {
+            lambda,
+            value,
+            extrapolation,
+        })
+    }
+
+    /// Parses Mitsuba's inline form `"400:0.1, 500:0.3"` (λ in nm; pairs separated by commas;
+    /// 0 outside the range, as Mitsuba's `irregular` spectrum). The error names the bad token.
+    pub fn parse_pairs(text: &str) -> Result<PiecewiseLinear, String> {
+        let (mut lambda, mut value) = (Vec::new(), Vec::new());
+        for token in text.split(',').map(str::trim) {
+            if token.is_empty() {
+                return Err(format!(
+                    "spectrum \"{text}\": empty entry (expected \"wavelength:value\")"
+                ));
+            }
+            let bad = |why: &str| format!("spectrum entry \"{token}\": {why}");
+            let (l, v) = token
+                .split_once(':')
+                .ok_or_else(|| bad("expected \"wavelength:value\""))?;
+            let l: f32 = l.trim().parse().map_err(|_| bad("wavelength is not a number"))?;
+            let v: f32 = v.trim().parse().map_err(|_| bad("value is not a number"))?;
+            if !l.is_finite() || !v.is_finite() {
+                return Err(bad("non-finite number"));
+            }
+            match lambda.last() {
+                Some(&prev) if l <= prev => {
+                    return Err(bad(&format!(
+                        "wavelength {l} does not increase (previous {prev})"
+                    )));
+                }
+                _ => {}
+            }
+            lambda.push(l);
+            value.push(v);
+        }
+        Ok(Self {
+            lambda,
+            value,
+            extrapolation: Extrapolation::Zero,
+        })
+    }
+
+    /// The same table with another extrapolation rule.
+    pub fn with_extrapolation(mut self, extrapolation: Extrapolation) -> Self {
+        self.extrapolation = extrapolation;
+        self
+    }
+
+    /// The extrapolation rule.
+    pub fn extrapolation(&self) -> Extrapolation {
+        self.extrapolation
     }
 
     /// Value at `lambda` (nm).
@@ -85,6 +197,150 @@ impl PiecewiseLinear {
     pub fn values(&self) -> &[f32] {
         &self.value
     }
+
+    /// The common value if the table is the same at every λ of the visible range.
+    fn constant_value(&self) -> Option<f32> {
+        let v0 = self.value[0];
+        if !self.value.iter().all(|&v| v == v0) {
+            return None;
+        }
+        let covers = self.lambda[0] <= LAMBDA_MIN && *self.lambda.last()? >= LAMBDA_MAX;
+        (self.extrapolation == Extrapolation::Clamp || covers).then_some(v0)
+    }
+}
+
+/// Which role an RGB-uplifted spectrum plays (how the colour was turned into a spectrum).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RgbKind {
+    /// A reflectance in [0, 1] (pbrt `RGBAlbedoSpectrum`).
+    Albedo,
+    /// Any non-negative quantity (η, k, σ): scale·s(λ) (pbrt `RGBUnboundedSpectrum`).
+    Unbounded,
+    /// Emission: scale·s(λ)·D65(λ) with unit-luminance D65 (pbrt `RGBIlluminantSpectrum`).
+    Illuminant,
+}
+
+/// An RGB colour uplifted to a spectrum: 3 sigmoid coefficients, a scale and the role (`Copy`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RgbSpectrum {
+    /// The sigmoid polynomial (values in [0, 1]).
+    pub sigmoid: RgbSigmoid,
+    /// Multiplier of the sigmoid (1 for albedos, 2·max(rgb) otherwise).
+    pub scale: f32,
+    /// Role of the spectrum.
+    pub kind: RgbKind,
+}
+
+impl RgbSpectrum {
+    /// Value at `lambda` nm.
+    #[inline]
+    pub fn eval(&self, lambda: f32) -> f32 {
+        let v = self.scale * self.sigmoid.eval(lambda);
+        match self.kind {
+            RgbKind::Illuminant => v * d65_normalized(lambda),
+            _ => v,
+        }
+    }
+}
+
+/// Planck's law: spectral radiance of a blackbody at `lambda_nm` and `temperature_k`, in
+/// W·m⁻²·sr⁻¹·m⁻¹ (pbrt-v4 `Blackbody`). 0 for a non-positive temperature.
+pub fn planck(lambda_nm: f64, temperature_k: f64) -> f64 {
+    if temperature_k.is_nan() || temperature_k <= 0.0 || lambda_nm.is_nan() || lambda_nm <= 0.0 {
+        return 0.0;
+    }
+    const C: f64 = 299792458.0;
+    const H: f64 = 6.62606957e-34;
+    const KB: f64 = 1.3806488e-23;
+    let l = lambda_nm * 1e-9;
+    (2.0 * H * C * C) / (l.powi(5) * ((H * C / (l * KB * temperature_k)).exp_m1()))
+}
+
+/// Wien's displacement constant b, m·K: λ_max = b/T.
+pub const WIEN_B: f64 = 2.8977721e-3;
+
+/// A blackbody emitter normalized to a peak of 1.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blackbody {
+    temperature: f32,
+    norm: f32,
+}
+
+impl Blackbody {
+    /// Blackbody of `temperature_k` kelvin; `None` unless the temperature is positive and finite.
+    pub fn new(temperature_k: f32) -> Option<Self> {
+        if !(temperature_k > 0.0 && temperature_k.is_finite()) {
+            return None;
+        }
+        let t = temperature_k as f64;
+        let peak = planck(WIEN_B / t * 1e9, t);
+        Some(Self {
+            temperature: temperature_k,
+            norm: (1.0 / peak) as f32,
+        })
+    }
+    /// The temperature, K.
+    pub fn temperature(&self) -> f32 {
+        self.temperature
+    }
+    /// B(λ, T)/B(λ_max, T).
+    #[inline]
+    pub fn eval(&self, lambda: f32) -> f32 {
+        (planck(lambda as f64, self.temperature as f64) * self.norm as f64) as f32
+    }
+    fn max_value(&self) -> f32 {
+        let peak_nm = (WIEN_B / self.temperature as f64 * 1e9) as f32;
+        if (LAMBDA_MIN..=LAMBDA_MAX).contains(&peak_nm) {
+            1.0
+        } else {
+            self.eval(LAMBDA_MIN).max(self.eval(LAMBDA_MAX))
+        }
+    }
+}
+
+/// The Sellmeier dispersion formula n²(λ) = 1 + Σⱼ Bⱼ λ²/(λ² − Cⱼ) (λ in µm, Cⱼ in µm²).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sellmeier {
+    /// B₁, B₂, B₃ (dimensionless).
+    pub b: [f32; 3],
+    /// C₁, C₂, C₃ in µm².
+    pub c_um2: [f32; 3],
+}
+
+impl Sellmeier {
+    /// n(λ) at `lambda` nm (computed in f64); 0 where the formula has no real positive value
+    /// (near a pole), which [`crate::ior::Ior`] turns into 1.
+    #[inline]
+    pub fn eval(&self, lambda: f32) -> f32 {
+        let l2 = (lambda as f64 * 1e-3).powi(2);
+        let mut n2 = 1.0f64;
+        for j in 0..3 {
+            n2 += self.b[j] as f64 * l2 / (l2 - self.c_um2[j] as f64);
+        }
+        if n2 > 0.0 && n2.is_finite() {
+            n2.sqrt() as f32
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The two-term Cauchy formula n(λ) = A + B/λ² (λ in µm, B in µm²).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cauchy {
+    /// A (dimensionless).
+    pub a: f32,
+    /// B in µm².
+    pub b_um2: f32,
+}
+
+impl Cauchy {
+    /// n(λ) at `lambda` nm.
+    #[inline]
+    pub fn eval(&self, lambda: f32) -> f32 {
+        let l_um = lambda * 1e-3;
+        self.a + self.b_um2 / (l_um * l_um)
+    }
 }
 
 /// A wavelength-dependent quantity. Cheap to clone (tables are shared).
@@ -94,6 +350,20 @@ pub enum Spectrum {
     Constant(f32),
     /// Linear interpolation between samples.
     PiecewiseLinear(Arc<PiecewiseLinear>),
+    /// An RGB colour uplifted with Jakob & Hanika's sigmoid polynomials.
+    Rgb(RgbSpectrum),
+    /// Planck's law normalized to peak 1.
+    Blackbody(Blackbody),
+    /// Sellmeier dispersion formula (an index of refraction).
+    Sellmeier(Sellmeier),
+    /// Cauchy dispersion formula (an index of refraction).
+    Cauchy(Cauchy),
+}
+
+/// 1 nm scan of `f` over the visible range (both ends included).
+fn scan_visible(f: impl Fn(f32) -> f32) -> impl Iterator<Item = f32> {
+    let n = (LAMBDA_MAX - LAMBDA_MIN) as usize;
+    (0..=n).map(move |i| f(LAMBDA_MIN + i as f32))
 }
 
 impl Spectrum {
@@ -102,11 +372,84 @@ impl Spectrum {
         Spectrum::Constant(v)
     }
 
+    /// A piecewise-linear spectrum.
+    pub fn piecewise(p: PiecewiseLinear) -> Self {
+        Spectrum::PiecewiseLinear(Arc::new(p))
+    }
+
+    /// A reflectance from linear sRGB; components are clamped to [0, 1] (NaN → 0).
+    pub fn rgb_albedo(rgb: [f32; 3]) -> Self {
+        Spectrum::Rgb(RgbSpectrum {
+            sigmoid: srgb_to_sigmoid_refined(rgb),
+            scale: 1.0,
+            kind: RgbKind::Albedo,
+        })
+    }
+
+    fn rgb_scaled(rgb: [f32; 3], kind: RgbKind) -> Self {
+        let rgb = rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+        let m = rgb[0].max(rgb[1]).max(rgb[2]);
+        if m <= 0.0 {
+            let sigmoid = RgbSigmoid::constant(0.0);
+            return Spectrum::Rgb(RgbSpectrum {
+                sigmoid,
+                scale: 0.0,
+                kind,
+            });
+        }
+        let scale = 2.0 * m;
+        let sigmoid = srgb_to_sigmoid_refined(rgb.map(|v| v / scale));
+        Spectrum::Rgb(RgbSpectrum { sigmoid, scale, kind })
+    }
+
+    /// Any non-negative quantity from linear sRGB (η, k, σ given as colours): scale = 2·max,
+    /// coefficients of rgb/scale (pbrt `RGBUnboundedSpectrum`). Negative or non-finite components
+    /// count as 0 (the scene reader rejects them first).
+    pub fn rgb_unbounded(rgb: [f32; 3]) -> Self {
+        Self::rgb_scaled(rgb, RgbKind::Unbounded)
+    }
+
+    /// Emission from linear sRGB: the unbounded uplift × D65 of unit luminance, so that
+    /// `rgb_illuminant([1, 1, 1])` is exactly D65 and renders as linear sRGB (1, 1, 1) (Mitsuba's
+    /// spectral variants, pbrt `RGBIlluminantSpectrum`).
+    pub fn rgb_illuminant(rgb: [f32; 3]) -> Self {
+        Self::rgb_scaled(rgb, RgbKind::Illuminant)
+    }
+
+    /// CIE D65 of unit luminance (Mitsuba `<spectrum type="d65"/>`), = `rgb_illuminant([1, 1, 1])`.
+    pub fn d65() -> Self {
+        Self::rgb_illuminant([1.0; 3])
+    }
+
+    /// A blackbody of `temperature_k` kelvin normalized to peak 1 (Mitsuba/pbrt `blackbody`).
+    /// A non-positive or non-finite temperature gives the zero spectrum (the scene reader rejects
+    /// it first).
+    pub fn blackbody(temperature_k: f32) -> Self {
+        match Blackbody::new(temperature_k) {
+            Some(b) => Spectrum::Blackbody(b),
+            None => Spectrum::Constant(0.0),
+        }
+    }
+
+    /// A Sellmeier index of refraction (B dimensionless, C in µm²).
+    pub fn sellmeier(b: [f32; 3], c_um2: [f32; 3]) -> Self {
+        Spectrum::Sellmeier(Sellmeier { b, c_um2 })
+    }
+
+    /// A Cauchy index of refraction n = a + b/λ² (λ in µm, b in µm²).
+    pub fn cauchy(a: f32, b_um2: f32) -> Self {
+        Spectrum::Cauchy(Cauchy { a, b_um2 })
+    }
+
     /// Value at one wavelength (nm).
     pub fn eval(&self, lambda: f32) -> f32 {
         match self {
             Spectrum::Constant(v) => *v,
             Spectrum::PiecewiseLinear(p) => p.eval(lambda),
+            Spectrum::Rgb(r) => r.eval(lambda),
+            Spectrum::Blackbody(b) => b.eval(lambda),
+            Spectrum::Sellmeier(s) => s.eval(lambda),
+            Spectrum::Cauchy(c) => c.eval(lambda),
         }
     }
 
@@ -119,37 +462,54 @@ impl Spectrum {
         }
     }
 
-    /// True when the value does not depend on λ.
+    /// True when the value does not depend on λ over the visible range.
     pub fn is_constant(&self) -> bool {
-        matches!(self, Spectrum::Constant(_))
+        self.as_constant().is_some()
     }
 
-    /// The constant value, if the spectrum is constant.
+    /// The constant value, if the spectrum does not depend on λ over the visible range (a constant,
+    /// a flat table, a grey RGB reflectance, Cauchy with B = 0, Sellmeier with all Bⱼ = 0).
     pub fn as_constant(&self) -> Option<f32> {
         match self {
             Spectrum::Constant(v) => Some(*v),
-            _ => None,
+            Spectrum::PiecewiseLinear(p) => p.constant_value(),
+            Spectrum::Rgb(r) => (r.kind != RgbKind::Illuminant && r.sigmoid.is_flat())
+                .then(|| r.scale * r.sigmoid.eval(550.0)),
+            Spectrum::Blackbody(_) => None,
+            Spectrum::Sellmeier(s) => (s.b == [0.0; 3]).then_some(1.0),
+            Spectrum::Cauchy(c) => (c.b_um2 == 0.0).then_some(c.a),
         }
     }
 
-    /// An upper bound of the value over 360–830 nm.
+    /// An upper bound of the value over 360–830 nm (exact for every kind except the RGB
+    /// illuminant, where it is scale · max s · max D65).
     pub fn max_value(&self) -> f32 {
         match self {
             Spectrum::Constant(v) => *v,
             Spectrum::PiecewiseLinear(p) => p.max_value(),
+            Spectrum::Rgb(r) => {
+                let m = r.scale * r.sigmoid.max_value();
+                match r.kind {
+                    RgbKind::Illuminant => m * scan_visible(d65_normalized).fold(0.0, f32::max),
+                    _ => m,
+                }
+            }
+            Spectrum::Blackbody(b) => b.max_value(),
+            // Normal dispersion decreases with λ; the scan also covers anomalous tables.
+            Spectrum::Sellmeier(_) | Spectrum::Cauchy(_) => {
+                scan_visible(|l| self.eval(l)).fold(f32::MIN, f32::max)
+            }
         }
     }
 
     /// Mean over 360–830 nm (1 nm steps): Mitsuba's `mean()` of a texture, used by `plastic`
     /// to weigh its sampling between lobes.
     pub fn mean(&self) -> f32 {
-        match self {
-            Spectrum::Constant(v) => *v,
-            _ => {
-                let n = 471;
-                (0..n).map(|i| self.eval(360.0 + i as f32)).sum::<f32>() / n as f32
-            }
+        if let Some(v) = self.as_constant() {
+            return v;
         }
+        let n = 471;
+        (0..n).map(|i| self.eval(360.0 + i as f32)).sum::<f32>() / n as f32
     }
 }
 
@@ -159,21 +519,34 @@ impl From<f32> for Spectrum {
     }
 }
 
+impl From<PiecewiseLinear> for Spectrum {
+    fn from(p: PiecewiseLinear) -> Self {
+        Spectrum::piecewise(p)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn piecewise_linear_interpolates_and_extrapolates() {
-        let p = PiecewiseLinear::new(vec![400.0, 500.0, 600.0], vec![0.1, 0.3, 0.2], Extrapolation::Zero)
-            .unwrap();
+        let p = PiecewiseLinear::new(
+            vec![400.0, 500.0, 600.0],
+            vec![0.1, 0.3, 0.2],
+            Extrapolation::Zero,
+        )
+        .unwrap();
         assert_eq!(p.eval(400.0), 0.1);
         assert!((p.eval(450.0) - 0.2).abs() < 1e-6);
         assert!((p.eval(550.0) - 0.25).abs() < 1e-6);
         assert_eq!(p.eval(600.0), 0.2);
         assert_eq!(p.eval(399.0), 0.0);
         assert_eq!(p.eval(601.0), 0.0);
-        let c = PiecewiseLinear { extrapolation: Extrapolation::Clamp, ..p };
+        let c = PiecewiseLinear {
+            extrapolation: Extrapolation::Clamp,
+            ..p
+        };
         assert_eq!(c.eval(300.0), 0.1);
         assert_eq!(c.eval(700.0), 0.2);
     }
@@ -184,5 +557,135 @@ mod tests {
         assert!(PiecewiseLinear::new(vec![], vec![], Extrapolation::Zero).is_none());
         assert!(PiecewiseLinear::new(vec![400.0], vec![f32::NAN], Extrapolation::Zero).is_none());
         assert!(PiecewiseLinear::from_interleaved(&[400.0, 1.0, 500.0], Extrapolation::Zero).is_none());
+    }
+
+    #[test]
+    fn parse_spd_reads_mitsuba_files_and_names_bad_lines() {
+        let text = "# data from www.luxpop.com database\n# ;    Lambda (A)   n   k\n\n\
+                    300.194000 0.980000\n307.643005\t1.020000   # trailing comment\n316.276001, 1.06\n";
+        let p = PiecewiseLinear::parse_spd(text, Extrapolation::Clamp).unwrap();
+        assert_eq!(p.lambdas(), &[300.194, 307.643, 316.276]);
+        assert_eq!(p.values(), &[0.98, 1.02, 1.06]);
+        assert_eq!(p.eval(100.0), 0.98);
+        let e = PiecewiseLinear::parse_spd("400 1\n500 x\n", Extrapolation::Zero).unwrap_err();
+        assert!(e.contains("line 2") && e.contains("500 x"), "{e}");
+        let e = PiecewiseLinear::parse_spd("400 1\n\n390 2\n", Extrapolation::Zero).unwrap_err();
+        assert!(e.contains("line 3") && e.contains("does not increase"), "{e}");
+        let e = PiecewiseLinear::parse_spd("400 1 2\n", Extrapolation::Zero).unwrap_err();
+        assert!(e.contains("line 1"), "{e}");
+        assert!(PiecewiseLinear::parse_spd("# nothing\n", Extrapolation::Zero).is_err());
+        assert!(PiecewiseLinear::parse_spd("400 inf\n", Extrapolation::Zero).is_err());
+    }
+
+    #[test]
+    fn parse_pairs_reads_the_inline_form_and_names_bad_tokens() {
+        let p = PiecewiseLinear::parse_pairs("400:0.1, 500:0.3,600 : 0.2").unwrap();
+        assert_eq!(p.lambdas(), &[400.0, 500.0, 600.0]);
+        assert_eq!(p.values(), &[0.1, 0.3, 0.2]);
+        assert_eq!(p.eval(700.0), 0.0);
+        let e = PiecewiseLinear::parse_pairs("400:0.1, 500-0.3").unwrap_err();
+        assert!(e.contains("\"500-0.3\""), "{e}");
+        let e = PiecewiseLinear::parse_pairs("400:0.1, 5x0:0.3").unwrap_err();
+        assert!(e.contains("\"5x0:0.3\""), "{e}");
+        let e = PiecewiseLinear::parse_pairs("500:0.1, 400:0.3").unwrap_err();
+        assert!(
+            e.contains("\"400:0.3\"") && e.contains("does not increase"),
+            "{e}"
+        );
+        assert!(PiecewiseLinear::parse_pairs("400:0.1,,500:1").is_err());
+        assert!(PiecewiseLinear::parse_pairs("").is_err());
+    }
+
+    #[test]
+    fn constant_detection_per_kind() {
+        assert_eq!(Spectrum::cauchy(1.5, 0.0).as_constant(), Some(1.5));
+        assert_eq!(Spectrum::cauchy(1.5, 0.004).as_constant(), None);
+        assert_eq!(
+            Spectrum::sellmeier([0.0; 3], [0.01, 0.02, 100.0]).as_constant(),
+            Some(1.0)
+        );
+        assert!(!Spectrum::blackbody(5000.0).is_constant());
+        let flat = PiecewiseLinear::new(vec![300.0, 900.0], vec![2.0, 2.0], Extrapolation::Zero).unwrap();
+        assert_eq!(Spectrum::piecewise(flat).as_constant(), Some(2.0));
+        let short = PiecewiseLinear::new(vec![400.0, 700.0], vec![2.0, 2.0], Extrapolation::Zero).unwrap();
+        assert_eq!(Spectrum::piecewise(short.clone()).as_constant(), None);
+        let clamped = short.with_extrapolation(Extrapolation::Clamp);
+        assert_eq!(Spectrum::piecewise(clamped).as_constant(), Some(2.0));
+        let grey = Spectrum::rgb_albedo([0.25, 0.25, 0.25]);
+        assert!((grey.as_constant().unwrap() - 0.25).abs() < 1e-6);
+        assert!((Spectrum::rgb_unbounded([3.0, 3.0, 3.0]).as_constant().unwrap() - 3.0).abs() < 1e-5);
+        assert_eq!(Spectrum::rgb_illuminant([1.0, 1.0, 1.0]).as_constant(), None);
+        assert_eq!(Spectrum::rgb_albedo([0.9, 0.1, 0.1]).as_constant(), None);
+    }
+
+    #[test]
+    fn blackbody_matches_planck_reference_values() {
+        // spectral.md §4.2, within 0.1 %.
+        for (l, t, b) in [
+            (483.0, 6000.0, 3.1849e13),
+            (600.0, 6000.0, 2.86772e13),
+            (500.0, 3700.0, 1.59845e12),
+            (600.0, 4500.0, 7.46497e12),
+        ] {
+            let v = planck(l, t);
+            assert!((v / b - 1.0).abs() < 1e-3, "B({l}, {t}) = {v:e}, expected {b:e}");
+        }
+        // Normalized: the Wien peak is 1, everything else is below.
+        let s = Spectrum::blackbody(6000.0);
+        let peak = (WIEN_B / 6000.0 * 1e9) as f32;
+        assert!((s.eval(peak) - 1.0).abs() < 1e-6);
+        assert!(s.eval(400.0) < 1.0 && s.eval(700.0) < 1.0);
+        assert_eq!(s.max_value(), 1.0);
+        // Peak outside the visible range (2000 K → 1449 nm): max at 830 nm.
+        let cold = Spectrum::blackbody(2000.0);
+        let brute = scan_visible(|l| cold.eval(l)).fold(0.0f32, f32::max);
+        assert!((cold.max_value() - brute).abs() < 1e-6 * brute.max(1.0));
+        assert!(cold.max_value() < 1.0);
+        assert_eq!(Spectrum::blackbody(-5.0), Spectrum::Constant(0.0));
+        assert_eq!(Spectrum::blackbody(f32::NAN), Spectrum::Constant(0.0));
+    }
+
+    #[test]
+    fn cauchy_and_sellmeier_formulas() {
+        // Cauchy BK7 of spectral.md §6.2: A = 1.5046, B = 0.00420 µm² → n(500 nm) = 1.5046 + 0.0168.
+        let c = Spectrum::cauchy(1.5046, 0.00420);
+        assert!((c.eval(500.0) - 1.5214).abs() < 1e-6);
+        assert!((c.max_value() - c.eval(360.0)).abs() < 1e-6);
+        // Sellmeier with one term B = 1, C = 0: n² = 2 at every λ.
+        let s = Spectrum::sellmeier([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]);
+        assert!((s.eval(432.1) - 2f32.sqrt()).abs() < 1e-6);
+        // At a pole the value is 0 (an Ior turns it into 1), never NaN.
+        let pole = Spectrum::sellmeier([1.0, 0.0, 0.0], [0.25, 0.0, 0.0]);
+        assert_eq!(pole.eval(500.0), 0.0);
+    }
+
+    #[test]
+    fn rgb_kinds_are_cheap_and_scaled() {
+        let a = Spectrum::rgb_albedo([2.0, -1.0, 0.5]);
+        let Spectrum::Rgb(r) = a else {
+            panic!("not an RGB spectrum")
+        };
+        assert_eq!(r.kind, RgbKind::Albedo);
+        assert_eq!(r.scale, 1.0);
+        assert!(std::mem::size_of::<RgbSpectrum>() <= 20);
+        let u = Spectrum::rgb_unbounded([0.0, 0.0, 0.0]);
+        assert_eq!(u.eval(500.0), 0.0);
+        assert_eq!(u.max_value(), 0.0);
+        let Spectrum::Rgb(r) = Spectrum::rgb_unbounded([4.0, 1.0, 2.0]) else {
+            panic!()
+        };
+        assert_eq!(r.scale, 8.0);
+        assert!(
+            Spectrum::rgb_illuminant([f32::NAN, 1.0, 1.0])
+                .eval(500.0)
+                .is_finite()
+        );
+    }
+
+    #[test]
+    fn mean_is_the_visible_average() {
+        let p = PiecewiseLinear::new(vec![360.0, 830.0], vec![0.0, 1.0], Extrapolation::Zero).unwrap();
+        assert!((Spectrum::piecewise(p).mean() - 0.5).abs() < 1e-5);
+        assert_eq!(Spectrum::constant(0.3).mean(), 0.3);
     }
 }
