@@ -58,7 +58,7 @@ pub fn ior_preset_names() -> Vec<&'static str> {
 }
 
 /// Conductor names known to [`conductor`] (Mitsuba's spelling).
-const CONDUCTORS: [&str; 7] = ["none", "Ag", "Al", "Au", "Cr", "Cu", "CuZn"];
+const CONDUCTORS: [&str; 8] = ["none", "Ag", "Al", "Au", "Cr", "Cu", "CuZn", "W"];
 
 fn table(lambda: &[f32], values: &[f32]) -> Spectrum {
     // The static tables are strictly increasing and finite (checked by the tests below).
@@ -69,7 +69,7 @@ fn table(lambda: &[f32], values: &[f32]) -> Spectrum {
 }
 
 /// Complex index (η, k) of a conductor under its Mitsuba `material` name (case-insensitive):
-/// `none` (η = 0, k = 1: a perfect mirror), `Ag`, `Al`, `Au`, `Cr`, `Cu`, `CuZn` (brass).
+/// `none` (η = 0, k = 1: a perfect mirror), `Ag`, `Al`, `Au`, `Cr`, `Cu`, `CuZn` (brass), `W`.
 pub fn conductor(name: &str) -> Option<(Spectrum, Spectrum)> {
     let name = name.trim();
     let canonical = CONDUCTORS.iter().find(|n| n.eq_ignore_ascii_case(name))?;
@@ -81,6 +81,7 @@ pub fn conductor(name: &str) -> Option<(Spectrum, Spectrum)> {
         "Cu" => (&PALIK_LAMBDA, &CU_ETA, &CU_K),
         "Cr" => (&CR_LAMBDA, &CR_ETA, &CR_K),
         "CuZn" => (&CUZN_LAMBDA, &CUZN_ETA, &CUZN_K),
+        "W" => (&W_LAMBDA, &W_ETA, &W_K),
         _ => return None,
     };
     Some((table(l, eta), table(l, k)))
