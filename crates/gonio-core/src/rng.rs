@@ -39,7 +39,10 @@ pub struct Pcg32 {
 impl Pcg32 {
     /// The generator for `seed` on stream `stream` (`pcg32_srandom_r(seed, stream)`).
     pub fn new(seed: u64, stream: u64) -> Self {
-        let mut r = Self { state: 0, inc: (stream << 1) | 1 };
+        let mut r = Self {
+            state: 0,
+            inc: (stream << 1) | 1,
+        };
         r.next_u32();
         r.state = r.state.wrapping_add(seed);
         r.next_u32();
@@ -105,7 +108,12 @@ impl Stratified2D {
     /// An `nx × ny` jittered grid, jitter drawn from `rng`.
     pub fn new(nx: u32, ny: u32, rng: Pcg32) -> Self {
         assert!(nx > 0 && ny > 0, "empty stratified grid");
-        Self { nx, ny, index: 0, rng }
+        Self {
+            nx,
+            ny,
+            index: 0,
+            rng,
+        }
     }
 
     /// Number of points (`nx · ny`).
@@ -158,7 +166,11 @@ impl<const D: usize> Kronecker<D> {
         }
         let alpha = std::array::from_fn(|j| phi.powi(-(j as i32 + 1)).fract());
         let shift = std::array::from_fn(|_| rng.next_f64());
-        Self { alpha, shift, index: 0 }
+        Self {
+            alpha,
+            shift,
+            index: 0,
+        }
     }
 
     /// The `i`-th point.
@@ -199,7 +211,14 @@ mod tests {
         // O'Neill's pcg-c-basic `pcg32-demo` (deterministic mode, seed 42, stream 54): the
         // first six outputs of pcg32_srandom_r(&rng, 42u, 54u).
         let mut r = Pcg32::new(42, 54);
-        let expect = [0xa15c02b7u32, 0x7b47f409, 0xba1d3330, 0x83d2f293, 0xbfa4784b, 0xcbed606e];
+        let expect = [
+            0xa15c02b7u32,
+            0x7b47f409,
+            0xba1d3330,
+            0x83d2f293,
+            0xbfa4784b,
+            0xcbed606e,
+        ];
         for e in expect {
             assert_eq!(r.next_u32(), e);
         }
@@ -229,7 +248,10 @@ mod tests {
         }
         // Binomial σ = sqrt(n p (1−p)) ≈ 258; 5σ.
         for c in counts {
-            assert!((c as f64 - n as f64 / 3.0).abs() < 5.0 * (n as f64 * 2.0 / 9.0).sqrt(), "{counts:?}");
+            assert!(
+                (c as f64 - n as f64 / 3.0).abs() < 5.0 * (n as f64 * 2.0 / 9.0).sqrt(),
+                "{counts:?}"
+            );
         }
     }
 

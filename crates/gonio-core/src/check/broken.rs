@@ -69,7 +69,11 @@ impl Bsdf for PdfOffByFactor {
         BsdfFlags::DIFFUSE_REFLECTION
     }
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
-        if upper(ctx, wi, wo) { SampledSpectrum::splat(0.5 * FRAC_1_PI) } else { SampledSpectrum::ZERO }
+        if upper(ctx, wi, wo) {
+            SampledSpectrum::splat(0.5 * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
     }
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> f32 {
         if !ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION) || wi.z <= 0.0 {
@@ -77,7 +81,14 @@ impl Bsdf for PdfOffByFactor {
         }
         self.factor * square_to_cosine_hemisphere_pdf(wo)
     }
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3, _u1: f32, u2: Vec2, _wl: &mut SampledWavelengths) -> Option<BsdfSample> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
         diffuse_sample(wo, 0.5, pdf)
     }
@@ -94,10 +105,21 @@ impl Bsdf for WrongSampler {
         BsdfFlags::DIFFUSE_REFLECTION
     }
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
-        if upper(ctx, wi, wo) { SampledSpectrum::splat(0.5 * FRAC_1_PI) } else { SampledSpectrum::ZERO }
+        if upper(ctx, wi, wo) {
+            SampledSpectrum::splat(0.5 * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
     }
     lambert_pdf!();
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3, _u1: f32, u2: Vec2, _wl: &mut SampledWavelengths) -> Option<BsdfSample> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         if !ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION) || wi.z <= 0.0 {
             return None;
         }
@@ -122,10 +144,21 @@ impl Bsdf for WrongWeight {
         BsdfFlags::DIFFUSE_REFLECTION
     }
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
-        if upper(ctx, wi, wo) { SampledSpectrum::splat(0.5 * FRAC_1_PI) } else { SampledSpectrum::ZERO }
+        if upper(ctx, wi, wo) {
+            SampledSpectrum::splat(0.5 * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
     }
     lambert_pdf!();
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3, _u1: f32, u2: Vec2, _wl: &mut SampledWavelengths) -> Option<BsdfSample> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
         diffuse_sample(wo, 0.5 * 2.0 * wo.z, pdf)
     }
@@ -141,10 +174,21 @@ impl Bsdf for EnergyGain {
         BsdfFlags::DIFFUSE_REFLECTION
     }
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
-        if upper(ctx, wi, wo) { SampledSpectrum::splat(1.2 * FRAC_1_PI) } else { SampledSpectrum::ZERO }
+        if upper(ctx, wi, wo) {
+            SampledSpectrum::splat(1.2 * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
     }
     lambert_pdf!();
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3, _u1: f32, u2: Vec2, _wl: &mut SampledWavelengths) -> Option<BsdfSample> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
         diffuse_sample(wo, 1.2, pdf)
     }
@@ -166,10 +210,21 @@ impl Bsdf for NonReciprocal {
         BsdfFlags::DIFFUSE_REFLECTION
     }
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
-        if upper(ctx, wi, wo) { SampledSpectrum::splat(Self::value(wi) * FRAC_1_PI) } else { SampledSpectrum::ZERO }
+        if upper(ctx, wi, wo) {
+            SampledSpectrum::splat(Self::value(wi) * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
     }
     lambert_pdf!();
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3, _u1: f32, u2: Vec2, _wl: &mut SampledWavelengths) -> Option<BsdfSample> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
         diffuse_sample(wo, Self::value(wi), pdf)
     }
@@ -183,7 +238,11 @@ pub struct Anisotropic;
 impl Anisotropic {
     fn cos2phi(w: Vec3) -> f32 {
         let r2 = w.x * w.x + w.y * w.y;
-        if r2 > 0.0 { (w.x * w.x - w.y * w.y) / r2 } else { 1.0 }
+        if r2 > 0.0 {
+            (w.x * w.x - w.y * w.y) / r2
+        } else {
+            1.0
+        }
     }
     fn value(wi: Vec3, wo: Vec3) -> f32 {
         0.5 * (1.0 + 0.5 * Self::cos2phi(wi) * Self::cos2phi(wo))
@@ -202,7 +261,14 @@ impl Bsdf for Anisotropic {
         }
     }
     lambert_pdf!();
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3, _u1: f32, u2: Vec2, _wl: &mut SampledWavelengths) -> Option<BsdfSample> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
         diffuse_sample(wo, Self::value(wi, wo), pdf)
     }
@@ -224,7 +290,14 @@ impl Bsdf for NanAtGrazing {
         }
     }
     lambert_pdf!();
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3, _u1: f32, u2: Vec2, _wl: &mut SampledWavelengths) -> Option<BsdfSample> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
         diffuse_sample(wo, 0.5, pdf)
     }
@@ -265,7 +338,14 @@ impl Bsdf for MinimalGlass {
     fn pdf(&self, _: &BsdfContext, _: Vec3, _: Vec3, _: &SampledWavelengths) -> f32 {
         0.0
     }
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3, u1: f32, _u2: Vec2, _wl: &mut SampledWavelengths) -> Option<BsdfSample> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        _u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
         if wi.z == 0.0 {
             return None;
         }

@@ -14,7 +14,9 @@
 //! Queries cover random `wi` on both hemispheres, both transport modes and random visible
 //! wavelengths.
 
-use super::{Bound, CheckConfig, CheckResult, random_wavelengths, rel_diff, sidak, uniform_sphere, z_quantile};
+use super::{
+    Bound, CheckConfig, CheckResult, random_wavelengths, rel_diff, sidak, uniform_sphere, z_quantile,
+};
 use crate::bsdf::{Bsdf, BsdfContext};
 use crate::warp::square_to_uniform_sphere_pdf;
 
@@ -33,11 +35,17 @@ pub fn consistency(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
     for k in 0..config.consistency_samples {
         if k % 16 == 0 {
             wi = uniform_sphere(&mut rng);
-            ctx = if rng.next_f32() < 0.5 { BsdfContext::radiance() } else { BsdfContext::importance() };
+            ctx = if rng.next_f32() < 0.5 {
+                BsdfContext::radiance()
+            } else {
+                BsdfContext::importance()
+            };
         }
         let mut wl = random_wavelengths(&mut rng);
         let (u1, u2) = (rng.next_f32(), rng.next_vec2());
-        let Some(s) = bsdf.sample(&ctx, wi, u1, u2, &mut wl) else { continue };
+        let Some(s) = bsdf.sample(&ctx, wi, u1, u2, &mut wl) else {
+            continue;
+        };
         if s.flags.is_delta() {
             continue;
         }
@@ -72,13 +80,28 @@ pub fn consistency(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
             f64::INFINITY,
             Bound::AtMost,
             config.rel_tol,
-            format!("flags say smooth lobes but none of {} samples was smooth", config.consistency_samples),
+            format!(
+                "flags say smooth lobes but none of {} samples was smooth",
+                config.consistency_samples
+            ),
         )];
     }
     let tag = |s: &str| format!("max relative error over {smooth} smooth samples; worst: {s}");
     vec![
-        CheckResult::compare("weight_vs_eval", worst_w, Bound::AtMost, config.rel_tol, tag(&at_w)),
-        CheckResult::compare("sample_pdf_vs_pdf", worst_p, Bound::AtMost, config.rel_tol, tag(&at_p)),
+        CheckResult::compare(
+            "weight_vs_eval",
+            worst_w,
+            Bound::AtMost,
+            config.rel_tol,
+            tag(&at_w),
+        ),
+        CheckResult::compare(
+            "sample_pdf_vs_pdf",
+            worst_p,
+            Bound::AtMost,
+            config.rel_tol,
+            tag(&at_p),
+        ),
         CheckResult::compare("eval_pdf", worst_ep, Bound::AtMost, config.rel_tol, tag(&at_ep)),
     ]
 }
@@ -145,7 +168,11 @@ pub fn pdf_integral(bsdf: &dyn Bsdf, config: &CheckConfig, alpha_row: f64) -> Ve
     let (mut worst1, mut worst2) = ((f64::NEG_INFINITY, 1.0, String::new()), (0.0f64, String::new()));
     for q in 0..m {
         // Half the queries from each side, the first straight down the normal.
-        let mut wi = if q == 0 { glam::Vec3::Z } else { uniform_sphere(&mut rng) };
+        let mut wi = if q == 0 {
+            glam::Vec3::Z
+        } else {
+            uniform_sphere(&mut rng)
+        };
         if q % 2 == 1 {
             wi.z = -wi.z.abs();
         } else {
@@ -157,7 +184,11 @@ pub fn pdf_integral(bsdf: &dyn Bsdf, config: &CheckConfig, alpha_row: f64) -> Ve
         pass1 &= r.integral.is_finite() && r.integral <= thr;
         let z1 = (r.integral - 1.0) / r.integral_se.max(1e-300);
         if z1 > worst1.0 || worst1.2.is_empty() {
-            worst1 = (z1, r.integral, format!("wi={wi:.3}: {r:?}, threshold 1 + {k1:.2}σ = {thr:.5}"));
+            worst1 = (
+                z1,
+                r.integral,
+                format!("wi={wi:.3}: {r:?}, threshold 1 + {k1:.2}σ = {thr:.5}"),
+            );
         }
         let se = (r.integral_se.powi(2) + r.smooth_fraction_se.powi(2)).sqrt();
         // 1e-6 absorbs f32 rounding of a constant pdf (both standard errors can be 0).
@@ -165,12 +196,19 @@ pub fn pdf_integral(bsdf: &dyn Bsdf, config: &CheckConfig, alpha_row: f64) -> Ve
         let z2 = if d == 0.0 { 0.0 } else { d / se.max(1e-300) };
         pass2 &= z2.is_finite() && z2 <= k2;
         if z2.is_nan() || z2 > worst2.0 || worst2.1.is_empty() {
-            worst2 = (if z2.is_nan() { f64::INFINITY } else { z2 }, format!("wi={wi:.3}: {r:?}"));
+            worst2 = (
+                if z2.is_nan() { f64::INFINITY } else { z2 },
+                format!("wi={wi:.3}: {r:?}"),
+            );
         }
     }
     let thr1 = {
         // Report the threshold at the worst query.
-        let se = if worst1.0.is_finite() && worst1.0 != 0.0 { (worst1.1 - 1.0) / worst1.0 } else { 0.0 };
+        let se = if worst1.0.is_finite() && worst1.0 != 0.0 {
+            (worst1.1 - 1.0) / worst1.0
+        } else {
+            0.0
+        };
         1.0 + k1 * se.abs() + 1e-6
     };
     vec![
@@ -180,7 +218,10 @@ pub fn pdf_integral(bsdf: &dyn Bsdf, config: &CheckConfig, alpha_row: f64) -> Ve
             Bound::AtMost,
             thr1,
             pass1,
-            format!("∫pdf dω over {m} queries × {} dirs; worst {}", config.pdf_integral_samples, worst1.2),
+            format!(
+                "∫pdf dω over {m} queries × {} dirs; worst {}",
+                config.pdf_integral_samples, worst1.2
+            ),
         ),
         CheckResult::with_verdict(
             "pdf_normalization",

@@ -93,14 +93,22 @@ pub fn albedo_sampled(
     n: usize,
     rng: &mut Pcg32,
 ) -> Albedo {
-    let (mut r, mut t, mut tot, mut sm) =
-        (Moments::default(), Moments::default(), Moments::default(), Moments::default());
+    let (mut r, mut t, mut tot, mut sm) = (
+        Moments::default(),
+        Moments::default(),
+        Moments::default(),
+        Moments::default(),
+    );
     for _ in 0..n {
         let mut wl2 = *wl;
         let u1 = rng.next_f32();
         let s = bsdf.sample(ctx, wi, u1, rng.next_vec2(), &mut wl2);
         let (w, refl, smooth) = match s {
-            Some(s) => (s.weight.to_array().map(|x| x as f64), s.wo.z * wi.z > 0.0, !s.flags.is_delta()),
+            Some(s) => (
+                s.weight.to_array().map(|x| x as f64),
+                s.wo.z * wi.z > 0.0,
+                !s.flags.is_delta(),
+            ),
             None => ([0.0; N], true, true),
         };
         let zero = [0.0; N];
@@ -173,7 +181,10 @@ pub fn energy(bsdf: &dyn Bsdf, config: &CheckConfig, alpha_row: f64) -> Vec<Chec
     let mut worst2 = (0.0f64, String::new());
 
     for mode in [TransportMode::Importance, TransportMode::Radiance] {
-        let ctx = BsdfContext { mode, ..BsdfContext::radiance() };
+        let ctx = BsdfContext {
+            mode,
+            ..BsdfContext::radiance()
+        };
         for &theta in &config.energy_angles_deg {
             for side in [1.0f32, -1.0] {
                 let wi = direction(theta, 37.0, side);
@@ -236,7 +247,10 @@ pub fn energy(bsdf: &dyn Bsdf, config: &CheckConfig, alpha_row: f64) -> Vec<Chec
             Bound::AtMost,
             k2,
             pass2,
-            format!("|sampled − uniform smooth albedo| in standard errors; worst {}", worst2.1),
+            format!(
+                "|sampled − uniform smooth albedo| in standard errors; worst {}",
+                worst2.1
+            ),
         ),
     ]
 }

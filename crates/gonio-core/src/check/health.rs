@@ -16,7 +16,13 @@ use glam::{Vec2, Vec3};
 
 /// Degenerate and grazing directions every model must survive (both hemispheres).
 pub fn special_directions() -> Vec<Vec3> {
-    let mut v = vec![Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.6, 0.8, 0.0), Vec3::new(-0.0, -1.0, -0.0)];
+    let mut v = vec![
+        Vec3::Z,
+        -Vec3::Z,
+        Vec3::X,
+        Vec3::new(0.6, 0.8, 0.0),
+        Vec3::new(-0.0, -1.0, -0.0),
+    ];
     for z in [1e-6f32, 1e-7, 1e-30, f32::MIN_POSITIVE, 1e-3] {
         for s in [1.0f32, -1.0] {
             let r = (1.0 - z * z).sqrt();
@@ -45,7 +51,11 @@ impl Tally {
         }
     }
     fn detail(&self, queries: usize) -> String {
-        format!("{} violations in {queries} queries; e.g. {}", self.count, self.examples.join(" | "))
+        format!(
+            "{} violations in {queries} queries; e.g. {}",
+            self.count,
+            self.examples.join(" | ")
+        )
     }
 }
 
@@ -57,8 +67,14 @@ fn spectrum_ok(s: SampledSpectrum) -> bool {
 pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
     let mut rng = config.rng(0x4ea1_74);
     let flags = bsdf.flags();
-    let mut h = Tally { count: 0, examples: Vec::new() };
-    let mut lf = Tally { count: 0, examples: Vec::new() };
+    let mut h = Tally {
+        count: 0,
+        examples: Vec::new(),
+    };
+    let mut lf = Tally {
+        count: 0,
+        examples: Vec::new(),
+    };
     let mut queries = 0usize;
     let specials = special_directions();
     let ctxs = [BsdfContext::radiance(), BsdfContext::importance()];
@@ -67,17 +83,46 @@ pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
         let f = bsdf.eval(ctx, wi, wo, wl);
         let p = bsdf.pdf(ctx, wi, wo, wl);
         let (f2, p2) = bsdf.eval_pdf(ctx, wi, wo, wl);
-        if !spectrum_ok(f) || !spectrum_ok(f2) || !(p.is_finite() && p >= 0.0) || !(p2.is_finite() && p2 >= 0.0) {
-            h.fail(|| format!("eval/pdf wi={wi:?} wo={wo:?} λ={:?} {:?}: f={f:?} pdf={p} eval_pdf=({f2:?}, {p2})", wl.lambdas(), ctx.mode));
+        if !spectrum_ok(f)
+            || !spectrum_ok(f2)
+            || !(p.is_finite() && p >= 0.0)
+            || !(p2.is_finite() && p2 >= 0.0)
+        {
+            h.fail(|| {
+                format!(
+                    "eval/pdf wi={wi:?} wo={wo:?} λ={:?} {:?}: f={f:?} pdf={p} eval_pdf=({f2:?}, {p2})",
+                    wl.lambdas(),
+                    ctx.mode
+                )
+            });
         }
     };
-    let check_sample = |wi: Vec3, u1: f32, u2: Vec2, wl: &SampledWavelengths, ctx: &BsdfContext, h: &mut Tally, lf: &mut Tally| {
+    let check_sample = |wi: Vec3,
+                        u1: f32,
+                        u2: Vec2,
+                        wl: &SampledWavelengths,
+                        ctx: &BsdfContext,
+                        h: &mut Tally,
+                        lf: &mut Tally| {
         let mut wl2 = *wl;
-        let Some(s) = bsdf.sample(ctx, wi, u1, u2, &mut wl2) else { return };
-        let at = || format!("sample wi={wi:?} u1={u1} u2={u2} λ={:?} {:?}: {s:?}", wl.lambdas(), ctx.mode);
+        let Some(s) = bsdf.sample(ctx, wi, u1, u2, &mut wl2) else {
+            return;
+        };
+        let at = || {
+            format!(
+                "sample wi={wi:?} u1={u1} u2={u2} λ={:?} {:?}: {s:?}",
+                wl.lambdas(),
+                ctx.mode
+            )
+        };
         let unit = s.wo.is_finite() && (s.wo.length() - 1.0).abs() < 1e-3;
         let pdf_ok = s.pdf.is_finite() && s.pdf > 0.0 && (!s.flags.is_delta() || s.pdf <= 1.0 + 1e-6);
-        if !unit || !spectrum_ok(s.weight) || s.weight.is_black() || !pdf_ok || !(s.eta.is_finite() && s.eta > 0.0) {
+        if !unit
+            || !spectrum_ok(s.weight)
+            || s.weight.is_black()
+            || !pdf_ok
+            || !(s.eta.is_finite() && s.eta > 0.0)
+        {
             h.fail(at);
         }
         if !wl2.pdf().is_finite() || wl2.lambdas().iter().any(|l| !l.is_finite()) {
@@ -103,7 +148,12 @@ pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
                 }
                 check_pair(wi, -wi, &wl, ctx, &mut h);
                 for u1 in [0.0, 0.5, ONE_MINUS_EPSILON] {
-                    for u2 in [Vec2::ZERO, Vec2::splat(0.5), Vec2::splat(ONE_MINUS_EPSILON), Vec2::new(0.0, ONE_MINUS_EPSILON)] {
+                    for u2 in [
+                        Vec2::ZERO,
+                        Vec2::splat(0.5),
+                        Vec2::splat(ONE_MINUS_EPSILON),
+                        Vec2::new(0.0, ONE_MINUS_EPSILON),
+                    ] {
                         queries += 1;
                         check_sample(wi, u1, u2, &wl, ctx, &mut h, &mut lf);
                     }
@@ -131,6 +181,12 @@ pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
     }
     vec![
         CheckResult::compare("health", h.count as f64, Bound::AtMost, 0.0, h.detail(queries)),
-        CheckResult::compare("lobe_flags", lf.count as f64, Bound::AtMost, 0.0, lf.detail(queries)),
+        CheckResult::compare(
+            "lobe_flags",
+            lf.count as f64,
+            Bound::AtMost,
+            0.0,
+            lf.detail(queries),
+        ),
     ]
 }

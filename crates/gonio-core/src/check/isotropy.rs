@@ -53,7 +53,9 @@ pub fn isotropy(bsdf: &dyn Bsdf, config: &CheckConfig) -> CheckResult {
                     e = e.max(rel_diff(s.weight[i] as f64, sr.weight[i] as f64, TINY));
                 }
                 e = e.max(((rot * s.wo) - sr.wo).length() as f64);
-                record(e, &|| format!("delta sample at a={a:.4}: {s:?}; rotated by {psi:.3}: {sr:?}"));
+                record(e, &|| {
+                    format!("delta sample at a={a:.4}: {s:?}; rotated by {psi:.3}: {sr:?}")
+                });
             }
         }
     }
@@ -62,6 +64,9 @@ pub fn isotropy(bsdf: &dyn Bsdf, config: &CheckConfig) -> CheckResult {
         worst,
         Bound::AtMost,
         10.0 * config.rel_tol,
-        format!("max relative change of f, pdf, delta samples under rotation about z over {} pairs; worst {at}", config.pairs),
+        format!(
+            "max relative change of f, pdf, delta samples under rotation about z over {} pairs; worst {at}",
+            config.pairs
+        ),
     )
 }

@@ -77,7 +77,14 @@ impl CheckResult {
                 Bound::AtMost => figure <= threshold,
                 Bound::AtLeast => figure >= threshold,
             };
-        Self { name, figure, threshold, bound, passed, detail }
+        Self {
+            name,
+            figure,
+            threshold,
+            bound,
+            passed,
+            detail,
+        }
     }
 
     /// A row with an explicit verdict (when the pass rule is not a single comparison, e.g. "every
@@ -90,7 +97,14 @@ impl CheckResult {
         passed: bool,
         detail: String,
     ) -> Self {
-        Self { name, figure, threshold, bound, passed: passed && !figure.is_nan(), detail }
+        Self {
+            name,
+            figure,
+            threshold,
+            bound,
+            passed: passed && !figure.is_nan(),
+            detail,
+        }
     }
 }
 
@@ -161,10 +175,14 @@ impl Default for Chi2Config {
             incidences: vec![
                 Vec3::Z,
                 Vec3::new(0.5, 0.3, 0.8),
-                Vec3::new(0.8, 0.3, 0.05), // grazing (Mitsuba roughdielectric test)
+                Vec3::new(0.8, 0.3, 0.05),  // grazing (Mitsuba roughdielectric test)
                 Vec3::new(0.2, -0.6, -0.5), // from below / inside
             ],
-            samplers: vec![SamplerKind::Independent, SamplerKind::Stratified, SamplerKind::Kronecker],
+            samplers: vec![
+                SamplerKind::Independent,
+                SamplerKind::Stratified,
+                SamplerKind::Kronecker,
+            ],
             masked_context: true,
         }
     }
@@ -309,7 +327,10 @@ pub fn all_passed(rows: &[CheckResult]) -> bool {
 
 /// The rows that failed, one per line, for assertion messages.
 pub fn failures(rows: &[CheckResult]) -> String {
-    rows.iter().filter(|r| !r.passed).map(|r| format!("{r}\n")).collect()
+    rows.iter()
+        .filter(|r| !r.passed)
+        .map(|r| format!("{r}\n"))
+        .collect()
 }
 
 #[cfg(test)]

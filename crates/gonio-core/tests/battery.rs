@@ -1,0 +1,279 @@
+//! The property battery (`gonio_core::check::battery`, the code behind `gonio check`) on every
+//! model with at least three parameter sets, and on deliberately broken models, which must fail
+//! the rows their defect breaks (so every check is shown able to fail).
+//!
+//! Statistical rows: each battery splits its α with Šidák over its own rows; the runs in this
+//! file split a family-wise α = 0.01 among themselves ([`RUNS`] is an upper bound on the number
+//! of battery runs on correct models here), so a correct model fails the whole file with
+//! probability ≤ 1 %. Seeds are fixed: the outcome is deterministic.
+
+use gonio_core::bsdfs::{Conductor, Dielectric, Diffuse, Plastic, ThinDielectric};
+use gonio_core::check::broken::{
+    Anisotropic, EnergyGain, MinimalGlass, NanAtGrazing, NonReciprocal, PdfOffByFactor, WrongSampler,
+    WrongWeight,
+};
+use gonio_core::check::{CheckConfig, CheckResult, all_passed, battery, failures, sidak};
+use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
+use gonio_core::{Bsdf, Ior};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Upper bound on the battery runs on correct models in this file (Šidák family size).
+const RUNS: usize = 40;
+
+fn config() -> CheckConfig {
+    CheckConfig {
+        alpha: sidak(0.01, RUNS),
+        ..CheckConfig::default()
+    }
+}
+
+fn piecewise(pairs: &[f32]) -> Spectrum {
+    Spectrum::PiecewiseLinear(Arc::new(
+        PiecewiseLinear::from_interleaved(pairs, Extrapolation::Clamp).unwrap(),
+    ))
+}
+
+/// Runs the battery, prints the report, returns the rows.
+fn report(name: &str, bsdf: &dyn Bsdf) -> Vec<CheckResult> {
+    let t = Instant::now();
+    let rows = battery(bsdf, &config());
+    eprintln!("== {name} ({:.2} s)", t.elapsed().as_secs_f64());
+    for r in &rows {
+        eprintln!("   {r}");
+    }
+    rows
+}
+
+fn assert_passes(name: &str, bsdf: &dyn Bsdf) {
+    let rows = report(name, bsdf);
+    assert!(all_passed(&rows), "{name} failed:\n{}", failures(&rows));
+    // The battery must actually have tested something of each kind.
+    for must in [
+        "health",
+        "energy",
+        "albedo_estimators",
+        "reciprocity",
+        "adjoint",
+        "isotropy",
+    ] {
+        assert!(rows.iter().any(|r| r.name == must), "{name}: no `{must}` row");
+    }
+    if bsdf.flags().has_smooth() {
+        let chi2 = rows.iter().filter(|r| r.name == "chi2").count();
+        assert!(chi2 >= 3, "{name}: only {chi2} chi2 rows");
+    }
+    if bsdf.flags().is_delta() {
+        assert!(
+            rows.iter().any(|r| r.name == "delta_reciprocity"),
+            "{name}: no delta_reciprocity row"
+        );
+    }
+}
+
+/// The broken model must fail every row in `expected` (and the report names them).
+fn assert_fails(name: &str, bsdf: &dyn Bsdf, expected: &[&str]) {
+    let rows = report(name, bsdf);
+    for e in expected {
+        let matching: Vec<_> = rows.iter().filter(|r| r.name == *e).collect();
+        assert!(!matching.is_empty(), "{name}: no `{e}` row");
+        assert!(
+            matching.iter().any(|r| !r.passed),
+            "{name}: `{e}` did not fail:\n{matching:#?}"
+        );
+    }
+}
+
+// ---- diffuse ----------------------------------------------------------------------------------
+
+#[test]
+fn diffuse_default() {
+    assert_passes("diffuse ρ=0.5", &Diffuse::default());
+}
+
+#[test]
+fn diffuse_white() {
+    assert_passes("diffuse ρ=1", &Diffuse::new(Spectrum::Constant(1.0)));
+}
+
+#[test]
+fn diffuse_spectral() {
+    let rho = piecewise(&[360.0, 0.05, 500.0, 0.9, 600.0, 0.2, 830.0, 0.7]);
+    assert_passes("diffuse spectral ρ", &Diffuse::new(rho));
+}
+
+// ---- conductor --------------------------------------------------------------------------------
+
+#[test]
+fn conductor_mirror() {
+    assert_passes("conductor none", &Conductor::mirror());
+}
+
+#[test]
+fn conductor_gold_like_spectral() {
+    // Au-like n, k (pbrt table at 400/500/600/700 nm, rounded).
+    let eta = piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]);
+    let k = piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]);
+    assert_passes("conductor Au-like", &Conductor::new(eta, k));
+}
+
+#[test]
+fn conductor_under_water_tinted() {
+    let mut c = Conductor::new(Spectrum::Constant(1.1), Spectrum::Constant(6.8));
+    c.ext_ior = Ior::Constant(1.33);
+    c.specular_reflectance = Spectrum::Constant(0.7);
+    assert_passes("conductor Al-like in water, tint 0.7", &c);
+}
+
+// ---- dielectric -------------------------------------------------------------------------------
+
+#[test]
+fn dielectric_default() {
+    assert_passes("dielectric bk7/air", &Dielectric::default());
+}
+
+#[test]
+fn dielectric_inverted_tinted() {
+    let mut d = Dielectric::new(Ior::Constant(1.0), Ior::Constant(1.5));
+    d.specular_reflectance = Spectrum::Constant(0.3);
+    d.specular_transmittance = Spectrum::Constant(0.6);
+    assert_passes("dielectric η=1/1.5, tints 0.3/0.6", &d);
+}
+
+#[test]
+fn dielectric_dispersive() {
+    // BK7-like dispersion (testing.md §6.13 values at 400/550/700 nm).
+    let n = piecewise(&[400.0, 1.53085, 550.0, 1.51852, 700.0, 1.51306]);
+    assert_passes(
+        "dielectric dispersive BK7-like",
+        &Dielectric::new(Ior::Dispersive(n), Ior::Constant(1.0)),
+    );
+}
+
+// ---- thin dielectric --------------------------------------------------------------------------
+
+#[test]
+fn thindielectric_default() {
+    assert_passes("thindielectric bk7/air", &ThinDielectric::default());
+}
+
+#[test]
+fn thindielectric_water() {
+    assert_passes(
+        "thindielectric η=1.33",
+        &ThinDielectric::new(Ior::Constant(1.33), Ior::Constant(1.0)),
+    );
+}
+
+#[test]
+fn thindielectric_diamond_tinted() {
+    let mut t = ThinDielectric::new(Ior::Constant(2.419), Ior::Constant(1.0));
+    t.specular_reflectance = Spectrum::Constant(0.8);
+    t.specular_transmittance = piecewise(&[400.0, 0.2, 700.0, 0.9]);
+    assert_passes("thindielectric η=2.419, tinted", &t);
+}
+
+// ---- plastic ----------------------------------------------------------------------------------
+
+#[test]
+fn plastic_default() {
+    assert_passes("plastic default", &Plastic::default());
+}
+
+#[test]
+fn plastic_white_nonlinear() {
+    let p = Plastic::new(Spectrum::Constant(1.0), 1.5, 1.0, true, Spectrum::Constant(1.0));
+    assert_passes("plastic ρ=1 nonlinear η=1.5", &p);
+}
+
+#[test]
+fn plastic_white_linear() {
+    let p = Plastic::new(Spectrum::Constant(1.0), 1.9, 1.0, false, Spectrum::Constant(1.0));
+    assert_passes("plastic ρ=1 linear η=1.9", &p);
+}
+
+#[test]
+fn plastic_spectral_tinted() {
+    let rho = piecewise(&[360.0, 0.9, 550.0, 0.1, 830.0, 0.6]);
+    let p = Plastic::new(rho, 1.33, 1.0, true, Spectrum::Constant(0.5)).with_specular_sampling_weight(0.2);
+    assert_passes("plastic spectral ρ, η=1.33, tint 0.5, s=0.2", &p);
+}
+
+// ---- positive control for the delta checks ----------------------------------------------------
+
+#[test]
+fn minimal_glass_positive_control() {
+    assert_passes(
+        "MinimalGlass (correct)",
+        &MinimalGlass {
+            eta: 1.5,
+            scale_radiance: true,
+        },
+    );
+}
+
+// ---- negative controls: every check can fail --------------------------------------------------
+
+#[test]
+fn broken_pdf_off_by_factor_fails() {
+    assert_fails(
+        "PdfOffByFactor 0.8",
+        &PdfOffByFactor { factor: 0.8 },
+        &["chi2", "sample_pdf_vs_pdf", "pdf_normalization"],
+    );
+}
+
+#[test]
+fn broken_pdf_too_large_fails_integral() {
+    assert_fails(
+        "PdfOffByFactor 1.3",
+        &PdfOffByFactor { factor: 1.3 },
+        &["pdf_integral", "chi2"],
+    );
+}
+
+#[test]
+fn broken_sampler_fails_chi2() {
+    assert_fails("WrongSampler", &WrongSampler, &["chi2"]);
+}
+
+#[test]
+fn broken_weight_fails() {
+    assert_fails(
+        "WrongWeight",
+        &WrongWeight,
+        &["weight_vs_eval", "albedo_estimators"],
+    );
+}
+
+#[test]
+fn broken_energy_gain_fails() {
+    assert_fails("EnergyGain", &EnergyGain, &["energy"]);
+}
+
+#[test]
+fn broken_non_reciprocal_fails() {
+    assert_fails("NonReciprocal", &NonReciprocal, &["reciprocity", "adjoint"]);
+}
+
+#[test]
+fn broken_anisotropic_fails() {
+    assert_fails("Anisotropic", &Anisotropic, &["isotropy"]);
+}
+
+#[test]
+fn broken_nan_fails_health() {
+    assert_fails("NanAtGrazing", &NanAtGrazing, &["health"]);
+}
+
+#[test]
+fn broken_glass_without_eta2_fails() {
+    assert_fails(
+        "MinimalGlass without η²",
+        &MinimalGlass {
+            eta: 1.5,
+            scale_radiance: false,
+        },
+        &["delta_reciprocity"],
+    );
+}
