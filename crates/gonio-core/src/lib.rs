@@ -7,6 +7,7 @@
 //! Invariants: no file or scene I/O in this crate; `eval`, `pdf` and `sample` never allocate.
 #![warn(missing_docs)]
 
+pub mod albedo;
 pub mod bsdf;
 pub mod bsdfs;
 pub mod check;
@@ -14,6 +15,7 @@ pub mod color;
 mod data;
 pub mod frame;
 pub mod fresnel;
+pub mod instruments;
 pub mod ior;
 pub mod named;
 pub mod rgb2spec;

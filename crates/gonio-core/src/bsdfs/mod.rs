@@ -6,6 +6,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod plastic;
+pub mod tabulated;
 pub mod thindielectric;
 pub mod twosided;
 
@@ -14,5 +15,6 @@ pub use conductor::Conductor;
 pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use plastic::Plastic;
+pub use tabulated::Tabulated;
 pub use thindielectric::ThinDielectric;
 pub use twosided::TwoSided;

@@ -1,0 +1,193 @@
+//! The virtual gonioreflectometer against known answers: a Lambertian specimen reads ρ/π within
+//! the instrument's own error bars, detector noise is accounted for in them, a flat heightfield
+//! of Lambertian facets is a Lambertian, a rough one back-scatters, and the `tabulated` BSDF
+//! plays a measured table back.
+
+use glam::Vec3;
+use gonio_core::bsdf::{Bsdf, BsdfContext, TransportMode};
+use gonio_core::bsdfs::tabulated::{Tabulated, TabulatedData};
+use gonio_core::bsdfs::{Conductor, Diffuse};
+use gonio_core::instruments::albedo::{Wavelengths, directional_albedo};
+use gonio_core::instruments::gonioreflectometer::{
+    BsdfSpecimen, GonioSettings, HeightfieldSpecimen, Sample, measure,
+};
+use gonio_core::instruments::spherical_direction;
+use gonio_core::{SampledWavelengths, Spectrum};
+use std::f32::consts::PI;
+use std::sync::Arc;
+
+fn small_settings(photons: u64) -> GonioSettings {
+    GonioSettings {
+        incident: 4,
+        outgoing: 6,
+        azimuths: 7,
+        aperture_deg: 5.0,
+        photons,
+        noise: 0.0,
+        wavelengths: vec![450.0, 550.0],
+        seed: 7,
+    }
+}
+
+/// z-scores of every entry against a constant expected value: (max |z|, mean z²).
+fn z_scores(t: &TabulatedData, expect: f32) -> (f32, f32) {
+    let err = t.stderr.as_ref().expect("a measured table has error bars");
+    let z: Vec<f32> = t.values.iter().zip(err).map(|(v, e)| (v - expect) / e).collect();
+    let max = z.iter().map(|z| z.abs()).fold(0.0, f32::max);
+    let mean2 = z.iter().map(|z| z * z).sum::<f32>() / z.len() as f32;
+    (max, mean2)
+}
+
+#[test]
+fn lambertian_table_matches_rho_over_pi_within_its_noise() {
+    let d = Diffuse::new(Spectrum::Constant(0.6));
+    let table = measure(&BsdfSpecimen::new(&d, "diffuse 0.6"), &small_settings(200_000)).unwrap();
+    let expect = 0.6 / PI;
+    let (max_z, mean_z2) = z_scores(&table, expect);
+    // 168 readings: |z| < 4.5 for all, and the error bars are honest (mean z² ≈ 1).
+    assert!(max_z < 4.5, "max |z| = {max_z}");
+    assert!((0.5..2.0).contains(&mean_z2), "mean z² = {mean_z2}");
+    // And the noise is small: a few per cent.
+    let err = table.stderr.as_ref().unwrap();
+    assert!(err.iter().all(|e| *e < 0.08 * expect), "error bars too wide");
+    // The grazing detector (θo = 82.5°) reads right only if it divides by the *projected*
+    // solid angle: ρ/π, not ρ/π·cos θo.
+    let o_last = table.theta_o_deg.len() - 1;
+    let v = table.values[table.index(1, o_last, 3, 1)];
+    assert!((v - expect).abs() < 0.1 * expect, "grazing reading {v}");
+}
+
+#[test]
+fn detector_noise_is_in_the_error_bars() {
+    let d = Diffuse::new(Spectrum::Constant(0.5));
+    let s = GonioSettings {
+        noise: 0.1,
+        ..small_settings(100_000)
+    };
+    let table = measure(&BsdfSpecimen::new(&d, "diffuse 0.5"), &s).unwrap();
+    let expect = 0.5 / PI;
+    let spread = table
+        .values
+        .iter()
+        .map(|v| (v - expect).abs())
+        .fold(0.0, f32::max);
+    assert!(
+        spread > 0.1 * expect,
+        "10 % noise must show: max deviation {spread}"
+    );
+    let (max_z, mean_z2) = z_scores(&table, expect);
+    assert!(max_z < 4.5 && (0.5..2.0).contains(&mean_z2), "{max_z} {mean_z2}");
+}
+
+#[test]
+fn a_mirror_reads_as_a_bump_of_height_f_over_projected_solid_angle() {
+    // A perfect mirror sends every photon to the mirror direction: the detector there reads
+    // 1/Ω⊥, every other detector 0. θi = θo = 22.5° at φd = 180° is a grid point.
+    let m = Conductor::mirror();
+    let s = GonioSettings {
+        incident: 2,
+        outgoing: 2,
+        azimuths: 3,
+        photons: 10_000,
+        ..small_settings(0)
+    };
+    let table = measure(&BsdfSpecimen::new(&m, "mirror"), &s).unwrap();
+    let omega = gonio_core::instruments::gonioreflectometer::projected_solid_angle(
+        spherical_direction(22.5f32.to_radians(), PI),
+        5f32.to_radians(),
+    );
+    let peak = table.values[table.index(0, 0, 2, 0)];
+    assert!(
+        (peak - 1.0 / omega).abs() < 1e-3 / omega,
+        "peak {peak} vs {}",
+        1.0 / omega
+    );
+    assert_eq!(table.values[table.index(0, 1, 2, 0)], 0.0);
+    assert_eq!(table.values[table.index(0, 0, 0, 0)], 0.0);
+}
+
+#[test]
+fn heightfields_of_lambertian_facets() {
+    let facet: Arc<dyn Bsdf> = Arc::new(Diffuse::new(Spectrum::Constant(0.5)));
+    let flat = HeightfieldSpecimen::new(4, vec![0.2; 16], facet.clone(), "diffuse 0.5").unwrap();
+    let s = GonioSettings {
+        wavelengths: vec![550.0],
+        ..small_settings(100_000)
+    };
+    let table = measure(&flat, &s).unwrap();
+    let (max_z, _) = z_scores(&table, 0.5 / PI);
+    assert!(
+        max_z < 4.5,
+        "a flat heightfield is the facet itself: max |z| = {max_z}"
+    );
+
+    // A rough surface of white Lambertian facets loses nothing (every photon escapes in the
+    // end), and it back-scatters: at grazing incidence the retro direction is brighter than the
+    // forward one (Oren & Nayar's observation).
+    let white: Arc<dyn Bsdf> = Arc::new(Diffuse::new(Spectrum::Constant(1.0)));
+    let rough = HeightfieldSpecimen::random(8, 0.35, 3, white, "white diffuse").unwrap();
+    let mut rng = gonio_core::rng::Pcg32::new(1, 1);
+    let to_source = spherical_direction(60f32.to_radians(), 0.0);
+    let mut escaped = 0.0;
+    for _ in 0..20_000 {
+        let mut wl = SampledWavelengths::fixed(550.0);
+        if let Some((d, thr)) = rough.scatter(to_source, &mut rng, &mut wl) {
+            assert!(d.z > 0.0);
+            escaped += thr[0];
+        }
+    }
+    assert!(
+        escaped / 20_000.0 > 0.99,
+        "white facets conserve energy: {}",
+        escaped / 20_000.0
+    );
+    let s = GonioSettings {
+        incident: 3,
+        outgoing: 3,
+        azimuths: 2,
+        aperture_deg: 10.0,
+        wavelengths: vec![550.0],
+        ..small_settings(100_000)
+    };
+    let t = measure(&rough, &s).unwrap();
+    let (retro, forward) = (t.values[t.index(2, 2, 0, 0)], t.values[t.index(2, 2, 1, 0)]);
+    let err = t.stderr.as_ref().unwrap()[t.index(2, 2, 0, 0)];
+    assert!(
+        retro > forward + 4.0 * err,
+        "retro {retro} vs forward {forward} ± {err}"
+    );
+}
+
+#[test]
+fn tabulated_playback_of_a_measured_lambertian() {
+    let d = Diffuse::new(Spectrum::Constant(0.6));
+    let table = measure(&BsdfSpecimen::new(&d, "diffuse 0.6"), &small_settings(200_000)).unwrap();
+    let max_err = table.stderr.as_ref().unwrap().iter().copied().fold(0.0, f32::max);
+    let t = Tabulated::new(table);
+    let ctx = BsdfContext::radiance();
+    let wl = SampledWavelengths::fixed(500.0);
+    let mut rng = gonio_core::rng::Pcg32::new(9, 0);
+    for _ in 0..1000 {
+        let a = rng.next_vec2();
+        let b = rng.next_vec2();
+        let wi = spherical_direction(a.x * 1.55, a.y * 6.28);
+        let wo = spherical_direction(b.x * 1.55, b.y * 6.28);
+        let f = t.eval(&ctx, wi, wo, &wl)[0];
+        assert!((f - 0.6 / PI).abs() < 3.0 * max_err, "f({wi}, {wo}) = {f}");
+    }
+    // Its directional albedo is ρ within the measurement noise (importance-sampled).
+    let alb = directional_albedo(
+        &t,
+        &[10.0, 50.0, 80.0],
+        20_000,
+        TransportMode::Radiance,
+        Wavelengths::Fixed(550.0),
+        false,
+        1,
+    );
+    for p in alb {
+        assert!((p.r - 0.6).abs() < 0.03 + 4.0 * p.r_stderr, "{p:?}");
+        assert_eq!(p.t, 0.0);
+    }
+    assert_eq!(t.eval(&ctx, Vec3::Z, -Vec3::Z, &wl)[0], 0.0);
+}
