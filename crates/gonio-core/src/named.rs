@@ -178,6 +178,32 @@ pub fn glass_names() -> Vec<&'static str> {
     GLASSES.iter().map(|g| g.name).collect()
 }
 
+/// pbrt-v4's named spectra that have a counterpart here: `metal-<X>-eta` / `metal-<X>-k` for the
+/// conductors above, `glass-BK7`, `glass-BAF10`, `glass-FK51A`, `glass-LASF9`, `glass-F5`,
+/// `glass-F10`, `glass-F11` (Sellmeier curves; pbrt's tables sample the same formula) and
+/// `stdillum-D65` (unit luminance).
+pub fn pbrt_named_spectrum(name: &str) -> Option<Spectrum> {
+    let name = name.trim();
+    if name == "stdillum-D65" {
+        return Some(Spectrum::d65());
+    }
+    if let Some(rest) = name.strip_prefix("metal-") {
+        let (metal, which) = rest.rsplit_once('-')?;
+        let metal = CONDUCTORS.iter().find(|n| **n == metal && **n != "none")?;
+        let (eta, k) = conductor(metal)?;
+        return match which {
+            "eta" => Some(eta),
+            "k" => Some(k),
+            _ => None,
+        };
+    }
+    if name.starts_with("glass-") {
+        glass(name)
+    } else {
+        None
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -243,6 +269,28 @@ mod tests {
                 "{name} k = {}",
                 kk.eval(550.0)
             );
+        }
+    }
+
+    #[test]
+    fn pbrt_names_resolve() {
+        let au = pbrt_named_spectrum("metal-Au-k").unwrap();
+        assert_eq!(au, conductor("Au").unwrap().1);
+        assert_eq!(
+            pbrt_named_spectrum("metal-CuZn-eta").unwrap(),
+            conductor("CuZn").unwrap().0
+        );
+        assert_eq!(pbrt_named_spectrum("glass-F11").unwrap(), glass("SF11").unwrap());
+        assert_eq!(pbrt_named_spectrum("stdillum-D65").unwrap(), Spectrum::d65());
+        for bad in [
+            "metal-Au",
+            "metal-none-eta",
+            "metal-Xx-k",
+            "glass-XYZ",
+            "stdillum-A",
+            "Au",
+        ] {
+            assert!(pbrt_named_spectrum(bad).is_none(), "{bad}");
         }
     }
 

@@ -638,20 +638,35 @@ mod tests {
     #[test]
     fn optimizer_reproduces_stored_table_entries() {
         // Keeps generator and table in sync: re-fit a few rows and compare with the shipped table.
+        // On the machine that generated the table the coefficients agree bit for bit; a different
+        // libm may move a converged fit inside its tolerance, so an entry also passes when its
+        // spectrum agrees within 2e-4 everywhere (a changed quadrature, illuminant or matrix moves
+        // colours by 1e-3 and more).
         let table = srgb_table();
         for (l, j, i) in [(0, 0, 0), (1, 17, 40), (2, 63, 5), (0, 31, 63)] {
             let row = optimize_row(TABLE_RES, l, j, i);
             for (k, c) in row.iter().enumerate() {
                 let s = table.entry(l, k, j, i);
-                for o in 0..3 {
-                    let tol = 1e-5 * s[o].abs().max(1.0);
-                    assert!(
-                        (c[o] - s[o]).abs() <= tol,
-                        "entry ({l},{k},{j},{i})[{o}]: {} vs {}",
-                        c[o],
-                        s[o]
-                    );
-                }
+                let same_coeffs = (0..3).all(|o| (c[o] - s[o]).abs() <= 1e-5 * s[o].abs().max(1.0));
+                let (a, b) = (
+                    RgbSigmoid {
+                        c0: c[0],
+                        c1: c[1],
+                        c2: c[2],
+                    },
+                    RgbSigmoid {
+                        c0: s[0],
+                        c1: s[1],
+                        c2: s[2],
+                    },
+                );
+                let diff = (360..=830)
+                    .map(|lambda| (a.eval(lambda as f32) - b.eval(lambda as f32)).abs())
+                    .fold(0.0, f32::max);
+                assert!(
+                    same_coeffs || diff < 2e-4,
+                    "entry ({l},{k},{j},{i}): refit {c:?} vs stored {s:?} (Δs {diff})"
+                );
             }
         }
     }
