@@ -1,0 +1,217 @@
+//! Piecewise-constant distributions for importance sampling: a 1D discrete/continuous
+//! distribution (light selection, rows of an environment map) and a 2D one built from a marginal
+//! over rows and conditionals per row (environment maps, pbrt's `PiecewiseConstant2D`).
+
+use glam::Vec2;
+
+/// A piecewise-constant density on [0, 1) with `n` equal cells, from non-negative cell values.
+/// Also a discrete distribution over the cells (probability ∝ value).
+#[derive(Clone, Debug)]
+pub struct Distribution1D {
+    func: Vec<f32>,
+    /// cdf[i] = P(cell < i); cdf[n] = 1.
+    cdf: Vec<f32>,
+    /// Σ func / n (the integral of the piecewise-constant function over [0, 1)).
+    integral: f32,
+}
+
+impl Distribution1D {
+    /// From cell values (negative or non-finite values count as 0). When every value is 0 the
+    /// distribution is uniform, so sampling never fails; [`Self::integral`] is then 0.
+    pub fn new(values: &[f32]) -> Self {
+        let n = values.len().max(1);
+        let func: Vec<f32> = (0..n)
+            .map(|i| {
+                values
+                    .get(i)
+                    .copied()
+                    .filter(|v| v.is_finite() && *v > 0.0)
+                    .unwrap_or(0.0)
+            })
+            .collect();
+        let mut cdf = vec![0.0f32; n + 1];
+        let mut acc = 0.0f64;
+        for i in 0..n {
+            acc += func[i] as f64 / n as f64;
+            cdf[i + 1] = acc as f32;
+        }
+        let integral = acc as f32;
+        if acc > 0.0 {
+            for c in cdf.iter_mut() {
+                *c = (*c as f64 / acc) as f32;
+            }
+        } else {
+            for (i, c) in cdf.iter_mut().enumerate() {
+                *c = i as f32 / n as f32;
+            }
+        }
+        cdf[n] = 1.0;
+        Self { func, cdf, integral }
+    }
+
+    /// Number of cells.
+    pub fn len(&self) -> usize {
+        self.func.len()
+    }
+
+    /// True when there are no cells (never: at least one cell is always kept).
+    pub fn is_empty(&self) -> bool {
+        self.func.is_empty()
+    }
+
+    /// ∫₀¹ of the piecewise-constant function (Σ values / n).
+    pub fn integral(&self) -> f32 {
+        self.integral
+    }
+
+    /// The cell containing `u`: largest i with cdf[i] ≤ u, skipping empty cells.
+    fn find(&self, u: f32) -> usize {
+        let n = self.func.len();
+        // partition_point gives the first index with cdf > u; cells of zero probability have
+        // cdf[i] == cdf[i+1] and are never returned.
+        let i = self.cdf.partition_point(|&c| c <= u);
+        i.clamp(1, n) - 1
+    }
+
+    /// Discrete probability of cell `i`.
+    pub fn pmf(&self, i: usize) -> f32 {
+        match (self.cdf.get(i), self.cdf.get(i + 1)) {
+            (Some(a), Some(b)) => b - a,
+            _ => 0.0,
+        }
+    }
+
+    /// Draws a cell with probability ∝ its value: (index, probability, `u` rescaled to [0, 1)
+    /// inside the cell for reuse).
+    pub fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
+        let i = self.find(u);
+        let (a, b) = (self.cdf[i], self.cdf[i + 1]);
+        let p = b - a;
+        let ur = if p > 0.0 {
+            ((u - a) / p).clamp(0.0, 1.0 - f32::EPSILON)
+        } else {
+            0.0
+        };
+        (i, p, ur)
+    }
+
+    /// Draws x ∈ [0, 1) with the piecewise-constant density: (x, density at x, cell).
+    pub fn sample_continuous(&self, u: f32) -> (f32, f32, usize) {
+        let n = self.func.len();
+        let (i, p, ur) = self.sample_discrete(u);
+        let x = ((i as f32 + ur) / n as f32).min(1.0 - f32::EPSILON);
+        (x, p * n as f32, i)
+    }
+
+    /// Density of [`Self::sample_continuous`] at x ∈ [0, 1).
+    pub fn pdf_continuous(&self, x: f32) -> f32 {
+        let n = self.func.len();
+        let i = ((x * n as f32) as usize).min(n - 1);
+        self.pmf(i) * n as f32
+    }
+}
+
+/// A piecewise-constant density on [0, 1)² over a `width` × `height` grid (row-major values,
+/// row = v, column = u): a marginal over rows and one conditional per row.
+#[derive(Clone, Debug)]
+pub struct Distribution2D {
+    rows: Vec<Distribution1D>,
+    marginal: Distribution1D,
+}
+
+impl Distribution2D {
+    /// From `width * height` row-major cell values.
+    pub fn new(values: &[f32], width: usize, height: usize) -> Self {
+        let (width, height) = (width.max(1), height.max(1));
+        let rows: Vec<Distribution1D> = (0..height)
+            .map(|r| {
+                let start = (r * width).min(values.len());
+                let end = ((r + 1) * width).min(values.len());
+                let mut row = values[start..end].to_vec();
+                row.resize(width, 0.0);
+                Distribution1D::new(&row)
+            })
+            .collect();
+        let marginal = Distribution1D::new(&rows.iter().map(|r| r.integral()).collect::<Vec<_>>());
+        Self { rows, marginal }
+    }
+
+    /// Draws (u, v) ∈ [0, 1)² and its density.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (v, pdf_v, row) = self.marginal.sample_continuous(u.y);
+        let (x, pdf_u, _) = self.rows[row].sample_continuous(u.x);
+        (Vec2::new(x, v), pdf_v * pdf_u)
+    }
+
+    /// Density of [`Self::sample`] at `uv`.
+    pub fn pdf(&self, uv: Vec2) -> f32 {
+        let h = self.rows.len();
+        let row = ((uv.y.clamp(0.0, 1.0) * h as f32) as usize).min(h - 1);
+        self.marginal.pdf_continuous(uv.y.clamp(0.0, 1.0))
+            * self.rows[row].pdf_continuous(uv.x.clamp(0.0, 1.0))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn discrete_probabilities_follow_values() {
+        let d = Distribution1D::new(&[1.0, 0.0, 3.0]);
+        assert!((d.pmf(0) - 0.25).abs() < 1e-6);
+        assert_eq!(d.pmf(1), 0.0);
+        assert!((d.pmf(2) - 0.75).abs() < 1e-6);
+        let mut counts = [0usize; 3];
+        let n = 10_000;
+        for k in 0..n {
+            let (i, p, ur) = d.sample_discrete((k as f32 + 0.5) / n as f32);
+            assert!((0.0..1.0).contains(&ur));
+            assert_eq!(p, d.pmf(i));
+            counts[i] += 1;
+        }
+        assert_eq!(counts, [2500, 0, 7500]);
+    }
+
+    #[test]
+    fn all_zero_is_uniform() {
+        let d = Distribution1D::new(&[0.0, 0.0]);
+        assert_eq!(d.integral(), 0.0);
+        assert!((d.pmf(0) - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn continuous_pdf_matches_sampling() {
+        let d = Distribution1D::new(&[0.5, 2.0, 1.5, 0.0]);
+        for k in 0..100 {
+            let (x, pdf, _) = d.sample_continuous((k as f32 + 0.5) / 100.0);
+            assert!((pdf - d.pdf_continuous(x)).abs() < 1e-4, "{x} {pdf}");
+        }
+        // x = 0.3 lies in cell 1 (value 2 of total 4): pmf 0.5, density 0.5·4 = 2.
+        assert!((d.pdf_continuous(0.3) - 2.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn two_d_pdf_integrates_to_one_and_matches_samples() {
+        let (w, h) = (7, 5);
+        let vals: Vec<f32> = (0..w * h).map(|i| ((i * 37) % 11) as f32).collect();
+        let d = Distribution2D::new(&vals, w, h);
+        let mut integral = 0.0;
+        for j in 0..h {
+            for i in 0..w {
+                integral += d.pdf(Vec2::new(
+                    (i as f32 + 0.5) / w as f32,
+                    (j as f32 + 0.5) / h as f32,
+                ));
+            }
+        }
+        integral /= (w * h) as f32;
+        assert!((integral - 1.0).abs() < 1e-4, "{integral}");
+        for k in 0..200 {
+            let u = Vec2::new(((k * 7919) % 200) as f32 / 200.0, (k as f32 + 0.5) / 200.0);
+            let (uv, pdf) = d.sample(u);
+            assert!(pdf > 0.0);
+            assert!((pdf - d.pdf(uv)).abs() / pdf < 1e-3);
+        }
+    }
+}

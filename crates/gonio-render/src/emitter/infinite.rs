@@ -1,0 +1,219 @@
+//! Lights at infinity: `constant` (uniform environment) and `envmap` (lat-long image).
+//!
+//! # Mitsuba parameters
+//!
+//! * `constant`: `radiance` (spectrum, default 1; an RGB value is uplifted as an illuminant, i.e.
+//!   × D65, by the scene reader).
+//! * `envmap`: `filename` (lat-long EXR/HDR image, linear RGB), `scale` (default 1), `to_world`
+//!   (default identity), `mis_compensation` (not supported: plain luminance sampling).
+//!
+//! # Orientation (Mitsuba 3 `envmap.cpp`)
+//!
+//! A world direction d is taken to the emitter's frame, v = to_world⁻¹·d, and mapped to
+//! u = atan2(v.x, −v.z)/(2π) (wrapped into [0, 1)), v = acos(v.y)/π: the image's top row is +y
+//! (up), its centre column looks down −z. Inversely, (θ, φ) = (π v, 2π u) gives
+//! v = (sin θ sin φ, cos θ, −sin θ cos φ).
+//!
+//! # Sampling
+//!
+//! `constant` samples a cosine-weighted hemisphere about the shading normal when only reflection
+//! lobes can use the light (zero variance for an unoccluded Lambertian surface), the uniform
+//! sphere otherwise. `envmap` samples pixels ∝ luminance·sin θ (a 2D piecewise-constant
+//! distribution), so the solid-angle density is p(u, v)/(2π² sin θ).
+
+use super::LightRef;
+use super::distribution::Distribution2D;
+use glam::{Affine3A, Vec2, Vec3};
+use gonio_core::warp;
+use gonio_core::{Frame, SampledSpectrum, SampledWavelengths, Spectrum};
+use std::f32::consts::{PI, TAU};
+
+/// `constant`: the same radiance from every direction.
+#[derive(Clone, Debug)]
+pub struct ConstantLight {
+    /// Radiance.
+    pub radiance: Spectrum,
+}
+
+impl ConstantLight {
+    /// Radiance arriving from any direction.
+    pub fn le(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+        self.radiance.sample(wl)
+    }
+
+    /// Direction towards the light and its solid-angle density.
+    pub fn sample_dir(&self, r: &LightRef, u: Vec2) -> (Vec3, f32) {
+        if r.hemisphere {
+            let local = warp::square_to_cosine_hemisphere(u);
+            let pdf = warp::square_to_cosine_hemisphere_pdf(local);
+            (Frame::from_normal(r.n).to_world(local), pdf)
+        } else {
+            (
+                warp::square_to_uniform_sphere(u),
+                warp::square_to_uniform_sphere_pdf(),
+            )
+        }
+    }
+
+    /// Density of [`Self::sample_dir`] for `dir`.
+    pub fn pdf_dir(&self, r: &LightRef, dir: Vec3) -> f32 {
+        if r.hemisphere {
+            (r.n.dot(dir)).max(0.0) * std::f32::consts::FRAC_1_PI
+        } else {
+            warp::square_to_uniform_sphere_pdf()
+        }
+    }
+
+    /// Mean radiance over the sphere (a scalar for light selection).
+    pub fn mean_radiance(&self) -> f32 {
+        self.radiance.mean()
+    }
+}
+
+/// An `envmap` emitter: linear RGB lat-long image, uplifted per lookup.
+#[derive(Clone)]
+pub struct EnvMapLight {
+    width: usize,
+    height: usize,
+    rgb: Vec<[f32; 3]>,
+    scale: f32,
+    to_world: Affine3A,
+    to_local: Affine3A,
+    distribution: Distribution2D,
+    mean_luminance: f32,
+    uplift: fn([f32; 3]) -> Spectrum,
+}
+
+impl std::fmt::Debug for EnvMapLight {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("EnvMapLight")
+            .field("width", &self.width)
+            .field("height", &self.height)
+            .field("scale", &self.scale)
+            .finish()
+    }
+}
+
+/// Rec. 709 luminance of a linear RGB triple.
+pub fn luminance(c: [f32; 3]) -> f32 {
+    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+}
+
+impl EnvMapLight {
+    /// From a row-major linear RGB image (top row first), a scale, the emitter-to-world
+    /// transform and the function that turns an RGB radiance into an emission spectrum (the
+    /// illuminant uplift, × D65 in spectral mode). Returns `None` for an empty image or a
+    /// singular transform.
+    pub fn new(
+        width: usize,
+        height: usize,
+        rgb: Vec<[f32; 3]>,
+        scale: f32,
+        to_world: Affine3A,
+        uplift: fn([f32; 3]) -> Spectrum,
+    ) -> Option<Self> {
+        if width == 0 || height == 0 || rgb.len() != width * height || to_world.matrix3.determinant() == 0.0 {
+            return None;
+        }
+        let rgb: Vec<[f32; 3]> = rgb
+            .into_iter()
+            .map(|c| c.map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 }))
+            .collect();
+        let mut weights = vec![0.0f32; width * height];
+        let mut total = 0.0f64;
+        for j in 0..height {
+            let sin_theta = (PI * (j as f32 + 0.5) / height as f32).sin();
+            for i in 0..width {
+                let l = luminance(rgb[j * width + i]);
+                weights[j * width + i] = l * sin_theta;
+                total += (l * sin_theta) as f64;
+            }
+        }
+        // ∫ L dω / 4π with dω = sin θ (2π/W)(π/H).
+        let mean_luminance = (total * (TAU as f64 / width as f64) * (PI as f64 / height as f64)
+            / (4.0 * PI as f64)) as f32
+            * scale;
+        let distribution = Distribution2D::new(&weights, width, height);
+        Some(Self {
+            width,
+            height,
+            rgb,
+            scale,
+            to_world,
+            to_local: to_world.inverse(),
+            distribution,
+            mean_luminance,
+            uplift,
+        })
+    }
+
+    /// World direction → image coordinates in [0, 1)².
+    pub fn dir_to_uv(&self, dir: Vec3) -> Vec2 {
+        let v = self.to_local.transform_vector3(dir).normalize_or_zero();
+        let mut u = v.x.atan2(-v.z) / TAU;
+        u -= u.floor();
+        let t = v.y.clamp(-1.0, 1.0).acos() / PI;
+        Vec2::new(u.min(1.0 - f32::EPSILON), t)
+    }
+
+    /// Image coordinates → world direction (unit).
+    pub fn uv_to_dir(&self, uv: Vec2) -> Vec3 {
+        let (st, ct) = (PI * uv.y).sin_cos();
+        let (sp, cp) = (TAU * uv.x).sin_cos();
+        let local = Vec3::new(st * sp, ct, -st * cp);
+        self.to_world.transform_vector3(local).normalize()
+    }
+
+    /// Bilinear RGB lookup between pixel centres, wrapping in u and clamping in v.
+    pub fn lookup_rgb(&self, uv: Vec2) -> [f32; 3] {
+        let (w, h) = (self.width as isize, self.height as isize);
+        let x = uv.x * w as f32 - 0.5;
+        let y = uv.y * h as f32 - 0.5;
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as isize, y0 as isize);
+        let px = |i: isize, j: isize| {
+            let i = i.rem_euclid(w) as usize;
+            let j = j.clamp(0, h - 1) as usize;
+            self.rgb[j * self.width + i]
+        };
+        let (a, b, c, d) = (px(x0, y0), px(x0 + 1, y0), px(x0, y0 + 1), px(x0 + 1, y0 + 1));
+        std::array::from_fn(|k| {
+            (1.0 - fy) * ((1.0 - fx) * a[k] + fx * b[k]) + fy * ((1.0 - fx) * c[k] + fx * d[k])
+        })
+    }
+
+    /// Radiance arriving from world direction `dir` (travelling towards the viewer along −dir).
+    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let rgb = self.lookup_rgb(self.dir_to_uv(dir));
+        if rgb == [0.0; 3] {
+            return SampledSpectrum::ZERO;
+        }
+        (self.uplift)(rgb).sample(wl) * self.scale
+    }
+
+    /// Direction towards the light ∝ luminance·sin θ, and its solid-angle density.
+    pub fn sample_dir(&self, u: Vec2) -> Option<(Vec3, f32)> {
+        let (uv, pdf_uv) = self.distribution.sample(u);
+        let sin_theta = (PI * uv.y).sin();
+        if pdf_uv <= 0.0 || sin_theta <= 0.0 {
+            return None;
+        }
+        Some((self.uv_to_dir(uv), pdf_uv / (2.0 * PI * PI * sin_theta)))
+    }
+
+    /// Density of [`Self::sample_dir`] for world direction `dir`.
+    pub fn pdf_dir(&self, dir: Vec3) -> f32 {
+        let uv = self.dir_to_uv(dir);
+        let sin_theta = (PI * uv.y).sin();
+        if sin_theta <= 0.0 {
+            return 0.0;
+        }
+        self.distribution.pdf(uv) / (2.0 * PI * PI * sin_theta)
+    }
+
+    /// Mean luminance over the sphere, × scale (for light selection).
+    pub fn mean_radiance(&self) -> f32 {
+        self.mean_luminance
+    }
+}

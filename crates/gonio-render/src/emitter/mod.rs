@@ -1,0 +1,293 @@
+//! Emitters: area lights on shapes, point, spot, directional, constant and envmap, and the
+//! choice of one light per next-event estimate, with probability proportional to power.
+//!
+//! Every light answers the same questions (see [`Light`]): draw a direction towards it from a
+//! reference point ([`LightSample`]: unit direction, distance, arriving radiance, solid-angle
+//! density), give the density of that strategy for a direction found by BSDF sampling (for MIS),
+//! and give a scalar power for light selection. Parameters and defaults of each Mitsuba plugin
+//! are documented in the submodules.
+//!
+//! # Light selection
+//!
+//! Lights are chosen with probability ∝ an estimate of the power they deliver to the scene:
+//! area π·A·mean(L), point 4π·mean(I), spot mean(I)·∫falloff dω, directional π r²·mean(E) and
+//! infinite lights π·mean(L)·(half the total surface area of the scene) (the irradiance πL of an
+//! unoccluded surface over the area that can face it), with r the bounding-sphere radius used
+//! when the scene has no surfaces. Lights of zero power are never chosen; if every light has
+//! zero power the choice is uniform.
+
+pub mod area;
+pub mod delta;
+pub mod distribution;
+pub mod infinite;
+
+pub use area::AreaLight;
+pub use delta::{DirectionalLight, PointLight, SpotLight};
+pub use distribution::{Distribution1D, Distribution2D};
+pub use infinite::{ConstantLight, EnvMapLight};
+
+use glam::{Vec2, Vec3};
+use gonio_core::{SampledSpectrum, SampledWavelengths};
+
+/// A sphere bounding the scene (centre, radius), for lights at infinity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoundingSphere {
+    /// Centre.
+    pub center: Vec3,
+    /// Radius (> 0).
+    pub radius: f32,
+}
+
+/// The point a light is sampled from, and what the BSDF there can use.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightRef {
+    /// World position.
+    pub p: Vec3,
+    /// Unit shading normal, oriented to the side the path arrived from.
+    pub n: Vec3,
+    /// True when the BSDF there only reflects (to the side of `n`): a light may then restrict
+    /// its sampling to that hemisphere (the constant environment does).
+    pub hemisphere: bool,
+}
+
+/// A direction towards a light, drawn from a reference point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightSample {
+    /// Unit world direction from the reference point towards the light.
+    pub wi: Vec3,
+    /// Distance to the light point (`f32::INFINITY` for lights at infinity).
+    pub dist: f32,
+    /// Radiance arriving along −`wi` (for delta lights: irradiance on a surface facing the light,
+    /// I/d² or E), before visibility.
+    pub li: SampledSpectrum,
+    /// Solid-angle density of the direction (excluding light selection); 1 for delta lights.
+    pub pdf: f32,
+    /// True for point, spot and directional lights: no BSDF sample can find them.
+    pub delta: bool,
+    /// Surface normal at the light point (area lights), so a shadow ray can stop short of it.
+    pub normal: Option<Vec3>,
+}
+
+/// One emitter.
+#[derive(Clone, Debug)]
+pub enum Light {
+    /// `area`, attached to a shape.
+    Area(AreaLight),
+    /// `point`.
+    Point(PointLight),
+    /// `spot`.
+    Spot(SpotLight),
+    /// `directional`.
+    Directional(DirectionalLight),
+    /// `constant`.
+    Constant(ConstantLight),
+    /// `envmap`.
+    EnvMap(EnvMapLight),
+}
+
+impl Light {
+    /// True for lights that rays never hit (point, spot, directional).
+    pub fn is_delta(&self) -> bool {
+        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Directional(_))
+    }
+
+    /// True for lights at infinity (constant, envmap), seen by rays that escape the scene.
+    pub fn is_infinite(&self) -> bool {
+        matches!(self, Light::Constant(_) | Light::EnvMap(_))
+    }
+
+    /// Radiance from an infinite light arriving along −`dir` (`dir` points away from the scene);
+    /// zero for other lights.
+    pub fn le_infinite(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        match self {
+            Light::Constant(c) => c.le(wl),
+            Light::EnvMap(e) => e.le(dir, wl),
+            _ => SampledSpectrum::ZERO,
+        }
+    }
+
+    /// Draws a direction towards a non-area light from `r`. Area lights are sampled through
+    /// [`AreaLight::sample_li`], which needs the shape's geometry.
+    pub fn sample_li_nonarea(&self, r: &LightRef, u: Vec2, wl: &SampledWavelengths) -> Option<LightSample> {
+        let s = match self {
+            Light::Area(_) => return None,
+            Light::Point(l) => {
+                let d = l.position - r.p;
+                let d2 = d.length_squared();
+                if d2 == 0.0 {
+                    return None;
+                }
+                let dist = d2.sqrt();
+                LightSample {
+                    wi: d / dist,
+                    dist,
+                    li: l.intensity.sample(wl) / d2,
+                    pdf: 1.0,
+                    delta: true,
+                    normal: None,
+                }
+            }
+            Light::Spot(l) => {
+                let d = l.position() - r.p;
+                let d2 = d.length_squared();
+                if d2 == 0.0 {
+                    return None;
+                }
+                let dist = d2.sqrt();
+                let wi = d / dist;
+                let li = l.intensity_towards(-wi, wl) / d2;
+                LightSample {
+                    wi,
+                    dist,
+                    li,
+                    pdf: 1.0,
+                    delta: true,
+                    normal: None,
+                }
+            }
+            Light::Directional(l) => LightSample {
+                wi: -l.direction,
+                dist: f32::INFINITY,
+                li: l.irradiance.sample(wl),
+                pdf: 1.0,
+                delta: true,
+                normal: None,
+            },
+            Light::Constant(c) => {
+                let (wi, pdf) = c.sample_dir(r, u);
+                LightSample {
+                    wi,
+                    dist: f32::INFINITY,
+                    li: c.le(wl),
+                    pdf,
+                    delta: false,
+                    normal: None,
+                }
+            }
+            Light::EnvMap(e) => {
+                let (wi, pdf) = e.sample_dir(u)?;
+                LightSample {
+                    wi,
+                    dist: f32::INFINITY,
+                    li: e.le(wi, wl),
+                    pdf,
+                    delta: false,
+                    normal: None,
+                }
+            }
+        };
+        (s.pdf > 0.0 && !s.li.is_black()).then_some(s)
+    }
+
+    /// Density with which [`Self::sample_li_nonarea`] from `r` produces `dir`, for an infinite
+    /// light (0 for others).
+    pub fn pdf_li_infinite(&self, r: &LightRef, dir: Vec3) -> f32 {
+        match self {
+            Light::Constant(c) => c.pdf_dir(r, dir),
+            Light::EnvMap(e) => e.pdf_dir(dir),
+            _ => 0.0,
+        }
+    }
+
+    /// Scalar power estimate for light selection (see the module docs). `scene_area` is the
+    /// total surface area of the scene's shapes, `bounds` the bounding sphere.
+    pub fn power(&self, scene_area: f32, bounds: &BoundingSphere) -> f32 {
+        let infinite_area = if scene_area > 0.0 {
+            0.5 * scene_area
+        } else {
+            std::f32::consts::PI * bounds.radius * bounds.radius
+        };
+        let p = match self {
+            Light::Area(a) => a.power(),
+            Light::Point(l) => l.power(),
+            Light::Spot(l) => l.power(),
+            Light::Directional(l) => l.power(bounds.radius),
+            Light::Constant(c) => std::f32::consts::PI * c.mean_radiance() * infinite_area,
+            Light::EnvMap(e) => std::f32::consts::PI * e.mean_radiance() * infinite_area,
+        };
+        if p.is_finite() { p.max(0.0) } else { 0.0 }
+    }
+}
+
+/// All the lights of a scene and the distribution that picks one.
+#[derive(Clone, Debug)]
+pub struct Lights {
+    lights: Vec<Light>,
+    selection: Distribution1D,
+    /// Light index of each shape's area emitter.
+    shape_light: Vec<Option<u32>>,
+    infinite: Vec<u32>,
+    bounds: BoundingSphere,
+}
+
+impl Lights {
+    /// Builds the selection distribution. `shape_count` is the number of shapes (area lights refer
+    /// to them by index), `scene_area` their total area.
+    pub fn new(lights: Vec<Light>, shape_count: usize, scene_area: f32, bounds: BoundingSphere) -> Self {
+        let powers: Vec<f32> = lights.iter().map(|l| l.power(scene_area, &bounds)).collect();
+        let selection = Distribution1D::new(&powers);
+        let mut shape_light = vec![None; shape_count];
+        let mut infinite = Vec::new();
+        for (i, l) in lights.iter().enumerate() {
+            match l {
+                Light::Area(a) if a.shape < shape_count => shape_light[a.shape] = Some(i as u32),
+                l if l.is_infinite() => infinite.push(i as u32),
+                _ => {}
+            }
+        }
+        Self {
+            lights,
+            selection,
+            shape_light,
+            infinite,
+            bounds,
+        }
+    }
+
+    /// The lights.
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// True when the scene has no light.
+    pub fn is_empty(&self) -> bool {
+        self.lights.is_empty()
+    }
+
+    /// Picks a light: (index, probability).
+    #[inline]
+    pub fn select(&self, u: f32) -> Option<(usize, f32)> {
+        if self.lights.is_empty() {
+            return None;
+        }
+        let (i, p, _) = self.selection.sample_discrete(u);
+        (p > 0.0).then_some((i, p))
+    }
+
+    /// Probability that [`Self::select`] picks light `i`.
+    #[inline]
+    pub fn pmf(&self, i: usize) -> f32 {
+        if self.lights.is_empty() {
+            0.0
+        } else {
+            self.selection.pmf(i)
+        }
+    }
+
+    /// The area light on shape `shape`, if it emits.
+    #[inline]
+    pub fn shape_light(&self, shape: usize) -> Option<usize> {
+        self.shape_light.get(shape).copied().flatten().map(|i| i as usize)
+    }
+
+    /// Indices of the lights at infinity.
+    #[inline]
+    pub fn infinite(&self) -> &[u32] {
+        &self.infinite
+    }
+
+    /// The scene's bounding sphere.
+    pub fn bounds(&self) -> BoundingSphere {
+        self.bounds
+    }
+}

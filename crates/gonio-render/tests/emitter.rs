@@ -1,0 +1,369 @@
+//! Emitters: sampling densities against their pdf functions (and a χ² test for the environment
+//! map), radiance values, power values, light selection and the MIS heuristic.
+
+use glam::{Affine3A, Vec2, Vec3};
+use gonio_core::{SampledWavelengths, Spectrum};
+use gonio_render::emitter::infinite::luminance;
+use gonio_render::emitter::*;
+use gonio_render::integrator::mis_power;
+use std::f32::consts::PI;
+
+/// A small deterministic generator (SplitMix64) so these tests depend on nothing else.
+struct Rng(u64);
+impl Rng {
+    fn next_f32(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn next_2d(&mut self) -> Vec2 {
+        Vec2::new(self.next_f32(), self.next_f32())
+    }
+}
+
+fn uplift_luminance(c: [f32; 3]) -> Spectrum {
+    Spectrum::Constant(luminance(c))
+}
+
+/// A 32 × 16 test environment: a smooth gradient plus one very bright pixel.
+fn test_envmap(to_world: Affine3A) -> EnvMapLight {
+    let (w, h) = (32, 16);
+    let mut rgb = vec![[0.0f32; 3]; w * h];
+    for j in 0..h {
+        for i in 0..w {
+            let v = 0.2 + 0.8 * (i as f32 / w as f32) * (1.0 - j as f32 / h as f32);
+            rgb[j * w + i] = [v, 0.5 * v, 0.25 * v];
+        }
+    }
+    rgb[5 * w + 20] = [40.0, 40.0, 40.0];
+    EnvMapLight::new(w, h, rgb, 2.0, to_world, uplift_luminance).unwrap()
+}
+
+/// ∫ over the sphere of a direction density, by a midpoint rule on (cos θ, φ) (dω = d cos θ dφ).
+fn integrate_sphere(pdf: impl Fn(Vec3) -> f32, n: usize) -> f64 {
+    let mut s = 0.0f64;
+    for a in 0..n {
+        let z = -1.0 + 2.0 * (a as f32 + 0.5) / n as f32;
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        for b in 0..2 * n {
+            let phi = 2.0 * PI * (b as f32 + 0.5) / (2 * n) as f32;
+            s += pdf(Vec3::new(r * phi.cos(), r * phi.sin(), z)) as f64;
+        }
+    }
+    s * (2.0 / n as f64) * (2.0 * std::f64::consts::PI / (2 * n) as f64)
+}
+
+#[test]
+fn envmap_orientation_follows_mitsuba() {
+    let e = test_envmap(Affine3A::IDENTITY);
+    // Image centre column looks down −z; a quarter to the right is +x; the top row is +y.
+    assert!((e.uv_to_dir(Vec2::new(0.5, 0.5)) - Vec3::Z).length() < 1e-5);
+    assert!((e.uv_to_dir(Vec2::new(0.0, 0.5)) + Vec3::Z).length() < 1e-5);
+    assert!((e.uv_to_dir(Vec2::new(0.25, 0.5)) - Vec3::X).length() < 1e-5);
+    assert!((e.uv_to_dir(Vec2::new(0.3, 0.0)) - Vec3::Y).length() < 1e-5);
+    let mut rng = Rng(7);
+    for _ in 0..1000 {
+        let uv = Vec2::new(rng.next_f32(), 0.01 + 0.98 * rng.next_f32());
+        let back = e.dir_to_uv(e.uv_to_dir(uv));
+        let du = (back.x - uv.x).abs().min(1.0 - (back.x - uv.x).abs());
+        assert!(du < 1e-4 && (back.y - uv.y).abs() < 1e-4, "{uv} -> {back}");
+    }
+    // to_world rotates the map: with a 90° turn about +y the centre column looks down −x.
+    let rot = test_envmap(Affine3A::from_rotation_y(PI / 2.0));
+    assert!((rot.uv_to_dir(Vec2::new(0.5, 0.5)) - Vec3::X).length() < 1e-5);
+    assert!((rot.dir_to_uv(Vec3::X) - Vec2::new(0.5, 0.5)).length() < 1e-4);
+}
+
+#[test]
+fn envmap_radiance_is_scaled_pixel_value() {
+    let e = test_envmap(Affine3A::IDENTITY);
+    let wl = SampledWavelengths::sample_visible(0.3);
+    // Centre of the bright pixel (column 20, row 5).
+    let uv = Vec2::new(20.5 / 32.0, 5.5 / 16.0);
+    let le = e.le(e.uv_to_dir(uv), &wl);
+    for i in 0..4 {
+        assert!((le[i] - 2.0 * 40.0).abs() < 1e-2, "{le:?}");
+    }
+}
+
+#[test]
+fn envmap_pdf_integrates_to_one_and_matches_samples() {
+    let e = test_envmap(Affine3A::from_rotation_x(0.4));
+    let integral = integrate_sphere(|d| e.pdf_dir(d), 400);
+    assert!((integral - 1.0).abs() < 5e-3, "∫pdf = {integral}");
+    let mut rng = Rng(11);
+    for _ in 0..2000 {
+        let (d, pdf) = e.sample_dir(rng.next_2d()).unwrap();
+        assert!((d.length() - 1.0).abs() < 1e-4);
+        let p2 = e.pdf_dir(d);
+        assert!((pdf - p2).abs() <= 2e-3 * pdf, "{pdf} vs {p2}");
+    }
+}
+
+/// Pearson χ² of sampled directions binned in (φ, cos θ) against the pdf integrated per bin,
+/// pooling bins with fewer than 5 expected samples; p-value from the regularized incomplete gamma.
+fn chi2_p_value(sample: impl Fn(Vec2) -> Option<Vec3>, pdf: impl Fn(Vec3) -> f32, seed: u64) -> f64 {
+    let (nphi, nz, n) = (48usize, 24usize, 400_000usize);
+    let mut obs = vec![0.0f64; nphi * nz];
+    let mut rng = Rng(seed);
+    let bin = |d: Vec3| {
+        let mut phi = d.y.atan2(d.x) / (2.0 * PI);
+        phi -= phi.floor();
+        let i = ((phi * nphi as f32) as usize).min(nphi - 1);
+        let j = (((d.z + 1.0) * 0.5 * nz as f32) as usize).min(nz - 1);
+        j * nphi + i
+    };
+    for _ in 0..n {
+        if let Some(d) = sample(rng.next_2d()) {
+            obs[bin(d)] += 1.0;
+        }
+    }
+    // Expected counts: 8 × 8 midpoint rule inside each bin.
+    let sub = 8;
+    let mut exp = vec![0.0f64; nphi * nz];
+    for j in 0..nz {
+        for i in 0..nphi {
+            let mut acc = 0.0f64;
+            for b in 0..sub {
+                let z = -1.0 + 2.0 * (j as f32 + (b as f32 + 0.5) / sub as f32) / nz as f32;
+                let r = (1.0 - z * z).max(0.0).sqrt();
+                for a in 0..sub {
+                    let phi = 2.0 * PI * (i as f32 + (a as f32 + 0.5) / sub as f32) / nphi as f32;
+                    acc += pdf(Vec3::new(r * phi.cos(), r * phi.sin(), z)) as f64;
+                }
+            }
+            let area = (2.0 / nz as f64) * (2.0 * std::f64::consts::PI / nphi as f64);
+            exp[j * nphi + i] = acc / (sub * sub) as f64 * area * n as f64;
+        }
+    }
+    let mut cells: Vec<(f64, f64)> = exp.iter().copied().zip(obs.iter().copied()).collect();
+    cells.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
+    let (mut chi2, mut dof, mut pool_e, mut pool_o) = (0.0f64, 0i64, 0.0f64, 0.0f64);
+    for (e, o) in cells {
+        if e == 0.0 {
+            assert!(o == 0.0, "samples where the pdf is zero");
+            continue;
+        }
+        if e < 5.0 || pool_e > 0.0 && pool_e < 5.0 {
+            pool_e += e;
+            pool_o += o;
+            if pool_e >= 5.0 {
+                chi2 += (pool_o - pool_e).powi(2) / pool_e;
+                dof += 1;
+                pool_e = 0.0;
+                pool_o = 0.0;
+            }
+            continue;
+        }
+        chi2 += (o - e).powi(2) / e;
+        dof += 1;
+    }
+    dof -= 1;
+    assert!(dof > 0);
+    puruspe::gammq(dof as f64 / 2.0, chi2 / 2.0)
+}
+
+#[test]
+fn envmap_sampling_passes_chi2() {
+    let e = test_envmap(Affine3A::from_rotation_z(0.3));
+    let p = chi2_p_value(|u| e.sample_dir(u).map(|s| s.0), |d| e.pdf_dir(d), 5);
+    assert!(p > 0.01, "χ² p-value {p}");
+    // Negative control: the same samples against a density that forgets the 1/sin θ of the
+    // lat-long map must be rejected.
+    let wrong = |d: Vec3| {
+        let uv = e.dir_to_uv(d);
+        e.pdf_dir(d) * (PI * uv.y).sin() * 4.0 / PI
+    };
+    let p_wrong = chi2_p_value(|u| e.sample_dir(u).map(|s| s.0), wrong, 5);
+    assert!(p_wrong < 1e-6, "χ² failed to reject a wrong pdf: p = {p_wrong}");
+}
+
+#[test]
+fn constant_light_sampling_matches_pdf() {
+    let c = ConstantLight {
+        radiance: Spectrum::Constant(0.7),
+    };
+    let n = Vec3::new(0.3, -0.5, 0.8).normalize();
+    for hemisphere in [false, true] {
+        let r = LightRef {
+            p: Vec3::ZERO,
+            n,
+            hemisphere,
+        };
+        let integral = integrate_sphere(|d| c.pdf_dir(&r, d), 300);
+        assert!(
+            (integral - 1.0).abs() < 2e-3,
+            "hemisphere {hemisphere}: ∫pdf = {integral}"
+        );
+        let p = chi2_p_value(|u| Some(c.sample_dir(&r, u).0), |d| c.pdf_dir(&r, d), 9);
+        assert!(p > 0.01, "hemisphere {hemisphere}: χ² p-value {p}");
+        let mut rng = Rng(3);
+        for _ in 0..500 {
+            let (d, pdf) = c.sample_dir(&r, rng.next_2d());
+            assert!((pdf - c.pdf_dir(&r, d)).abs() < 1e-4 * pdf.max(1.0));
+            if hemisphere {
+                assert!(d.dot(n) >= -1e-6);
+            }
+        }
+    }
+    let wl = SampledWavelengths::sample_visible(0.5);
+    let light = Light::Constant(c);
+    let r = LightRef {
+        p: Vec3::ONE,
+        n: Vec3::Y,
+        hemisphere: true,
+    };
+    let s = light.sample_li_nonarea(&r, Vec2::new(0.2, 0.7), &wl).unwrap();
+    assert_eq!(s.li[0], 0.7);
+    assert!(s.dist.is_infinite() && !s.delta);
+    assert!((s.pdf - light.pdf_li_infinite(&r, s.wi)).abs() < 1e-5);
+}
+
+#[test]
+fn point_light_irradiance_and_power() {
+    let light = Light::Point(PointLight {
+        position: Vec3::new(0.0, 3.0, 4.0),
+        intensity: Spectrum::Constant(10.0),
+    });
+    let wl = SampledWavelengths::sample_visible(0.1);
+    let r = LightRef {
+        p: Vec3::ZERO,
+        n: Vec3::Y,
+        hemisphere: true,
+    };
+    let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
+    assert!((s.dist - 5.0).abs() < 1e-5);
+    assert!((s.wi - Vec3::new(0.0, 0.6, 0.8)).length() < 1e-6);
+    assert!((s.li[2] - 10.0 / 25.0).abs() < 1e-6);
+    assert!(s.delta && s.pdf == 1.0);
+    let bounds = BoundingSphere {
+        center: Vec3::ZERO,
+        radius: 5.0,
+    };
+    assert!((light.power(0.0, &bounds) - 40.0 * PI).abs() < 1e-3);
+}
+
+#[test]
+fn directional_light_irradiance_and_power() {
+    let light = Light::Directional(DirectionalLight {
+        direction: Vec3::new(0.0, -1.0, 0.0),
+        irradiance: Spectrum::Constant(2.0),
+    });
+    let wl = SampledWavelengths::sample_visible(0.1);
+    let r = LightRef {
+        p: Vec3::ZERO,
+        n: Vec3::Y,
+        hemisphere: true,
+    };
+    let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
+    assert_eq!(s.wi, Vec3::Y);
+    assert_eq!(s.li[0], 2.0);
+    assert!(s.dist.is_infinite() && s.delta);
+    let bounds = BoundingSphere {
+        center: Vec3::ZERO,
+        radius: 3.0,
+    };
+    assert!((light.power(0.0, &bounds) - 2.0 * PI * 9.0).abs() < 1e-3);
+}
+
+#[test]
+fn spot_light_falloff_and_power() {
+    // Pointing down −y from (0, 2, 0): local +z maps to world −y.
+    let to_world = Affine3A::from_translation(Vec3::new(0.0, 2.0, 0.0)) * Affine3A::from_rotation_x(PI / 2.0);
+    let spot = SpotLight::new(to_world, Spectrum::Constant(5.0), 20.0, 10.0);
+    let at = |deg: f32| {
+        let t = deg.to_radians();
+        spot.falloff(Vec3::new(t.sin(), -t.cos(), 0.0))
+    };
+    assert_eq!(at(0.0), 1.0);
+    assert_eq!(at(9.9), 1.0);
+    assert!((at(15.0) - 0.5).abs() < 1e-3, "{}", at(15.0));
+    assert!((at(17.5) - 0.25).abs() < 1e-3);
+    assert_eq!(at(20.5), 0.0);
+    assert_eq!(spot.falloff(Vec3::Y), 0.0);
+    // Power = I ∫ falloff dω, checked by quadrature over the sphere.
+    let numeric = 5.0 * integrate_sphere(|d| spot.falloff(d), 1200);
+    assert!(
+        (spot.power() as f64 - numeric).abs() < 2e-3 * numeric,
+        "{} vs {numeric}",
+        spot.power()
+    );
+    // Irradiance from below the light, 2 units away on the axis: I/d².
+    let wl = SampledWavelengths::sample_visible(0.6);
+    let light = Light::Spot(spot);
+    let r = LightRef {
+        p: Vec3::ZERO,
+        n: Vec3::Y,
+        hemisphere: true,
+    };
+    let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
+    assert!((s.li[1] - 5.0 / 4.0).abs() < 1e-5 && (s.wi - Vec3::Y).length() < 1e-6);
+    // Outside the cone there is nothing to sample.
+    let off = LightRef {
+        p: Vec3::new(3.0, 0.0, 0.0),
+        n: Vec3::Y,
+        hemisphere: true,
+    };
+    assert!(light.sample_li_nonarea(&off, Vec2::ZERO, &wl).is_none());
+}
+
+#[test]
+fn selection_is_proportional_to_power() {
+    let bounds = BoundingSphere {
+        center: Vec3::ZERO,
+        radius: 10.0,
+    };
+    let lights = vec![
+        Light::Point(PointLight {
+            position: Vec3::ZERO,
+            intensity: Spectrum::Constant(1.0),
+        }),
+        Light::Point(PointLight {
+            position: Vec3::X,
+            intensity: Spectrum::Constant(3.0),
+        }),
+        Light::Point(PointLight {
+            position: Vec3::Y,
+            intensity: Spectrum::Constant(0.0),
+        }),
+        Light::Constant(ConstantLight {
+            radiance: Spectrum::Constant(1.0),
+        }),
+    ];
+    // Scene area 8/π: the constant light's power estimate is π·1·(½·8/π) = 4 = 4π/π.
+    let area = 8.0 / PI;
+    let set = Lights::new(lights, 0, area, bounds);
+    let powers = [4.0 * PI, 12.0 * PI, 0.0, 4.0];
+    let total: f32 = powers.iter().sum();
+    for (i, p) in powers.iter().enumerate() {
+        assert!(
+            (set.pmf(i) - p / total).abs() < 1e-5,
+            "light {i}: {} vs {}",
+            set.pmf(i),
+            p / total
+        );
+    }
+    let mut counts = [0usize; 4];
+    let n = 100_000;
+    for k in 0..n {
+        let (i, p) = set.select((k as f32 + 0.5) / n as f32).unwrap();
+        assert_eq!(p, set.pmf(i));
+        counts[i] += 1;
+    }
+    assert_eq!(counts[2], 0, "a light without power is never chosen");
+    assert_eq!(set.infinite(), &[3]);
+    // No lights: nothing to select.
+    assert!(Lights::new(vec![], 0, 1.0, bounds).select(0.5).is_none());
+}
+
+#[test]
+fn power_heuristic_values() {
+    assert_eq!(mis_power(1.0, 0.0), 1.0);
+    assert_eq!(mis_power(0.0, 1.0), 0.0);
+    assert!((mis_power(1.0, 1.0) - 0.5).abs() < 1e-7);
+    assert!((mis_power(3.0, 1.0) - 0.9).abs() < 1e-6);
+    assert!((mis_power(2.0, 5.0) + mis_power(5.0, 2.0) - 1.0).abs() < 1e-6);
+}
