@@ -6,9 +6,8 @@
 
 pub mod image;
 pub mod material;
+pub mod mesh;
 pub mod scene;
 pub mod texture;
+pub mod xml;
 
-pub mod material;
-pub mod scene;
-pub mod texture;

@@ -1,8 +1,20 @@
 //! Textures: spatially varying spectra (`checkerboard`, `bitmap`) and constants, evaluated at a
 //! surface's uv.
+//!
+//! * `checkerboard` (Mitsuba `src/textures/checkerboard.cpp`): after `to_uv`, `color0` where
+//!   (u mod 1 > ½) == (v mod 1 > ½), `color1` otherwise; mean ½(color0 + color1).
+//! * `bitmap` (Mitsuba `src/textures/bitmap.cpp`): texel (0, 0) is the top-left of the image at
+//!   uv = (0, 0) (so row = v·height; OBJ files flip v at load, `flip_tex_coords`). Bilinear
+//!   lookups sample at texel centres (uv·size − ½); wrap modes `repeat`, `mirror`, `clamp`.
+//!   8-bit images are sRGB-decoded unless `raw`. RGB is uplifted to a spectrum with Jakob &
+//!   Hanika's sigmoid polynomials in the role of the parameter (reflectance, emission): with
+//!   `nearest` each texel is uplifted once at load; with `bilinear` the interpolated RGB is
+//!   uplifted at the hit (Mitsuba interpolates the four texel spectra instead; the two agree at
+//!   texel centres and differ by far less than the uplift's own error in between).
 
-use glam::Affine2;
+use glam::{Affine2, Vec2};
 use gonio_core::Spectrum;
+use gonio_core::spectra::RgbKind;
 use std::sync::Arc;
 
 /// A reflectance or radiance that may vary over a surface.
@@ -43,23 +55,174 @@ pub enum WrapMode {
     Clamp,
 }
 
-/// A decoded bitmap texture: linear RGB texels (row 0 at the top, v = 1 − y as in Mitsuba).
+impl WrapMode {
+    /// Maps an integer texel index into [0, n).
+    #[inline]
+    fn wrap(self, i: i64, n: i64) -> usize {
+        let r = match self {
+            WrapMode::Repeat => i.rem_euclid(n),
+            WrapMode::Clamp => i.clamp(0, n - 1),
+            WrapMode::Mirror => {
+                let m = i.rem_euclid(2 * n);
+                if m >= n { 2 * n - 1 - m } else { m }
+            }
+        };
+        r as usize
+    }
+}
+
+/// A decoded bitmap texture: linear RGB texels, row 0 at the top (v = 0).
 #[derive(Clone, Debug)]
 pub struct Bitmap {
+    width: usize,
+    height: usize,
+    rgb: Vec<[f32; 3]>,
+    /// Per-texel spectra (only for `nearest`).
+    texels: Vec<Spectrum>,
+    filter: FilterType,
+    wrap: WrapMode,
+    kind: RgbKind,
+    to_uv: Affine2,
+    mean: f32,
+}
+
+impl Bitmap {
+    /// A bitmap from linear RGB texels (row-major, top row first). `kind` is the role of the
+    /// parameter (albedo for reflectances, illuminant for emission). Returns `None` if the size
+    /// does not match the data or is zero.
+    pub fn new(
+        width: usize,
+        height: usize,
+        rgb: Vec<[f32; 3]>,
+        filter: FilterType,
+        wrap: WrapMode,
+        kind: RgbKind,
+        to_uv: Affine2,
+    ) -> Option<Self> {
+        if width == 0 || height == 0 || rgb.len() != width * height {
+            return None;
+        }
+        let texels = match filter {
+            FilterType::Nearest => rgb.iter().map(|&c| uplift(c, kind)).collect(),
+            FilterType::Bilinear => Vec::new(),
+        };
+        let n = rgb.len() as f64;
+        let mut sum = [0f64; 3];
+        for c in &rgb {
+            for i in 0..3 {
+                sum[i] += c[i] as f64;
+            }
+        }
+        let mean_rgb = sum.map(|s| (s / n) as f32);
+        let mean = uplift(mean_rgb, kind).mean();
+        Some(Self {
+            width,
+            height,
+            rgb,
+            texels,
+            filter,
+            wrap,
+            kind,
+            to_uv,
+            mean,
+        })
+    }
+
     /// Width in texels.
-    pub width: u32,
+    pub fn width(&self) -> usize {
+        self.width
+    }
     /// Height in texels.
-    pub height: u32,
-    /// Linear RGB texels, row-major, top row first.
-    pub rgb: Vec<[f32; 3]>,
+    pub fn height(&self) -> usize {
+        self.height
+    }
     /// Interpolation.
-    pub filter: FilterType,
+    pub fn filter(&self) -> FilterType {
+        self.filter
+    }
     /// Wrapping.
-    pub wrap: WrapMode,
-    /// `raw`: values are used as they are (no sRGB decoding at load; uplifted as unbounded).
-    pub raw: bool,
-    /// uv transform applied before the lookup.
-    pub to_uv: Affine2,
+    pub fn wrap(&self) -> WrapMode {
+        self.wrap
+    }
+    /// The uv transform.
+    pub fn to_uv(&self) -> Affine2 {
+        self.to_uv
+    }
+
+    #[inline]
+    fn texel(&self, x: usize, y: usize) -> [f32; 3] {
+        self.rgb[y * self.width + x]
+    }
+
+    /// Linear RGB at `uv` (after `to_uv`), filtered and wrapped.
+    pub fn eval_rgb(&self, uv: Vec2) -> [f32; 3] {
+        let uv = self.to_uv.transform_point2(uv);
+        let (w, h) = (self.width as i64, self.height as i64);
+        match self.filter {
+            FilterType::Nearest => {
+                let (x, y) = self.nearest(uv);
+                self.texel(x, y)
+            }
+            FilterType::Bilinear => {
+                let px = uv.x * self.width as f32 - 0.5;
+                let py = uv.y * self.height as f32 - 0.5;
+                if !(px.is_finite() && py.is_finite()) {
+                    return [0.0; 3];
+                }
+                let (fx, fy) = (px.floor(), py.floor());
+                let (tx, ty) = (px - fx, py - fy);
+                let (x0, y0) = (fx as i64, fy as i64);
+                let xs = [self.wrap.wrap(x0, w), self.wrap.wrap(x0 + 1, w)];
+                let ys = [self.wrap.wrap(y0, h), self.wrap.wrap(y0 + 1, h)];
+                let (c00, c10) = (self.texel(xs[0], ys[0]), self.texel(xs[1], ys[0]));
+                let (c01, c11) = (self.texel(xs[0], ys[1]), self.texel(xs[1], ys[1]));
+                std::array::from_fn(|i| {
+                    let top = c00[i] + tx * (c10[i] - c00[i]);
+                    let bottom = c01[i] + tx * (c11[i] - c01[i]);
+                    top + ty * (bottom - top)
+                })
+            }
+        }
+    }
+
+    fn nearest(&self, uv: Vec2) -> (usize, usize) {
+        let (w, h) = (self.width as i64, self.height as i64);
+        let fx = (uv.x * self.width as f32).floor();
+        let fy = (uv.y * self.height as f32).floor();
+        let x = if fx.is_finite() { fx as i64 } else { 0 };
+        let y = if fy.is_finite() { fy as i64 } else { 0 };
+        (self.wrap.wrap(x, w), self.wrap.wrap(y, h))
+    }
+
+    /// The spectrum at `uv`.
+    pub fn eval(&self, uv: Vec2) -> Spectrum {
+        match self.filter {
+            FilterType::Nearest => {
+                let (x, y) = self.nearest(self.to_uv.transform_point2(uv));
+                self.texels[y * self.width + x].clone()
+            }
+            FilterType::Bilinear => uplift(self.eval_rgb(uv), self.kind),
+        }
+    }
+
+    /// Mean over the image (of the uplifted mean colour), for `plastic`'s sampling weight.
+    pub fn mean(&self) -> f32 {
+        self.mean
+    }
+}
+
+/// RGB → spectrum in the given role.
+pub fn uplift(rgb: [f32; 3], kind: RgbKind) -> Spectrum {
+    match kind {
+        RgbKind::Albedo => Spectrum::rgb_albedo(rgb),
+        RgbKind::Unbounded => Spectrum::rgb_unbounded(rgb),
+        RgbKind::Illuminant => Spectrum::rgb_illuminant(rgb),
+    }
+}
+
+/// Linear-RGB luminance (Rec. 709 weights).
+fn luminance(c: [f32; 3]) -> f32 {
+    0.212671 * c[0] + 0.715160 * c[1] + 0.072169 * c[2]
 }
 
 impl Texture {
@@ -79,5 +242,159 @@ impl Texture {
     /// True when the texture varies over the surface.
     pub fn is_textured(&self) -> bool {
         !matches!(self, Texture::Spectrum(_))
+    }
+
+    /// The spectrum at surface coordinates `uv`.
+    pub fn eval(&self, uv: Vec2) -> Spectrum {
+        match self {
+            Texture::Spectrum(s) => s.clone(),
+            Texture::Checkerboard {
+                color0,
+                color1,
+                to_uv,
+            } => {
+                if checker_is_color0(*to_uv, uv) {
+                    color0.eval(uv)
+                } else {
+                    color1.eval(uv)
+                }
+            }
+            Texture::Bitmap(b) => b.eval(uv),
+        }
+    }
+
+    /// A scalar at `uv` (Mitsuba `eval_1`: a blend weight): a constant spectrum's value (or mean),
+    /// a bitmap's luminance.
+    pub fn eval_1(&self, uv: Vec2) -> f32 {
+        match self {
+            Texture::Spectrum(s) => s.as_constant().unwrap_or_else(|| s.mean()),
+            Texture::Checkerboard {
+                color0,
+                color1,
+                to_uv,
+            } => {
+                if checker_is_color0(*to_uv, uv) {
+                    color0.eval_1(uv)
+                } else {
+                    color1.eval_1(uv)
+                }
+            }
+            Texture::Bitmap(b) => luminance(b.eval_rgb(uv)),
+        }
+    }
+
+    /// Mean over the surface and over 360–830 nm (Mitsuba `Texture::mean`, used by `plastic`).
+    pub fn mean(&self) -> f32 {
+        match self {
+            Texture::Spectrum(s) => s.mean(),
+            Texture::Checkerboard { color0, color1, .. } => 0.5 * (color0.mean() + color1.mean()),
+            Texture::Bitmap(b) => b.mean(),
+        }
+    }
+
+    /// An upper bound of the value (for light power estimates and checks).
+    pub fn max_value(&self) -> f32 {
+        match self {
+            Texture::Spectrum(s) => s.max_value(),
+            Texture::Checkerboard { color0, color1, .. } => color0.max_value().max(color1.max_value()),
+            Texture::Bitmap(b) => {
+                let m = b.rgb.iter().fold(0f32, |m, c| m.max(c[0]).max(c[1]).max(c[2]));
+                uplift([m; 3], b.kind).max_value()
+            }
+        }
+    }
+}
+
+#[inline]
+fn checker_is_color0(to_uv: Affine2, uv: Vec2) -> bool {
+    let p = to_uv.transform_point2(uv);
+    let fx = p.x - p.x.floor();
+    let fy = p.y - p.y.floor();
+    (fx > 0.5) == (fy > 0.5)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_modes() {
+        assert_eq!(WrapMode::Repeat.wrap(-1, 4), 3);
+        assert_eq!(WrapMode::Repeat.wrap(5, 4), 1);
+        assert_eq!(WrapMode::Clamp.wrap(-3, 4), 0);
+        assert_eq!(WrapMode::Clamp.wrap(9, 4), 3);
+        assert_eq!(WrapMode::Mirror.wrap(4, 4), 3);
+        assert_eq!(WrapMode::Mirror.wrap(5, 4), 2);
+        assert_eq!(WrapMode::Mirror.wrap(-1, 4), 0);
+        assert_eq!(WrapMode::Mirror.wrap(8, 4), 0);
+    }
+
+    #[test]
+    fn checkerboard_pattern() {
+        let t = Texture::Checkerboard {
+            color0: Box::new(Texture::constant(0.4)),
+            color1: Box::new(Texture::constant(0.2)),
+            to_uv: Affine2::from_scale(Vec2::splat(2.0)),
+        };
+        // uv (0.1, 0.1) → (0.2, 0.2): both halves ≤ ½ → equal masks → color0.
+        assert_eq!(t.eval_1(Vec2::new(0.1, 0.1)), 0.4);
+        // (0.3, 0.1) → (0.6, 0.2): masks differ → color1.
+        assert_eq!(t.eval_1(Vec2::new(0.3, 0.1)), 0.2);
+        assert_eq!(t.eval_1(Vec2::new(0.3, 0.3)), 0.4);
+        assert!((t.mean() - 0.3).abs() < 1e-6);
+    }
+
+    #[test]
+    fn bilinear_interpolates_between_texel_centres() {
+        let rgb = vec![[0.0; 3], [1.0; 3]];
+        let b = Bitmap::new(
+            2,
+            1,
+            rgb,
+            FilterType::Bilinear,
+            WrapMode::Clamp,
+            RgbKind::Albedo,
+            Affine2::IDENTITY,
+        )
+        .unwrap();
+        // Texel centres at u = 0.25 and 0.75.
+        assert!((b.eval_rgb(Vec2::new(0.25, 0.5))[0] - 0.0).abs() < 1e-6);
+        assert!((b.eval_rgb(Vec2::new(0.75, 0.5))[0] - 1.0).abs() < 1e-6);
+        assert!((b.eval_rgb(Vec2::new(0.5, 0.5))[0] - 0.5).abs() < 1e-6);
+        // Clamp beyond the edges.
+        assert!((b.eval_rgb(Vec2::new(0.0, 0.5))[0] - 0.0).abs() < 1e-6);
+        assert!((b.eval_rgb(Vec2::new(1.0, 0.5))[0] - 1.0).abs() < 1e-6);
+        // Repeat wraps: u = 0 lies between the last and the first texel.
+        let r = Bitmap::new(
+            2,
+            1,
+            vec![[0.0; 3], [1.0; 3]],
+            FilterType::Bilinear,
+            WrapMode::Repeat,
+            RgbKind::Albedo,
+            Affine2::IDENTITY,
+        )
+        .unwrap();
+        assert!((r.eval_rgb(Vec2::new(0.0, 0.5))[0] - 0.5).abs() < 1e-6);
+    }
+
+    #[test]
+    fn nearest_picks_rows_from_the_top() {
+        let rgb = vec![[1.0, 0.0, 0.0], [0.0, 0.0, 1.0]]; // 1 x 2: top red, bottom blue
+        let b = Bitmap::new(
+            1,
+            2,
+            rgb,
+            FilterType::Nearest,
+            WrapMode::Repeat,
+            RgbKind::Albedo,
+            Affine2::IDENTITY,
+        )
+        .unwrap();
+        assert_eq!(b.eval_rgb(Vec2::new(0.5, 0.25)), [1.0, 0.0, 0.0]);
+        assert_eq!(b.eval_rgb(Vec2::new(0.5, 0.75)), [0.0, 0.0, 1.0]);
+        let top = b.eval(Vec2::new(0.5, 0.25));
+        // Red reflectance: high at 650 nm, low at 450 nm.
+        assert!(top.eval(650.0) > 0.5 && top.eval(450.0) < 0.2);
     }
 }
