@@ -308,3 +308,43 @@ fn conductor_tables_project_to_mitsubas_rgb_eta_k() {
         }
     }
 }
+
+#[test]
+fn rgb_uplifting_is_finite_on_the_gamut_boundary() {
+    // Corners, edges and faces of the cube (unreachable saturated colours included) and out-of-range
+    // input: every kind stays finite, albedos stay in [0, 1].
+    let levels = [0.0f32, 1e-4, 0.5, 0.9999, 1.0];
+    for &r in &levels {
+        for &g in &levels {
+            for &b in &levels {
+                let a = Spectrum::rgb_albedo([r, g, b]);
+                let u = Spectrum::rgb_unbounded([3.0 * r, 3.0 * g, 3.0 * b]);
+                let e = Spectrum::rgb_illuminant([r, g, b]);
+                for l in (360..=830).step_by(5) {
+                    let l = l as f32;
+                    assert!(
+                        (0.0..=1.0).contains(&a.eval(l)),
+                        "albedo {:?} at {l}: {}",
+                        [r, g, b],
+                        a.eval(l)
+                    );
+                    assert!(u.eval(l).is_finite() && u.eval(l) >= 0.0);
+                    assert!(e.eval(l).is_finite() && e.eval(l) >= 0.0);
+                }
+                assert!(a.max_value().is_finite() && u.max_value().is_finite() && e.max_value().is_finite());
+            }
+        }
+    }
+    for bad in [[f32::NAN, 0.2, 0.3], [f32::INFINITY, 0.1, 0.1], [-1.0, 2.0, 0.5]] {
+        for s in [
+            Spectrum::rgb_albedo(bad),
+            Spectrum::rgb_unbounded(bad),
+            Spectrum::rgb_illuminant(bad),
+        ] {
+            assert!(
+                s.eval(550.0).is_finite() && s.eval(550.0) >= 0.0,
+                "{bad:?}: {s:?}"
+            );
+        }
+    }
+}
