@@ -7,7 +7,7 @@
 //! of battery runs on correct models here), so a correct model fails the whole file with
 //! probability ≤ 1 %. Seeds are fixed: the outcome is deterministic.
 
-use gonio_core::bsdfs::{Conductor, Dielectric, Diffuse, Plastic, ThinDielectric};
+use gonio_core::bsdfs::{BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, ThinDielectric, TwoSided};
 use gonio_core::check::broken::{
     Anisotropic, EnergyGain, MinimalGlass, NanAtGrazing, NonReciprocal, PdfOffByFactor, WrongSampler,
     WrongWeight,
@@ -197,6 +197,68 @@ fn plastic_spectral_tinted() {
     let rho = piecewise(&[360.0, 0.9, 550.0, 0.1, 830.0, 0.6]);
     let p = Plastic::new(rho, 1.33, 1.0, true, Spectrum::Constant(0.5)).with_specular_sampling_weight(0.2);
     assert_passes("plastic spectral ρ, η=1.33, tint 0.5, s=0.2", &p);
+}
+
+// ---- twosided ---------------------------------------------------------------------------------
+
+#[test]
+fn twosided_diffuse() {
+    let d = Diffuse::default();
+    assert_passes("twosided(diffuse ρ=0.5)", &TwoSided::new(&d));
+}
+
+#[test]
+fn twosided_plastic_front_diffuse_back() {
+    let (front, back) = (Plastic::default(), Diffuse::new(Spectrum::Constant(0.8)));
+    assert_passes(
+        "twosided(plastic | diffuse ρ=0.8)",
+        &TwoSided::with_back(&front, &back),
+    );
+}
+
+#[test]
+fn twosided_conductor() {
+    let eta = piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]);
+    let k = piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]);
+    let c = Conductor::new(eta, k);
+    assert_passes("twosided(conductor Au-like)", &TwoSided::new(&c));
+}
+
+// ---- blendbsdf --------------------------------------------------------------------------------
+
+#[test]
+fn blend_mirror_diffuse() {
+    // The delta + smooth mix Mitsuba 3.9.1 gets wrong (testing.md §6.9).
+    let (m, d) = (Conductor::mirror(), Diffuse::new(Spectrum::Constant(0.3)));
+    assert_passes("blend 0.5 mirror + diffuse ρ=0.3", &BlendBsdf::new(0.5, &m, &d));
+}
+
+#[test]
+fn blend_diffuse_diffuse() {
+    let (a, b) = (
+        Diffuse::new(Spectrum::Constant(0.2)),
+        Diffuse::new(Spectrum::Constant(0.9)),
+    );
+    assert_passes(
+        "blend 0.2 diffuse 0.2 + diffuse 0.9",
+        &BlendBsdf::new(0.2, &a, &b),
+    );
+}
+
+#[test]
+fn blend_glass_plastic() {
+    let (g, p) = (Dielectric::default(), Plastic::default());
+    assert_passes("blend 0.3 dielectric + plastic", &BlendBsdf::new(0.3, &g, &p));
+}
+
+#[test]
+fn blend_thin_twosided_diffuse() {
+    let (t, d) = (ThinDielectric::default(), Diffuse::new(Spectrum::Constant(0.6)));
+    let d2 = TwoSided::new(&d);
+    assert_passes(
+        "blend 0.7 thindielectric + twosided(diffuse 0.6)",
+        &BlendBsdf::new(0.7, &t, &d2),
+    );
 }
 
 // ---- positive control for the delta checks ----------------------------------------------------
