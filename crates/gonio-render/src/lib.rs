@@ -4,10 +4,17 @@
 //! spectral path tracer, film and image files. Depends only on `gonio-core`.
 #![warn(missing_docs)]
 
+pub mod camera;
+pub mod sampler;
+pub mod emitter;
+pub mod accel;
+pub mod film;
+pub mod geometry;
 pub mod image;
 pub mod material;
 pub mod mesh;
 pub mod scene;
 pub mod texture;
 pub mod xml;
-
+pub mod integrator;
+pub mod render;

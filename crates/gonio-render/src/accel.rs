@@ -1,0 +1,266 @@
+//! Ray–scene intersection: [`Accel`], a compressed wide BVH (CWBVH, Ylitie et al. 2017) built and
+//! traversed by the `obvhs` crate, over our own primitives.
+//!
+//! `obvhs` only sees boxes and calls back with a primitive number, so analytic spheres,
+//! rectangles and disks sit in the same tree as triangles and keep their exact intersections.
+//! Primitive records are stored in BVH leaf order (`primitive_indices`), which saves one
+//! indirection per candidate; triangles carry their three vertices inline. The choice of crate and
+//! its measured speed are in `ARCHITECTURE.md` and `benches/accel.rs`.
+//!
+//! [`Intersect`] is the interface the integrator uses; [`BruteForce`] implements it by testing
+//! every primitive and serves as the test oracle for [`Accel`].
+
+use crate::geometry::shape::{PrimHit, TriRay, intersect_triangle};
+use crate::geometry::{Ray, ShapeKind, SurfaceInteraction, WorldShape};
+use glam::{Vec3, Vec3A};
+use obvhs::aabb::Aabb;
+use obvhs::cwbvh::CwBvh;
+use std::time::Duration;
+
+/// Ray queries against a set of shapes.
+pub trait Intersect {
+    /// The closest hit in `(0, ray.tmax)`.
+    fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction>;
+    /// Whether anything is hit in `(0, ray.tmax)`.
+    fn occluded(&self, ray: &Ray) -> bool;
+    /// Calls `f` for every hit in `(0, ray.tmax)`, in no particular order, until `f` returns
+    /// `true` (stop: e.g. an opaque surface); returns whether it stopped. A shadow ray through
+    /// thin dielectric sheets multiplies their transmittance inside `f`.
+    fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool;
+    /// The shapes, indexed by [`SurfaceInteraction::shape`].
+    fn shapes(&self) -> &[WorldShape];
+}
+
+/// One primitive in leaf order.
+#[derive(Clone, Copy, Debug)]
+enum Prim {
+    /// A triangle with its vertices inline.
+    Tri { p: [Vec3; 3], shape: u32, prim: u32 },
+    /// An analytic shape.
+    Analytic { shape: u32 },
+}
+
+/// The BVH over a list of [`WorldShape`]s.
+pub struct Accel {
+    shapes: Vec<WorldShape>,
+    bvh: Option<CwBvh>,
+    prims: Vec<Prim>,
+    build_time: Duration,
+}
+
+impl std::fmt::Debug for Accel {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Accel")
+            .field("shapes", &self.shapes.len())
+            .field("primitives", &self.prims.len())
+            .field("build_time", &self.build_time)
+            .finish()
+    }
+}
+
+fn all_prims(shapes: &[WorldShape]) -> Vec<Prim> {
+    let mut prims = Vec::new();
+    for (s, shape) in shapes.iter().enumerate() {
+        match &shape.kind {
+            ShapeKind::Mesh(m) => prims.extend((0..m.indices.len()).map(|i| Prim::Tri {
+                p: m.tri(i),
+                shape: s as u32,
+                prim: i as u32,
+            })),
+            _ => prims.push(Prim::Analytic { shape: s as u32 }),
+        }
+    }
+    prims
+}
+
+fn prim_aabb(shapes: &[WorldShape], p: &Prim) -> Aabb {
+    let (lo, hi) = match *p {
+        Prim::Tri { p, .. } => (p[0].min(p[1]).min(p[2]), p[0].max(p[1]).max(p[2])),
+        Prim::Analytic { shape } => shapes[shape as usize].prim_bounds(0),
+    };
+    // Pad flat boxes (axis-aligned rectangles, triangles) so slab tests never see zero width.
+    let pad = (hi - lo).max_element().max(hi.abs().max(lo.abs()).max_element()) * 1e-6 + 1e-12;
+    Aabb::new(Vec3A::from(lo - pad), Vec3A::from(hi + pad))
+}
+
+#[inline]
+fn prim_test(shapes: &[WorldShape], p: &Prim, ray: &Ray, tri: &TriRay) -> Option<PrimHit> {
+    match *p {
+        Prim::Tri { p, .. } => {
+            intersect_triangle(p[0], p[1], p[2], tri, ray.tmax).map(|(t, a, b)| PrimHit { t, a, b })
+        }
+        Prim::Analytic { shape } => shapes[shape as usize].intersect_prim(0, ray, tri),
+    }
+}
+
+#[inline]
+fn prim_ids(p: &Prim) -> (u32, u32) {
+    match *p {
+        Prim::Tri { shape, prim, .. } => (shape, prim),
+        Prim::Analytic { shape } => (shape, 0),
+    }
+}
+
+fn to_obvhs(ray: &Ray) -> obvhs::ray::Ray {
+    obvhs::ray::Ray::new(Vec3A::from(ray.o), Vec3A::from(ray.d), 0.0, ray.tmax)
+}
+
+impl Accel {
+    /// Builds the BVH (obvhs PLOC with reinsertion, `medium_build` settings, then CWBVH).
+    pub fn new(shapes: Vec<WorldShape>) -> Self {
+        let prims = all_prims(&shapes);
+        let mut build_time = Duration::ZERO;
+        if prims.is_empty() {
+            return Self {
+                shapes,
+                bvh: None,
+                prims,
+                build_time,
+            };
+        }
+        let aabbs: Vec<Aabb> = prims.iter().map(|p| prim_aabb(&shapes, p)).collect();
+        let start = std::time::Instant::now();
+        let bvh = obvhs::cwbvh::builder::build_cwbvh(
+            &aabbs,
+            obvhs::BvhBuildParams::medium_build(),
+            &mut Duration::default(),
+        );
+        build_time = start.elapsed();
+        let prims = bvh.primitive_indices.iter().map(|&i| prims[i as usize]).collect();
+        Self {
+            shapes,
+            bvh: Some(bvh),
+            prims,
+            build_time,
+        }
+    }
+
+    /// Time spent building the BVH.
+    pub fn build_time(&self) -> Duration {
+        self.build_time
+    }
+
+    /// Number of primitives (triangles plus analytic shapes).
+    pub fn prim_count(&self) -> usize {
+        self.prims.len()
+    }
+}
+
+impl Intersect for Accel {
+    fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        let bvh = self.bvh.as_ref()?;
+        let tri = TriRay::new(ray);
+        let mut best: Option<(PrimHit, usize)> = None;
+        let mut hit = obvhs::ray::RayHit::none();
+        bvh.ray_traverse(to_obvhs(ray), &mut hit, |r, id| {
+            let q = Ray {
+                o: ray.o,
+                d: ray.d,
+                tmax: r.tmax,
+            };
+            match prim_test(&self.shapes, &self.prims[id], &q, &tri) {
+                Some(h) => {
+                    best = Some((h, id));
+                    h.t
+                }
+                None => f32::INFINITY,
+            }
+        });
+        let (h, id) = best?;
+        let (shape, prim) = prim_ids(&self.prims[id]);
+        Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        let Some(bvh) = self.bvh.as_ref() else {
+            return false;
+        };
+        let tri = TriRay::new(ray);
+        !bvh.ray_traverse_miss(to_obvhs(ray), |_, id| {
+            match prim_test(&self.shapes, &self.prims[id], ray, &tri) {
+                Some(h) => h.t,
+                None => f32::INFINITY,
+            }
+        })
+    }
+
+    fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
+        let Some(bvh) = self.bvh.as_ref() else {
+            return false;
+        };
+        let tri = TriRay::new(ray);
+        let mut stopped = false;
+        // obvhs' any-hit traversal cannot stop early; after a stop we skip the remaining tests.
+        bvh.ray_traverse_anyhit(to_obvhs(ray), |_, id| {
+            if stopped {
+                return;
+            }
+            if let Some(h) = prim_test(&self.shapes, &self.prims[id], ray, &tri) {
+                let (shape, prim) = prim_ids(&self.prims[id]);
+                let si = self.shapes[shape as usize].interaction(shape, prim as usize, ray, h);
+                stopped = f(&si);
+            }
+        });
+        stopped
+    }
+
+    fn shapes(&self) -> &[WorldShape] {
+        &self.shapes
+    }
+}
+
+/// Tests every primitive of every shape: slow, simple, the oracle for [`Accel`] in tests.
+#[derive(Debug)]
+pub struct BruteForce {
+    shapes: Vec<WorldShape>,
+    prims: Vec<Prim>,
+}
+
+impl BruteForce {
+    /// Wraps the shapes.
+    pub fn new(shapes: Vec<WorldShape>) -> Self {
+        let prims = all_prims(&shapes);
+        Self { shapes, prims }
+    }
+}
+
+impl Intersect for BruteForce {
+    fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        let tri = TriRay::new(ray);
+        let mut q = *ray;
+        let mut best = None;
+        for (i, p) in self.prims.iter().enumerate() {
+            if let Some(h) = prim_test(&self.shapes, p, &q, &tri) {
+                q.tmax = h.t;
+                best = Some((h, i));
+            }
+        }
+        let (h, i) = best?;
+        let (shape, prim) = prim_ids(&self.prims[i]);
+        Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        let tri = TriRay::new(ray);
+        self.prims
+            .iter()
+            .any(|p| prim_test(&self.shapes, p, ray, &tri).is_some())
+    }
+
+    fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
+        let tri = TriRay::new(ray);
+        for p in &self.prims {
+            if let Some(h) = prim_test(&self.shapes, p, ray, &tri) {
+                let (shape, prim) = prim_ids(p);
+                if f(&self.shapes[shape as usize].interaction(shape, prim as usize, ray, h)) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    fn shapes(&self) -> &[WorldShape] {
+        &self.shapes
+    }
+}

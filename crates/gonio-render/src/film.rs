@@ -1,0 +1,238 @@
+//! The film: filtered accumulation of colour samples into pixels (Mitsuba's `hdrfilm`).
+//!
+//! A sample at film position `p` (pixels; pixel `(i, j)` covers `[i, i+1) × [j, j+1)`, its centre
+//! at `(i + ½, j + ½)`) adds `w·c` and `w` to every pixel whose centre lies within the filter
+//! radius, with `w = f(pₓ − cₓ)·f(p_y − c_y)`; a pixel's value is `Σ w·c / Σ w` (the weighted mean,
+//! as Mitsuba and pbrt compute it). Filters, as Mitsuba defines them:
+//!
+//! * `box` (radius r, default ½): `f(x) = 1` for `−r ≤ x < r` (half-open, so a sample on a pixel
+//!   border belongs to exactly one pixel);
+//! * `tent` (radius r, default 1): `f(x) = max(0, 1 − |x|/r)`;
+//! * `gaussian` (σ, default ½, radius 4σ): `f(x) = max(0, exp(−x²/2σ²) − exp(−r²/2σ²))`.
+//!
+//! Threads render into [`FilmTile`]s (a block of pixels plus the margin the filter reaches) and
+//! the tiles are added into the [`Film`] with [`Film::merge`]. The film adds in `f64` and in the
+//! order tiles are merged: merging in a fixed order (e.g. tile index) gives the same image
+//! whatever the number of threads.
+//!
+//! The film holds three linear colour channels; the caller converts spectral samples first (XYZ,
+//! then linear sRGB, with `gonio_core::color`). The filter is linear, so converting before or
+//! after filtering gives the same pixel.
+
+use crate::image::RgbImage;
+use crate::scene::Filter;
+use glam::{UVec2, Vec2};
+
+/// A filter with its support radius precomputed.
+#[derive(Clone, Copy, Debug)]
+struct Kernel {
+    filter: Filter,
+    radius: f32,
+    gauss_alpha: f32,
+    gauss_bias: f32,
+}
+
+impl Kernel {
+    fn new(filter: Filter) -> Self {
+        let radius = filter.radius();
+        let (gauss_alpha, gauss_bias) = match filter {
+            Filter::Gaussian { stddev } => {
+                let a = -1.0 / (2.0 * stddev * stddev);
+                (a, (a * radius * radius).exp())
+            }
+            _ => (0.0, 0.0),
+        };
+        Self {
+            filter,
+            radius,
+            gauss_alpha,
+            gauss_bias,
+        }
+    }
+
+    #[inline]
+    fn eval(&self, x: f32) -> f32 {
+        match self.filter {
+            Filter::Box { radius } => {
+                if -radius <= x && x < radius {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
+            Filter::Tent { radius } => (1.0 - x.abs() / radius).max(0.0),
+            Filter::Gaussian { .. } => ((self.gauss_alpha * x * x).exp() - self.gauss_bias).max(0.0),
+        }
+    }
+
+    /// How many pixels beyond a block the filter reaches.
+    fn margin(&self) -> u32 {
+        (self.radius - 0.5).max(0.0).ceil() as u32
+    }
+}
+
+/// The whole image being accumulated.
+#[derive(Clone, Debug)]
+pub struct Film {
+    width: u32,
+    height: u32,
+    kernel: Kernel,
+    /// Per pixel: weighted colour sum and weight sum.
+    pixels: Vec<[f64; 4]>,
+}
+
+/// A rectangular part of the film that one thread accumulates into.
+#[derive(Clone, Debug)]
+pub struct FilmTile {
+    /// Pixels the tile's samples are meant for: `[min, max)`.
+    block_min: UVec2,
+    block_max: UVec2,
+    /// Pixels the tile stores (block plus filter margin, clipped to the film).
+    min: UVec2,
+    max: UVec2,
+    kernel: Kernel,
+    data: Vec<[f32; 4]>,
+    invalid: u64,
+}
+
+impl Film {
+    /// An empty film.
+    pub fn new(width: u32, height: u32, filter: Filter) -> Self {
+        Self {
+            width,
+            height,
+            kernel: Kernel::new(filter),
+            pixels: vec![[0.0; 4]; (width * height) as usize],
+        }
+    }
+
+    /// Film size in pixels.
+    pub fn size(&self) -> UVec2 {
+        UVec2::new(self.width, self.height)
+    }
+
+    /// A tile for the samples of pixels `[min, max)` (clipped to the film).
+    pub fn tile(&self, min: UVec2, max: UVec2) -> FilmTile {
+        let size = self.size();
+        let block_max = max.min(size);
+        let block_min = min.min(block_max);
+        let m = UVec2::splat(self.kernel.margin());
+        let lo = block_min.saturating_sub(m);
+        let hi = (block_max + m).min(size);
+        let n = ((hi.x - lo.x) * (hi.y - lo.y)) as usize;
+        FilmTile {
+            block_min,
+            block_max,
+            min: lo,
+            max: hi,
+            kernel: self.kernel,
+            data: vec![[0.0; 4]; n],
+            invalid: 0,
+        }
+    }
+
+    /// Splits the film into square blocks of `size` pixels, in row-major order: merge the tiles
+    /// in this order for a thread-count-independent image.
+    pub fn tiles(&self, size: u32) -> Vec<FilmTile> {
+        let size = size.max(1);
+        let mut out = Vec::new();
+        for y in (0..self.height).step_by(size as usize) {
+            for x in (0..self.width).step_by(size as usize) {
+                out.push(self.tile(UVec2::new(x, y), UVec2::new(x + size, y + size)));
+            }
+        }
+        out
+    }
+
+    /// Adds a tile's sums into the film.
+    pub fn merge(&mut self, tile: &FilmTile) {
+        let tw = tile.max.x - tile.min.x;
+        for y in tile.min.y..tile.max.y {
+            for x in tile.min.x..tile.max.x {
+                let s = tile.data[((y - tile.min.y) * tw + (x - tile.min.x)) as usize];
+                let d = &mut self.pixels[(y * self.width + x) as usize];
+                for c in 0..4 {
+                    d[c] += s[c] as f64;
+                }
+            }
+        }
+    }
+
+    /// The image: per pixel the filter-weighted mean of its samples (black where none landed).
+    pub fn to_image(&self) -> RgbImage {
+        RgbImage::from_fn(self.width as usize, self.height as usize, |x, y| {
+            let p = self.pixels[y * self.width as usize + x];
+            if p[3] > 0.0 {
+                [(p[0] / p[3]) as f32, (p[1] / p[3]) as f32, (p[2] / p[3]) as f32]
+            } else {
+                [0.0; 3]
+            }
+        })
+    }
+
+    /// The accumulated weight of a pixel (for tests and progress displays).
+    pub fn weight(&self, x: u32, y: u32) -> f64 {
+        self.pixels[(y * self.width + x) as usize][3]
+    }
+}
+
+impl FilmTile {
+    /// The pixels `[min, max)` whose samples this tile takes.
+    pub fn block(&self) -> (UVec2, UVec2) {
+        (self.block_min, self.block_max)
+    }
+
+    /// Samples with a non-finite component, dropped (Mitsuba warns about them too).
+    pub fn invalid_samples(&self) -> u64 {
+        self.invalid
+    }
+
+    /// Adds a sample of colour `c` at film position `p` (pixels). Samples outside the tile's block
+    /// are accepted; only pixels the tile stores receive them.
+    pub fn add_sample(&mut self, p: Vec2, c: [f32; 3]) {
+        if !(c[0].is_finite() && c[1].is_finite() && c[2].is_finite()) {
+            self.invalid += 1;
+            return;
+        }
+        let r = self.kernel.radius;
+        // Pixel centres x + ½ with |p − x − ½| ≤ r.
+        let x0 = ((p.x - 0.5 - r).ceil() as i64).max(self.min.x as i64);
+        let x1 = ((p.x - 0.5 + r).floor() as i64).min(self.max.x as i64 - 1);
+        let y0 = ((p.y - 0.5 - r).ceil() as i64).max(self.min.y as i64);
+        let y1 = ((p.y - 0.5 + r).floor() as i64).min(self.max.y as i64 - 1);
+        if x0 > x1 || y0 > y1 {
+            return;
+        }
+        let tw = (self.max.x - self.min.x) as i64;
+        let nx = (x1 - x0 + 1) as usize;
+        let mut stack = [0.0f32; 16];
+        let mut heap;
+        let wx: &mut [f32] = if nx <= 16 {
+            &mut stack[..nx]
+        } else {
+            heap = vec![0.0f32; nx];
+            &mut heap
+        };
+        for (i, w) in wx.iter_mut().enumerate() {
+            *w = self.kernel.eval(p.x - (x0 + i as i64) as f32 - 0.5);
+        }
+        for y in y0..=y1 {
+            let wy = self.kernel.eval(p.y - y as f32 - 0.5);
+            if wy == 0.0 {
+                continue;
+            }
+            let row = (y - self.min.y as i64) * tw;
+            for (i, &wxi) in wx.iter().enumerate() {
+                let w = wxi * wy;
+                if w == 0.0 {
+                    continue;
+                }
+                let d = &mut self.data[(row + x0 + i as i64 - self.min.x as i64) as usize];
+                d[0] += w * c[0];
+                d[1] += w * c[1];
+                d[2] += w * c[2];
+                d[3] += w;
+            }
+        }
+    }
+}

@@ -1,0 +1,593 @@
+//! World-space shapes: construction from the scene, bounds, intersection, hit records.
+
+use super::{Ray, SurfaceInteraction};
+use crate::scene::{Geometry, Shape, TriangleMesh};
+use glam::{Affine3A, Mat3, Vec2, Vec3, Vec3A};
+use gonio_core::Frame;
+use std::f32::consts::{PI, TAU};
+use std::sync::Arc;
+
+/// Shapes that cannot be placed as asked.
+#[derive(Debug, thiserror::Error)]
+pub enum GeometryError {
+    /// A sphere's `to_world` is not a similarity (rotation, uniform scale, translation, mirror).
+    #[error("shape {name}: a sphere's to_world must not scale non-uniformly or shear")]
+    NonUniformSphere {
+        /// The shape's id, or its index.
+        name: String,
+    },
+    /// The transform collapses the shape (zero scale) or is not finite.
+    #[error("shape {name}: degenerate or non-finite to_world")]
+    Degenerate {
+        /// The shape's id, or its index.
+        name: String,
+    },
+    /// A triangle refers to a vertex that does not exist, or attribute arrays have wrong lengths.
+    #[error("shape {name}: {message}")]
+    BadMesh {
+        /// The shape's id, or its index.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+/// A triangle mesh in world space, with the cumulative area table for area sampling.
+#[derive(Clone, Debug)]
+pub struct WorldMesh {
+    /// Vertex positions (world).
+    pub positions: Vec<Vec3>,
+    /// Vertex normals (world, unit), empty when the mesh has none.
+    pub normals: Vec<Vec3>,
+    /// Vertex texture coordinates, empty when the mesh has none.
+    pub uvs: Vec<Vec2>,
+    /// Triangles.
+    pub indices: Vec<[u32; 3]>,
+    /// Cumulative triangle areas divided by the total; `cdf[i]` is the end of triangle `i`.
+    pub cdf: Vec<f32>,
+    /// Total area.
+    pub area: f32,
+}
+
+/// The world-space geometry of a [`WorldShape`].
+#[derive(Clone, Debug)]
+pub enum ShapeKind {
+    /// An analytic sphere.
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+        /// World → object space in which the sphere is the unit sphere at the origin (for uv).
+        to_object: Affine3A,
+        /// Object → world linear part (for ∂p/∂u).
+        to_world: Mat3,
+    },
+    /// The image of [−1, 1]² × {0} under `to_world` (a parallelogram in general).
+    Rectangle {
+        /// Object → world.
+        to_world: Affine3A,
+        /// World → object.
+        to_object: Affine3A,
+        /// Unit normal: `to_world` applied to +z as a normal (inverse transpose).
+        n: Vec3,
+        /// Area.
+        area: f32,
+    },
+    /// The image of the unit disk in z = 0 under `to_world` (an ellipse in general).
+    Disk {
+        /// Object → world.
+        to_world: Affine3A,
+        /// World → object.
+        to_object: Affine3A,
+        /// Unit normal, as for the rectangle.
+        n: Vec3,
+        /// Area.
+        area: f32,
+    },
+    /// A triangle mesh.
+    Mesh(Arc<WorldMesh>),
+}
+
+/// A shape in world space.
+#[derive(Clone, Debug)]
+pub struct WorldShape {
+    /// The geometry.
+    pub kind: ShapeKind,
+    /// Normals negated (`flip_normals`).
+    pub flip_normals: bool,
+    /// Meshes: shade with face normals even where vertex normals exist.
+    pub face_normals: bool,
+}
+
+/// What a primitive intersection records before the full [`SurfaceInteraction`] is built:
+/// the distance and two shape-specific coordinates (triangle barycentrics b1, b2; object-space
+/// x, y for rectangles and disks; unused for spheres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PrimHit {
+    /// Ray parameter.
+    pub t: f32,
+    /// First coordinate.
+    pub a: f32,
+    /// Second coordinate.
+    pub b: f32,
+}
+
+/// A ray prepared for the watertight triangle test (Woop, Benthin and Wald 2013): the axis
+/// permutation that makes |d.z| largest and the shear constants.
+#[derive(Clone, Copy, Debug)]
+pub struct TriRay {
+    o: Vec3,
+    k: [usize; 3],
+    s: Vec3,
+}
+
+impl TriRay {
+    /// Prepares `ray`.
+    #[inline]
+    pub fn new(ray: &Ray) -> Self {
+        let a = ray.d.abs();
+        let kz = if a.x > a.y {
+            if a.x > a.z { 0 } else { 2 }
+        } else if a.y > a.z {
+            1
+        } else {
+            2
+        };
+        let mut kx = (kz + 1) % 3;
+        let mut ky = (kx + 1) % 3;
+        if ray.d[kz] < 0.0 {
+            std::mem::swap(&mut kx, &mut ky); // keep the winding
+        }
+        let dz = ray.d[kz];
+        Self {
+            o: ray.o,
+            k: [kx, ky, kz],
+            s: Vec3::new(ray.d[kx] / dz, ray.d[ky] / dz, 1.0 / dz),
+        }
+    }
+}
+
+/// Watertight ray/triangle intersection (Woop, Benthin and Wald, JCGT 2013): edges shared by two
+/// triangles are never missed by both, which matters for closed meshes in furnace tests. Returns
+/// `(t, b1, b2)` with `p = (1 − b1 − b2)·p0 + b1·p1 + b2·p2`, for `0 < t < tmax`.
+#[inline]
+pub fn intersect_triangle(p0: Vec3, p1: Vec3, p2: Vec3, r: &TriRay, tmax: f32) -> Option<(f32, f32, f32)> {
+    let [kx, ky, kz] = r.k;
+    let a = p0 - r.o;
+    let b = p1 - r.o;
+    let c = p2 - r.o;
+    let (ax, ay) = (a[kx] - r.s.x * a[kz], a[ky] - r.s.y * a[kz]);
+    let (bx, by) = (b[kx] - r.s.x * b[kz], b[ky] - r.s.y * b[kz]);
+    let (cx, cy) = (c[kx] - r.s.x * c[kz], c[ky] - r.s.y * c[kz]);
+    let mut u = cx * by - cy * bx;
+    let mut v = ax * cy - ay * cx;
+    let mut w = bx * ay - by * ax;
+    if u == 0.0 || v == 0.0 || w == 0.0 {
+        // Fall back to double precision on edges, as the paper prescribes.
+        u = (cx as f64 * by as f64 - cy as f64 * bx as f64) as f32;
+        v = (ax as f64 * cy as f64 - ay as f64 * cx as f64) as f32;
+        w = (bx as f64 * ay as f64 - by as f64 * ax as f64) as f32;
+    }
+    if (u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0) {
+        return None;
+    }
+    let det = u + v + w;
+    if det == 0.0 {
+        return None;
+    }
+    let (az, bz, cz) = (r.s.z * a[kz], r.s.z * b[kz], r.s.z * c[kz]);
+    let t_scaled = u * az + v * bz + w * cz;
+    if det < 0.0 {
+        if t_scaled >= 0.0 || t_scaled < tmax * det {
+            return None;
+        }
+    } else if t_scaled <= 0.0 || t_scaled > tmax * det {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let t = t_scaled * inv;
+    if !(t > 0.0 && t < tmax) {
+        return None;
+    }
+    // u weighs p0 (opposite edge p1–p2), v weighs p1, w weighs p2.
+    Some((t, v * inv, w * inv))
+}
+
+fn check_affine(m: &Affine3A, name: &str) -> Result<(), GeometryError> {
+    let det = m.matrix3.determinant();
+    if !det.is_finite() || det.abs() < 1e-30 || !m.translation.is_finite() {
+        return Err(GeometryError::Degenerate {
+            name: name.to_owned(),
+        });
+    }
+    Ok(())
+}
+
+/// The unit normal of the object's +z under `m` (inverse transpose): `sign(det)·(ex × ey)`.
+fn plane_normal(m: &Affine3A) -> Vec3 {
+    let ex = Vec3::from(m.matrix3.x_axis);
+    let ey = Vec3::from(m.matrix3.y_axis);
+    let n = ex.cross(ey).normalize();
+    if m.matrix3.determinant() < 0.0 { -n } else { n }
+}
+
+impl WorldShape {
+    /// Places a scene shape in world space. `name` identifies it in errors.
+    pub fn from_scene(shape: &Shape, name: &str) -> Result<Self, GeometryError> {
+        let m = shape.to_world;
+        check_affine(&m, name)?;
+        let kind = match &shape.geometry {
+            Geometry::Sphere { center, radius } => {
+                let full =
+                    m * Affine3A::from_translation(*center) * Affine3A::from_scale(Vec3::splat(*radius));
+                check_affine(&full, name)?;
+                let l = Mat3::from(full.matrix3);
+                let (cx, cy, cz) = (l.x_axis, l.y_axis, l.z_axis);
+                let s = cx.length();
+                let tol = 1e-4 * s;
+                if (cy.length() - s).abs() > tol
+                    || (cz.length() - s).abs() > tol
+                    || cx.dot(cy).abs() > tol * s
+                    || cx.dot(cz).abs() > tol * s
+                    || cy.dot(cz).abs() > tol * s
+                {
+                    return Err(GeometryError::NonUniformSphere {
+                        name: name.to_owned(),
+                    });
+                }
+                ShapeKind::Sphere {
+                    center: full.transform_point3(Vec3::ZERO),
+                    radius: s,
+                    to_object: full.inverse(),
+                    to_world: l,
+                }
+            }
+            Geometry::Rectangle => {
+                let ex = Vec3::from(m.matrix3.x_axis);
+                let ey = Vec3::from(m.matrix3.y_axis);
+                ShapeKind::Rectangle {
+                    to_world: m,
+                    to_object: m.inverse(),
+                    n: plane_normal(&m),
+                    area: 4.0 * ex.cross(ey).length(),
+                }
+            }
+            Geometry::Disk => {
+                let ex = Vec3::from(m.matrix3.x_axis);
+                let ey = Vec3::from(m.matrix3.y_axis);
+                ShapeKind::Disk {
+                    to_world: m,
+                    to_object: m.inverse(),
+                    n: plane_normal(&m),
+                    area: PI * ex.cross(ey).length(),
+                }
+            }
+            Geometry::Mesh(mesh) => ShapeKind::Mesh(Arc::new(WorldMesh::new(mesh, &m, name)?)),
+        };
+        Ok(Self {
+            kind,
+            flip_normals: shape.flip_normals,
+            face_normals: shape.face_normals,
+        })
+    }
+
+    /// Number of primitives (triangles for meshes, 1 otherwise).
+    pub fn prim_count(&self) -> usize {
+        match &self.kind {
+            ShapeKind::Mesh(m) => m.indices.len(),
+            _ => 1,
+        }
+    }
+
+    /// Surface area.
+    pub fn area(&self) -> f32 {
+        match &self.kind {
+            ShapeKind::Sphere { radius, .. } => 4.0 * PI * radius * radius,
+            ShapeKind::Rectangle { area, .. } | ShapeKind::Disk { area, .. } => *area,
+            ShapeKind::Mesh(m) => m.area,
+        }
+    }
+
+    /// Axis-aligned bounds `(min, max)` of primitive `prim`.
+    pub fn prim_bounds(&self, prim: usize) -> (Vec3, Vec3) {
+        match &self.kind {
+            ShapeKind::Sphere { center, radius, .. } => (*center - *radius, *center + *radius),
+            ShapeKind::Rectangle { to_world, .. } => {
+                let c = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+                    .map(|(x, y)| to_world.transform_point3(Vec3::new(x, y, 0.0)));
+                let lo = c.iter().fold(Vec3::INFINITY, |a, &p| a.min(p));
+                let hi = c.iter().fold(Vec3::NEG_INFINITY, |a, &p| a.max(p));
+                (lo, hi)
+            }
+            ShapeKind::Disk { to_world, .. } => {
+                let c = Vec3::from(to_world.translation);
+                let ex = Vec3::from(to_world.matrix3.x_axis);
+                let ey = Vec3::from(to_world.matrix3.y_axis);
+                // The extent of c + cos φ·ex + sin φ·ey along each axis is √(ex_i² + ey_i²).
+                let half = (ex * ex + ey * ey).map(f32::sqrt);
+                (c - half, c + half)
+            }
+            ShapeKind::Mesh(m) => {
+                let [a, b, c] = m.tri(prim);
+                (a.min(b).min(c), a.max(b).max(c))
+            }
+        }
+    }
+
+    /// Intersects primitive `prim` with `ray` in `(0, ray.tmax)`; `tri` is `TriRay::new(ray)`.
+    #[inline]
+    pub fn intersect_prim(&self, prim: usize, ray: &Ray, tri: &TriRay) -> Option<PrimHit> {
+        match &self.kind {
+            ShapeKind::Sphere { center, radius, .. } => {
+                intersect_sphere(*center, *radius, ray).map(|t| PrimHit { t, a: 0.0, b: 0.0 })
+            }
+            ShapeKind::Rectangle { to_object, .. } => {
+                let (t, x, y) = intersect_plane(to_object, ray)?;
+                (x.abs() <= 1.0 && y.abs() <= 1.0).then_some(PrimHit { t, a: x, b: y })
+            }
+            ShapeKind::Disk { to_object, .. } => {
+                let (t, x, y) = intersect_plane(to_object, ray)?;
+                (x * x + y * y <= 1.0).then_some(PrimHit { t, a: x, b: y })
+            }
+            ShapeKind::Mesh(m) => {
+                let [p0, p1, p2] = m.tri(prim);
+                intersect_triangle(p0, p1, p2, tri, ray.tmax).map(|(t, a, b)| PrimHit { t, a, b })
+            }
+        }
+    }
+
+    /// The full hit record for a [`PrimHit`] of primitive `prim` on shape number `shape`.
+    pub fn interaction(&self, shape: u32, prim: usize, ray: &Ray, hit: PrimHit) -> SurfaceInteraction {
+        let mut si = match &self.kind {
+            ShapeKind::Sphere { center, radius, .. } => {
+                let p = *center + (ray.at(hit.t) - *center).normalize() * *radius;
+                self.sphere_point(p)
+            }
+            ShapeKind::Rectangle { .. } | ShapeKind::Disk { .. } => self.planar_point(hit.a, hit.b),
+            ShapeKind::Mesh(m) => m.point(prim, hit.a, hit.b, self.face_normals),
+        };
+        si.t = hit.t;
+        si.shape = shape;
+        si.prim = prim as u32;
+        if self.flip_normals {
+            si.n = -si.n;
+            si.shading = flip_frame(si.shading);
+        }
+        si
+    }
+
+    /// The record (without `t`, `shape`, flip) of a point `p` on a sphere.
+    pub(crate) fn sphere_point(&self, p: Vec3) -> SurfaceInteraction {
+        let ShapeKind::Sphere {
+            center,
+            to_object,
+            to_world,
+            ..
+        } = &self.kind
+        else {
+            unreachable!()
+        };
+        let n = (p - *center).normalize();
+        let local = to_object.transform_point3(p).normalize();
+        let mut phi = local.y.atan2(local.x);
+        if phi < 0.0 {
+            phi += TAU;
+        }
+        let theta = local.z.clamp(-1.0, 1.0).acos();
+        let uv = Vec2::new(phi / TAU, theta / PI);
+        let dpdu = *to_world * Vec3::new(-local.y, local.x, 0.0) * TAU;
+        SurfaceInteraction {
+            p,
+            t: 0.0,
+            n,
+            shading: Frame::from_normal_tangent(n, dpdu),
+            uv,
+            dpdu,
+            shape: 0,
+            prim: 0,
+        }
+    }
+
+    /// The record (without `t`, `shape`, flip) of object-space point `(x, y, 0)` on a rectangle
+    /// or disk.
+    pub(crate) fn planar_point(&self, x: f32, y: f32) -> SurfaceInteraction {
+        match &self.kind {
+            ShapeKind::Rectangle { to_world, n, .. } => {
+                let p = to_world.transform_point3(Vec3::new(x, y, 0.0));
+                let dpdu = Vec3::from(to_world.matrix3.x_axis) * 2.0;
+                SurfaceInteraction {
+                    p,
+                    t: 0.0,
+                    n: *n,
+                    shading: Frame::from_normal_tangent(*n, dpdu),
+                    uv: Vec2::new(0.5 * (x + 1.0), 0.5 * (y + 1.0)),
+                    dpdu,
+                    shape: 0,
+                    prim: 0,
+                }
+            }
+            ShapeKind::Disk { to_world, n, .. } => {
+                let p = to_world.transform_point3(Vec3::new(x, y, 0.0));
+                let r = (x * x + y * y).sqrt();
+                let mut v = y.atan2(x) / TAU;
+                if v < 0.0 {
+                    v += 1.0;
+                }
+                // Mitsuba's disk: uv = (r, φ/2π); ∂p/∂u is the radial direction.
+                let dpdu = if r > 0.0 {
+                    to_world.transform_vector3(Vec3::new(x / r, y / r, 0.0))
+                } else {
+                    Vec3::ZERO
+                };
+                SurfaceInteraction {
+                    p,
+                    t: 0.0,
+                    n: *n,
+                    shading: Frame::from_normal_tangent(*n, dpdu),
+                    uv: Vec2::new(r, v),
+                    dpdu,
+                    shape: 0,
+                    prim: 0,
+                }
+            }
+            _ => unreachable!("planar_point on a non-planar shape"),
+        }
+    }
+}
+
+pub(crate) fn flip_frame(f: Frame) -> Frame {
+    // Keep the frame right-handed: negate n and t.
+    Frame {
+        s: f.s,
+        t: -f.t,
+        n: -f.n,
+    }
+}
+
+/// Closest sphere hit in `(0, tmax)`, with the numerically careful quadratic of Haines et al.,
+/// "Precision Improvements for Ray/Sphere Intersection" (Ray Tracing Gems ch. 7): the
+/// discriminant from |f − (f·d)d|², and the smaller root from c/q.
+#[inline]
+pub fn intersect_sphere(center: Vec3, radius: f32, ray: &Ray) -> Option<f32> {
+    let f = ray.o - center;
+    let b = f.dot(ray.d);
+    let c = f.length_squared() - radius * radius;
+    let l = f - b * ray.d;
+    let disc = radius * radius - l.length_squared();
+    if disc < 0.0 {
+        return None;
+    }
+    let q = -b - disc.sqrt().copysign(b);
+    let (mut t0, mut t1) = if q != 0.0 { (c / q, q) } else { (0.0, 0.0) };
+    if t0 > t1 {
+        std::mem::swap(&mut t0, &mut t1);
+    }
+    if t0 > 0.0 && t0 < ray.tmax {
+        Some(t0)
+    } else if t1 > 0.0 && t1 < ray.tmax {
+        Some(t1)
+    } else {
+        None
+    }
+}
+
+/// Ray against the object-space plane z = 0: `(t, x, y)`.
+#[inline]
+fn intersect_plane(to_object: &Affine3A, ray: &Ray) -> Option<(f32, f32, f32)> {
+    let o = to_object.transform_point3a(Vec3A::from(ray.o));
+    let d = to_object.transform_vector3a(Vec3A::from(ray.d));
+    if d.z == 0.0 {
+        return None;
+    }
+    let t = -o.z / d.z;
+    if !(t > 0.0 && t < ray.tmax) {
+        return None;
+    }
+    Some((t, o.x + t * d.x, o.y + t * d.y))
+}
+
+impl WorldMesh {
+    /// Transforms a scene mesh to world space and builds its area table.
+    pub fn new(mesh: &TriangleMesh, to_world: &Affine3A, name: &str) -> Result<Self, GeometryError> {
+        let bad = |message: String| GeometryError::BadMesh {
+            name: name.to_owned(),
+            message,
+        };
+        let nv = mesh.positions.len();
+        if !mesh.normals.is_empty() && mesh.normals.len() != nv {
+            return Err(bad(format!("{} normals for {nv} vertices", mesh.normals.len())));
+        }
+        if !mesh.uvs.is_empty() && mesh.uvs.len() != nv {
+            return Err(bad(format!(
+                "{} texture coordinates for {nv} vertices",
+                mesh.uvs.len()
+            )));
+        }
+        if let Some((i, t)) = mesh
+            .indices
+            .iter()
+            .enumerate()
+            .find(|(_, t)| t.iter().any(|&v| v as usize >= nv))
+        {
+            return Err(bad(format!("triangle {i} refers to vertex {:?} of {nv}", t)));
+        }
+        let positions: Vec<Vec3> = mesh
+            .positions
+            .iter()
+            .map(|&p| to_world.transform_point3(p))
+            .collect();
+        let normal_m = Mat3::from(to_world.matrix3).inverse().transpose();
+        let normals = mesh
+            .normals
+            .iter()
+            .map(|&n| (normal_m * n).normalize_or_zero())
+            .collect();
+        let mut cdf = Vec::with_capacity(mesh.indices.len());
+        let mut total = 0.0f64;
+        for t in &mesh.indices {
+            let [a, b, c] = t.map(|i| positions[i as usize]);
+            total += 0.5 * (b - a).cross(c - a).length() as f64;
+            cdf.push(total);
+        }
+        let cdf = cdf
+            .into_iter()
+            .map(|c| if total > 0.0 { (c / total) as f32 } else { 0.0 })
+            .collect();
+        Ok(Self {
+            positions,
+            normals,
+            uvs: mesh.uvs.clone(),
+            indices: mesh.indices.clone(),
+            cdf,
+            area: total as f32,
+        })
+    }
+
+    /// The vertices of triangle `i`.
+    #[inline]
+    pub fn tri(&self, i: usize) -> [Vec3; 3] {
+        self.indices[i].map(|v| self.positions[v as usize])
+    }
+
+    /// The record (without `t`, `shape`, flip) at barycentrics `(b1, b2)` of triangle `i`.
+    pub(crate) fn point(&self, i: usize, b1: f32, b2: f32, face_normals: bool) -> SurfaceInteraction {
+        let idx = self.indices[i].map(|v| v as usize);
+        let [p0, p1, p2] = idx.map(|v| self.positions[v]);
+        let b0 = 1.0 - b1 - b2;
+        let p = b0 * p0 + b1 * p1 + b2 * p2;
+        let n = (p1 - p0).cross(p2 - p0).normalize_or_zero();
+        let (uv, dpdu) = if self.uvs.is_empty() {
+            // Mitsuba's convention without texture coordinates: uv = (b1, b2).
+            (Vec2::new(b1, b2), p1 - p0)
+        } else {
+            let [t0, t1, t2] = idx.map(|v| self.uvs[v]);
+            let uv = b0 * t0 + b1 * t1 + b2 * t2;
+            let (d02, d12) = (t0 - t2, t1 - t2);
+            let det = d02.x * d12.y - d02.y * d12.x;
+            let dpdu = if det.abs() > 1e-12 {
+                (d12.y * (p0 - p2) - d02.y * (p1 - p2)) / det
+            } else {
+                Vec3::ZERO
+            };
+            (uv, dpdu)
+        };
+        let ns = if self.normals.is_empty() || face_normals {
+            n
+        } else {
+            let [n0, n1, n2] = idx.map(|v| self.normals[v]);
+            let s = (b0 * n0 + b1 * n1 + b2 * n2).normalize_or_zero();
+            if s == Vec3::ZERO { n } else { s }
+        };
+        SurfaceInteraction {
+            p,
+            t: 0.0,
+            n,
+            shading: Frame::from_normal_tangent(ns, dpdu),
+            uv,
+            dpdu,
+            shape: 0,
+            prim: i as u32,
+        }
+    }
+}

@@ -1,0 +1,350 @@
+//! Per-pixel sample generators.
+//!
+//! Every value is a pure function of `(seed, pixel, sample index, dimension)`: a sampler is reset
+//! with [`Sampler::start_pixel_sample`] and then hands out dimensions in order, so an image does
+//! not depend on how pixels are spread over threads.
+//!
+//! | pattern | per dimension (1D) | per dimension pair (2D) |
+//! |---|---|---|
+//! | [`Pattern::Independent`] | PCG32 (Mitsuba's `independent`) | PCG32 |
+//! | [`Pattern::Stratified`] | one sample per stratum of `[0,1)/spp`, strata shuffled | jittered grid, cells shuffled |
+//! | [`Pattern::MultiJitter`] | as stratified | correlated multi-jittered (Kensler 2013): stratified in 2D *and* in each 1D projection |
+//! | [`Pattern::Sobol`] | Owen-scrambled Sobol | Owen-scrambled Sobol (0,2)-sequence, index shuffled per pair (Burley 2020) |
+//!
+//! The shuffles (Kensler's hashed permutation, Burley's nested uniform scramble) use a different
+//! key for every dimension, so dimensions are decorrelated ("padding"). `Sobol` is our own
+//! low-discrepancy choice: it is stratified at every power of two up to the sample count, in
+//! every 2D pair, which gives the lowest error at equal spp of the four (see `tests/sampler.rs`).
+//!
+//! PCG32 is written here (the same XSH-RR generator as Mitsuba); it does not depend on
+//! `gonio_core::rng` so that this module stands alone.
+
+use glam::{UVec2, Vec2};
+
+/// The sample pattern.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pattern {
+    /// Independent uniform samples.
+    Independent,
+    /// Stratified (jittered) samples; `jitter = false` puts them at stratum centres.
+    Stratified {
+        /// Jitter inside strata.
+        jitter: bool,
+    },
+    /// Correlated multi-jittered samples.
+    MultiJitter {
+        /// Jitter inside strata.
+        jitter: bool,
+    },
+    /// Owen-scrambled Sobol samples (our low-discrepancy sampler).
+    Sobol,
+}
+
+impl From<crate::scene::SamplerKind> for Pattern {
+    fn from(k: crate::scene::SamplerKind) -> Self {
+        use crate::scene::SamplerKind as K;
+        match k {
+            K::Independent => Pattern::Independent,
+            K::Stratified { jitter } => Pattern::Stratified { jitter },
+            K::MultiJitter { jitter } => Pattern::MultiJitter { jitter },
+        }
+    }
+}
+
+/// PCG32 (O'Neill 2014, XSH-RR), as in Mitsuba's `independent` sampler.
+#[derive(Clone, Copy, Debug)]
+pub struct Pcg32 {
+    state: u64,
+    inc: u64,
+}
+
+impl Pcg32 {
+    /// The generator for `seed` on stream `stream`.
+    pub fn new(seed: u64, stream: u64) -> Self {
+        let mut r = Self {
+            state: 0,
+            inc: (stream << 1) | 1,
+        };
+        r.next_u32();
+        r.state = r.state.wrapping_add(seed);
+        r.next_u32();
+        r
+    }
+
+    /// 32 random bits.
+    #[inline]
+    pub fn next_u32(&mut self) -> u32 {
+        let old = self.state;
+        self.state = old.wrapping_mul(0x5851_f42d_4c95_7f2d).wrapping_add(self.inc);
+        let x = (((old >> 18) ^ old) >> 27) as u32;
+        x.rotate_right((old >> 59) as u32)
+    }
+
+    /// Uniform in [0, 1).
+    #[inline]
+    pub fn next_f32(&mut self) -> f32 {
+        (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
+    }
+}
+
+/// A sampler: pattern, samples per pixel and seed, plus the state of the current pixel sample.
+#[derive(Clone, Debug)]
+pub struct Sampler {
+    pattern: Pattern,
+    spp: u32,
+    seed: u64,
+    pixel_key: u64,
+    index: u32,
+    dim: u32,
+    rng: Pcg32,
+}
+
+/// MurmurHash3's 64-bit finalizer: a bijective mixer.
+#[inline]
+fn mix64(mut x: u64) -> u64 {
+    x ^= x >> 33;
+    x = x.wrapping_mul(0xff51_afd7_ed55_8ccd);
+    x ^= x >> 33;
+    x = x.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
+    x ^ (x >> 33)
+}
+
+#[inline]
+fn u32_to_f32(x: u32) -> f32 {
+    (x >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// Kensler's hashed permutation of `0..l` ("Correlated Multi-Jittered Sampling", 2013).
+#[inline]
+fn permute(mut i: u32, l: u32, p: u32) -> u32 {
+    if l <= 1 {
+        return 0;
+    }
+    let mut w = l - 1;
+    w |= w >> 1;
+    w |= w >> 2;
+    w |= w >> 4;
+    w |= w >> 8;
+    w |= w >> 16;
+    loop {
+        i ^= p;
+        i = i.wrapping_mul(0xe170_893d);
+        i ^= p >> 16;
+        i ^= (i & w) >> 4;
+        i ^= p >> 8;
+        i = i.wrapping_mul(0x0929_eb3f);
+        i ^= p >> 23;
+        i ^= (i & w) >> 1;
+        i = i.wrapping_mul(1 | (p >> 27));
+        i = i.wrapping_mul(0x6935_fa69);
+        i ^= (i & w) >> 11;
+        i = i.wrapping_mul(0x74dc_b303);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0x9e50_1cc3);
+        i ^= (i & w) >> 2;
+        i = i.wrapping_mul(0xc860_a3df);
+        i &= w;
+        i ^= i >> 5;
+        if i < l {
+            break;
+        }
+    }
+    ((i as u64 + p as u64) % l as u64) as u32
+}
+
+/// Kensler's hashed float in [0, 1).
+#[inline]
+fn randfloat(mut i: u32, p: u32) -> f32 {
+    i ^= p;
+    i ^= i >> 17;
+    i ^= i >> 10;
+    i = i.wrapping_mul(0xb365_34e5);
+    i ^= i >> 12;
+    i ^= i >> 21;
+    i = i.wrapping_mul(0x93fc_4795);
+    i ^= 0xdf6e_307f;
+    i ^= i >> 17;
+    i = i.wrapping_mul(1 | (p >> 18));
+    u32_to_f32(i)
+}
+
+/// The Laine–Karras-style hash of Burley 2020 (constants from Vegdahl's improvement): an Owen
+/// scramble in reversed-bit order.
+#[inline]
+fn lk_permute(mut x: u32, seed: u32) -> u32 {
+    x = x.wrapping_add(seed);
+    x ^= x.wrapping_mul(0x6c50_b47c);
+    x ^= x.wrapping_mul(0xb82f_1e52);
+    x ^= x.wrapping_mul(0xc7af_e638);
+    x ^= x.wrapping_mul(0x8d22_f6e6);
+    x
+}
+
+/// Nested uniform (Owen) scramble of the bits of `x`.
+#[inline]
+fn owen_scramble(x: u32, seed: u32) -> u32 {
+    lk_permute(x.reverse_bits(), seed).reverse_bits()
+}
+
+/// The first two Sobol dimensions: van der Corput, and the dimension with direction numbers
+/// `v_{k+1} = v_k ^ (v_k >> 1)`.
+#[inline]
+fn sobol2(i: u32) -> (u32, u32) {
+    let x = i.reverse_bits();
+    let mut y = 0u32;
+    let mut v = 1u32 << 31;
+    let mut bits = i;
+    while bits != 0 {
+        if bits & 1 != 0 {
+            y ^= v;
+        }
+        bits >>= 1;
+        v ^= v >> 1;
+    }
+    (x, y)
+}
+
+impl Sampler {
+    /// A sampler with `spp` samples per pixel (at least 1) and a seed.
+    pub fn new(pattern: Pattern, spp: u32, seed: u64) -> Self {
+        let mut s = Self {
+            pattern,
+            spp: spp.max(1),
+            seed,
+            pixel_key: 0,
+            index: 0,
+            dim: 0,
+            rng: Pcg32::new(0, 0),
+        };
+        s.start_pixel_sample(UVec2::ZERO, 0);
+        s
+    }
+
+    /// The sampler a scene asks for (Mitsuba's plugins map one to one).
+    pub fn from_scene(s: &crate::scene::Sampler) -> Self {
+        Self::new(s.kind.into(), s.sample_count, s.seed)
+    }
+
+    /// Samples per pixel.
+    pub fn spp(&self) -> u32 {
+        self.spp
+    }
+
+    /// The pattern.
+    pub fn pattern(&self) -> Pattern {
+        self.pattern
+    }
+
+    /// Starts sample `index` (in `0..spp`, larger values continue the sequences) of `pixel`.
+    pub fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
+        self.pixel_key = mix64(self.seed ^ mix64(((pixel.y as u64) << 32) | pixel.x as u64));
+        self.index = index;
+        self.dim = 0;
+        if self.pattern == Pattern::Independent
+            || matches!(self.pattern, Pattern::Stratified { jitter: true })
+        {
+            self.rng = Pcg32::new(self.pixel_key, index as u64);
+        }
+    }
+
+    /// The key of dimension `dim` of the current pixel.
+    #[inline]
+    fn key(&self, dim: u32) -> u32 {
+        mix64(self.pixel_key ^ (dim as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)) as u32
+    }
+
+    /// The next sample dimension.
+    pub fn next_1d(&mut self) -> f32 {
+        let dim = self.dim;
+        self.dim += 1;
+        let (i, n) = (self.index, self.spp);
+        match self.pattern {
+            Pattern::Independent => self.rng.next_f32(),
+            Pattern::Stratified { jitter } | Pattern::MultiJitter { jitter } => {
+                let k = self.key(dim);
+                let stratum = permute(i % n, n, k) as f32;
+                let j = if !jitter {
+                    0.5
+                } else if let Pattern::Stratified { .. } = self.pattern {
+                    self.rng.next_f32()
+                } else {
+                    randfloat(i, k.wrapping_mul(0x967a_889b))
+                };
+                ((stratum + j) / n as f32).min(ONE_MINUS_EPS)
+            }
+            Pattern::Sobol => {
+                let k = self.key(dim);
+                let idx = owen_scramble(i, k);
+                u32_to_f32(owen_scramble(
+                    sobol2(idx).0,
+                    k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb,
+                ))
+            }
+        }
+    }
+
+    /// The next pair of sample dimensions.
+    pub fn next_2d(&mut self) -> Vec2 {
+        let dim = self.dim;
+        self.dim += 2;
+        let (i, n) = (self.index, self.spp);
+        match self.pattern {
+            Pattern::Independent => {
+                let x = self.rng.next_f32();
+                Vec2::new(x, self.rng.next_f32())
+            }
+            Pattern::Stratified { jitter } => {
+                let k = self.key(dim);
+                let nx = (n as f32).sqrt().floor().max(1.0) as u32;
+                let ny = n.div_ceil(nx);
+                let cell = permute(i % (nx * ny), nx * ny, k);
+                let (jx, jy) = if jitter {
+                    (self.rng.next_f32(), self.rng.next_f32())
+                } else {
+                    (0.5, 0.5)
+                };
+                Vec2::new(
+                    (((cell % nx) as f32 + jx) / nx as f32).min(ONE_MINUS_EPS),
+                    (((cell / nx) as f32 + jy) / ny as f32).min(ONE_MINUS_EPS),
+                )
+            }
+            Pattern::MultiJitter { jitter } => {
+                // Kensler 2013, arbitrary N: m columns, n rows.
+                let p = self.key(dim);
+                let m = (n as f32).sqrt().floor().max(1.0) as u32;
+                let rows = n.div_ceil(m);
+                let s = permute(i % n, n, p.wrapping_mul(0x5163_3e2d));
+                let sx = permute(s % m, m, p.wrapping_mul(0x68bc_21eb));
+                let sy = permute(s / m, rows, p.wrapping_mul(0x02e5_be93));
+                let (jx, jy) = if jitter {
+                    (
+                        randfloat(s, p.wrapping_mul(0x967a_889b)),
+                        randfloat(s, p.wrapping_mul(0x368c_c8b7)),
+                    )
+                } else {
+                    (0.5, 0.5)
+                };
+                Vec2::new(
+                    ((sx as f32 + (sy as f32 + jx) / rows as f32) / m as f32).min(ONE_MINUS_EPS),
+                    ((s as f32 + jy) / n as f32).min(ONE_MINUS_EPS),
+                )
+            }
+            Pattern::Sobol => {
+                let k = self.key(dim);
+                let idx = owen_scramble(i, k);
+                let (x, y) = sobol2(idx);
+                Vec2::new(
+                    u32_to_f32(owen_scramble(x, k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb)),
+                    u32_to_f32(owen_scramble(y, k.wrapping_mul(0x9e37_79b9) ^ 0x02e5_be93)),
+                )
+            }
+        }
+    }
+
+    /// A film position in pixel `pixel`: `pixel + next_2d()`.
+    pub fn next_pixel_position(&mut self, pixel: UVec2) -> Vec2 {
+        pixel.as_vec2() + self.next_2d()
+    }
+}
+
+const ONE_MINUS_EPS: f32 = 1.0 - f32::EPSILON / 2.0;
