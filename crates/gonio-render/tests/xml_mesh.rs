@@ -1,0 +1,130 @@
+//! OBJ and PLY fixtures and the cube.
+
+use glam::{Vec2, Vec3};
+use gonio_render::mesh::{cube, load_obj, load_ply};
+use gonio_render::scene::TriangleMesh;
+use std::path::PathBuf;
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+fn area_vector(m: &TriangleMesh) -> (f32, Vec3) {
+    let mut area = 0.0;
+    let mut sum = Vec3::ZERO;
+    for t in &m.indices {
+        let [a, b, c] = t.map(|i| m.positions[i as usize]);
+        let n = 0.5 * (b - a).cross(c - a);
+        area += n.length();
+        sum += n;
+    }
+    (area, sum)
+}
+
+#[test]
+fn obj_quad_is_triangulated_with_uvs_and_normals() {
+    let m = load_obj(&data("quad.obj"), false).unwrap();
+    assert_eq!(m.positions.len(), 4);
+    assert_eq!(m.indices.len(), 2);
+    assert_eq!(m.normals, vec![Vec3::Z; 4]);
+    let (area, n) = area_vector(&m);
+    assert!((area - 1.0).abs() < 1e-6);
+    assert!(
+        (n - 0.5 * Vec3::Z * 2.0).length() < 1e-6,
+        "counter-clockwise winding kept: {n}"
+    );
+    for (p, uv) in m.positions.iter().zip(&m.uvs) {
+        assert_eq!(
+            *uv,
+            Vec2::new(p.x, p.y),
+            "uv follows the position in this fixture"
+        );
+    }
+    let flipped = load_obj(&data("quad.obj"), true).unwrap();
+    for (p, uv) in flipped.positions.iter().zip(&flipped.uvs) {
+        assert_eq!(*uv, Vec2::new(p.x, 1.0 - p.y));
+    }
+}
+
+#[test]
+fn obj_objects_merge() {
+    let m = load_obj(&data("two_tris.obj"), true).unwrap();
+    assert_eq!(m.positions.len(), 6);
+    assert_eq!(m.indices.len(), 2);
+    assert!(m.normals.is_empty() && m.uvs.is_empty());
+    // The second triangle refers to the second object's vertices (z = 1).
+    assert!(m.indices[1].iter().all(|&i| m.positions[i as usize].z == 1.0));
+}
+
+#[test]
+fn obj_errors_name_the_file() {
+    let e = load_obj(&data("broken.obj"), true).unwrap_err();
+    assert!(!e.is_io());
+    assert!(e.to_string().contains("broken.obj"), "{e}");
+    let e = load_obj(&data("absent.obj"), true).unwrap_err();
+    assert!(e.is_io() && e.to_string().contains("absent.obj"), "{e}");
+}
+
+#[test]
+fn ply_ascii_quad() {
+    let m = load_ply(&data("quad_ascii.ply"), false).unwrap();
+    assert_eq!(
+        m.positions,
+        vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y]
+    );
+    assert_eq!(m.indices, vec![[0, 1, 2], [0, 2, 3]]);
+    assert_eq!(m.normals, vec![Vec3::Z; 4]);
+    assert_eq!(m.uvs[2], Vec2::new(1.0, 1.0));
+    assert_eq!(m.uvs[1], Vec2::new(1.0, 0.0));
+}
+
+#[test]
+fn ply_binary_little_endian_tetrahedron_is_closed() {
+    let m = load_ply(&data("tetra_le.ply"), false).unwrap();
+    assert_eq!(m.positions.len(), 4);
+    assert_eq!(m.indices.len(), 4);
+    assert!(m.normals.is_empty() && m.uvs.is_empty());
+    let (area, sum) = area_vector(&m);
+    // Three right triangles of area ½ and one equilateral of side √2.
+    assert!((area - (1.5 + 3f32.sqrt() / 2.0)).abs() < 1e-5, "{area}");
+    assert!(sum.length() < 1e-6, "a closed surface: {sum}");
+    // Outward orientation: the signed volume is positive.
+    let vol: f32 = m
+        .indices
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| m.positions[i as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum();
+    assert!((vol - 1.0 / 6.0).abs() < 1e-6, "{vol}");
+}
+
+#[test]
+fn ply_errors_name_the_file_and_the_problem() {
+    let e = load_ply(&data("truncated.ply"), false).unwrap_err();
+    let s = e.to_string();
+    assert!(
+        s.contains("truncated.ply") && s.contains("face 3") && s.contains("end of file"),
+        "{s}"
+    );
+    let e = load_ply(&data("bad_index.ply"), false).unwrap_err();
+    let s = e.to_string();
+    assert!(
+        s.contains("bad_index.ply") && s.contains("vertex [0, 1, 5]"),
+        "{s}"
+    );
+    let e = load_ply(&data("quad.obj"), false).unwrap_err();
+    assert!(e.to_string().contains("not a PLY file"), "{e}");
+}
+
+#[test]
+fn cube_is_closed_and_outward() {
+    let m = cube();
+    let (area, sum) = area_vector(&m);
+    assert!((area - 24.0).abs() < 1e-5);
+    assert!(sum.length() < 1e-5);
+    assert!(m.positions.iter().all(|p| p.abs() == Vec3::ONE));
+}
