@@ -1,0 +1,211 @@
+//! The obvhs-backed `Accel` against the brute-force oracle on random mixed scenes.
+
+use glam::{Affine3A, Quat, Vec3};
+use gonio_render::accel::{Accel, BruteForce, Intersect};
+use gonio_render::geometry::{Ray, WorldShape};
+use gonio_render::scene::{Geometry, Shape, TriangleMesh};
+use std::sync::Arc;
+
+struct Rng(u64);
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    }
+    fn range(&mut self, a: f32, b: f32) -> f32 {
+        a + (b - a) * self.next()
+    }
+    fn v3(&mut self, a: f32, b: f32) -> Vec3 {
+        Vec3::new(self.range(a, b), self.range(a, b), self.range(a, b))
+    }
+    fn dir(&mut self) -> Vec3 {
+        let z = 1.0 - 2.0 * self.next();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let phi = std::f32::consts::TAU * self.next();
+        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    }
+}
+
+fn shape(geometry: Geometry, to_world: Affine3A) -> Shape {
+    Shape {
+        geometry,
+        to_world,
+        flip_normals: false,
+        face_normals: false,
+        material: 0,
+        emitter: None,
+        id: None,
+    }
+}
+
+fn random_scene(rng: &mut Rng) -> Vec<WorldShape> {
+    let mut shapes = Vec::new();
+    for _ in 0..6 {
+        let c = rng.v3(-4.0, 4.0);
+        shapes.push(shape(
+            Geometry::Sphere {
+                center: c,
+                radius: rng.range(0.2, 1.0),
+            },
+            Affine3A::IDENTITY,
+        ));
+    }
+    for _ in 0..4 {
+        let q = Quat::from_scaled_axis(rng.v3(-2.0, 2.0));
+        let m = Affine3A::from_scale_rotation_translation(
+            Vec3::new(rng.range(0.3, 2.0), rng.range(0.3, 2.0), 1.0),
+            q,
+            rng.v3(-4.0, 4.0),
+        );
+        shapes.push(shape(Geometry::Rectangle, m));
+        let m2 = Affine3A::from_scale_rotation_translation(
+            Vec3::splat(rng.range(0.3, 1.5)),
+            q.inverse(),
+            rng.v3(-4.0, 4.0),
+        );
+        shapes.push(shape(Geometry::Disk, m2));
+    }
+    // A soup of 3000 random triangles and an axis-aligned quad (flat bounding box).
+    let mut mesh = TriangleMesh::default();
+    for i in 0..3000u32 {
+        let c = rng.v3(-5.0, 5.0);
+        for _ in 0..3 {
+            mesh.positions.push(c + rng.v3(-0.4, 0.4));
+        }
+        mesh.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
+    }
+    shapes.push(shape(Geometry::Mesh(Arc::new(mesh)), Affine3A::IDENTITY));
+    let quad = TriangleMesh {
+        positions: vec![
+            Vec3::new(-6.0, -6.0, -5.5),
+            Vec3::new(6.0, -6.0, -5.5),
+            Vec3::new(6.0, 6.0, -5.5),
+            Vec3::new(-6.0, 6.0, -5.5),
+        ],
+        indices: vec![[0, 1, 2], [0, 2, 3]],
+        ..Default::default()
+    };
+    shapes.push(shape(Geometry::Mesh(Arc::new(quad)), Affine3A::IDENTITY));
+    shapes
+        .iter()
+        .enumerate()
+        .map(|(i, s)| WorldShape::from_scene(s, &i.to_string()).unwrap())
+        .collect()
+}
+
+#[test]
+fn accel_agrees_with_brute_force() {
+    let mut rng = Rng(1234);
+    let shapes = random_scene(&mut rng);
+    let accel = Accel::new(shapes.clone());
+    let brute = BruteForce::new(shapes);
+    assert_eq!(accel.prim_count(), 6 + 8 + 3000 + 2);
+    let (mut hits, mut differing_ties) = (0, 0);
+    for i in 0..20_000 {
+        let o = rng.v3(-7.0, 7.0);
+        let mut ray = Ray::new(o, rng.dir());
+        if i % 3 == 0 {
+            ray.tmax = rng.range(0.5, 6.0);
+        }
+        let a = accel.intersect(&ray);
+        let b = brute.intersect(&ray);
+        match (a, b) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                hits += 1;
+                assert!(
+                    (a.t - b.t).abs() <= 1e-5 * a.t.max(1.0),
+                    "ray {i}: t {} vs {}",
+                    a.t,
+                    b.t
+                );
+                if (a.shape, a.prim) != (b.shape, b.prim) {
+                    // Only acceptable when two primitives are hit at the same distance.
+                    differing_ties += 1;
+                    assert!((a.t - b.t).abs() <= 1e-6 * a.t.max(1.0));
+                } else {
+                    assert!((a.p - b.p).length() < 1e-4 && (a.n - b.n).length() < 1e-5);
+                }
+            }
+            (a, b) => panic!(
+                "ray {i} {ray:?}: accel {:?} vs brute {:?}",
+                a.map(|h| h.t),
+                b.map(|h| h.t)
+            ),
+        }
+        assert_eq!(
+            accel.occluded(&ray),
+            brute.intersect(&ray).is_some(),
+            "ray {i}: occluded"
+        );
+        if i % 10 == 0 {
+            let mut ta = Vec::new();
+            accel.for_each_hit(&ray, &mut |h| {
+                ta.push((h.shape, h.prim));
+                false
+            });
+            let mut tb = Vec::new();
+            brute.for_each_hit(&ray, &mut |h| {
+                tb.push((h.shape, h.prim));
+                false
+            });
+            ta.sort();
+            tb.sort();
+            assert_eq!(ta, tb, "ray {i}: all hits");
+        }
+    }
+    assert!(hits > 5000, "the test scene should be hit often: {hits}");
+    assert!(differing_ties < 5, "{differing_ties}");
+}
+
+#[test]
+fn for_each_hit_stops_when_asked_and_passes_thin_sheets() {
+    // Three parallel sheets along +z; a shadow ray that lets the first two through (like
+    // thindielectric) and stops at the third.
+    let sheets: Vec<WorldShape> = (0..3)
+        .map(|k| {
+            WorldShape::from_scene(
+                &shape(
+                    Geometry::Rectangle,
+                    Affine3A::from_translation(Vec3::Z * (k as f32 + 1.0)),
+                ),
+                "s",
+            )
+            .unwrap()
+        })
+        .collect();
+    let accel = Accel::new(sheets);
+    let ray = Ray::new(Vec3::new(0.1, 0.2, 0.0), Vec3::Z);
+    let mut transmittance = 1.0f32;
+    let mut seen = 0;
+    let stopped = accel.for_each_hit(&ray, &mut |h| {
+        seen += 1;
+        if h.shape == 2 {
+            return true;
+        }
+        transmittance *= 0.5;
+        false
+    });
+    assert!(stopped);
+    // Hit order is unspecified; with the stop at shape 2 we see between 1 and 3 hits.
+    assert!((1..=3).contains(&seen));
+    let short = Ray { tmax: 2.5, ..ray };
+    let mut t = 1.0f32;
+    let stopped = accel.for_each_hit(&short, &mut |h| {
+        assert!(h.shape < 2, "beyond tmax");
+        t *= 0.5;
+        false
+    });
+    assert!(!stopped && t == 0.25, "two sheets passed: {t}");
+}
+
+#[test]
+fn empty_scene_hits_nothing() {
+    let accel = Accel::new(Vec::new());
+    let ray = Ray::new(Vec3::ZERO, Vec3::X);
+    assert!(accel.intersect(&ray).is_none() && !accel.occluded(&ray));
+    assert!(!accel.for_each_hit(&ray, &mut |_| true));
+}

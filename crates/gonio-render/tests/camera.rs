@@ -1,0 +1,94 @@
+//! Mitsuba's perspective camera: look-at convention, field of view, clipping.
+
+use glam::{Vec2, Vec3};
+use gonio_render::camera::{Camera, look_at};
+
+fn cam(fov: f32, w: u32, h: u32) -> Camera {
+    // Mitsuba's usual setup: at +z looking at the origin, +y up.
+    Camera::from_parts(
+        look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y),
+        fov,
+        w,
+        h,
+        0.01,
+        1000.0,
+    )
+}
+
+#[test]
+fn right_is_larger_x_and_up_is_smaller_y() {
+    let c = cam(40.0, 200, 100);
+    // Looking down −z with +y up, the camera's right is +x.
+    let right = c.project(Vec3::new(1.0, 0.0, 0.0)).unwrap();
+    let left = c.project(Vec3::new(-1.0, 0.0, 0.0)).unwrap();
+    let up = c.project(Vec3::new(0.0, 1.0, 0.0)).unwrap();
+    let centre = c.project(Vec3::ZERO).unwrap();
+    assert!((centre - Vec2::new(100.0, 50.0)).length() < 1e-3, "{centre:?}");
+    assert!(right.x > 100.0 && left.x < 100.0, "{right:?} {left:?}");
+    assert!(up.y < 50.0 && (up.x - 100.0).abs() < 1e-3, "{up:?}");
+    // Behind the camera: not on the film.
+    assert!(c.project(Vec3::new(0.0, 0.0, 10.0)).is_none());
+    // The ray through the left part of the image goes to −x.
+    let r = c.generate_ray(Vec2::new(10.0, 50.0));
+    assert!(r.d.x < 0.0 && r.d.z < 0.0);
+}
+
+#[test]
+fn horizontal_fov_spans_the_width_and_aspect_the_height() {
+    let fov = 60.0f32;
+    let c = cam(fov, 300, 150);
+    let t = (fov.to_radians() / 2.0).tan();
+    // A point at the edge of the horizontal fov, 5 units in front: x = 5·tan(fov/2).
+    let edge = c.project(Vec3::new(5.0 * t, 0.0, 0.0)).unwrap();
+    assert!((edge.x - 300.0).abs() < 1e-2, "{edge:?}");
+    // Vertical half-extent is T/aspect: the top edge (y = 0) at y = 5·T/2.
+    let top = c.project(Vec3::new(0.0, 5.0 * t / 2.0, 0.0)).unwrap();
+    assert!(top.y.abs() < 1e-2, "{top:?}");
+    // Corner rays: the (0, 0) pixel corner ray makes the expected angles.
+    let r = c.generate_ray(Vec2::ZERO);
+    let want = Vec3::new(-t, t / 2.0, -1.0).normalize();
+    assert!((r.d - want).length() < 1e-5, "{:?} vs {want:?}", r.d);
+}
+
+#[test]
+fn generate_ray_inverts_project_and_clips() {
+    let c = Camera::from_parts(
+        look_at(
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(-0.5, 0.2, 0.1),
+            Vec3::new(0.1, 1.0, 0.0),
+        ),
+        45.0,
+        64,
+        48,
+        0.5,
+        20.0,
+    );
+    for (x, y) in [(0.0, 0.0), (31.5, 17.25), (63.9, 47.9), (5.0, 40.0)] {
+        let r = c.generate_ray(Vec2::new(x, y));
+        assert!((r.d.length() - 1.0).abs() < 1e-6);
+        let p = r.at(3.0);
+        let back = c.project(p).unwrap();
+        assert!((back - Vec2::new(x, y)).length() < 1e-3, "({x}, {y}) → {back:?}");
+        // The ray starts on the near plane and ends on the far plane (depth along the view axis).
+        let axis = (Vec3::new(-0.5, 0.2, 0.1) - Vec3::new(1.0, 2.0, 3.0)).normalize();
+        let depth = |q: Vec3| (q - c.position()).dot(axis);
+        assert!((depth(r.o) - 0.5).abs() < 1e-4, "near {}", depth(r.o));
+        assert!(
+            (depth(r.at(r.tmax)) - 20.0).abs() < 1e-3,
+            "far {}",
+            depth(r.at(r.tmax))
+        );
+    }
+}
+
+#[test]
+fn mirrored_to_world_flips_the_image() {
+    // Mitsuba allows a mirror (scale x by −1) in a camera's to_world: the image flips.
+    let m = look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y)
+        * glam::Affine3A::from_scale(Vec3::new(-1.0, 1.0, 1.0));
+    let c = Camera::from_parts(m, 40.0, 100, 100, 0.01, 100.0);
+    assert!(c.project(Vec3::X).unwrap().x < 50.0);
+    let r = c.generate_ray(Vec2::new(90.0, 50.0));
+    assert!(r.d.x < 0.0 && (r.d.length() - 1.0).abs() < 1e-6);
+}
