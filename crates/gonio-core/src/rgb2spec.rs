@@ -327,10 +327,10 @@ fn refine(s: RgbSigmoid, target: [f32; 3]) -> RgbSigmoid {
             let x = (c[0] * t + c[1]) * t + c[2];
             let ds = 0.5 / (1.0 + x * x).powf(1.5);
             let phi = [t * t, t, 1.0];
-            for k in 0..3 {
-                let w = q.rgb_tbl[k][i] * ds;
-                for m in 0..3 {
-                    jac[k][m] += w * phi[m];
+            for (row, tbl) in jac.iter_mut().zip(&q.rgb_tbl) {
+                let w = tbl[i] * ds;
+                for (j, p) in row.iter_mut().zip(phi) {
+                    *j += w * p;
                 }
             }
         }
@@ -456,8 +456,9 @@ fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
         b.swap(col, piv);
         for row in col + 1..3 {
             let f = a[row][col] / a[col][col];
-            for k in col..3 {
-                a[row][k] -= f * a[col][k];
+            let pivot_row = a[col];
+            for (v, p) in a[row].iter_mut().zip(pivot_row).skip(col) {
+                *v -= f * p;
             }
             b[row] -= f * b[col];
         }
@@ -539,12 +540,12 @@ pub fn optimize_row(res: usize, l: usize, j: usize, i: usize) -> Vec<[f32; 3]> {
     let mut out = vec![[0.0f32; 3]; res];
     let mut c = [0.0f64; 3];
     let mut c_start = c;
-    for k in start..res {
+    for (k, o) in out.iter_mut().enumerate().skip(start) {
         c = gauss_newton(q, target(k), c).0;
         if k == start {
             c_start = c;
         }
-        out[k] = to_nm(c);
+        *o = to_nm(c);
     }
     c = c_start;
     for k in (0..start).rev() {
