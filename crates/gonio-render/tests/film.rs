@@ -1,0 +1,133 @@
+//! Film: filter weights, weighted means, tiles and merge order.
+
+use glam::{UVec2, Vec2};
+use gonio_render::film::Film;
+use gonio_render::scene::Filter;
+
+#[test]
+fn box_filter_averages_the_samples_of_each_pixel() {
+    let mut film = Film::new(4, 3, Filter::Box { radius: 0.5 });
+    let mut tile = film.tile(UVec2::ZERO, UVec2::new(4, 3));
+    tile.add_sample(Vec2::new(1.2, 2.7), [1.0, 2.0, 3.0]);
+    tile.add_sample(Vec2::new(1.9, 2.1), [3.0, 0.0, 1.0]);
+    // Exactly on the border between pixels 2 and 3: belongs to pixel 3 only (half-open box).
+    tile.add_sample(Vec2::new(3.0, 0.5), [5.0, 5.0, 5.0]);
+    film.merge(&tile);
+    let img = film.to_image();
+    assert_eq!(img.get(1, 2), [2.0, 1.0, 2.0]);
+    assert_eq!(img.get(3, 0), [5.0; 3]);
+    assert_eq!(img.get(2, 0), [0.0; 3], "no sample, black");
+    assert_eq!(film.weight(3, 0), 1.0);
+    assert_eq!(film.weight(2, 0), 0.0);
+}
+
+#[test]
+fn tent_and_gaussian_weights_follow_mitsuba() {
+    // A single sample at (2.5 + dx, 2.5): pixel (2,2) gets f(dx)·f(0), pixel (3,2) f(dx − 1)·f(0).
+    let dx = 0.3f32;
+    for (filter, f) in [
+        (
+            Filter::Tent { radius: 1.0 },
+            Box::new(|x: f32| (1.0 - x.abs()).max(0.0)) as Box<dyn Fn(f32) -> f32>,
+        ),
+        (
+            Filter::Gaussian { stddev: 0.5 },
+            Box::new(|x: f32| ((-x * x / 0.5).exp() - (-2.0f32 * 2.0 / 0.5).exp()).max(0.0)),
+        ),
+    ] {
+        let mut film = Film::new(6, 6, filter);
+        let mut tile = film.tile(UVec2::new(2, 2), UVec2::new(3, 3));
+        tile.add_sample(Vec2::new(2.5 + dx, 2.5), [1.0; 3]);
+        film.merge(&tile);
+        let f0 = f(0.0);
+        for (px, x) in [(2u32, dx), (3, dx - 1.0), (1, dx + 1.0), (4, dx - 2.0)] {
+            let want = (f(x) * f0) as f64;
+            let got = film.weight(px, 2);
+            assert!(
+                (got - want).abs() < 1e-6,
+                "{filter:?} pixel {px}: {got} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
+fn constant_input_reconstructs_exactly_with_any_filter() {
+    // Weighted mean: a constant signal stays constant wherever the pixel has weight, including
+    // the image border where the filter is cut off.
+    for filter in [
+        Filter::Box { radius: 0.5 },
+        Filter::Tent { radius: 1.0 },
+        Filter::Gaussian { stddev: 0.5 },
+        Filter::Box { radius: 1.5 },
+    ] {
+        let mut film = Film::new(9, 7, filter);
+        let mut tiles = film.tiles(4);
+        let mut k = 0u32;
+        for t in &mut tiles {
+            let (lo, hi) = t.block();
+            for y in lo.y..hi.y {
+                for x in lo.x..hi.x {
+                    for _ in 0..4 {
+                        k = k.wrapping_mul(747_796_405).wrapping_add(2_891_336_453);
+                        let j = Vec2::new((k >> 8) as f32 / 16_777_216.0, ((k >> 4) & 0xfff) as f32 / 4096.0);
+                        t.add_sample(Vec2::new(x as f32, y as f32) + j, [0.25, 1.5, 3.0]);
+                    }
+                }
+            }
+        }
+        for t in &tiles {
+            film.merge(t);
+        }
+        let img = film.to_image();
+        for p in &img.data {
+            for c in 0..3 {
+                assert!((p[c] - [0.25, 1.5, 3.0][c]).abs() < 1e-5, "{filter:?}: {p:?}");
+            }
+        }
+    }
+}
+
+#[test]
+fn tiles_cover_the_margin_and_merging_is_deterministic() {
+    let filter = Filter::Gaussian { stddev: 0.5 }; // radius 2: margin 2 pixels
+    let render = |order: &[usize]| {
+        let mut film = Film::new(10, 10, filter);
+        let mut tiles = film.tiles(5);
+        assert_eq!(tiles.len(), 4);
+        for (i, t) in tiles.iter_mut().enumerate() {
+            let (lo, _) = t.block();
+            // One sample at each tile's first pixel corner: spreads into neighbouring tiles.
+            t.add_sample(lo.as_vec2() + Vec2::splat(0.1), [i as f32 + 1.0, 1.0, 0.1]);
+        }
+        for &i in order {
+            film.merge(&tiles[i]);
+        }
+        film.to_image()
+    };
+    let a = render(&[0, 1, 2, 3]);
+    let b = render(&[0, 1, 2, 3]);
+    assert_eq!(a, b);
+    // The sample of tile 3 (block starting at (5,5)) reaches pixel (3,3), two pixels away.
+    let film = {
+        let mut f = Film::new(10, 10, filter);
+        let mut t = f.tile(UVec2::new(5, 5), UVec2::new(10, 10));
+        t.add_sample(Vec2::new(5.1, 5.1), [1.0; 3]);
+        f.merge(&t);
+        f
+    };
+    assert!(film.weight(4, 4) > 0.0 && film.weight(3, 3) > 0.0 && film.weight(2, 2) == 0.0);
+}
+
+#[test]
+fn non_finite_samples_are_dropped_and_counted() {
+    let film = Film::new(2, 2, Filter::Box { radius: 0.5 });
+    let mut t = film.tile(UVec2::ZERO, UVec2::new(2, 2));
+    t.add_sample(Vec2::new(0.5, 0.5), [f32::NAN, 0.0, 0.0]);
+    t.add_sample(Vec2::new(0.5, 0.5), [f32::INFINITY, 0.0, 0.0]);
+    t.add_sample(Vec2::new(0.5, 0.5), [1.0, 0.0, 0.0]);
+    assert_eq!(t.invalid_samples(), 2);
+    let mut film = film;
+    film.merge(&t);
+    assert_eq!(film.to_image().get(0, 0), [1.0, 0.0, 0.0]);
+}
