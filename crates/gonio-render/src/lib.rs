@@ -12,6 +12,7 @@ pub mod film;
 pub mod geometry;
 pub mod image;
 pub mod material;
+pub mod plot;
 pub mod mesh;
 pub mod scene;
 pub mod texture;
