@@ -18,6 +18,8 @@ pub enum Material {
     Diffuse {
         /// ρ.
         reflectance: Texture,
+        /// The model (ρ's mean when textured).
+        model: Diffuse,
     },
     /// `conductor`: smooth metal from the complex index η + ik (`eta`, `k`, `ext_ior` in the
     /// model; Mitsuba's default `material="none"` is the ideal mirror η = 0, k = 1).
@@ -89,7 +91,8 @@ impl Material {
 
     /// `diffuse`.
     pub fn diffuse(reflectance: Texture) -> Self {
-        Material::Diffuse { reflectance }
+        let model = Diffuse::new(model_value(&reflectance));
+        Material::Diffuse { reflectance, model }
     }
 
     /// `conductor` from η, k, the exterior index and the tint.
@@ -183,7 +186,7 @@ impl Material {
     /// True when some parameter varies over the surface.
     pub fn is_textured(&self) -> bool {
         match self {
-            Material::Diffuse { reflectance } => reflectance.is_textured(),
+            Material::Diffuse { reflectance, .. } => reflectance.is_textured(),
             Material::Conductor {
                 specular_reflectance, ..
             } => specular_reflectance.is_textured(),
@@ -229,7 +232,13 @@ impl Material {
     /// instantiate an unbounded chain of closure types).
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
         match self {
-            Material::Diffuse { reflectance } => f(&Diffuse::new(reflectance.eval(uv))),
+            Material::Diffuse { reflectance, model } => {
+                if reflectance.is_textured() {
+                    f(&Diffuse::new(reflectance.eval(uv)))
+                } else {
+                    f(model)
+                }
+            }
             Material::Conductor {
                 specular_reflectance,
                 model,

@@ -83,7 +83,7 @@ fn references_named_positional_and_forward() {
     );
     assert_ne!(s.shapes[0].material, s.shapes[2].material);
     let refl = |i: usize| match &s.materials[s.shapes[i].material] {
-        Material::Diffuse { reflectance } => reflectance.as_spectrum().unwrap().as_constant().unwrap(),
+        Material::Diffuse { reflectance, .. } => reflectance.as_spectrum().unwrap().as_constant().unwrap(),
         m => panic!("{m:?}"),
     };
     assert_eq!((refl(0), refl(2)), (0.75, 0.25));
@@ -217,12 +217,13 @@ fn legacy_camel_case_names() {
         Vec3::new(5.0, 0.0, 0.0)
     ));
     assert!(s.shapes[1].flip_normals);
-    let Material::Diffuse { reflectance } = &s.materials[s.shapes[1].material] else {
+    let Material::Diffuse { reflectance, .. } = &s.materials[s.shapes[1].material] else {
         panic!()
     };
     assert_eq!(reflectance.as_spectrum().unwrap().as_constant(), Some(0.3));
     let Material::Diffuse {
         reflectance: Texture::Checkerboard { to_uv, .. },
+        ..
     } = &s.materials[s.shapes[0].material]
     else {
         panic!()
@@ -242,7 +243,7 @@ fn spectrum_forms() {
 <shape type="sphere"><emitter type="area"><float name="radiance" value="2"/></emitter></shape>"#,
     );
     let refl = |i: usize| match &s.materials[s.shapes[i].material] {
-        Material::Diffuse { reflectance } => reflectance.as_spectrum().unwrap().clone(),
+        Material::Diffuse { reflectance, .. } => reflectance.as_spectrum().unwrap().clone(),
         m => panic!("{m:?}"),
     };
     assert_eq!(refl(0).as_constant(), Some(0.3));

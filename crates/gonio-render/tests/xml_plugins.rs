@@ -170,7 +170,7 @@ fn shapes() {
     assert_eq!(ply.normals.len(), 4);
     // Default materials: one shared diffuse 0.5 for all shapes without a BSDF.
     assert!(s.shapes.iter().all(|x| x.material == s.shapes[0].material));
-    let Material::Diffuse { reflectance } = &s.materials[s.shapes[0].material] else {
+    let Material::Diffuse { reflectance, .. } = &s.materials[s.shapes[0].material] else {
         panic!()
     };
     assert_eq!(reflectance.as_spectrum().unwrap().as_constant(), Some(0.5));
@@ -253,6 +253,7 @@ fn textures() {
     // Bilinear with to_uv scale 0.5 and clamp: u = 0.5 → 0.25, the centre of the left column.
     let Material::Diffuse {
         reflectance: Texture::Bitmap(b),
+        ..
     } = m(1)
     else {
         panic!()

@@ -69,7 +69,7 @@ fn materials_scene() {
     };
     assert_eq!((center, radius), (Vec3::new(-4.4, 1.0, 0.0), 1.0));
     // matte: rgb (0.7, 0.25, 0.2) uplifted as a reflectance: red > green at the right wavelengths.
-    let Material::Diffuse { reflectance } = mat(0) else {
+    let Material::Diffuse { reflectance, .. } = mat(0) else {
         panic!("{:?}", mat(0))
     };
     let r = reflectance.as_spectrum().unwrap();
@@ -111,6 +111,7 @@ fn materials_scene() {
     // Floor checkerboard 0.2 / 0.6 scaled 12×.
     let Material::Diffuse {
         reflectance: Texture::Checkerboard { to_uv, .. },
+        ..
     } = mat(5)
     else {
         panic!()
@@ -121,7 +122,7 @@ fn materials_scene() {
     let l = light.emitter.as_ref().unwrap().radiance.as_spectrum().unwrap();
     assert!(l.as_constant().is_none() && l.eval(560.0) > 4.0);
     // The emitter has no BSDF: default black diffuse.
-    let Material::Diffuse { reflectance } = &s.materials[light.material] else {
+    let Material::Diffuse { reflectance, .. } = &s.materials[light.material] else {
         panic!()
     };
     assert_eq!(constant(reflectance), 0.0);
@@ -135,7 +136,7 @@ fn furnace_scene() {
     assert_eq!((s.sensor.film.width, s.sensor.film.height), (256, 128));
     assert_eq!(s.shapes.len(), 3);
     assert_eq!(s.materials.len(), 3);
-    let Material::Diffuse { reflectance } = &s.materials[s.shapes[0].material] else {
+    let Material::Diffuse { reflectance, .. } = &s.materials[s.shapes[0].material] else {
         panic!()
     };
     // A white rgb reflectance is exactly 1 at every wavelength.
