@@ -102,6 +102,13 @@ fn diffuse_spectral() {
     assert_passes("diffuse spectral ρ", &Diffuse::new(rho));
 }
 
+#[test]
+fn diffuse_black() {
+    // ρ = 0: `sample` still returns its (zero-weight) directions, so χ² and the pdf
+    // normalization hold (the `Bsdf::sample` contract).
+    assert_passes("diffuse ρ=0", &Diffuse::new(Spectrum::Constant(0.0)));
+}
+
 // ---- conductor --------------------------------------------------------------------------------
 
 #[test]
@@ -231,6 +238,15 @@ fn blend_mirror_diffuse() {
     // The delta + smooth mix Mitsuba 3.9.1 gets wrong (testing.md §6.9).
     let (m, d) = (Conductor::mirror(), Diffuse::new(Spectrum::Constant(0.3)));
     assert_passes("blend 0.5 mirror + diffuse ρ=0.3", &BlendBsdf::new(0.5, &m, &d));
+}
+
+#[test]
+fn blend_black_white_diffuse() {
+    let (a, b) = (
+        Diffuse::new(Spectrum::Constant(0.0)),
+        Diffuse::new(Spectrum::Constant(1.0)),
+    );
+    assert_passes("blend 0.5 diffuse 0 + diffuse 1", &BlendBsdf::new(0.5, &a, &b));
 }
 
 #[test]

@@ -2,8 +2,8 @@
 //! `sample` never return NaN, ±∞ or negative values, for random directions on both hemispheres,
 //! for the degenerate ones a renderer meets (exactly grazing z = 0, |z| ≤ 1e-6, the poles,
 //! wi = ±wo) and for wavelengths across 360–830 nm including both ends; and a returned sample
-//! honours the trait contract (unit `wo`, non-zero finite weight, pdf > 0, a delta selection
-//! probability ≤ 1, eta > 0).
+//! honours the trait contract (unit `wo`, finite non-negative weight, pdf > 0, a delta
+//! selection probability ≤ 1, eta > 0).
 //!
 //! Rows: `health` (number of violations) and `lobe_flags` (number of samples whose flags are not
 //! among the model's, or whose reflection/transmission flag contradicts the sides of wi and wo).
@@ -63,10 +63,84 @@ fn spectrum_ok(s: SampledSpectrum) -> bool {
     s.is_finite() && s.min_component() >= 0.0
 }
 
+/// Health of `eval`, `pdf` and `eval_pdf` at one query: `Err` describes a NaN, infinite or
+/// negative value.
+pub fn check_eval(
+    bsdf: &dyn Bsdf,
+    ctx: &BsdfContext,
+    wi: Vec3,
+    wo: Vec3,
+    wl: &SampledWavelengths,
+) -> Result<(), String> {
+    let f = bsdf.eval(ctx, wi, wo, wl);
+    let p = bsdf.pdf(ctx, wi, wo, wl);
+    let (f2, p2) = bsdf.eval_pdf(ctx, wi, wo, wl);
+    if spectrum_ok(f) && spectrum_ok(f2) && p.is_finite() && p >= 0.0 && p2.is_finite() && p2 >= 0.0 {
+        Ok(())
+    } else {
+        Err(format!(
+            "eval/pdf wi={wi:?} wo={wo:?} λ={:?} {:?}: f={f:?} pdf={p} eval_pdf=({f2:?}, {p2})",
+            wl.lambdas(),
+            ctx.mode
+        ))
+    }
+}
+
+/// Problems of one `sample` call.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SampleProblems {
+    /// Contract violation: non-unit or non-finite `wo`, weight NaN/∞/negative, pdf not in
+    /// (0, ∞) (or a delta selection probability above 1), eta not positive, corrupted
+    /// wavelengths. (A zero weight is allowed: a smooth sample is returned wherever its pdf is
+    /// positive, even from a black lobe, so that mixtures stay unbiased.)
+    pub health: Option<String>,
+    /// Flags not among the model's, not exactly one of reflection/transmission, or contradicting
+    /// the sides of wi and wo (checked when both |cos θ| > 1e-4).
+    pub flags: Option<String>,
+}
+
+/// Health of one `sample` call (a `None` sample is healthy).
+pub fn check_sample(
+    bsdf: &dyn Bsdf,
+    ctx: &BsdfContext,
+    wi: Vec3,
+    u1: f32,
+    u2: Vec2,
+    wl: &SampledWavelengths,
+) -> SampleProblems {
+    let mut out = SampleProblems::default();
+    let mut wl2 = *wl;
+    let Some(s) = bsdf.sample(ctx, wi, u1, u2, &mut wl2) else {
+        return out;
+    };
+    let at = || {
+        format!(
+            "sample wi={wi:?} u1={u1} u2={u2} λ={:?} {:?}: {s:?}",
+            wl.lambdas(),
+            ctx.mode
+        )
+    };
+    let unit = s.wo.is_finite() && (s.wo.length() - 1.0).abs() < 1e-3;
+    let pdf_ok = s.pdf.is_finite() && s.pdf > 0.0 && (!s.flags.is_delta() || s.pdf <= 1.0 + 1e-6);
+    if !unit || !spectrum_ok(s.weight) || !pdf_ok || !(s.eta.is_finite() && s.eta > 0.0) {
+        out.health = Some(at());
+    } else if !wl2.pdf().is_finite() || wl2.lambdas().iter().any(|l| !l.is_finite()) {
+        out.health = Some(format!("{} corrupted the wavelengths", at()));
+    }
+    let flags = bsdf.flags();
+    let kinds = BsdfFlags(s.flags.0 & 0b11111);
+    let one_side = s.flags.is_reflection() != s.flags.is_transmission();
+    let sides_known = wi.z.abs() > 1e-4 && s.wo.z.abs() > 1e-4;
+    let side_ok = !sides_known || (s.flags.is_reflection() == (wi.z * s.wo.z > 0.0));
+    if !flags.contains(kinds) || !one_side || !side_ok {
+        out.flags = Some(format!("{} (model flags {flags})", at()));
+    }
+    out
+}
+
 /// The `health` and `lobe_flags` rows.
 pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
     let mut rng = config.rng(0x4ea1_74);
-    let flags = bsdf.flags();
     let mut h = Tally {
         count: 0,
         examples: Vec::new(),
@@ -79,61 +153,24 @@ pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
     let specials = special_directions();
     let ctxs = [BsdfContext::radiance(), BsdfContext::importance()];
 
-    let check_pair = |wi: Vec3, wo: Vec3, wl: &SampledWavelengths, ctx: &BsdfContext, h: &mut Tally| {
-        let f = bsdf.eval(ctx, wi, wo, wl);
-        let p = bsdf.pdf(ctx, wi, wo, wl);
-        let (f2, p2) = bsdf.eval_pdf(ctx, wi, wo, wl);
-        if !spectrum_ok(f)
-            || !spectrum_ok(f2)
-            || !(p.is_finite() && p >= 0.0)
-            || !(p2.is_finite() && p2 >= 0.0)
-        {
-            h.fail(|| {
-                format!(
-                    "eval/pdf wi={wi:?} wo={wo:?} λ={:?} {:?}: f={f:?} pdf={p} eval_pdf=({f2:?}, {p2})",
-                    wl.lambdas(),
-                    ctx.mode
-                )
-            });
+    let eval_query = |wi: Vec3, wo: Vec3, wl: &SampledWavelengths, ctx: &BsdfContext, h: &mut Tally| {
+        if let Err(e) = check_eval(bsdf, ctx, wi, wo, wl) {
+            h.fail(|| e);
         }
     };
-    let check_sample = |wi: Vec3,
+    let sample_query = |wi: Vec3,
                         u1: f32,
                         u2: Vec2,
                         wl: &SampledWavelengths,
                         ctx: &BsdfContext,
                         h: &mut Tally,
                         lf: &mut Tally| {
-        let mut wl2 = *wl;
-        let Some(s) = bsdf.sample(ctx, wi, u1, u2, &mut wl2) else {
-            return;
-        };
-        let at = || {
-            format!(
-                "sample wi={wi:?} u1={u1} u2={u2} λ={:?} {:?}: {s:?}",
-                wl.lambdas(),
-                ctx.mode
-            )
-        };
-        let unit = s.wo.is_finite() && (s.wo.length() - 1.0).abs() < 1e-3;
-        let pdf_ok = s.pdf.is_finite() && s.pdf > 0.0 && (!s.flags.is_delta() || s.pdf <= 1.0 + 1e-6);
-        if !unit
-            || !spectrum_ok(s.weight)
-            || s.weight.is_black()
-            || !pdf_ok
-            || !(s.eta.is_finite() && s.eta > 0.0)
-        {
-            h.fail(at);
+        let p = check_sample(bsdf, ctx, wi, u1, u2, wl);
+        if let Some(e) = p.health {
+            h.fail(|| e);
         }
-        if !wl2.pdf().is_finite() || wl2.lambdas().iter().any(|l| !l.is_finite()) {
-            h.fail(|| format!("{} corrupted the wavelengths", at()));
-        }
-        let kinds = BsdfFlags(s.flags.0 & 0b11111);
-        let one_side = s.flags.is_reflection() != s.flags.is_transmission();
-        let sides_known = wi.z.abs() > 1e-4 && s.wo.z.abs() > 1e-4;
-        let side_ok = !sides_known || (s.flags.is_reflection() == (wi.z * s.wo.z > 0.0));
-        if !flags.contains(kinds) || !one_side || !side_ok {
-            lf.fail(|| format!("{} (model flags {flags})", at()));
+        if let Some(e) = p.flags {
+            lf.fail(|| e);
         }
     };
 
@@ -144,9 +181,9 @@ pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
             for &wi in &specials {
                 for &wo in &specials {
                     queries += 1;
-                    check_pair(wi, wo, &wl, ctx, &mut h);
+                    eval_query(wi, wo, &wl, ctx, &mut h);
                 }
-                check_pair(wi, -wi, &wl, ctx, &mut h);
+                eval_query(wi, -wi, &wl, ctx, &mut h);
                 for u1 in [0.0, 0.5, ONE_MINUS_EPSILON] {
                     for u2 in [
                         Vec2::ZERO,
@@ -155,7 +192,7 @@ pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
                         Vec2::new(0.0, ONE_MINUS_EPSILON),
                     ] {
                         queries += 1;
-                        check_sample(wi, u1, u2, &wl, ctx, &mut h, &mut lf);
+                        sample_query(wi, u1, u2, &wl, ctx, &mut h, &mut lf);
                     }
                 }
             }
@@ -175,9 +212,9 @@ pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
         let wl = random_wavelengths(&mut rng);
         let ctx = &ctxs[k % 2];
         queries += 2;
-        check_pair(wi, wo, &wl, ctx, &mut h);
+        eval_query(wi, wo, &wl, ctx, &mut h);
         let u1 = rng.next_f32();
-        check_sample(wi, u1, rng.next_vec2(), &wl, ctx, &mut h, &mut lf);
+        sample_query(wi, u1, rng.next_vec2(), &wl, ctx, &mut h, &mut lf);
     }
     vec![
         CheckResult::compare("health", h.count as f64, Bound::AtMost, 0.0, h.detail(queries)),
