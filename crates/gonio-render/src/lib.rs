@@ -8,6 +8,7 @@ pub mod camera;
 pub mod sampler;
 pub mod emitter;
 pub mod accel;
+pub mod compare;
 pub mod film;
 pub mod geometry;
 pub mod image;

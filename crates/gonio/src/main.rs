@@ -14,11 +14,16 @@ struct Cli {
 }
 
 #[derive(Subcommand)]
-enum Command {}
+enum Command {
+    /// Compare two images: relMSE, RMSE, MAE, block relMSE, worst block; exit 1 past a threshold.
+    Compare(cmd::compare::Args),
+}
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let result: anyhow::Result<ExitCode> = match cli.command {};
+    let result: anyhow::Result<ExitCode> = match cli.command {
+        Command::Compare(args) => cmd::compare::run(args),
+    };
     match result {
         Ok(code) => code,
         Err(e) => {
