@@ -103,6 +103,38 @@ pub fn cube() -> TriangleMesh {
     }
 }
 
+/// Per-vertex normals weighted by the angle each triangle makes at the vertex (Mitsuba's
+/// `recompute_vertex_normals`, Thürmer & Wüthrich 1998), for meshes that come without normals.
+/// A vertex whose triangles are all degenerate gets +z.
+pub fn vertex_normals(m: &TriangleMesh) -> Vec<Vec3> {
+    let mut n = vec![Vec3::ZERO; m.positions.len()];
+    for t in &m.indices {
+        let p = t.map(|i| m.positions[i as usize]);
+        let face = (p[1] - p[0]).cross(p[2] - p[0]);
+        if !(face.length_squared() > 0.0) {
+            continue;
+        }
+        let face = face.normalize();
+        for k in 0..3 {
+            let a = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
+            let b = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
+            let angle = a.dot(b).clamp(-1.0, 1.0).acos();
+            if angle.is_finite() {
+                n[t[k] as usize] += face * angle;
+            }
+        }
+    }
+    n.into_iter()
+        .map(|v| {
+            if v.length_squared() > 0.0 {
+                v.normalize()
+            } else {
+                Vec3::Z
+            }
+        })
+        .collect()
+}
+
 /// Checks sizes, index ranges and finiteness.
 fn validate(path: &Path, m: &TriangleMesh) -> Result<(), MeshError> {
     let n = m.positions.len();

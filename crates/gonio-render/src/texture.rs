@@ -84,6 +84,7 @@ pub struct Bitmap {
     kind: RgbKind,
     to_uv: Affine2,
     mean: f32,
+    max: f32,
 }
 
 impl Bitmap {
@@ -115,6 +116,8 @@ impl Bitmap {
         }
         let mean_rgb = sum.map(|s| (s / n) as f32);
         let mean = uplift(mean_rgb, kind).mean();
+        let m = rgb.iter().fold(0f32, |m, c| m.max(c[0]).max(c[1]).max(c[2]));
+        let max = uplift([m; 3], kind).max_value();
         Some(Self {
             width,
             height,
@@ -125,6 +128,7 @@ impl Bitmap {
             kind,
             to_uv,
             mean,
+            max,
         })
     }
 
@@ -297,10 +301,7 @@ impl Texture {
         match self {
             Texture::Spectrum(s) => s.max_value(),
             Texture::Checkerboard { color0, color1, .. } => color0.max_value().max(color1.max_value()),
-            Texture::Bitmap(b) => {
-                let m = b.rgb.iter().fold(0f32, |m, c| m.max(c[0]).max(c[1]).max(c[2]));
-                uplift([m; 3], b.kind).max_value()
-            }
+            Texture::Bitmap(b) => b.max,
         }
     }
 }

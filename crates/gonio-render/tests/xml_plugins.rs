@@ -129,9 +129,11 @@ fn shapes() {
 <shape type="cube"><boolean name="face_normals" value="true"/></shape>
 <shape type="obj"><string name="filename" value="quad.obj"/></shape>
 <shape type="ply"><string name="filename" value="quad_ascii.ply"/><boolean name="flip_tex_coords" value="true"/></shape>
-<shape type="obj"><string name="filename" value="quad.obj"/><boolean name="flip_tex_coords" value="false"/></shape>"#,
+<shape type="obj"><string name="filename" value="quad.obj"/><boolean name="flip_tex_coords" value="false"/></shape>
+<shape type="obj"><string name="filename" value="two_tris.obj"/></shape>
+<shape type="obj"><string name="filename" value="two_tris.obj"/><boolean name="face_normals" value="true"/></shape>"#,
     );
-    assert_eq!(s.shapes.len(), 8);
+    assert_eq!(s.shapes.len(), 10);
     assert!(matches!(
         s.shapes[0].geometry,
         Geometry::Sphere {
@@ -168,6 +170,9 @@ fn shapes() {
     let ply = mesh(6);
     assert_eq!(ply.uvs[0], Vec2::new(0.0, 1.0));
     assert_eq!(ply.normals.len(), 4);
+    // A mesh without normals is smoothed (Mitsuba), unless face_normals is set.
+    assert_eq!(mesh(8).normals, vec![Vec3::Z; 6]);
+    assert!(mesh(9).normals.is_empty() && s.shapes[9].face_normals);
     // Default materials: one shared diffuse 0.5 for all shapes without a BSDF.
     assert!(s.shapes.iter().all(|x| x.material == s.shapes[0].material));
     let Material::Diffuse { reflectance, .. } = &s.materials[s.shapes[0].material] else {
@@ -413,6 +418,29 @@ fn twosided_and_blend() {
     .unwrap();
     assert!((f_normal(&bl, Vec2::new(0.25, 0.25), 550.0) - FRAC_1_PI).abs() < 1e-6);
     assert!(f_normal(&bl, Vec2::new(0.75, 0.25), 550.0).abs() < 1e-6);
+}
+
+#[test]
+fn values_roles_follow_mitsuba() {
+    // A uniform reflectance above 1 is accepted (Mitsuba does not check it).
+    let d =
+        load_bsdf_str("<bsdf type=\"diffuse\"><float name=\"reflectance\" value=\"1.2\"/></bsdf>").unwrap();
+    assert!((f_normal(&d, Vec2::ZERO, 500.0) - 1.2 * FRAC_1_PI).abs() < 1e-6);
+    // A top-level texture with bright colours used as an emitter's radiance is built as an
+    // illuminant, not checked as a reflectance.
+    let s = load(
+        r#"<texture type="checkerboard" id="glow"><rgb name="color0" value="4, 2, 1"/><rgb name="color1" value="0"/></texture>
+<shape type="rectangle"><emitter type="area"><ref name="radiance" id="glow"/></emitter></shape>"#,
+    );
+    let Texture::Checkerboard { color0, .. } = &s.shapes[0].emitter.as_ref().unwrap().radiance else {
+        panic!()
+    };
+    let c0 = color0.as_spectrum().unwrap();
+    assert!(
+        c0.eval(650.0) > 2.5 && c0.eval(650.0) > c0.eval(450.0),
+        "{}",
+        c0.eval(650.0)
+    );
 }
 
 #[test]

@@ -747,7 +747,7 @@ impl Parser {
                 (Value::Str(v.to_owned()), l.clone())
             }
             "point" | "vector" => {
-                let (p, l) = xyz_or_value(&attrs, tag, 0.0, false)?;
+                let (p, l) = xyz_or_value(&attrs, tag, 0.0)?;
                 (
                     if tag == "point" {
                         Value::Point(p)
@@ -819,17 +819,17 @@ impl Parser {
             let op = match tag {
                 "translate" => {
                     let attrs = self.attrs(ctx, c, &["value", "x", "y", "z"])?;
-                    let (t, _) = xyz_or_value(&attrs, tag, 0.0, false)?;
+                    let (t, _) = xyz_or_value(&attrs, tag, 0.0)?;
                     DMat4::from_translation(t)
                 }
                 "scale" => {
                     let attrs = self.attrs(ctx, c, &["value", "x", "y", "z"])?;
-                    let (s, _) = xyz_or_value(&attrs, tag, 1.0, true)?;
+                    let (s, _) = xyz_or_value(&attrs, tag, 1.0)?;
                     DMat4::from_scale(s)
                 }
                 "rotate" => {
                     let attrs = self.attrs(ctx, c, &["value", "x", "y", "z", "angle"])?;
-                    let (axis, aloc) = xyz_or_value(&attrs, tag, 0.0, false)?;
+                    let (axis, aloc) = xyz_or_value(&attrs, tag, 0.0)?;
                     let (a, l) = attrs.required("angle", tag)?;
                     let angle = values::parse_float(a, l)?;
                     if axis.length_squared() == 0.0 {
@@ -866,11 +866,11 @@ impl Parser {
                 "lookat" => {
                     let attrs = self.attrs(ctx, c, &["origin", "target", "up"])?;
                     let (o, ol) = attrs.required("origin", tag)?;
-                    let origin = values::parse_vec3(o, ol, 0.0)?;
+                    let origin = values::parse_vec3(o, ol)?;
                     let (t, tl) = attrs.required("target", tag)?;
-                    let target = values::parse_vec3(t, tl, 0.0)?;
+                    let target = values::parse_vec3(t, tl)?;
                     let up = match attrs.get("up") {
-                        Some((u, ul)) => Some((values::parse_vec3(u, ul, 0.0)?, ul.clone())),
+                        Some((u, ul)) => Some((values::parse_vec3(u, ul)?, ul.clone())),
                         None => None,
                     };
                     values::look_at(origin, target, up.as_ref().map(|(u, _)| *u)).map_err(|msg| {
@@ -939,12 +939,7 @@ fn parse_version(v: &str, loc: &Location) -> Result<(u32, u32, u32), SceneError>
 }
 
 /// `value="x, y, z"` (1 number is replicated) or x/y/z attributes (missing ones = `missing`).
-fn xyz_or_value(
-    attrs: &Attrs,
-    tag: &str,
-    missing: f64,
-    _scale: bool,
-) -> Result<(DVec3, Location), SceneError> {
+fn xyz_or_value(attrs: &Attrs, tag: &str, missing: f64) -> Result<(DVec3, Location), SceneError> {
     let has_xyz = attrs.has("x") || attrs.has("y") || attrs.has("z");
     match attrs.get("value") {
         Some((v, l)) => {
@@ -955,7 +950,7 @@ fn xyz_or_value(
                     format!("<{tag}> has both \"value\" and x/y/z attributes"),
                 ));
             }
-            Ok((values::parse_vec3(v, l, missing)?, l.clone()))
+            Ok((values::parse_vec3(v, l)?, l.clone()))
         }
         None => {
             if !has_xyz && tag != "translate" && tag != "scale" && tag != "rotate" {

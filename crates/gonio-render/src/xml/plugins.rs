@@ -308,7 +308,7 @@ pub(crate) struct Builder<'d> {
     default_material: [Option<usize>; 2],
     bsdfs: HashMap<usize, Material>,
     textures: HashMap<(usize, u8), Texture>,
-    meshes: HashMap<(PathBuf, bool), Arc<TriangleMesh>>,
+    meshes: HashMap<(PathBuf, bool, bool), Arc<TriangleMesh>>,
     visiting: Vec<usize>,
     pub warnings: Vec<String>,
 }
@@ -382,6 +382,15 @@ impl<'d> Builder<'d> {
         let mut sensor: Option<Sensor> = None;
         let mut shapes = Vec::new();
         let mut emitters = Vec::new();
+        let referenced: std::collections::HashSet<usize> = doc
+            .objs
+            .iter()
+            .flat_map(|o| &o.props)
+            .filter_map(|p| match &p.value {
+                Value::Ref(id) => doc.ids.get(id).copied(),
+                _ => None,
+            })
+            .collect();
         for p in &root.props {
             let idx = match &p.value {
                 Value::Object(i) => *i,
@@ -428,7 +437,11 @@ impl<'d> Builder<'d> {
                     self.bsdf(idx, &obj.loc)?;
                 }
                 Tag::Texture | Tag::Spectrum => {
-                    self.texture_object(idx, RgbKind::Albedo, &obj.loc)?;
+                    // Referenced textures are built where they are used, in their role (a
+                    // colour above 1 is fine for an emitter); others are built once to check them.
+                    if !referenced.contains(&idx) {
+                        self.texture_object(idx, RgbKind::Unbounded, &obj.loc)?;
+                    }
                 }
                 Tag::Film | Tag::Sampler | Tag::Rfilter => {
                     return Err(err(
@@ -738,7 +751,7 @@ impl<'d> Builder<'d> {
                     ));
                 };
                 let path = doc.resolve(obj, name);
-                let key = (path.clone(), flip);
+                let key = (path.clone(), flip, face_normals);
                 let m = match self.meshes.get(&key) {
                     Some(m) => m.clone(),
                     None => {
@@ -747,10 +760,15 @@ impl<'d> Builder<'d> {
                         } else {
                             mesh::load_ply(&path, flip)
                         };
-                        let m = Arc::new(r.map_err(|e| {
+                        let mut m = r.map_err(|e| {
                             let kind = if e.is_io() { ErrorKind::Io } else { ErrorKind::Mesh };
                             err(loc, kind, format!("cannot load mesh \"{name}\": {e}"))
-                        })?);
+                        })?;
+                        // Mitsuba smooths meshes without normals unless face_normals is set.
+                        if !face_normals && m.normals.is_empty() {
+                            m.normals = mesh::vertex_normals(&m);
+                        }
+                        let m = Arc::new(m);
                         self.meshes.insert(key, m.clone());
                         m
                     }
@@ -1479,20 +1497,16 @@ fn number_spectrum(v: f32, kind: RgbKind) -> Spectrum {
     }
 }
 
-fn check_number(v: f64, loc: &Location, name: &str, kind: RgbKind) -> Result<()> {
-    let ok = v.is_finite() && v >= 0.0 && (kind != RgbKind::Albedo || v <= 1.0);
-    if ok {
+/// Numbers as spectra: Mitsuba takes any uniform value (even a reflectance above 1); we reject
+/// only non-finite and negative ones, which are always mistakes.
+fn check_number(v: f64, loc: &Location, name: &str, _kind: RgbKind) -> Result<()> {
+    if v.is_finite() && v >= 0.0 {
         Ok(())
     } else {
-        let rule = if kind == RgbKind::Albedo {
-            "in [0, 1]"
-        } else {
-            "finite and non-negative"
-        };
         Err(err(
             loc,
             ErrorKind::BadValue,
-            format!("invalid value {v} for \"{name}\" (must be {rule})"),
+            format!("invalid value {v} for \"{name}\" (must be finite and non-negative)"),
         ))
     }
 }

@@ -43,8 +43,8 @@ pub(crate) fn parse_list(s: &str, loc: &Location) -> Result<Vec<f64>, SceneError
         .collect()
 }
 
-/// Three numbers, or one replicated. `_missing` is unused for lists (kept for symmetry).
-pub(crate) fn parse_vec3(s: &str, loc: &Location, _missing: f64) -> Result<DVec3, SceneError> {
+/// Three numbers, or one replicated.
+pub(crate) fn parse_vec3(s: &str, loc: &Location) -> Result<DVec3, SceneError> {
     let n = parse_list(s, loc)?;
     match n.as_slice() {
         [x] => Ok(DVec3::splat(*x)),
