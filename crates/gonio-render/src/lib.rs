@@ -16,6 +16,7 @@ pub mod material;
 pub mod plot;
 pub mod mesh;
 pub mod scene;
+pub mod tabulated_io;
 pub mod texture;
 pub mod xml;
 pub mod integrator;
