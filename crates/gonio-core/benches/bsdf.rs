@@ -1,35 +1,137 @@
-//! Cost of one `sample` + one `eval` per model (ns per call pair), issue 2 §8.
+//! Cost of the BSDF calls a path tracer makes per vertex, per model (issue 2 §8), in ns per
+//! call:
 //!
-//! Each iteration draws its uniforms from a PCG32, samples a direction and evaluates the BSDF
-//! at it, the pair of calls a path tracer makes per vertex. Run with
-//! `cargo bench -p gonio-core --bench bsdf`.
+//! * `sample_eval`: one `sample` and one `eval` at the sampled direction (the pair a path
+//!   tracer with MIS needs),
+//! * `sample`, `eval`: each alone.
+//!
+//! Every iteration draws fresh uniforms from a PCG32 (≈ 2 ns of the figure) and takes the next
+//! of 1024 pre-drawn path wavelengths (drawing them, `SampledWavelengths::sample_visible`, costs
+//! ≈ 0.5 µs by itself and is paid once per path, not per vertex), with an oblique `wi`; `eval`
+//! queries a random direction of the upper hemisphere.
+//! Run with `cargo bench -p gonio-core --bench bsdf`.
 
 use divan::{Bencher, black_box};
 use glam::Vec3;
-use gonio_core::bsdfs::Diffuse;
+use gonio_core::bsdfs::{BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, ThinDielectric, TwoSided};
 use gonio_core::rng::Pcg32;
-use gonio_core::{Bsdf, BsdfContext, SampledWavelengths};
+use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
+use gonio_core::warp::square_to_cosine_hemisphere;
+use gonio_core::{Bsdf, BsdfContext, Ior, SampledWavelengths};
+use std::sync::Arc;
 
 fn main() {
     divan::main();
 }
 
-/// sample + eval with random uniforms, a fixed oblique wi and path-like wavelengths.
-fn sample_eval(bencher: Bencher, bsdf: &dyn Bsdf) {
-    let ctx = BsdfContext::radiance();
-    let wi = Vec3::new(0.48, 0.36, 0.8);
-    let mut rng = Pcg32::new(1, 2);
-    bencher.bench_local(move || {
-        let mut wl = SampledWavelengths::sample_visible(rng.next_f32());
-        let u1 = rng.next_f32();
-        let u2 = rng.next_vec2();
-        let s = black_box(bsdf).sample(&ctx, black_box(wi), u1, u2, &mut wl);
-        let wo = s.map_or(Vec3::Z, |s| s.wo);
-        black_box(bsdf.eval(&ctx, wi, wo, &wl))
+const MODELS: &[&str] = &[
+    "diffuse",
+    "diffuse_spectral",
+    "conductor_mirror",
+    "conductor_au_spectral",
+    "dielectric",
+    "dielectric_dispersive",
+    "thindielectric",
+    "plastic",
+    "twosided_diffuse",
+    "blend_mirror_diffuse",
+];
+
+fn piecewise(pairs: &[f32]) -> Spectrum {
+    Spectrum::PiecewiseLinear(Arc::new(
+        PiecewiseLinear::from_interleaved(pairs, Extrapolation::Clamp).unwrap(),
+    ))
+}
+
+/// Builds the named model and hands it to `f` (children of wrappers live on this frame).
+fn with_model(name: &str, f: impl FnOnce(&dyn Bsdf)) {
+    match name {
+        "diffuse" => f(&Diffuse::default()),
+        "diffuse_spectral" => f(&Diffuse::new(piecewise(&[
+            360.0, 0.05, 500.0, 0.9, 600.0, 0.2, 830.0, 0.7,
+        ]))),
+        "conductor_mirror" => f(&Conductor::mirror()),
+        "conductor_au_spectral" => f(&Conductor::new(
+            piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
+            piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
+        )),
+        "dielectric" => f(&Dielectric::default()),
+        "dielectric_dispersive" => f(&Dielectric::new(
+            Ior::Dispersive(piecewise(&[400.0, 1.53085, 550.0, 1.51852, 700.0, 1.51306])),
+            Ior::Constant(1.0),
+        )),
+        "thindielectric" => f(&ThinDielectric::default()),
+        "plastic" => f(&Plastic::default()),
+        "twosided_diffuse" => {
+            let d = Diffuse::default();
+            f(&TwoSided::new(&d))
+        }
+        "blend_mirror_diffuse" => {
+            let (m, d) = (Conductor::mirror(), Diffuse::default());
+            f(&BlendBsdf::new(0.5, &m, &d))
+        }
+        _ => unreachable!("unknown model {name}"),
+    }
+}
+
+const WI: Vec3 = Vec3::new(0.48, 0.36, 0.8);
+
+/// 1024 path wavelength sets, drawn once.
+fn wavelength_table() -> Vec<SampledWavelengths> {
+    let mut rng = Pcg32::new(7, 7);
+    (0..1024)
+        .map(|_| SampledWavelengths::sample_visible(rng.next_f32()))
+        .collect()
+}
+
+#[divan::bench(args = MODELS)]
+fn sample_eval(bencher: Bencher, name: &str) {
+    with_model(name, |bsdf| {
+        let ctx = BsdfContext::radiance();
+        let mut rng = Pcg32::new(1, 2);
+        let table = wavelength_table();
+        let mut k = 0usize;
+        bencher.bench_local(|| {
+            k = (k + 1) & 1023;
+            let mut wl = table[k];
+            let u1 = rng.next_f32();
+            let u2 = rng.next_vec2();
+            let s = black_box(bsdf).sample(&ctx, black_box(WI), u1, u2, &mut wl);
+            let wo = s.map_or(Vec3::Z, |s| s.wo);
+            black_box(bsdf.eval(&ctx, WI, wo, &wl))
+        });
     });
 }
 
-#[divan::bench]
-fn diffuse(bencher: Bencher) {
-    sample_eval(bencher, &Diffuse::default());
+#[divan::bench(args = MODELS)]
+fn sample(bencher: Bencher, name: &str) {
+    with_model(name, |bsdf| {
+        let ctx = BsdfContext::radiance();
+        let mut rng = Pcg32::new(1, 2);
+        let table = wavelength_table();
+        let mut k = 0usize;
+        bencher.bench_local(|| {
+            k = (k + 1) & 1023;
+            let mut wl = table[k];
+            let u1 = rng.next_f32();
+            let u2 = rng.next_vec2();
+            black_box(black_box(bsdf).sample(&ctx, black_box(WI), u1, u2, &mut wl))
+        });
+    });
+}
+
+#[divan::bench(args = MODELS)]
+fn eval(bencher: Bencher, name: &str) {
+    with_model(name, |bsdf| {
+        let ctx = BsdfContext::radiance();
+        let mut rng = Pcg32::new(1, 2);
+        let table = wavelength_table();
+        let mut k = 0usize;
+        bencher.bench_local(|| {
+            k = (k + 1) & 1023;
+            let wl = table[k];
+            let wo = square_to_cosine_hemisphere(rng.next_vec2());
+            black_box(black_box(bsdf).eval(&ctx, black_box(WI), wo, &wl))
+        });
+    });
 }
