@@ -240,7 +240,8 @@ fn spectrum_forms() {
 <shape type="sphere"><bsdf type="diffuse"><spectrum name="reflectance" filename="flat.spd"/></bsdf></shape>
 <shape type="sphere"><emitter type="area"><spectrum name="radiance" type="blackbody"><float name="temperature" value="3000"/></spectrum></emitter></shape>
 <shape type="sphere"><emitter type="area"><spectrum name="radiance" type="d65"/></emitter></shape>
-<shape type="sphere"><emitter type="area"><float name="radiance" value="2"/></emitter></shape>"#,
+<shape type="sphere"><emitter type="area"><float name="radiance" value="2"/></emitter></shape>
+<shape type="sphere"><emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>"#,
     );
     let refl = |i: usize| match &s.materials[s.shapes[i].material] {
         Material::Diffuse { reflectance, .. } => reflectance.as_spectrum().unwrap().clone(),
@@ -271,6 +272,8 @@ fn spectrum_forms() {
     for l in [420.0, 560.0, 690.0] {
         assert!((two.eval(l) - 2.0 * Spectrum::d65().eval(l)).abs() < 1e-4 * two.eval(l).max(1.0));
     }
+    // A uniform <spectrum> stays uniform, also on an emitter (Mitsuba's `uniform`).
+    assert_eq!(radiance(6), Spectrum::Constant(2.0));
 }
 
 #[test]

@@ -1010,9 +1010,10 @@ impl<'d> Builder<'d> {
         }
     }
 
-    /// A spectrum or texture parameter in the given role (`spectral.md` §4.5): numbers are
-    /// constant (× D65 for emitters), `<rgb>` is uplifted (albedo: each component in [0, 1];
-    /// unbounded; illuminant × D65), `<spectrum>` values are uniform or piecewise linear,
+    /// A spectrum or texture parameter in the given role (`spectral.md` §4.5, Mitsuba's
+    /// `create_texture_from_rgb/spectrum`): `<float>`/`<integer>` are constant (× D65 for
+    /// emitters), `<rgb>` is uplifted (albedo: each component in [0, 1]; unbounded; illuminant
+    /// × D65), `<spectrum>` values are uniform (also on emitters) or piecewise linear,
     /// nested or referenced `<texture>`/`<spectrum type>` objects are built in that role.
     fn texture_param(
         &mut self,
@@ -1035,9 +1036,10 @@ impl<'d> Builder<'d> {
                 number_spectrum(*v as f32, kind)
             }
             Value::Rgb(c) => rgb_spectrum(*c, loc, name, kind)?,
+            // `<spectrum value="v"/>` is Mitsuba's `uniform`, even on emitters (unlike a float).
             Value::Spectrum(SpecValue::Uniform(v)) => {
                 check_number(*v, loc, name, kind)?;
-                number_spectrum(*v as f32, kind)
+                Spectrum::Constant(*v as f32)
             }
             Value::Spectrum(SpecValue::Pairs(pairs)) => pairs_spectrum(pairs, loc, name, kind)?,
             Value::Object(i) => return self.texture_object(*i, kind, loc),
