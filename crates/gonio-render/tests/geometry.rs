@@ -255,13 +255,39 @@ fn mesh_with_bad_indices_is_an_error() {
     let mut m = quad_mesh(false, false);
     m.indices.push([0, 1, 9]);
     let e = WorldShape::from_scene(
-        &shape(Geometry::Mesh(Arc::new(m)), Affine3A::IDENTITY),
+        &shape(Geometry::Mesh(Arc::new(m.clone())), Affine3A::IDENTITY),
         "broken.obj",
     )
     .unwrap_err();
     assert!(
         e.to_string().contains("broken.obj") && e.to_string().contains("triangle 2"),
         "{e}"
+    );
+    m.indices.pop();
+    m.positions[1].x = f32::NAN;
+    let e = WorldShape::from_scene(&shape(Geometry::Mesh(Arc::new(m)), Affine3A::IDENTITY), "nan.ply")
+        .unwrap_err();
+    assert!(
+        e.to_string().contains("nan.ply") && e.to_string().contains("vertex 1"),
+        "{e}"
+    );
+    let s = shape(
+        Geometry::Sphere {
+            center: Vec3::ZERO,
+            radius: 0.0,
+        },
+        Affine3A::IDENTITY,
+    );
+    assert!(WorldShape::from_scene(&s, "zero").is_err());
+    let r = shape(
+        Geometry::Rectangle,
+        Affine3A::from_scale(Vec3::new(1.0, 0.0, 1.0)),
+    );
+    assert!(
+        WorldShape::from_scene(&r, "flat")
+            .unwrap_err()
+            .to_string()
+            .contains("flat")
     );
 }
 

@@ -219,6 +219,11 @@ impl WorldShape {
         check_affine(&m, name)?;
         let kind = match &shape.geometry {
             Geometry::Sphere { center, radius } => {
+                if !(center.is_finite() && radius.is_finite() && *radius > 0.0) {
+                    return Err(GeometryError::Degenerate {
+                        name: name.to_owned(),
+                    });
+                }
                 let full =
                     m * Affine3A::from_translation(*center) * Affine3A::from_scale(Vec3::splat(*radius));
                 check_affine(&full, name)?;
@@ -511,6 +516,9 @@ impl WorldMesh {
             .find(|(_, t)| t.iter().any(|&v| v as usize >= nv))
         {
             return Err(bad(format!("triangle {i} refers to vertex {:?} of {nv}", t)));
+        }
+        if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
+            return Err(bad(format!("vertex {i} is not finite: {:?}", mesh.positions[i])));
         }
         let positions: Vec<Vec3> = mesh
             .positions
