@@ -455,7 +455,7 @@ fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String
                 let u = find(&["u", "s", "texture_u", "texture_s"]);
                 let v = find(&["v", "t", "texture_v", "texture_t"]);
                 let has_uv = u.is_some() && v.is_some();
-                mesh.positions.reserve(el.count);
+                mesh.positions.reserve(el.count.min(body.bytes.len()));
                 let mut vals = vec![0f64; el.props.len()];
                 for i in 0..el.count {
                     for (k, p) in el.props.iter().enumerate() {
@@ -490,7 +490,7 @@ fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String
                 }) else {
                     return Err("the face element lacks a vertex_indices list".into());
                 };
-                mesh.indices.reserve(el.count);
+                mesh.indices.reserve(el.count.min(body.bytes.len()));
                 let mut poly: Vec<u32> = Vec::with_capacity(8);
                 for f in 0..el.count {
                     for (k, p) in el.props.iter().enumerate() {
@@ -601,5 +601,15 @@ mod tests {
         // Truncated body.
         let err = parse_ply(&b[..b.len() - 2], false).unwrap_err();
         assert!(err.contains("face 0") && err.contains("end of file"), "{err}");
+    }
+
+    #[test]
+    fn ply_absurd_counts_fail_without_allocating() {
+        let b = b"ply\nformat ascii 1.0\nelement vertex 1000000000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n";
+        let err = parse_ply(b, false).unwrap_err();
+        assert!(err.contains("vertex 1") && err.contains("end of file"), "{err}");
+        let b = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0 1 0 0 0 1 0\n2 0 1\n";
+        let err = parse_ply(b, false).unwrap_err();
+        assert!(err.contains("face 0 has 2 vertices"), "{err}");
     }
 }
