@@ -18,6 +18,7 @@ pub mod fresnel;
 pub mod instruments;
 pub mod ior;
 pub mod named;
+pub mod quadrature;
 pub mod rgb2spec;
 pub mod rng;
 pub mod spectra;
