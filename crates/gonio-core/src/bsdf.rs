@@ -186,22 +186,34 @@ pub struct BsdfContext {
 
 impl Default for BsdfContext {
     fn default() -> Self {
-        Self { mode: TransportMode::Radiance, lobes: BsdfFlags::ALL }
+        Self {
+            mode: TransportMode::Radiance,
+            lobes: BsdfFlags::ALL,
+        }
     }
 }
 
 impl BsdfContext {
     /// Radiance mode, all lobes.
     pub const fn radiance() -> Self {
-        Self { mode: TransportMode::Radiance, lobes: BsdfFlags::ALL }
+        Self {
+            mode: TransportMode::Radiance,
+            lobes: BsdfFlags::ALL,
+        }
     }
     /// Importance mode, all lobes.
     pub const fn importance() -> Self {
-        Self { mode: TransportMode::Importance, lobes: BsdfFlags::ALL }
+        Self {
+            mode: TransportMode::Importance,
+            lobes: BsdfFlags::ALL,
+        }
     }
     /// The same mode with only the lobes whose kinds are in `lobes`.
     pub const fn with_lobes(self, lobes: BsdfFlags) -> Self {
-        Self { mode: self.mode, lobes }
+        Self {
+            mode: self.mode,
+            lobes,
+        }
     }
     /// True when a lobe with these flags is enabled. Only the kind bits (reflection,
     /// transmission, diffuse, glossy, delta) are compared.
@@ -243,8 +255,11 @@ pub trait Bsdf: Send + Sync {
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32;
 
     /// Draws a direction: `u1` chooses the lobe, `u2` the direction. `None` when no direction
-    /// was produced (e.g. `wi` below a one-sided surface); a returned sample never has a zero
-    /// pdf or a zero weight.
+    /// was produced (e.g. `wi` below a one-sided surface). A returned sample never has a zero
+    /// pdf. A smooth-lobe sample is returned whenever its pdf is positive, **even with a zero
+    /// weight** (Mitsuba's contract): a mixture evaluates its other children at that direction,
+    /// so a black child that dropped its samples would bias the mixture. A delta outcome with
+    /// zero throughput may be dropped. Callers end a path on a black weight.
     fn sample(
         &self,
         ctx: &BsdfContext,

@@ -22,10 +22,10 @@
 //! a perfect mirror and a black diffuse it returns albedo 0.379 = 0.5/(1 + 1/π) at normal
 //! incidence (0.408 at 45°, 0.474 at 80°) instead of 0.5.
 //!
-//! Caveat of the mixture weight: it is unbiased when each child's `sample` returns a direction
-//! wherever its `pdf` says it does. A child that drops zero-weight samples (e.g. a diffuse with
-//! ρ = 0, which returns `None` though its pdf is cos θ/π) loses the other child's contribution
-//! at those directions.
+//! The mixture weight is unbiased because every child's `sample` returns a direction wherever its
+//! `pdf` says it does, zero weight included (the `Bsdf::sample` contract): a black diffuse child
+//! still proposes directions at which the other child is evaluated
+//! (`blend_of_black_and_white_diffuse_is_half`).
 //!
 //! Mitsuba 3 plugin `blendbsdf` (`src/bsdfs/blendbsdf.cpp`):
 //!
@@ -155,11 +155,8 @@ impl Bsdf for BlendBsdf<'_> {
         if pdf <= 0.0 {
             return None;
         }
-        let weight = f * (s.wo.z.abs() / pdf);
-        if weight.is_black() {
-            return None;
-        }
-        s.weight = weight;
+        // A black result is still returned (this blend may itself be a mixture's child).
+        s.weight = f * (s.wo.z.abs() / pdf);
         s.pdf = pdf;
         Some(s)
     }
@@ -241,12 +238,13 @@ mod tests {
             (s.flags, s.weight[0], s.pdf),
             (BsdfFlags::DELTA_REFLECTION, 1.0, 0.5)
         );
-        assert!(
-            blend
-                .sample(&ctx, dir(30.0), 0.25, Vec2::new(0.3, 0.7), &mut wl)
-                .is_none(),
-            "black diffuse"
-        );
+        // The black diffuse child still proposes its direction, with zero weight (the
+        // `Bsdf::sample` contract that keeps mixtures unbiased).
+        let black_sample = blend
+            .sample(&ctx, dir(30.0), 0.25, Vec2::new(0.3, 0.7), &mut wl)
+            .expect("a smooth sample is returned even when black");
+        assert_eq!(black_sample.flags, BsdfFlags::DIFFUSE_REFLECTION);
+        assert!(black_sample.weight.is_black() && black_sample.pdf > 0.0);
     }
 
     #[test]
@@ -352,5 +350,32 @@ mod tests {
             assert!((s.weight[0] - 0.55).abs() < 1e-6);
             assert!((s.pdf - s.wo.z * FRAC_1_PI).abs() < 1e-6);
         }
+    }
+
+    #[test]
+    fn blend_of_black_and_white_diffuse_is_half() {
+        // Regression: a black diffuse child that dropped its (zero-weight) samples made this
+        // blend 0.25 instead of 0.5: the white child's light at the black child's directions
+        // was lost.
+        let black = Diffuse::new(Spectrum::Constant(0.0));
+        let white = Diffuse::new(Spectrum::Constant(1.0));
+        let blend = BlendBsdf::new(0.5, &black, &white);
+        let ctx = BsdfContext::radiance();
+        let wi = dir(30.0);
+        let (n, mut sum) = (64, 0.0f64);
+        for i in 0..n {
+            for j in 0..n {
+                for k in 0..2 {
+                    let u2 = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                    let mut wl = SampledWavelengths::fixed(550.0);
+                    if let Some(s) = blend.sample(&ctx, wi, 0.25 + 0.5 * k as f32, u2, &mut wl) {
+                        sum += s.weight[0] as f64;
+                    }
+                }
+            }
+        }
+        // Every weight is exactly 0.5 (f·cos/pdf with both pdfs cos θ/π), so the mean is exact.
+        let albedo = sum / (2 * n * n) as f64;
+        assert!((albedo - 0.5).abs() < 1e-6, "albedo {albedo}");
     }
 }

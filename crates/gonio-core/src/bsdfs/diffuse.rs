@@ -33,7 +33,9 @@ pub struct Diffuse {
 impl Default for Diffuse {
     /// Mitsuba's default, ρ = 0.5.
     fn default() -> Self {
-        Self { reflectance: Spectrum::Constant(0.5) }
+        Self {
+            reflectance: Spectrum::Constant(0.5),
+        }
     }
 }
 
@@ -77,7 +79,7 @@ impl Bsdf for Diffuse {
         let wo = square_to_cosine_hemisphere(u2);
         let pdf = square_to_cosine_hemisphere_pdf(wo);
         let weight = self.reflectance.sample(wl);
-        (pdf > 0.0 && !weight.is_black()).then_some(BsdfSample {
+        (pdf > 0.0).then_some(BsdfSample {
             wo,
             weight,
             pdf,
@@ -102,9 +104,15 @@ mod tests {
         assert!((f[0] - 0.5 * FRAC_1_PI).abs() < 1e-7);
         assert!((d.pdf(&ctx, Vec3::Z, wo, &wl) - 0.8 * FRAC_1_PI).abs() < 1e-7);
         let mut wl2 = wl;
-        let s = d.sample(&ctx, Vec3::Z, 0.5, Vec2::new(0.3, 0.7), &mut wl2).unwrap();
+        let s = d
+            .sample(&ctx, Vec3::Z, 0.5, Vec2::new(0.3, 0.7), &mut wl2)
+            .unwrap();
         assert!((s.wo - Vec3::new(-0.282843, 0.282843, 0.916515)).length() < 1e-5);
         assert!((s.weight[0] - 0.5).abs() < 1e-7);
-        assert_eq!(d.eval(&ctx, -Vec3::Z, wo, &wl), SampledSpectrum::ZERO, "one-sided");
+        assert_eq!(
+            d.eval(&ctx, -Vec3::Z, wo, &wl),
+            SampledSpectrum::ZERO,
+            "one-sided"
+        );
     }
 }

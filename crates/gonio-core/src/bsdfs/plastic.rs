@@ -220,7 +220,8 @@ impl Bsdf for Plastic {
         let f_o = fresnel_dielectric(wo.z, self.eta).0;
         // eval·cos θo/pdf: the cos θo/π cancels.
         let weight = self.diffuse_factor(wl) * ((1.0 - f_i) * (1.0 - f_o) / p_diff);
-        (!weight.is_black()).then_some(BsdfSample {
+        // Returned even when black (a black base in a mixture): see `Bsdf::sample`.
+        Some(BsdfSample {
             wo,
             weight,
             pdf,
