@@ -208,3 +208,98 @@ fn occluded_incoherent(bencher: divan::Bencher) {
         .counter(divan::counter::ItemsCount::new(rays.len()))
         .bench(|| rays.iter().filter(|r| a.occluded(r)).count());
 }
+
+/// A Cornell box like `cornell-spheres.xml`: 6 rectangles (walls and light) and 2 spheres.
+fn cornell() -> &'static Vec<WorldShape> {
+    static S: OnceLock<Vec<WorldShape>> = OnceLock::new();
+    S.get_or_init(|| {
+        use std::f32::consts::FRAC_PI_2;
+        let mk = |geometry, to_world| Shape {
+            geometry,
+            to_world,
+            flip_normals: false,
+            face_normals: false,
+            material: 0,
+            emitter: None,
+            id: None,
+        };
+        let list = [
+            mk(
+                Geometry::Rectangle,
+                Affine3A::from_translation(Vec3::new(0.0, -1.0, 0.0)) * Affine3A::from_rotation_x(-FRAC_PI_2),
+            ),
+            mk(
+                Geometry::Rectangle,
+                Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0)) * Affine3A::from_rotation_x(FRAC_PI_2),
+            ),
+            mk(
+                Geometry::Rectangle,
+                Affine3A::from_translation(Vec3::new(0.0, 0.0, -1.0)),
+            ),
+            mk(
+                Geometry::Rectangle,
+                Affine3A::from_translation(Vec3::new(-1.0, 0.0, 0.0)) * Affine3A::from_rotation_y(FRAC_PI_2),
+            ),
+            mk(
+                Geometry::Rectangle,
+                Affine3A::from_translation(Vec3::new(1.0, 0.0, 0.0)) * Affine3A::from_rotation_y(-FRAC_PI_2),
+            ),
+            mk(
+                Geometry::Rectangle,
+                Affine3A::from_translation(Vec3::new(0.0, 0.99, 0.0))
+                    * Affine3A::from_rotation_x(FRAC_PI_2)
+                    * Affine3A::from_scale(Vec3::splat(0.25)),
+            ),
+            mk(
+                Geometry::Sphere {
+                    center: Vec3::new(-0.4, -0.6, -0.3),
+                    radius: 0.4,
+                },
+                Affine3A::IDENTITY,
+            ),
+            mk(
+                Geometry::Sphere {
+                    center: Vec3::new(0.45, -0.6, 0.3),
+                    radius: 0.4,
+                },
+                Affine3A::IDENTITY,
+            ),
+        ];
+        list.iter()
+            .map(|s| WorldShape::from_scene(s, "cornell").unwrap())
+            .collect()
+    })
+}
+
+fn cornell_rays() -> &'static Vec<Ray> {
+    static R: OnceLock<Vec<Ray>> = OnceLock::new();
+    R.get_or_init(|| {
+        let mut rng = Rng(9);
+        (0..N_RAYS / 4)
+            .map(|_| {
+                Ray::new(
+                    (Vec3::new(rng.next(), rng.next(), rng.next()) * 1.8 - 0.9) * 0.95,
+                    rng.dir(),
+                )
+            })
+            .collect()
+    })
+}
+
+#[divan::bench(sample_count = 5, sample_size = 1)]
+fn cornell_closest_accel(bencher: divan::Bencher) {
+    let a = Accel::new(cornell().clone());
+    let rays = cornell_rays();
+    bencher
+        .counter(divan::counter::ItemsCount::new(rays.len()))
+        .bench(|| rays.iter().filter(|r| a.intersect(r).is_some()).count());
+}
+
+#[divan::bench(sample_count = 5, sample_size = 1)]
+fn cornell_closest_brute_force(bencher: divan::Bencher) {
+    let a = gonio_render::accel::BruteForce::new(cornell().clone());
+    let rays = cornell_rays();
+    bencher
+        .counter(divan::counter::ItemsCount::new(rays.len()))
+        .bench(|| rays.iter().filter(|r| a.intersect(r).is_some()).count());
+}
