@@ -191,3 +191,24 @@ fn tabulated_playback_of_a_measured_lambertian() {
     }
     assert_eq!(t.eval(&ctx, Vec3::Z, -Vec3::Z, &wl)[0], 0.0);
 }
+
+#[test]
+fn a_measured_table_passes_the_property_battery() {
+    // The played-back table must be a well-behaved BSDF: χ² sampling test, weight = f·cos/pdf,
+    // reciprocity (enforced), isotropy, energy, health — the same battery `gonio check` runs.
+    let d = Diffuse::new(Spectrum::Constant(0.8));
+    let s = GonioSettings {
+        incident: 6,
+        outgoing: 6,
+        azimuths: 10,
+        ..small_settings(100_000)
+    };
+    let t = Tabulated::new(measure(&BsdfSpecimen::new(&d, "diffuse 0.8"), &s).unwrap());
+    let rows = gonio_core::check::battery(&t, &gonio_core::check::CheckConfig::quick());
+    assert!(
+        gonio_core::check::all_passed(&rows),
+        "{}",
+        gonio_core::check::failures(&rows)
+    );
+    assert!(rows.iter().any(|r| r.name == "chi2"));
+}

@@ -89,19 +89,24 @@ impl Sample for BsdfSpecimen<'_> {
 /// cell split into two triangles, every facet made of the same BSDF, repeated without end in x
 /// and y. Photons arrive at a uniformly random point and bounce between facets (multiple
 /// scattering and shadowing included) until they escape upwards or are absorbed.
-pub struct HeightfieldSpecimen {
+pub struct HeightfieldSpecimen<'a> {
     n: usize,
     heights: Vec<f32>,
     z_max: f32,
-    facet: Arc<dyn Bsdf>,
+    facet: Arc<dyn Bsdf + 'a>,
     max_bounces: u32,
     name: String,
 }
 
-impl HeightfieldSpecimen {
+impl<'a> HeightfieldSpecimen<'a> {
     /// A heightfield from `n × n` heights (row-major, `heights[j * n + i]` at x = i/n, y = j/n;
     /// periodic). `None` when the sizes disagree or a height is not finite.
-    pub fn new(n: usize, heights: Vec<f32>, facet: Arc<dyn Bsdf>, name: impl Into<String>) -> Option<Self> {
+    pub fn new(
+        n: usize,
+        heights: Vec<f32>,
+        facet: Arc<dyn Bsdf + 'a>,
+        name: impl Into<String>,
+    ) -> Option<Self> {
         if n == 0 || heights.len() != n * n || heights.iter().any(|h| !h.is_finite()) {
             return None;
         }
@@ -121,7 +126,7 @@ impl HeightfieldSpecimen {
         n: usize,
         amplitude: f32,
         seed: u64,
-        facet: Arc<dyn Bsdf>,
+        facet: Arc<dyn Bsdf + 'a>,
         name: impl Into<String>,
     ) -> Option<Self> {
         let mut rng = Pcg32::new(seed, 0x6e17);
@@ -225,7 +230,7 @@ fn ray_triangle(o: Vec3, d: Vec3, [a, b, c]: [Vec3; 3]) -> Option<(f32, Vec3)> {
     Some((t, n))
 }
 
-impl Sample for HeightfieldSpecimen {
+impl Sample for HeightfieldSpecimen<'_> {
     fn scatter(
         &self,
         to_source: Vec3,
