@@ -1,0 +1,69 @@
+//! Bad input never panics: truncated and corrupted versions of a real scene either load or give
+//! a located error.
+
+use gonio_render::xml::{load_bsdf_str, load_scene_str};
+use proptest::prelude::*;
+use std::path::PathBuf;
+
+fn scene_text() -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/mitsuba/scenes/materials.xml");
+    std::fs::read_to_string(p).unwrap()
+}
+
+fn data() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data")
+}
+
+#[test]
+fn every_truncation_is_an_error_with_a_location() {
+    let text = scene_text();
+    let mut errors = 0;
+    for end in (0..text.len()).filter(|&i| text.is_char_boundary(i)) {
+        match load_scene_str(&text[..end], data(), &[]) {
+            Ok(_) => {}
+            Err(e) => {
+                errors += 1;
+                assert!(e.location.line >= 1 && e.location.column >= 1, "{e}");
+            }
+        }
+    }
+    // Only the complete document (plus trailing whitespace) is valid.
+    assert!(errors >= text.trim_end().len() - 1, "{errors}");
+}
+
+const ALPHABET: &[char] = &[
+    '<', '>', '/', '"', '=', '$', '-', '1', '0', '.', ',', ' ', 'x', ':', 'e', '\n',
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 600, ..ProptestConfig::default() })]
+
+    #[test]
+    fn corrupted_scenes_do_not_panic(edits in proptest::collection::vec((0usize..4000, 0usize..16), 1..6)) {
+        let mut chars: Vec<char> = scene_text().chars().collect();
+        for (pos, c) in edits {
+            let i = pos % chars.len();
+            chars[i] = ALPHABET[c];
+        }
+        let text: String = chars.into_iter().collect();
+        if let Err(e) = load_scene_str(&text, data(), &[]) {
+            prop_assert!(!e.message.is_empty());
+        }
+    }
+
+    #[test]
+    fn corrupted_bsdfs_do_not_panic(edits in proptest::collection::vec((0usize..400, 0usize..16), 1..4)) {
+        let base = r#"<bsdf type="blendbsdf"><float name="weight" value="0.3"/><bsdf type="plastic"><rgb name="diffuse_reflectance" value="0.2, 0.4, 0.8"/><float name="int_ior" value="1.5"/></bsdf><bsdf type="conductor"><string name="material" value="Au"/></bsdf></bsdf>"#;
+        let mut chars: Vec<char> = base.chars().collect();
+        for (pos, c) in edits {
+            let i = pos % chars.len();
+            chars[i] = ALPHABET[c];
+        }
+        let text: String = chars.into_iter().collect();
+        if let Ok(m) = load_bsdf_str(&text) {
+            // Whatever loads builds a BSDF with at least one lobe.
+            let flags = m.with_bsdf(glam::Vec2::new(0.5, 0.5), |b| b.flags());
+            prop_assert!(flags.0 != 0);
+        }
+    }
+}
