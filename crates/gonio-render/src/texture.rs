@@ -14,7 +14,8 @@
 
 use glam::{Affine2, Vec2};
 use gonio_core::Spectrum;
-use gonio_core::spectra::RgbKind;
+use gonio_core::rgb2spec::srgb_to_sigmoid;
+use gonio_core::spectra::{RgbKind, RgbSpectrum};
 use std::sync::Arc;
 
 /// A reflectance or radiance that may vary over a surface.
@@ -215,10 +216,19 @@ impl Bitmap {
     }
 }
 
-/// RGB → spectrum in the given role.
+/// RGB → spectrum in the given role. Reflectances use the coefficient table directly (no
+/// Newton polish: this runs per texel at load and per hit for bilinear lookups; the table is
+/// within ~2e-3 of the colour, far below 8-bit quantization).
 pub fn uplift(rgb: [f32; 3], kind: RgbKind) -> Spectrum {
     match kind {
-        RgbKind::Albedo => Spectrum::rgb_albedo(rgb),
+        RgbKind::Albedo => {
+            let rgb = rgb.map(|v| if v.is_nan() { 0.0 } else { v.clamp(0.0, 1.0) });
+            Spectrum::Rgb(RgbSpectrum {
+                sigmoid: srgb_to_sigmoid(rgb),
+                scale: 1.0,
+                kind,
+            })
+        }
         RgbKind::Unbounded => Spectrum::rgb_unbounded(rgb),
         RgbKind::Illuminant => Spectrum::rgb_illuminant(rgb),
     }
