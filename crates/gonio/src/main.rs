@@ -15,6 +15,20 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Query one BSDF from stdin: eval, sample, albedo.
+    Bsdf(cmd::bsdf::Args),
+    /// Render a Mitsuba 3 XML scene (no scene: the embedded gallery of materials).
+    Render(cmd::render::RenderArgs),
+    /// Plot the lecture's instruments: fresnel, slice, polar, albedo (PNG and SVG).
+    Plot(cmd::plot::Args),
+    /// The property report of a BSDF (energy, reciprocity, isotropy, sampling, health); exit 1
+    /// on a failure.
+    Check(cmd::check::Args),
+    /// A virtual gonioreflectometer: measure a BSDF (or a heightfield of it) into a table.
+    Measure(cmd::measure::Args),
+    /// The light stage: relight a scene from one-light-at-a-time renders weighted by an
+    /// environment map, compared with a direct render.
+    Relight(cmd::relight::Args),
     /// Compare two images: relMSE, RMSE, MAE, block relMSE, worst block; exit 1 past a threshold.
     Compare(cmd::compare::Args),
 }
@@ -22,6 +36,12 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: anyhow::Result<ExitCode> = match cli.command {
+        Command::Bsdf(args) => cmd::bsdf::run(args),
+        Command::Render(args) => cmd::render::run(args),
+        Command::Plot(args) => cmd::plot::run(args),
+        Command::Check(args) => cmd::check::run(args),
+        Command::Measure(args) => cmd::measure::run(args),
+        Command::Relight(args) => cmd::relight::run(args),
         Command::Compare(args) => cmd::compare::run(args),
     };
     match result {
