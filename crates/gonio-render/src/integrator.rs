@@ -360,12 +360,21 @@ impl<'a> PathTracer<'a> {
             if tr.is_black() {
                 return tr;
             }
-            let remaining = ray.tmax - h.t;
-            ray = h.spawn_ray(ray.d);
-            ray.tmax = remaining;
+            // Continue from the sheet towards the same end point (already offset off the light).
+            let o = crate::geometry::offset_ray_origin(h.p, h.n, ray.d);
+            let remaining = if ray.tmax.is_finite() {
+                (ray.o + ray.d * ray.tmax - o).dot(ray.d)
+            } else {
+                f32::INFINITY
+            };
             if !(remaining > 0.0) {
                 return tr;
             }
+            ray = Ray {
+                o,
+                d: ray.d,
+                tmax: remaining,
+            };
         }
         SampledSpectrum::ZERO
     }

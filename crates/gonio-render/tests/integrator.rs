@@ -1,0 +1,211 @@
+//! The path integrator against closed-form answers: a grey Lambertian plane (ρ = 0.5, normal +y)
+//! lit by each kind of light, seen through a narrow camera so every pixel sees the same point.
+//! Radiance leaving a Lambertian surface is L = ρ/π·E, E the irradiance:
+//!
+//! * point light of intensity I at height h: E = I/h²;
+//! * directional light of irradiance E₀ at 45°: E = E₀ cos 45°;
+//! * spherical light of radiance Lₑ, radius r, centre at distance d on the normal:
+//!   E = π Lₑ (r/d)² (solid-angle sampling of the sphere and MIS with BSDF sampling);
+//! * constant environment Lₑ over the upper hemisphere: L = ρ Lₑ.
+//!
+//! Plus the integrator's switches: `max_depth` 1 (emitters only), `hide_emitters`, and
+//! `thin_shadows` (the same expected image as Mitsuba's behaviour, with less noise). Emitter RGB
+//! values are uplifted with D65 and a grey reflectance with a flat spectrum, so each channel of the
+//! result is the grey value; the tolerances (0.5 % unless stated) are several times the spectral
+//! and sampling noise measured at these sample counts.
+
+use gonio_render::image::RgbImage;
+use gonio_render::render::{PreparedScene, RenderOptions, render};
+use std::f64::consts::PI;
+use std::sync::atomic::AtomicBool;
+
+fn scene_xml(integrator: &str, lights: &str, extra: &str) -> String {
+    format!(
+        r#"<scene version="3.0.0">
+    <integrator type="path">{integrator}</integrator>
+    <sensor type="perspective">
+        <float name="fov" value="0.5"/>
+        <transform name="to_world"><lookat origin="6, 5, 0" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm">
+            <integer name="width" value="16"/><integer name="height" value="16"/>
+            <rfilter type="box"/>
+        </film>
+    </sensor>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="1000"/><rotate x="1" angle="-90"/></transform>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>
+    </shape>
+    {lights}
+    {extra}
+</scene>"#
+    )
+}
+
+fn render_xml(xml: &str, spp: u32, seed: u64) -> RgbImage {
+    let scene = gonio_render::xml::load_scene_str(xml, ".", &[]).expect("test scene loads");
+    let prepared = PreparedScene::new(scene).expect("test scene prepares");
+    let mut options = RenderOptions::from_scene(&prepared.scene);
+    options.spp = spp;
+    options.seed = seed;
+    render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image
+}
+
+/// Mean of each channel over the whole (16 × 16) image.
+fn mean(img: &RgbImage) -> [f64; 3] {
+    let mut m = [0.0f64; 3];
+    for c in &img.data {
+        for k in 0..3 {
+            m[k] += c[k] as f64;
+        }
+    }
+    m.map(|v| v / img.data.len() as f64)
+}
+
+fn assert_grey(img: &RgbImage, expected: f64, rel_tol: f64, what: &str) {
+    let m = mean(img);
+    for (k, v) in m.iter().enumerate() {
+        assert!(
+            (v - expected).abs() <= rel_tol * expected,
+            "{what}: channel {k} = {v:.6}, expected {expected:.6} (±{:.2} %)",
+            rel_tol * 100.0
+        );
+    }
+}
+
+#[test]
+fn point_light_on_lambertian_plane() {
+    let xml = scene_xml(
+        r#"<integer name="max_depth" value="-1"/>"#,
+        r#"<emitter type="point"><point name="position" value="0, 2, 0"/><rgb name="intensity" value="10"/></emitter>"#,
+        "",
+    );
+    // E = I/h² = 10/4; L = ρ/π E.
+    assert_grey(&render_xml(&xml, 16, 0), 0.5 / PI * 2.5, 0.005, "point light");
+}
+
+#[test]
+fn directional_light_on_lambertian_plane() {
+    let xml = scene_xml(
+        "",
+        r#"<emitter type="directional"><vector name="direction" value="-1, -1, 0"/><rgb name="irradiance" value="2"/></emitter>"#,
+        "",
+    );
+    assert_grey(
+        &render_xml(&xml, 16, 0),
+        0.5 / PI * 2.0 * (0.5f64).sqrt(),
+        0.005,
+        "directional light",
+    );
+}
+
+#[test]
+fn spherical_light_on_lambertian_plane() {
+    let xml = scene_xml(
+        "",
+        r#"<shape type="sphere"><point name="center" value="0, 2, 0"/><float name="radius" value="0.5"/>
+             <emitter type="area"><rgb name="radiance" value="4"/></emitter></shape>"#,
+        "",
+    );
+    // E = π Lₑ (r/d)² = π·4·(0.5/2)²; L = ρ/π E = 0.125.
+    assert_grey(&render_xml(&xml, 64, 0), 0.125, 0.005, "spherical light");
+}
+
+#[test]
+fn rectangular_light_on_lambertian_plane() {
+    // A 2 × 2 square light at height 1 facing down, centred above the point seen: the irradiance
+    // under the centre of a square of half-side a at height h is
+    // E = 4 Lₑ [a/√(a²+h²)·atan(a/√(a²+h²))] (form factor of a parallel square, Howell's catalogue
+    // C-11 summed over four quadrants).
+    let xml = scene_xml(
+        "",
+        r#"<shape type="rectangle">
+             <transform name="to_world"><rotate x="1" angle="90"/><translate y="1"/></transform>
+             <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>"#,
+        "",
+    );
+    let (a, h, le) = (1.0f64, 1.0f64, 3.0f64);
+    let s = (a * a + h * h).sqrt();
+    let e = 4.0 * le * (a / s) * (a / s).atan();
+    // The camera at (6, 5, 0) looks past the light's edge at the origin.
+    assert_grey(&render_xml(&xml, 64, 0), 0.5 / PI * e, 0.005, "rectangular light");
+}
+
+#[test]
+fn constant_environment_on_lambertian_plane() {
+    let xml = scene_xml(
+        "",
+        r#"<emitter type="constant"><rgb name="radiance" value="1"/></emitter>"#,
+        "",
+    );
+    // The plane is 2000 wide: it hides a negligible part of the upper hemisphere.
+    assert_grey(&render_xml(&xml, 16, 0), 0.5, 0.005, "constant environment");
+}
+
+#[test]
+fn max_depth_one_shows_emitters_only() {
+    let xml = scene_xml(
+        r#"<integer name="max_depth" value="1"/>"#,
+        r#"<emitter type="point"><point name="position" value="0, 2, 0"/><rgb name="intensity" value="10"/></emitter>
+           <emitter type="constant"><rgb name="radiance" value="1"/></emitter>"#,
+        "",
+    );
+    // Only the plane is seen, and it does not emit.
+    assert_eq!(mean(&render_xml(&xml, 4, 0)), [0.0; 3]);
+}
+
+#[test]
+fn hide_emitters_hides_directly_visible_lights_only() {
+    let light = r#"<shape type="sphere"><point name="center" value="0, 0.2, 0"/><float name="radius" value="0.5"/>
+             <emitter type="area"><rgb name="radiance" value="2"/></emitter></shape>"#;
+    let shown = render_xml(&scene_xml("", light, ""), 64, 0);
+    assert_grey(&shown, 2.0, 0.005, "visible light");
+    let hidden = render_xml(
+        &scene_xml(r#"<boolean name="hide_emitters" value="true"/>"#, light, ""),
+        4,
+        0,
+    );
+    assert_eq!(mean(&hidden), [0.0; 3]);
+}
+
+/// A thin glass pane (2 × 2 at height 1.3, outside the camera's view) between a spherical light and
+/// the point seen: with thin shadows next-event estimation sees through it; without, only BSDF
+/// sampling does (Mitsuba). Same expectation, different noise.
+#[test]
+fn thin_shadows_keep_the_expectation_and_lower_the_noise() {
+    let light = r#"<shape type="sphere"><point name="center" value="0, 2, 0"/><float name="radius" value="0.5"/>
+             <emitter type="area"><rgb name="radiance" value="4"/></emitter></shape>"#;
+    let pane = r#"<shape type="rectangle">
+             <transform name="to_world"><rotate x="1" angle="90"/><translate y="1.3"/></transform>
+             <bsdf type="thindielectric"><float name="int_ior" value="1.5"/></bsdf></shape>"#;
+    let on = render_xml(&scene_xml("", light, pane), 256, 0);
+    let off = render_xml(
+        &scene_xml(r#"<boolean name="thin_shadows" value="false"/>"#, light, pane),
+        256,
+        0,
+    );
+    let (m_on, m_off) = (mean(&on), mean(&off));
+    let var =
+        |img: &RgbImage, m: f64| img.data.iter().map(|c| (c[1] as f64 - m).powi(2)).sum::<f64>() / 255.0;
+    let (v_on, v_off) = (var(&on, m_on[1]), var(&off, m_off[1]));
+    // Standard error of the difference of the two image means, from the pixel variances.
+    let se = ((v_on + v_off) / 256.0).sqrt();
+    println!(
+        "thin shadows: mean {:.5} (pixel sd {:.5}), without {:.5} (pixel sd {:.5})",
+        m_on[1],
+        v_on.sqrt(),
+        m_off[1],
+        v_off.sqrt()
+    );
+    assert!(
+        (m_on[1] - m_off[1]).abs() < 4.0 * se,
+        "means differ: {} vs {} (se {se})",
+        m_on[1],
+        m_off[1]
+    );
+    assert!(
+        v_on < 0.5 * v_off,
+        "thin shadows should lower the noise: variance {v_on} vs {v_off}"
+    );
+    // Light does arrive through the pane: about (1 − R)² of the unobstructed 0.125, R ≈ 4 %.
+    assert!(m_on[1] > 0.8 * 0.125 && m_on[1] < 0.125, "mean {}", m_on[1]);
+}
