@@ -157,3 +157,64 @@ fn vertex_normals_are_angle_weighted() {
     let c = cube();
     assert_eq!(vertex_normals(&c), c.normals);
 }
+
+#[test]
+fn ply_large_binary_grid_round_trips() {
+    // A 400 × 400 quad grid (320 000 triangles) with uvs, written big-endian with float
+    // positions, read back exactly.
+    let n = 401usize;
+    let mut b = format!(
+        "ply\nformat binary_big_endian 1.0\ncomment grid\nelement vertex {}\nproperty float x\nproperty float y\nproperty float z\nproperty float u\nproperty float v\nelement face {}\nproperty list uchar uint vertex_indices\nend_header\n",
+        n * n,
+        (n - 1) * (n - 1)
+    )
+    .into_bytes();
+    for j in 0..n {
+        for i in 0..n {
+            let (x, y) = (i as f32 / 400.0, j as f32 / 400.0);
+            for v in [x, y, (x * y).sin(), x, y] {
+                b.extend_from_slice(&v.to_be_bytes());
+            }
+        }
+    }
+    for j in 0..n - 1 {
+        for i in 0..n - 1 {
+            let a = (j * n + i) as u32;
+            b.push(4);
+            for v in [a, a + 1, a + 1 + n as u32, a + n as u32] {
+                b.extend_from_slice(&v.to_be_bytes());
+            }
+        }
+    }
+    let path = std::env::temp_dir().join(format!("gonio-grid-{}.ply", std::process::id()));
+    std::fs::write(&path, &b).unwrap();
+    let t = std::time::Instant::now();
+    let m = load_ply(&path, false);
+    let dt = t.elapsed();
+    std::fs::remove_file(&path).ok();
+    let m = m.unwrap();
+    println!(
+        "{} triangles in {:.1} ms",
+        m.indices.len(),
+        dt.as_secs_f64() * 1e3
+    );
+    assert_eq!(m.positions.len(), n * n);
+    assert_eq!(m.indices.len(), 2 * (n - 1) * (n - 1));
+    let k = 123 * n + 77;
+    let (x, y) = (77.0f32 / 400.0, 123.0f32 / 400.0);
+    assert_eq!(m.positions[k], Vec3::new(x, y, (x * y).sin()));
+    assert_eq!(m.uvs[k], Vec2::new(x, y));
+    // The surface area of z = sin(xy) over the unit square, by the midpoint rule.
+    let k = 1000;
+    let mut exact = 0.0f64;
+    for j in 0..k {
+        for i in 0..k {
+            let (x, y) = ((i as f64 + 0.5) / k as f64, (j as f64 + 0.5) / k as f64);
+            let c = (x * y).cos();
+            exact += (1.0 + (y * c).powi(2) + (x * c).powi(2)).sqrt();
+        }
+    }
+    exact /= (k * k) as f64;
+    let (area, _) = area_vector(&m);
+    assert!((area as f64 - exact).abs() < 1e-3, "{area} vs {exact}");
+}

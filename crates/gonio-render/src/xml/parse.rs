@@ -570,8 +570,8 @@ impl Parser {
                 self.doc.search_paths.push(p);
                 Ok(())
             }
-            "integer" | "float" | "boolean" | "string" | "point" | "vector" | "rgb" | "color"
-            | "spectrum" | "transform" => {
+            "integer" | "float" | "boolean" | "string" | "point" | "vector" | "rgb" | "spectrum"
+            | "transform" => {
                 let prop = self.property(ctx, node, tag)?;
                 let prop = Prop {
                     name: self.legacy_rename(ctx, parent, prop.name.clone()),
@@ -757,7 +757,7 @@ impl Parser {
                     l,
                 )
             }
-            "rgb" | "color" => {
+            "rgb" => {
                 let (v, l) = attrs.required("value", tag)?;
                 let n = values::parse_list(v, l)?;
                 let c = match n.as_slice() {
