@@ -209,3 +209,57 @@ fn empty_scene_hits_nothing() {
     assert!(accel.intersect(&ray).is_none() && !accel.occluded(&ray));
     assert!(!accel.for_each_hit(&ray, &mut |_| true));
 }
+
+#[test]
+fn shadow_rays_between_surfaces_see_neither_endpoint_surface() {
+    // An empty box of five rectangles (open front) and a sphere in a corner touching nothing:
+    // segments between random points on different faces must not be occluded by the faces they
+    // start and end on, including near the shared edges where rays graze.
+    use gonio_render::geometry::sampling::sample_area;
+    use gonio_render::geometry::spawn_ray_between;
+    use std::f32::consts::FRAC_PI_2;
+    let faces = [
+        Affine3A::from_translation(Vec3::new(0.0, -1.0, 0.0)) * Affine3A::from_rotation_x(-FRAC_PI_2),
+        Affine3A::from_translation(Vec3::new(0.0, 1.0, 0.0)) * Affine3A::from_rotation_x(FRAC_PI_2),
+        Affine3A::from_translation(Vec3::new(0.0, 0.0, -1.0)),
+        Affine3A::from_translation(Vec3::new(-1.0, 0.0, 0.0)) * Affine3A::from_rotation_y(FRAC_PI_2),
+        Affine3A::from_translation(Vec3::new(1.0, 0.0, 0.0)) * Affine3A::from_rotation_y(-FRAC_PI_2),
+    ];
+    let shapes: Vec<WorldShape> = faces
+        .iter()
+        .map(|&m| WorldShape::from_scene(&shape(Geometry::Rectangle, m), "face").unwrap())
+        .collect();
+    let accel = Accel::new(shapes.clone());
+    let mut rng = Rng(77);
+    let mut tested = 0;
+    for _ in 0..50_000 {
+        let i = (rng.next() * 5.0) as usize % 5;
+        let j = (i + 1 + (rng.next() * 4.0) as usize % 4) % 5;
+        // Squash samples towards the edges half of the time.
+        let mut u = glam::Vec2::new(rng.next(), rng.next());
+        if rng.next() < 0.5 {
+            u = u.map(|v| {
+                if v < 0.5 {
+                    (2.0 * v).powi(6) * 0.5
+                } else {
+                    1.0 - (2.0 * (1.0 - v)).powi(6) * 0.5
+                }
+            });
+        }
+        let a = sample_area(&shapes[i], u);
+        let b = sample_area(&shapes[j], glam::Vec2::new(rng.next(), rng.next()));
+        // Both normals point into the box (rectangles face +z, rotated inwards).
+        if (b.p - a.p).dot(a.n) <= 0.0 || (a.p - b.p).dot(b.n) <= 0.0 {
+            continue;
+        }
+        let ray = spawn_ray_between(a.p, a.n, b.p, Some(b.n));
+        assert!(
+            !accel.occluded(&ray),
+            "face {i} {:?} → face {j} {:?} occluded",
+            a.p,
+            b.p
+        );
+        tested += 1;
+    }
+    assert!(tested > 20_000, "{tested}");
+}
