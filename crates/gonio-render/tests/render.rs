@@ -1,0 +1,158 @@
+//! The render loop: the same seed gives the same image bit for bit whatever the number of threads,
+//! another seed gives another image, progress is reported to the total, a cancelled render
+//! returns what it finished, and bad scenes are errors.
+
+use gonio_render::image::RgbImage;
+use gonio_render::render::{DEFAULT_SCENE, PreparedScene, RenderOptions, render};
+use gonio_render::sampler::Pattern;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+fn cornell(width: u32, height: u32) -> PreparedScene {
+    let path =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/mitsuba/scenes/cornell-spheres.xml");
+    let defines = vec![
+        ("width".to_string(), width.to_string()),
+        ("height".to_string(), height.to_string()),
+    ];
+    PreparedScene::new(gonio_render::xml::load_scene_file(&path, &defines).unwrap()).unwrap()
+}
+
+fn render_with_threads(p: &PreparedScene, options: &RenderOptions, threads: usize) -> RgbImage {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap();
+    pool.install(|| render(p, options, &|_, _| {}, &AtomicBool::new(false)).image)
+}
+
+#[test]
+fn same_seed_same_image_whatever_the_thread_count() {
+    // 40 × 36: tiles of 16 leave partial tiles at the right and bottom edges.
+    let p = cornell(40, 36);
+    for pattern in [Pattern::Sobol, Pattern::Independent] {
+        let options = RenderOptions {
+            spp: 20,
+            seed: 7,
+            pattern,
+        };
+        let one = render_with_threads(&p, &options, 1);
+        let two = render_with_threads(&p, &options, 2);
+        let three = render_with_threads(&p, &options, 3);
+        assert!(
+            one.data == two.data && one.data == three.data,
+            "{pattern:?}: images differ between thread counts"
+        );
+        let other = render_with_threads(&p, &RenderOptions { seed: 8, ..options }, 2);
+        assert!(
+            one.data != other.data,
+            "{pattern:?}: another seed must give another image"
+        );
+        // Finite everywhere (a single-sample colour may be slightly out of the sRGB gamut, < 0).
+        assert!(one.data.iter().all(|c| c.iter().all(|v| v.is_finite())));
+    }
+}
+
+#[test]
+fn filters_other_than_box_are_deterministic_too() {
+    // A tent filter splats across tile borders: the merge order must still be fixed.
+    let mut p = cornell(40, 36);
+    p.scene.sensor.film.filter = gonio_render::scene::Filter::Tent { radius: 1.5 };
+    let options = RenderOptions {
+        spp: 8,
+        seed: 3,
+        pattern: Pattern::Sobol,
+    };
+    assert!(render_with_threads(&p, &options, 1).data == render_with_threads(&p, &options, 2).data);
+}
+
+#[test]
+fn progress_reaches_the_total() {
+    let p = cornell(24, 20);
+    let seen = Mutex::new((0u64, 0u64));
+    let options = RenderOptions {
+        spp: 5,
+        seed: 0,
+        pattern: Pattern::Sobol,
+    };
+    let out = render(
+        &p,
+        &options,
+        &|done, total| {
+            let mut s = seen.lock().unwrap();
+            s.0 = s.0.max(done);
+            s.1 = total;
+        },
+        &AtomicBool::new(false),
+    );
+    let (done, total) = *seen.lock().unwrap();
+    assert_eq!(total, 24 * 20 * 5);
+    assert_eq!(done, total);
+    assert_eq!(out.complete_spp, 5);
+    assert!(!out.cancelled);
+}
+
+#[test]
+fn cancelling_returns_the_finished_part() {
+    let p = cornell(64, 64);
+    let cancel = AtomicBool::new(false);
+    // Cancel after the first tiles report progress: the render stops early and still returns an
+    // image of the right size with some pixels rendered.
+    let options = RenderOptions {
+        spp: 64,
+        seed: 0,
+        pattern: Pattern::Sobol,
+    };
+    let out = render(
+        &p,
+        &options,
+        &|done, _| {
+            if done >= 64 * 64 * 16 {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        },
+        &cancel,
+    );
+    assert!(out.cancelled);
+    assert!(out.complete_spp < 64);
+    assert_eq!((out.image.width, out.image.height), (64, 64));
+    let lit = out.image.data.iter().filter(|c| c[0] + c[1] + c[2] > 0.0).count();
+    assert!(lit > 64 * 64 / 2, "most pixels have samples: {lit}");
+}
+
+#[test]
+fn the_default_scene_loads_and_renders() {
+    let defines = vec![
+        ("width".to_string(), "32".to_string()),
+        ("height".to_string(), "16".to_string()),
+        ("spp".to_string(), "2".to_string()),
+    ];
+    let scene = gonio_render::xml::load_scene_str(DEFAULT_SCENE, ".", &defines).expect("default scene loads");
+    let p = PreparedScene::new(scene).unwrap();
+    let out = render(
+        &p,
+        &RenderOptions::from_scene(&p.scene),
+        &|_, _| {},
+        &AtomicBool::new(false),
+    );
+    assert_eq!(out.complete_spp, 2);
+    let mean: f32 = out.image.data.iter().map(|c| c[0] + c[1] + c[2]).sum::<f32>() / (3.0 * 32.0 * 16.0);
+    assert!(mean > 0.05 && mean.is_finite(), "mean {mean}");
+}
+
+#[test]
+fn a_scene_without_pixels_is_an_error() {
+    let mut scene = gonio_render::xml::load_scene_str(
+        DEFAULT_SCENE,
+        ".",
+        &[
+            ("width".to_string(), "8".to_string()),
+            ("height".to_string(), "8".to_string()),
+        ],
+    )
+    .unwrap();
+    scene.sensor.film.width = 0;
+    let err = PreparedScene::new(scene).unwrap_err();
+    assert!(err.to_string().contains("no pixels"), "{err}");
+}
