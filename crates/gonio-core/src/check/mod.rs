@@ -157,6 +157,12 @@ pub struct Chi2Config {
     pub res: usize,
     /// Quadrature nodes per cell and axis for the expected counts (odd, composite Simpson; 5).
     pub ires: usize,
+    /// Adaptive quadrature: at most this many quadrant subdivisions of a cell (3).
+    pub max_depth: usize,
+    /// Adaptive quadrature: a cell of E expected samples is integrated to `rel_tol`·√E samples,
+    /// so quadrature error adds at most `rel_tol`² to its χ² term (0.05: ≤ 0.0025 per cell,
+    /// ≤ 6 over 2500 cells, against the statistic's standard deviation √(2·dof) ≈ 70).
+    pub rel_tol: f64,
     /// Query directions `wi` (normalized on use).
     pub incidences: Vec<Vec3>,
     /// Samplers; every incidence is tested with every sampler.
@@ -172,6 +178,8 @@ impl Default for Chi2Config {
             samples: 1_000_000,
             res: 101,
             ires: 5,
+            max_depth: 3,
+            rel_tol: 0.05,
             incidences: vec![
                 Vec3::Z,
                 Vec3::new(0.5, 0.3, 0.8),
