@@ -447,6 +447,16 @@ fn grammar_errors() {
     check(&load_err(t), ErrorKind::BadValue, at(t, "180"), &["180"]);
     let t = scene("    <sensor type=\"perspective\"><string name=\"fov_axis\" value=\"z\"/></sensor>");
     check(&load_err(&t), ErrorKind::BadValue, at(&t, "z\"/>"), &["\"z\""]);
+    let t = "<scene version=\"3.0.0\">\n    <sensor type=\"perspective\"><transform name=\"to_world\"><scale value=\"2\"/></transform></sensor>\n</scene>";
+    check(
+        &load_err(t),
+        ErrorKind::BadValue,
+        at(t, "<transform"),
+        &["scale", "2"],
+    );
+    // A mirror flip keeps unit axes and is allowed (Blender exports use it).
+    let t = "<scene version=\"3.0.0\">\n    <sensor type=\"perspective\"><transform name=\"to_world\"><scale x=\"-1\"/></transform></sensor>\n</scene>";
+    assert!(load_scene_str(t, data(), &[]).is_ok());
     let e = load_bsdf_str("<scene version=\"3.0.0\"/>").unwrap_err();
     assert_eq!(e.kind, ErrorKind::Grammar);
     assert!(e.to_string().contains("<scene>"), "{e}");

@@ -537,7 +537,31 @@ impl<'d> Builder<'d> {
                 ));
             }
         };
+        let tw_loc = p
+            .obj
+            .props
+            .iter()
+            .find(|x| x.name == "to_world")
+            .map(|x| x.loc.clone());
         let to_world = p.affine("to_world")?;
+        // Mitsuba: "Scale factors in the camera-to-world transformation are not allowed!"
+        // (a mirror flip, scale −1, keeps unit axes and is allowed).
+        let m = to_world.matrix3;
+        if [m.x_axis, m.y_axis, m.z_axis]
+            .iter()
+            .any(|a| (a.length() - 1.0).abs() > 1e-3)
+        {
+            return Err(err(
+                tw_loc.as_ref().unwrap_or(&obj.loc),
+                ErrorKind::BadValue,
+                format!(
+                    "scale factors in the sensor's to_world are not allowed (axis lengths {}, {}, {})",
+                    m.x_axis.length(),
+                    m.y_axis.length(),
+                    m.z_axis.length()
+                ),
+            ));
+        }
         let aspect = film.width as f64 / film.height as f64;
         let fov = p.float_opt("fov")?;
         let focal = p.string_opt("focal_length")?;
