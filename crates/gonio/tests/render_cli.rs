@@ -1,0 +1,174 @@
+//! `gonio render` end to end: outputs by extension, determinism across `--threads`, the default
+//! scene, clear errors for bad input, and Ctrl-C still writing the image.
+
+use gonio_render::image::RgbImage;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn gonio() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_gonio"))
+}
+
+fn scene(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../testdata/mitsuba/scenes/{name}.xml"))
+}
+
+fn tempdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("gonio-render-cli-{tag}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(args: &[&str], cwd: &Path) -> Output {
+    gonio().args(args).current_dir(cwd).output().expect("gonio runs")
+}
+
+#[test]
+fn renders_exr_and_png_and_is_deterministic_across_threads() {
+    let dir = tempdir("basic");
+    let s = scene("cornell-spheres");
+    let s = s.to_str().unwrap();
+    let common = [
+        "render",
+        s,
+        "-D",
+        "width=40",
+        "-D",
+        "height=32",
+        "--spp",
+        "4",
+        "--seed",
+        "5",
+    ];
+    let a = run(&[&common[..], &["-o", "a.exr", "--threads", "1"]].concat(), &dir);
+    assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
+    let b = run(&[&common[..], &["-o", "b.exr", "--threads", "2"]].concat(), &dir);
+    assert!(b.status.success());
+    let (ia, ib) = (
+        RgbImage::read(dir.join("a.exr")).unwrap(),
+        RgbImage::read(dir.join("b.exr")).unwrap(),
+    );
+    assert_eq!((ia.width, ia.height), (40, 32));
+    assert!(ia.data == ib.data, "--threads 1 and 2 must give the same image");
+    let stderr = String::from_utf8_lossy(&a.stderr);
+    assert!(
+        stderr.contains("40x32") && stderr.contains("4 spp"),
+        "summary line: {stderr}"
+    );
+
+    let p = run(&[&common[..], &["-o", "c.png"]].concat(), &dir);
+    assert!(p.status.success());
+    let bytes = std::fs::read(dir.join("c.png")).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    // No temporary files are left behind.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(names.len(), 3, "{names:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn no_scene_renders_the_default_gallery_to_png_and_exr() {
+    let dir = tempdir("default");
+    let out = run(
+        &[
+            "render",
+            "-D",
+            "width=32",
+            "-D",
+            "height=16",
+            "-D",
+            "spp=2",
+            "--quiet",
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.stderr.is_empty(),
+        "--quiet prints nothing: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let exr = RgbImage::read(dir.join("gonio.exr")).unwrap();
+    let png = RgbImage::read(dir.join("gonio.png")).unwrap();
+    assert_eq!((exr.width, exr.height, png.width, png.height), (32, 16, 32, 16));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let dir = tempdir("errors");
+    let missing = run(&["render", "no-such-scene.xml", "-o", "x.exr"], &dir);
+    assert_eq!(missing.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("no-such-scene.xml"));
+
+    let s = scene("furnace");
+    let s = s.to_str().unwrap();
+    let bad_define = run(&["render", s, "-D", "width"], &dir);
+    assert_eq!(bad_define.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad_define.stderr).contains("NAME=VALUE"));
+
+    let bad_ext = run(&["render", s, "-o", "x.tiff", "--spp", "1"], &dir);
+    assert_eq!(bad_ext.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad_ext.stderr).contains("x.tiff"));
+
+    let zero = run(&["render", s, "--spp", "0"], &dir);
+    assert_eq!(zero.status.code(), Some(2));
+
+    let unused = run(&["render", s, "-D", "nonsense=3", "--spp", "1"], &dir);
+    assert_eq!(
+        unused.status.code(),
+        Some(2),
+        "an unused -D is an error, as in Mitsuba"
+    );
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "nothing written on error"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn ctrl_c_still_writes_the_image() {
+    let dir = tempdir("sigint");
+    let s = scene("cornell-spheres");
+    let child = gonio()
+        .args([
+            "render",
+            s.to_str().unwrap(),
+            "--spp",
+            "100000",
+            "-D",
+            "width=64",
+            "-D",
+            "height=64",
+            "-o",
+            "i.exr",
+        ])
+        .current_dir(&dir)
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    let status = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("interrupted"));
+    let img = RgbImage::read(dir.join("i.exr")).expect("the partial image is written");
+    assert_eq!((img.width, img.height), (64, 64));
+    assert!(img.data.iter().any(|c| c[0] > 0.0));
+    let _ = std::fs::remove_dir_all(&dir);
+}
