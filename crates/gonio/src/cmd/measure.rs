@@ -19,6 +19,7 @@ use gonio_core::instruments::gonioreflectometer::{
 };
 use gonio_render::tabulated_io::write_tabulated;
 use rayon::prelude::*;
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -117,7 +118,8 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         }
     }
     let max = table.values.iter().copied().fold(0.0f32, f32::max);
-    println!(
+    writeln!(
+        std::io::stdout().lock(),
         "{}: {} readings (θi {} × θo {} × φd {} × λ {}), max f = {max:.4} 1/sr, mean relative standard error {:.2} %",
         a.output.display(),
         table.values.len(),
@@ -126,7 +128,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         table.phi_d_deg.len(),
         table.wavelengths_nm.len(),
         if n > 0 { 100.0 * rel / n as f64 } else { 0.0 },
-    );
+    )?;
     Ok(ExitCode::SUCCESS)
 }
 

@@ -16,6 +16,7 @@ use gonio_core::instruments::slice::{Fixed, Projection, SliceSettings, compute_s
 use gonio_core::{SampledWavelengths, TransportMode, named};
 use gonio_render::material::Material;
 use gonio_render::plot::{Figure, Panel, figures, save};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -180,8 +181,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 }
 
 fn written(files: Vec<PathBuf>) -> anyhow::Result<ExitCode> {
+    let mut out = std::io::stdout().lock();
     for f in files {
-        println!("{}", f.display());
+        writeln!(out, "{}", f.display())?;
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -27,6 +27,7 @@ use gonio_render::compare::relmse;
 use gonio_render::image::RgbImage;
 use gonio_render::render::{PreparedScene, RenderOptions, render};
 use gonio_render::scene::{Emitter, Scene};
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
@@ -201,18 +202,19 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     counts.sort_unstable();
     counts.dedup();
     counts.push(a.lights);
-    println!("{:>7} {:>12} {:>9}", "lights", "relMSE", "seconds");
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{:>7} {:>12} {:>9}", "lights", "relMSE", "seconds")?;
     for &n in &counts {
         let t = Instant::now();
         let img = relight(&scene, &env, n, &options)?;
         let e = relmse(&img, &direct).map_err(|e| anyhow!("{e}"))?;
-        println!("{n:>7} {e:>12.6} {:>9.1}", t.elapsed().as_secs_f32());
+        writeln!(out, "{n:>7} {e:>12.6} {:>9.1}", t.elapsed().as_secs_f32())?;
         if n == a.lights {
             img.write(&a.output)
                 .with_context(|| format!("writing {}", a.output.display()))?;
         }
     }
-    println!("relit image ({} lights): {}", a.lights, a.output.display());
+    writeln!(out, "relit image ({} lights): {}", a.lights, a.output.display())?;
     Ok(ExitCode::SUCCESS)
 }
 
