@@ -111,8 +111,8 @@ fn block_means(img: &RgbImage, other: &RgbImage, block: usize) -> (usize, usize,
             let (p, q) = (&img.data[i], &other.data[i]);
             if finite(p) && finite(q) {
                 let s = &mut sums[(y / block) * bx + x / block];
-                for c in 0..3 {
-                    s.0[c] += p[c] as f64;
+                for (acc, &v) in s.0.iter_mut().zip(p) {
+                    *acc += v as f64;
                 }
                 s.1 += 1;
             }
