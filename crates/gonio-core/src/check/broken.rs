@@ -282,6 +282,8 @@ impl Bsdf for NanAtGrazing {
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::DIFFUSE_REFLECTION
     }
+    // The defect is the point: cos θo/cos θo is 0/0 at grazing.
+    #[allow(clippy::eq_op)]
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
         if ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION) && wi.z > 0.0 && wo.z >= 0.0 {
             SampledSpectrum::splat(0.5 * FRAC_1_PI * (wo.z / wo.z))

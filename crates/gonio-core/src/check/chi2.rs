@@ -501,7 +501,7 @@ pub fn statistic(table: &Chi2Table) -> Chi2Stat {
 /// O(√a) terms; tested against `puruspe::gammq` where that is valid.
 pub fn chi2_sf(dof: f64, x: f64) -> f64 {
     let (a, x) = (0.5 * dof, 0.5 * x);
-    if !(a > 0.0) || x.is_nan() {
+    if a.is_nan() || a <= 0.0 || x.is_nan() {
         return f64::NAN;
     }
     if x <= 0.0 {

@@ -38,9 +38,9 @@ struct Moments {
 
 impl Moments {
     fn add(&mut self, v: [f64; N]) {
-        for i in 0..N {
-            self.s1[i] += v[i];
-            self.s2[i] += v[i] * v[i];
+        for ((s1, s2), x) in self.s1.iter_mut().zip(&mut self.s2).zip(v) {
+            *s1 += x;
+            *s2 += x * x;
         }
     }
     fn mean(&self, n: usize) -> [f64; N] {
@@ -167,7 +167,7 @@ pub fn albedo_uniform(
 
 /// The `energy` and `albedo_estimators` rows at level `alpha_row` each.
 pub fn energy(bsdf: &dyn Bsdf, config: &CheckConfig, alpha_row: f64) -> Vec<CheckResult> {
-    let mut rng = config.rng(0xe4e6_9);
+    let mut rng = config.rng(0x000e_4e69);
     let n = config.energy_samples;
     let per_mode = config.energy_angles_deg.len() * 2 * config.energy_wavelengths.len();
     // One-sided bound (≤ 1) over the importance-mode queries; two-sided equality over both modes.

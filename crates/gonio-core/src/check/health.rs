@@ -122,7 +122,7 @@ pub fn check_sample(
     };
     let unit = s.wo.is_finite() && (s.wo.length() - 1.0).abs() < 1e-3;
     let pdf_ok = s.pdf.is_finite() && s.pdf > 0.0 && (!s.flags.is_delta() || s.pdf <= 1.0 + 1e-6);
-    if !unit || !spectrum_ok(s.weight) || !pdf_ok || !(s.eta.is_finite() && s.eta > 0.0) {
+    if !(unit && spectrum_ok(s.weight) && pdf_ok && s.eta.is_finite() && s.eta > 0.0) {
         out.health = Some(at());
     } else if !wl2.pdf().is_finite() || wl2.lambdas().iter().any(|l| !l.is_finite()) {
         out.health = Some(format!("{} corrupted the wavelengths", at()));
@@ -140,7 +140,7 @@ pub fn check_sample(
 
 /// The `health` and `lobe_flags` rows.
 pub fn health(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
-    let mut rng = config.rng(0x4ea1_74);
+    let mut rng = config.rng(0x004e_a174);
     let mut h = Tally {
         count: 0,
         examples: Vec::new(),

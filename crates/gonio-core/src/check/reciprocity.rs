@@ -69,7 +69,7 @@ fn max_rel(a: SampledSpectrum, b: SampledSpectrum, slots: usize) -> f64 {
 
 /// The reciprocity rows of `bsdf` (see the module docs).
 pub fn reciprocity(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
-    let mut rng = config.rng(0x4ec1_9);
+    let mut rng = config.rng(0x0004_ec19);
     let rad = BsdfContext::radiance();
     let imp = BsdfContext::importance();
     let (mut w_refl, mut w_tran, mut w_adj) = (
