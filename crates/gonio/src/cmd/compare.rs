@@ -71,13 +71,13 @@ pub fn run(args: Args) -> Result<ExitCode> {
     }
     let mut fail = false;
     if let Some(t) = args.max_relmse {
-        if !(m.relmse <= t) {
+        if exceeds(m.relmse, t) {
             println!("FAIL: relMSE {:.6e} > {t:e}", m.relmse);
             fail = true;
         }
     }
     if let Some(t) = args.max_block_relmse {
-        if !(m.block_relmse <= t) {
+        if exceeds(m.block_relmse, t) {
             println!("FAIL: block relMSE {:.6e} > {t:e}", m.block_relmse);
             fail = true;
         }
@@ -91,4 +91,9 @@ pub fn run(args: Args) -> Result<ExitCode> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// `v > t`, with NaN counting as past any threshold.
+fn exceeds(v: f64, t: f64) -> bool {
+    v.is_nan() || v > t
 }
