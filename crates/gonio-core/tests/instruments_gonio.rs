@@ -170,8 +170,8 @@ fn tabulated_playback_of_a_measured_lambertian() {
     for _ in 0..1000 {
         let a = rng.next_vec2();
         let b = rng.next_vec2();
-        let wi = spherical_direction(a.x * 1.55, a.y * 6.28);
-        let wo = spherical_direction(b.x * 1.55, b.y * 6.28);
+        let wi = spherical_direction(a.x * 1.55, a.y * std::f32::consts::TAU);
+        let wo = spherical_direction(b.x * 1.55, b.y * std::f32::consts::TAU);
         let f = t.eval(&ctx, wi, wo, &wl)[0];
         assert!((f - 0.6 / PI).abs() < 3.0 * max_err, "f({wi}, {wo}) = {f}");
     }

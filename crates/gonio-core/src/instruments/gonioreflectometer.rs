@@ -459,16 +459,19 @@ pub fn measure_incident(specimen: &dyn Sample, settings: &GonioSettings, i: usiz
                 continue;
             };
             if !wl.secondary_terminated() {
-                let t: Vec<(usize, f32)> = (0..idx.len()).map(|c| (idx[c], thr[c])).collect();
-                record(d, &t);
+                let mut t = [(0usize, 0.0f32); 4];
+                for (c, &l) in idx.iter().enumerate() {
+                    t[c] = (l, thr[c]);
+                }
+                record(d, &t[..idx.len()]);
             } else {
                 // A dispersive event kept only the hero: the other wavelengths get their own
                 // photons, each traced alone.
                 record(d, &[(idx[0], thr[0])]);
-                for c in 1..idx.len() {
+                for (c, &l) in idx.iter().enumerate().skip(1) {
                     let mut wlc = SampledWavelengths::fixed(lam(c));
                     if let Some((dc, tc)) = specimen.scatter(to_source, &mut rng, &mut wlc) {
-                        record(dc, &[(idx[c], tc[0])]);
+                        record(dc, &[(l, tc[0])]);
                     }
                 }
             }

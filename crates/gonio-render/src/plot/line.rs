@@ -5,6 +5,9 @@ use super::{PlotError, draw_err, font, series_color};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+/// An axis range (low, high).
+type Range = (f64, f64);
+
 /// One curve.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Series {
@@ -110,7 +113,7 @@ impl LinePlot {
         }
     }
 
-    fn ranges(&self) -> Result<((f64, f64), (f64, f64)), PlotError> {
+    fn ranges(&self) -> Result<(Range, Range), PlotError> {
         let pts = || {
             self.series
                 .iter()

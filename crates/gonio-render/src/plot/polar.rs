@@ -119,7 +119,7 @@ impl PolarPlot {
                 .map_err(draw_err)?;
             chart
                 .draw_series(std::iter::once(Text::new(
-                    format!("{}", trim(r)),
+                    trim(r),
                     (r * 0.02, r),
                     font(11).color(&RGBColor(110, 110, 110)),
                 )))
