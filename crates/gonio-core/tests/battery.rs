@@ -337,6 +337,62 @@ fn tabulated_noisy_measurement() {
     assert_passes("tabulated noisy 7×7×5", &t);
 }
 
+// ---- lossless models: R + T = 1 to 1e-6 in importance mode (issue 2 §6) ------------------------
+
+#[test]
+fn lossless_models_conserve_energy_to_1e6() {
+    use gonio_core::check::direction;
+    use gonio_core::check::energy::albedo_sampled;
+    use gonio_core::{BsdfContext, SampledWavelengths};
+    let n_disp = piecewise(&[400.0, 1.53085, 550.0, 1.51852, 700.0, 1.51306]);
+    // (name, model, lossless from both sides): the conductor is one-sided, black from below.
+    let models: Vec<(&str, Box<dyn Bsdf>, bool)> = vec![
+        ("dielectric bk7/air", Box::new(Dielectric::default()), true),
+        (
+            "dielectric η=1/1.5",
+            Box::new(Dielectric::new(Ior::Constant(1.0), Ior::Constant(1.5))),
+            true,
+        ),
+        (
+            "dielectric dispersive",
+            Box::new(Dielectric::new(Ior::Dispersive(n_disp), Ior::Constant(1.0))),
+            true,
+        ),
+        (
+            "thindielectric bk7/air",
+            Box::new(ThinDielectric::default()),
+            true,
+        ),
+        (
+            "thindielectric η=2.419",
+            Box::new(ThinDielectric::new(Ior::Constant(2.419), Ior::Constant(1.0))),
+            true,
+        ),
+        ("conductor none", Box::new(Conductor::mirror()), false),
+    ];
+    let ctx = BsdfContext::importance();
+    let mut rng = Pcg32::new(3, 14);
+    for (name, bsdf, both_sides) in &models {
+        for theta in [0.0, 30.0, 60.0, 80.0, 89.0] {
+            for side in if *both_sides { vec![1.0, -1.0] } else { vec![1.0] } {
+                for lambda in [360.0, 550.0, 830.0] {
+                    let wi = direction(theta, 37.0, side);
+                    let wl = SampledWavelengths::fixed(lambda);
+                    let a = albedo_sampled(bsdf.as_ref(), &ctx, wi, &wl, 4096, &mut rng);
+                    for (c, total) in a.total().iter().enumerate() {
+                        assert!(
+                            (total - 1.0).abs() < 1e-6,
+                            "{name} θi={theta} side={side} λ={lambda} slot {c}: R={} T={} R+T={total}",
+                            a.r[c],
+                            a.t[c]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
 // ---- positive control for the delta checks ----------------------------------------------------
 
 #[test]

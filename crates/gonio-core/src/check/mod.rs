@@ -108,6 +108,47 @@ impl CheckResult {
     }
 }
 
+impl CheckResult {
+    /// One JSON object `{"name", "figure", "threshold", "bound", "passed", "detail"}` (for
+    /// `gonio check --json`); non-finite figures are written as strings ("NaN", "inf").
+    pub fn to_json(&self) -> String {
+        fn num(x: f64) -> String {
+            if x.is_finite() {
+                format!("{x:e}")
+            } else {
+                format!("\"{x}\"")
+            }
+        }
+        fn string(s: &str) -> String {
+            let mut o = String::with_capacity(s.len() + 2);
+            o.push('"');
+            for c in s.chars() {
+                match c {
+                    '"' => o.push_str("\\\""),
+                    '\\' => o.push_str("\\\\"),
+                    '\n' => o.push_str("\\n"),
+                    c if (c as u32) < 0x20 => o.push_str(&format!("\\u{:04x}", c as u32)),
+                    c => o.push(c),
+                }
+            }
+            o.push('"');
+            o
+        }
+        format!(
+            "{{\"name\":{},\"figure\":{},\"threshold\":{},\"bound\":{},\"passed\":{},\"detail\":{}}}",
+            string(self.name),
+            num(self.figure),
+            num(self.threshold),
+            string(match self.bound {
+                Bound::AtMost => "at_most",
+                Bound::AtLeast => "at_least",
+            }),
+            self.passed,
+            string(&self.detail)
+        )
+    }
+}
+
 impl fmt::Display for CheckResult {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let op = match self.bound {
@@ -353,6 +394,17 @@ mod tests {
         // Normal quantiles: two-sided 5 % → 1.959964, 1 % → 2.575829.
         assert!((z_quantile(0.05) - 1.959_964).abs() < 1e-5);
         assert!((z_quantile(0.01) - 2.575_829).abs() < 1e-5);
+    }
+
+    #[test]
+    fn json_rows_are_escaped() {
+        let r = CheckResult::compare("chi2", 0.25, Bound::AtLeast, 0.01, "a \"q\" \\ b\nc".into());
+        assert_eq!(
+            r.to_json(),
+            r#"{"name":"chi2","figure":2.5e-1,"threshold":1e-2,"bound":"at_least","passed":true,"detail":"a \"q\" \\ b\nc"}"#
+        );
+        let r = CheckResult::compare("x", f64::NAN, Bound::AtMost, 0.0, String::new());
+        assert!(r.to_json().contains(r#""figure":"NaN""#) && r.to_json().contains(r#""passed":false"#));
     }
 
     #[test]
