@@ -12,8 +12,8 @@ use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Tabulated, ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::{
-    Anisotropic, EnergyGain, MinimalGlass, NanAtGrazing, NonReciprocal, PdfOffByFactor, WrongSampler,
-    WrongWeight,
+    Anisotropic, EnergyGain, EvalPdfMismatch, MinimalGlass, MislabelledLobe, NanAtGrazing, NonReciprocal,
+    PdfOffByFactor, WrongSampler, WrongWeight,
 };
 use gonio_core::check::{CheckConfig, CheckResult, all_passed, battery, failures, sidak};
 use gonio_core::rng::Pcg32;
@@ -470,4 +470,14 @@ fn broken_glass_without_eta2_fails() {
         },
         &["delta_reciprocity"],
     );
+}
+
+#[test]
+fn broken_lobe_flags_fail() {
+    assert_fails("MislabelledLobe", &MislabelledLobe, &["lobe_flags"]);
+}
+
+#[test]
+fn broken_eval_pdf_fails() {
+    assert_fails("EvalPdfMismatch", &EvalPdfMismatch, &["eval_pdf"]);
 }

@@ -12,6 +12,8 @@
 //! | [`Anisotropic`] | f = ρ/π·(1 + ½cos 2φi cos 2φo) (reciprocal, energy-conserving) | `isotropy` |
 //! | [`NanAtGrazing`] | f = ρ/π·(cos θo/cos θo): NaN at exactly grazing wo | `health` |
 //! | [`MinimalGlass`] with `scale_radiance = false` | smooth dielectric without the radiance-mode 1/η² | `delta_reciprocity` |
+//! | [`MislabelledLobe`] | reflected samples flagged as diffuse *transmission* | `lobe_flags` |
+//! | [`EvalPdfMismatch`] | a fused `eval_pdf` that returns half the pdf | `eval_pdf` |
 //!
 //! [`MinimalGlass`] with `scale_radiance = true` is a correct smooth dielectric: the positive
 //! control that shows the delta-lobe checks pass on a right model.
@@ -386,5 +388,76 @@ impl Bsdf for MinimalGlass {
             flags: BsdfFlags::DELTA_TRANSMISSION | BsdfFlags::NON_SYMMETRIC,
             eta,
         })
+    }
+}
+
+/// A Lambertian (ρ = 0.5) whose samples claim to be diffuse transmission although they leave on
+/// wi's side (and its flags say reflection only).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct MislabelledLobe;
+
+impl Bsdf for MislabelledLobe {
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DIFFUSE_REFLECTION
+    }
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
+        if upper(ctx, wi, wo) {
+            SampledSpectrum::splat(0.5 * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
+    }
+    lambert_pdf!();
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
+        let mut s = diffuse_sample(wo, 0.5, pdf)?;
+        s.flags = BsdfFlags::DIFFUSE_TRANSMISSION;
+        Some(s)
+    }
+}
+
+/// A correct Lambertian (ρ = 0.5) except for its fused `eval_pdf`, which returns half the pdf
+/// (the kind of slip a hand-optimized fused path makes).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct EvalPdfMismatch;
+
+impl Bsdf for EvalPdfMismatch {
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DIFFUSE_REFLECTION
+    }
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
+        if upper(ctx, wi, wo) {
+            SampledSpectrum::splat(0.5 * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
+    }
+    lambert_pdf!();
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
+        diffuse_sample(wo, 0.5, pdf)
+    }
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        (self.eval(ctx, wi, wo, wl), 0.5 * self.pdf(ctx, wi, wo, wl))
     }
 }
