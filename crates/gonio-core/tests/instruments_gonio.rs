@@ -212,3 +212,32 @@ fn a_measured_table_passes_the_property_battery() {
     );
     assert!(rows.iter().any(|r| r.name == "chi2"));
 }
+
+#[test]
+fn a_half_space_of_lambertian_spheres_has_the_published_plane_albedo() {
+    // lambertian-generalizations.md §1.9: plane albedo of the half-space of Lambert spheres
+    // with c = 0.5, a(μ = 1) = 0.175734, a(μ = 0.5) = 0.200553 (deterministic solver).
+    use gonio_core::instruments::gonioreflectometer::SphereHalfSpaceSpecimen;
+    let c: Arc<dyn Bsdf> = Arc::new(Diffuse::new(Spectrum::Constant(0.5)));
+    let spheres = SphereHalfSpaceSpecimen::new(c, 1000, "diffuse 0.5");
+    for (mu, expect) in [(1.0f32, 0.175734f64), (0.5, 0.200553)] {
+        let to_source = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+        let mut rng = gonio_core::rng::Pcg32::new(11, 0);
+        let n = 200_000;
+        let (mut s, mut s2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let mut wl = SampledWavelengths::fixed(550.0);
+            if let Some((d, thr)) = spheres.scatter(to_source, &mut rng, &mut wl) {
+                assert!(d.z > 0.0);
+                s += thr[0] as f64;
+                s2 += (thr[0] as f64).powi(2);
+            }
+        }
+        let mean = s / n as f64;
+        let se = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+        assert!(
+            (mean - expect).abs() < 4.0 * se,
+            "μ = {mu}: {mean} ± {se} vs {expect}"
+        );
+    }
+}

@@ -271,6 +271,74 @@ impl Sample for HeightfieldSpecimen<'_> {
     }
 }
 
+/// A half-space (z < 0) sparsely filled with randomly placed opaque spheres whose surfaces are
+/// made of a BSDF (d'Eon 2021, "An analytic BRDF for materials with spherical Lambertian
+/// scatterers"). Sparse,
+/// uncorrelated spheres make classical transport: exponential free paths (unit mean free path)
+/// between collisions; at a collision the photon meets a sphere at a point uniform in projected
+/// area, i.e. with a normal n distributed ∝ max(0, −d·n) about its travel direction d, and
+/// scatters off that point of the surface by the surface BSDF. Photons that climb back above
+/// z = 0 escape. With Lambertian surfaces of albedo c this is the half-space of Lambert spheres
+/// whose BRDF later work models analytically.
+pub struct SphereHalfSpaceSpecimen<'a> {
+    surface: Arc<dyn Bsdf + 'a>,
+    max_events: u32,
+    name: String,
+}
+
+impl<'a> SphereHalfSpaceSpecimen<'a> {
+    /// Spheres made of `surface`; a photon is dropped after `max_events` collisions (the walk
+    /// of a lossless medium is long: give thousands).
+    pub fn new(surface: Arc<dyn Bsdf + 'a>, max_events: u32, name: impl Into<String>) -> Self {
+        Self {
+            surface,
+            max_events,
+            name: name.into(),
+        }
+    }
+}
+
+impl Sample for SphereHalfSpaceSpecimen<'_> {
+    fn scatter(
+        &self,
+        to_source: Vec3,
+        rng: &mut Pcg32,
+        wl: &mut SampledWavelengths,
+    ) -> Option<(Vec3, SampledSpectrum)> {
+        let ctx = BsdfContext::importance();
+        let mut d = -to_source;
+        let mut z = 0.0f32;
+        let mut throughput = SampledSpectrum::ONE;
+        for _ in 0..self.max_events {
+            let t = -(1.0 - rng.next_f32()).ln();
+            z += d.z * t;
+            if z > 0.0 {
+                return Some((d, throughput));
+            }
+            // The sphere's normal at the hit point: cosine-weighted about −d.
+            let n =
+                Frame::from_normal(-d).to_world(crate::warp::square_to_cosine_hemisphere(rng.next_vec2()));
+            let frame = Frame::from_normal(n.normalize());
+            let wi = frame.to_local(-d);
+            if wi.z <= 0.0 {
+                continue; // grazing hit rounded below the horizon: no interaction
+            }
+            let s = self
+                .surface
+                .sample(&ctx, wi, rng.next_f32(), rng.next_vec2(), wl)?;
+            if s.wo.z <= 0.0 {
+                return None; // opaque spheres
+            }
+            throughput *= s.weight;
+            d = frame.to_world(s.wo).normalize();
+        }
+        None
+    }
+    fn describe(&self) -> String {
+        format!("half-space of sparse spheres of {}", self.name)
+    }
+}
+
 /// Instrument settings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GonioSettings {

@@ -6,7 +6,8 @@
 //!
 //! The specimen is the BSDF itself, or with `--heightfield N` a periodic N × N heightfield of
 //! microfacets made of that BSDF (random heights up to `--amplitude`), traced by the
-//! instrument's own small intersector: multiple scattering and shadowing included.
+//! instrument's own small intersector: multiple scattering and shadowing included; or with
+//! `--spheres` a half-space sparsely filled with spheres whose surface is that BSDF.
 
 use crate::cmd::bsdf::load_material;
 use crate::cmd::plot::bsdf_label;
@@ -15,7 +16,8 @@ use clap::Args as ClapArgs;
 use glam::Vec2;
 use gonio_core::Bsdf;
 use gonio_core::instruments::gonioreflectometer::{
-    BsdfSpecimen, GonioSettings, HeightfieldSpecimen, IncidentReadings, Sample, assemble, measure_incident,
+    BsdfSpecimen, GonioSettings, HeightfieldSpecimen, IncidentReadings, Sample, SphereHalfSpaceSpecimen,
+    assemble, measure_incident,
 };
 use gonio_render::tabulated_io::write_tabulated;
 use rayon::prelude::*;
@@ -63,6 +65,9 @@ pub struct Args {
     /// Height range of the heightfield, in units of its period.
     #[arg(long, default_value_t = 0.25)]
     amplitude: f32,
+    /// Measure a half-space sparsely filled with spheres whose surface is the BSDF (d'Eon 2021).
+    #[arg(long, conflicts_with = "heightfield")]
+    spheres: bool,
 }
 
 /// Runs `gonio measure`.
@@ -87,6 +92,11 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     }
     let table = m.with_bsdf(Vec2::splat(0.5), |b: &dyn Bsdf| -> anyhow::Result<_> {
         let specimen: Box<dyn Sample + '_> = match a.heightfield {
+            None if a.spheres => Box::new(SphereHalfSpaceSpecimen::new(
+                Arc::new(Borrowed(b)),
+                10_000,
+                label.clone(),
+            )),
             None => Box::new(BsdfSpecimen::new(b, label.clone())),
             Some(n) => {
                 if !(1..=256).contains(&n) {
