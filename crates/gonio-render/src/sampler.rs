@@ -186,21 +186,55 @@ fn owen_scramble(x: u32, seed: u32) -> u32 {
     lk_permute(x.reverse_bits(), seed).reverse_bits()
 }
 
-/// The first two Sobol dimensions: van der Corput, and the dimension with direction numbers
-/// `v_{k+1} = v_k ^ (v_k >> 1)`.
-#[inline]
-fn sobol2(i: u32) -> (u32, u32) {
-    let x = i.reverse_bits();
-    let mut y = 0u32;
-    let mut v = 1u32 << 31;
-    let mut bits = i;
-    while bits != 0 {
-        if bits & 1 != 0 {
-            y ^= v;
-        }
-        bits >>= 1;
-        v ^= v >> 1;
+/// Bit-reversed Sobol dimension 1 (direction numbers `v₀ = 2³¹`, `v_{k+1} = v_k ^ (v_k >> 1)`),
+/// as four byte-indexed tables: the index of an Owen-shuffled sample is a full 32-bit number, and
+/// four lookups replace a 32-step loop over its bits.
+const SOBOL_Y_REV: [[u32; 256]; 4] = {
+    let mut v = [0u32; 32];
+    v[0] = 1 << 31;
+    let mut k = 1;
+    while k < 32 {
+        v[k] = v[k - 1] ^ (v[k - 1] >> 1);
+        k += 1;
     }
+    let mut t = [[0u32; 256]; 4];
+    let mut byte = 0;
+    while byte < 4 {
+        let mut b = 0;
+        while b < 256 {
+            let mut acc = 0u32;
+            let mut j = 0;
+            while j < 8 {
+                if b & (1 << j) != 0 {
+                    acc ^= v[8 * byte + j];
+                }
+                j += 1;
+            }
+            t[byte][b] = acc.reverse_bits();
+            b += 1;
+        }
+        byte += 1;
+    }
+    t
+};
+
+/// Sobol dimension 1 of index `i`, bit-reversed.
+#[inline]
+fn sobol_y_rev(i: u32) -> u32 {
+    SOBOL_Y_REV[0][(i & 255) as usize]
+        ^ SOBOL_Y_REV[1][((i >> 8) & 255) as usize]
+        ^ SOBOL_Y_REV[2][((i >> 16) & 255) as usize]
+        ^ SOBOL_Y_REV[3][(i >> 24) as usize]
+}
+
+/// Owen-scrambled Sobol dimensions 0 and 1 of the Owen-shuffled index `owen_scramble(i, k)`
+/// (Burley 2020), with the bit reversals folded: dimension 0 is `reverse(i)`, so its scramble is
+/// `reverse(lk(idx))`; dimension 1 comes bit-reversed from the tables.
+#[inline]
+fn owen_sobol(i: u32, k: u32) -> (u32, u32) {
+    let idx = owen_scramble(i, k);
+    let x = lk_permute(idx, k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb).reverse_bits();
+    let y = lk_permute(sobol_y_rev(idx), k.wrapping_mul(0x9e37_79b9) ^ 0x02e5_be93).reverse_bits();
     (x, y)
 }
 
@@ -275,10 +309,7 @@ impl Sampler {
             Pattern::Sobol => {
                 let k = self.key(dim);
                 let idx = owen_scramble(i, k);
-                u32_to_f32(owen_scramble(
-                    sobol2(idx).0,
-                    k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb,
-                ))
+                u32_to_f32(lk_permute(idx, k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb).reverse_bits())
             }
         }
     }
@@ -330,13 +361,8 @@ impl Sampler {
                 )
             }
             Pattern::Sobol => {
-                let k = self.key(dim);
-                let idx = owen_scramble(i, k);
-                let (x, y) = sobol2(idx);
-                Vec2::new(
-                    u32_to_f32(owen_scramble(x, k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb)),
-                    u32_to_f32(owen_scramble(y, k.wrapping_mul(0x9e37_79b9) ^ 0x02e5_be93)),
-                )
+                let (x, y) = owen_sobol(i, self.key(dim));
+                Vec2::new(u32_to_f32(x), u32_to_f32(y))
             }
         }
     }
@@ -348,3 +374,44 @@ impl Sampler {
 }
 
 const ONE_MINUS_EPS: f32 = 1.0 - f32::EPSILON / 2.0;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The direct definition: XOR of the direction numbers of the set bits.
+    fn sobol_y_loop(i: u32) -> u32 {
+        let (mut y, mut v, mut bits) = (0u32, 1u32 << 31, i);
+        while bits != 0 {
+            if bits & 1 != 0 {
+                y ^= v;
+            }
+            bits >>= 1;
+            v ^= v >> 1;
+        }
+        y
+    }
+
+    #[test]
+    fn table_sobol_matches_the_definition() {
+        let mut r = Pcg32::new(1, 2);
+        for i in (0..4096).chain((0..10_000).map(|_| r.next_u32())) {
+            assert_eq!(sobol_y_rev(i).reverse_bits(), sobol_y_loop(i), "index {i}");
+        }
+        // First points of dimension 1: 0, 1/2, 3/4, 1/4 (·2³²).
+        let first: Vec<u32> = (0..4).map(sobol_y_loop).collect();
+        assert_eq!(first, vec![0, 1 << 31, 3 << 30, 1 << 30]);
+    }
+
+    #[test]
+    fn folded_scrambles_equal_the_plain_composition() {
+        let mut r = Pcg32::new(3, 4);
+        for _ in 0..10_000 {
+            let (i, k) = (r.next_u32() % 4096, r.next_u32());
+            let idx = owen_scramble(i, k);
+            let x = owen_scramble(idx.reverse_bits(), k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb);
+            let y = owen_scramble(sobol_y_loop(idx), k.wrapping_mul(0x9e37_79b9) ^ 0x02e5_be93);
+            assert_eq!(owen_sobol(i, k), (x, y));
+        }
+    }
+}
