@@ -138,6 +138,9 @@ fn plot_slices_polar_and_albedo() {
     let o = gonio(&["plot", "slice", DIFFUSE, "--theta", "200", "-o", &p("bad.png")]);
     assert_eq!(o.status.code(), Some(2));
     assert!(text(&o).1.contains("--theta 200"));
+    let o = gonio(&["plot", "polar", DIFFUSE, "--lambda", "2000", "-o", &p("bad.png")]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(text(&o).1.contains("--lambda 2000"));
     let _ = std::fs::remove_dir_all(d);
 }
 

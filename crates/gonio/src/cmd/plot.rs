@@ -230,6 +230,14 @@ fn fresnel(a: FresnelArgs) -> anyhow::Result<ExitCode> {
     written(save(&fig, &a.output)?)
 }
 
+/// Checks a wavelength argument: within the visible range the spectra are defined on.
+pub fn check_lambda(flag: &str, l: f32) -> anyhow::Result<()> {
+    if !(360.0..=830.0).contains(&l) {
+        bail!("{flag} {l}: the wavelength must be within [360, 830] nm");
+    }
+    Ok(())
+}
+
 /// A short name for a BSDF argument: its file stem, or the `type` of an inline element.
 pub fn bsdf_label(arg: &str) -> String {
     let t = arg.trim_start();
@@ -259,6 +267,9 @@ fn slice(a: SliceArgs) -> anyhow::Result<ExitCode> {
     }
     if !(8..=2048).contains(&a.resolution) {
         bail!("--resolution {}: must be within [8, 2048]", a.resolution);
+    }
+    if let Some(l) = a.lambda {
+        check_lambda("--lambda", l)?;
     }
     let m = load(&a.bsdf)?;
     let name = bsdf_label(&a.bsdf);
@@ -363,6 +374,7 @@ fn polar(a: PolarArgs) -> anyhow::Result<ExitCode> {
     if !(0.0..90.0).contains(&a.theta_i) {
         bail!("--theta-i {}: must be within [0, 90) degrees", a.theta_i);
     }
+    check_lambda("--lambda", a.lambda)?;
     let wl = SampledWavelengths::fixed(a.lambda);
     let mut lobes = vec![];
     for arg in &a.bsdfs {
@@ -394,6 +406,9 @@ fn albedo(a: AlbedoArgs) -> anyhow::Result<ExitCode> {
         ModeArg::Radiance => TransportMode::Radiance,
         ModeArg::Importance => TransportMode::Importance,
     };
+    if let Some(l) = a.lambda {
+        check_lambda("--lambda", l)?;
+    }
     let wls = match a.lambda {
         Some(l) => Wavelengths::Fixed(l),
         None => Wavelengths::Visible,
