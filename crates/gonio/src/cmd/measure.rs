@@ -85,6 +85,9 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     settings
         .validate()
         .map_err(|e| anyhow!("bad measurement settings: {e}"))?;
+    for &l in &a.lambda {
+        crate::cmd::plot::check_lambda("--lambda", l)?;
+    }
     let label = bsdf_label(&a.bsdf);
     let m = load_material(&a.bsdf).with_context(|| format!("loading BSDF {label}"))?;
     if m.is_textured() {
