@@ -12,8 +12,8 @@ use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Tabulated, ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::{
-    Anisotropic, EnergyGain, EvalPdfMismatch, MinimalGlass, MislabelledLobe, NanAtGrazing, NonReciprocal,
-    PdfOffByFactor, WrongSampler, WrongWeight,
+    Anisotropic, DiffuseTransmitter, EnergyGain, EvalPdfMismatch, MinimalGlass, MislabelledLobe,
+    NanAtGrazing, NonReciprocal, PdfOffByFactor, WrongSampler, WrongWeight,
 };
 use gonio_core::check::{CheckConfig, CheckResult, all_passed, battery, failures, sidak};
 use gonio_core::rng::Pcg32;
@@ -49,7 +49,7 @@ fn report(name: &str, bsdf: &dyn Bsdf) -> Vec<CheckResult> {
     rows
 }
 
-fn assert_passes(name: &str, bsdf: &dyn Bsdf) {
+fn assert_passes(name: &str, bsdf: &dyn Bsdf) -> Vec<CheckResult> {
     let rows = report(name, bsdf);
     assert!(all_passed(&rows), "{name} failed:\n{}", failures(&rows));
     // The battery must actually have tested something of each kind.
@@ -73,6 +73,7 @@ fn assert_passes(name: &str, bsdf: &dyn Bsdf) {
             "{name}: no delta_reciprocity row"
         );
     }
+    rows
 }
 
 /// The broken model must fail every row in `expected` (and the report names them).
@@ -396,6 +397,21 @@ fn lossless_models_conserve_energy_to_1e6() {
 // ---- positive control for the delta checks ----------------------------------------------------
 
 #[test]
+fn diffuse_transmitter_positive_control() {
+    let t = DiffuseTransmitter {
+        rho_t: 0.7,
+        claimed_eta: 1.0,
+    };
+    assert_passes("DiffuseTransmitter (correct)", &t);
+    assert!(
+        report("DiffuseTransmitter", &t)
+            .iter()
+            .any(|r| r.name == "eta2_law"),
+        "no eta2_law row"
+    );
+}
+
+#[test]
 fn minimal_glass_positive_control() {
     assert_passes(
         "MinimalGlass (correct)",
@@ -480,4 +496,16 @@ fn broken_lobe_flags_fail() {
 #[test]
 fn broken_eval_pdf_fails() {
     assert_fails("EvalPdfMismatch", &EvalPdfMismatch, &["eval_pdf"]);
+}
+
+#[test]
+fn broken_transmitter_fails_eta2_law() {
+    assert_fails(
+        "DiffuseTransmitter η=1.5",
+        &DiffuseTransmitter {
+            rho_t: 0.7,
+            claimed_eta: 1.5,
+        },
+        &["eta2_law"],
+    );
 }

@@ -14,9 +14,11 @@
 //! | [`MinimalGlass`] with `scale_radiance = false` | smooth dielectric without the radiance-mode 1/η² | `delta_reciprocity` |
 //! | [`MislabelledLobe`] | reflected samples flagged as diffuse *transmission* | `lobe_flags` |
 //! | [`EvalPdfMismatch`] | a fused `eval_pdf` that returns half the pdf | `eval_pdf` |
+//! | [`DiffuseTransmitter`] with `claimed_eta ≠ 1` | symmetric f across an interface it says changes the index | `eta2_law` |
 //!
-//! [`MinimalGlass`] with `scale_radiance = true` is a correct smooth dielectric: the positive
-//! control that shows the delta-lobe checks pass on a right model.
+//! [`MinimalGlass`] with `scale_radiance = true` is a correct smooth dielectric and
+//! [`DiffuseTransmitter`] with `claimed_eta = 1` a correct Lambertian transmitter: the positive
+//! controls that show the delta-lobe and transmission checks pass on right models.
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -459,5 +461,66 @@ impl Bsdf for EvalPdfMismatch {
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
         (self.eval(ctx, wi, wo, wl), 0.5 * self.pdf(ctx, wi, wo, wl))
+    }
+}
+
+/// Lambertian transmission f = ρ_t/π between opposite sides (two-sided, no reflection),
+/// cosine-sampled on the other side. `sample` reports `eta` = `claimed_eta` when entering from
+/// above (1/`claimed_eta` from below). With `claimed_eta = 1` it is correct; otherwise its
+/// symmetric f contradicts the generalized reciprocity f(a,b)/η_a² = f(b,a)/η_b² of an interface
+/// that changes the index.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiffuseTransmitter {
+    /// ρ_t, the diffuse transmittance.
+    pub rho_t: f32,
+    /// The relative index `sample` reports (1 = no interface).
+    pub claimed_eta: f32,
+}
+
+impl Bsdf for DiffuseTransmitter {
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DIFFUSE_TRANSMISSION
+    }
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
+        if ctx.is_enabled(BsdfFlags::DIFFUSE_TRANSMISSION) && wi.z * wo.z < 0.0 {
+            SampledSpectrum::splat(self.rho_t * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
+    }
+    fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> f32 {
+        if ctx.is_enabled(BsdfFlags::DIFFUSE_TRANSMISSION) && wi.z * wo.z < 0.0 {
+            wo.z.abs() * FRAC_1_PI
+        } else {
+            0.0
+        }
+    }
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        if !ctx.is_enabled(BsdfFlags::DIFFUSE_TRANSMISSION) || wi.z == 0.0 {
+            return None;
+        }
+        let mut wo = square_to_cosine_hemisphere(u2);
+        if wi.z > 0.0 {
+            wo.z = -wo.z;
+        }
+        let pdf = wo.z.abs() * FRAC_1_PI;
+        (pdf > 0.0).then_some(BsdfSample {
+            wo,
+            weight: SampledSpectrum::splat(self.rho_t),
+            pdf,
+            flags: BsdfFlags::DIFFUSE_TRANSMISSION,
+            eta: if wi.z > 0.0 {
+                self.claimed_eta
+            } else {
+                1.0 / self.claimed_eta
+            },
+        })
     }
 }
