@@ -369,6 +369,40 @@ pub fn battery(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
     rows
 }
 
+/// One row per check name, in first-appearance order: the worst figure (smallest p-value, largest
+/// error), passed only if every row of that name passed, the worst row's detail prefixed with the
+/// number of rows merged. For a compact `gonio check` report of the several χ² configurations.
+pub fn summarize(rows: &[CheckResult]) -> Vec<CheckResult> {
+    let mut out: Vec<(CheckResult, usize, bool)> = Vec::new();
+    for r in rows {
+        match out.iter_mut().find(|(o, _, _)| o.name == r.name) {
+            None => out.push((r.clone(), 1, r.passed)),
+            Some((worst, n, all)) => {
+                *n += 1;
+                *all &= r.passed;
+                // NaN counts as worst.
+                let worse = r.figure.is_nan()
+                    || match r.bound {
+                        Bound::AtMost => r.figure > worst.figure,
+                        Bound::AtLeast => r.figure < worst.figure,
+                    };
+                if worse || (!r.passed && worst.passed) {
+                    *worst = r.clone();
+                }
+            }
+        }
+    }
+    out.into_iter()
+        .map(|(mut r, n, all)| {
+            r.passed = all;
+            if n > 1 {
+                r.detail = format!("worst of {n}: {}", r.detail);
+            }
+            r
+        })
+        .collect()
+}
+
 /// True when every row passed.
 pub fn all_passed(rows: &[CheckResult]) -> bool {
     rows.iter().all(|r| r.passed)
@@ -405,6 +439,21 @@ mod tests {
         );
         let r = CheckResult::compare("x", f64::NAN, Bound::AtMost, 0.0, String::new());
         assert!(r.to_json().contains(r#""figure":"NaN""#) && r.to_json().contains(r#""passed":false"#));
+    }
+
+    #[test]
+    fn summary_keeps_the_worst_row_per_check() {
+        let rows = vec![
+            CheckResult::compare("chi2", 0.5, Bound::AtLeast, 0.01, "a".into()),
+            CheckResult::compare("energy", 0.9, Bound::AtMost, 1.0, "e".into()),
+            CheckResult::compare("chi2", 0.001, Bound::AtLeast, 0.01, "b".into()),
+            CheckResult::compare("chi2", 0.2, Bound::AtLeast, 0.01, "c".into()),
+        ];
+        let s = summarize(&rows);
+        assert_eq!(s.len(), 2);
+        assert_eq!((s[0].name, s[0].figure, s[0].passed), ("chi2", 0.001, false));
+        assert_eq!(s[0].detail, "worst of 3: b");
+        assert_eq!((s[1].name, s[1].passed), ("energy", true));
     }
 
     #[test]
