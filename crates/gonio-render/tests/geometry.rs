@@ -461,6 +461,20 @@ fn check_sampling(w: &WorldShape, r: Vec3, first_hit_only: bool, label: &str) {
                     h.p,
                     s.p
                 );
+                // The sample's normal and uv are those of the surface there (u may wrap at a seam).
+                assert!(
+                    (h.n - s.n).length() < 1e-4,
+                    "{label}: normal {:?} vs {:?}",
+                    s.n,
+                    h.n
+                );
+                let du = (h.uv.x - s.uv.x).abs();
+                assert!(
+                    (du < 1e-3 || du > 0.999) && (h.uv.y - s.uv.y).abs() < 1e-3,
+                    "{label}: uv {:?} vs {:?}",
+                    s.uv,
+                    h.uv
+                );
             }
             let mut hs = h;
             hs.p = s.p;
@@ -522,6 +536,18 @@ fn spherical_rectangle_sampling_matches_its_pdf() {
     let w = world(&shape(Geometry::Rectangle, m));
     check_sampling(&w, Vec3::ZERO, false, "rectangle front");
     check_sampling(&w, Vec3::new(0.3, 0.5, 3.0), false, "rectangle back side");
+    // Mirrored (x scaled by −1) and flipped: uv and normal must still match the surface.
+    let mut mirrored = shape(
+        Geometry::Rectangle,
+        m * Affine3A::from_scale(Vec3::new(-1.0, 1.0, 1.0)),
+    );
+    mirrored.flip_normals = true;
+    check_sampling(
+        &world(&mirrored),
+        Vec3::new(-0.2, 0.1, 0.0),
+        false,
+        "rectangle mirrored, flipped",
+    );
     // A sheared rectangle (parallelogram) falls back to area sampling.
     let shear = Affine3A::from_cols_array(&[1.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 2.0]);
     check_sampling(

@@ -125,16 +125,17 @@ pub fn sample_solid_angle(shape: &WorldShape, r: Vec3, u: Vec2) -> Option<ShapeS
             let si = shape.sphere_point(*center + n * *radius);
             Some(finish(shape, si, 1.0 / (TAU * one_minus_cos_max)))
         }
-        ShapeKind::Rectangle { .. } => match SphericalRectangle::new(shape, r) {
+        ShapeKind::Rectangle { n, .. } => match SphericalRectangle::new(shape, r) {
             Some(q) => {
-                let p = q.sample(u);
-                let ShapeKind::Rectangle { to_object, .. } = &shape.kind else {
-                    unreachable!()
-                };
-                let l = to_object.transform_point3(p);
-                let mut si = shape.planar_point(l.x.clamp(-1.0, 1.0), l.y.clamp(-1.0, 1.0));
-                si.p = p;
-                Some(finish(shape, si, q.pdf()))
+                let (p, uv) = q.sample(u);
+                let n = if shape.flip_normals { -*n } else { *n };
+                Some(ShapeSample {
+                    p,
+                    n,
+                    ns: n,
+                    uv: uv.clamp(Vec2::ZERO, Vec2::ONE),
+                    pdf: q.pdf(),
+                })
             }
             None => area_fallback(shape, r, u),
         },
@@ -199,43 +200,32 @@ struct SphericalRectangle {
 
 impl SphericalRectangle {
     fn new(shape: &WorldShape, r: Vec3) -> Option<Self> {
-        let ShapeKind::Rectangle { to_world, .. } = &shape.kind else {
+        let ShapeKind::Rectangle { basis: Some(b), .. } = &shape.kind else {
             return None;
         };
-        let ex = to_world.matrix3.x_axis.as_dvec3() * 2.0;
-        let ey = to_world.matrix3.y_axis.as_dvec3() * 2.0;
-        let (exl, eyl) = (ex.length(), ey.length());
-        if ex.dot(ey).abs() > 1e-5 * exl * eyl {
-            return None; // a parallelogram: no spherical-rectangle parameterization
-        }
-        let corner = to_world.transform_point3(Vec3::new(-1.0, -1.0, 0.0)).as_dvec3();
         let o = r.as_dvec3();
-        let x = ex / exl;
-        let y = ey / eyl;
-        let mut z = x.cross(y);
-        let d = corner - o;
+        let d = b.corner - o;
+        let mut z = b.z;
         let mut z0 = d.dot(z);
         if z0 > 0.0 {
             z0 = -z0;
             z = -z;
         }
-        if z0.abs() < 1e-9 * (exl + eyl) {
+        if z0.abs() < 1e-9 * (b.exl + b.eyl) {
             return None;
         }
-        let (x0, y0) = (d.dot(x), d.dot(y));
-        let (x1, y1) = (x0 + exl, y0 + eyl);
-        let v00 = DVec3::new(x0, y0, z0);
-        let v01 = DVec3::new(x0, y1, z0);
-        let v10 = DVec3::new(x1, y0, z0);
-        let v11 = DVec3::new(x1, y1, z0);
-        let n0 = v00.cross(v10).normalize();
-        let n1 = v10.cross(v11).normalize();
-        let n2 = v11.cross(v01).normalize();
-        let n3 = v01.cross(v00).normalize();
-        let g0 = (-n0.dot(n1)).clamp(-1.0, 1.0).acos();
-        let g1 = (-n1.dot(n2)).clamp(-1.0, 1.0).acos();
-        let g2 = (-n2.dot(n3)).clamp(-1.0, 1.0).acos();
-        let g3 = (-n3.dot(n0)).clamp(-1.0, 1.0).acos();
+        let (x0, y0) = (d.dot(b.x), d.dot(b.y));
+        let (x1, y1) = (x0 + b.exl, y0 + b.eyl);
+        // The edge-plane normals n_i = normalize(v_i × v_{i+1}) of the paper have closed forms
+        // in the rectangle's frame: n0 ∝ (0, z0, −y0), n1 ∝ (−z0, 0, x1), n2 ∝ (0, −z0, y1),
+        // n3 ∝ (z0, 0, −x0); so only their lengths and pairwise products are needed.
+        let z2 = z0 * z0;
+        let (l0, l1) = ((z2 + y0 * y0).sqrt(), (z2 + x1 * x1).sqrt());
+        let (l2, l3) = ((z2 + y1 * y1).sqrt(), (z2 + x0 * x0).sqrt());
+        let g0 = (y0 * x1 / (l0 * l1)).clamp(-1.0, 1.0).acos();
+        let g1 = (-x1 * y1 / (l1 * l2)).clamp(-1.0, 1.0).acos();
+        let g2 = (x0 * y1 / (l2 * l3)).clamp(-1.0, 1.0).acos();
+        let g3 = (-x0 * y0 / (l3 * l0)).clamp(-1.0, 1.0).acos();
         let k = std::f64::consts::TAU - g2 - g3;
         let s = g0 + g1 - k;
         if !(MIN_SPHERICAL_SOLID_ANGLE..=MAX_SPHERICAL_SOLID_ANGLE).contains(&s) {
@@ -243,16 +233,16 @@ impl SphericalRectangle {
         }
         Some(Self {
             o,
-            x,
-            y,
+            x: b.x,
+            y: b.y,
             z,
             z0,
             x0,
             y0,
             x1,
             y1,
-            b0: n0.z,
-            b1: n2.z,
+            b0: -y0 / l0,
+            b1: y1 / l2,
             k,
             s,
         })
@@ -262,7 +252,8 @@ impl SphericalRectangle {
         (1.0 / self.s) as f32
     }
 
-    fn sample(&self, u: Vec2) -> Vec3 {
+    /// The sampled point (world) and its (u, v) on the rectangle.
+    fn sample(&self, u: Vec2) -> (Vec3, Vec2) {
         let (u, v) = (u.x as f64, u.y as f64);
         let au = u * self.s + self.k;
         let fu = (au.cos() * self.b0 - self.b1) / au.sin();
@@ -279,6 +270,11 @@ impl SphericalRectangle {
             self.y1
         };
         let yv = yv.clamp(self.y0, self.y1);
-        (self.o + xu * self.x + yv * self.y + self.z0 * self.z).as_vec3()
+        let p = (self.o + xu * self.x + yv * self.y + self.z0 * self.z).as_vec3();
+        let uv = Vec2::new(
+            ((xu - self.x0) / (self.x1 - self.x0)) as f32,
+            ((yv - self.y0) / (self.y1 - self.y0)) as f32,
+        );
+        (p, uv)
     }
 }

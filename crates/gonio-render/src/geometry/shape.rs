@@ -2,7 +2,7 @@
 
 use super::{Ray, SurfaceInteraction};
 use crate::scene::{Geometry, Shape, TriangleMesh};
-use glam::{Affine3A, Mat3, Vec2, Vec3, Vec3A};
+use glam::{Affine3A, DVec3, Mat3, Vec2, Vec3, Vec3A};
 use gonio_core::Frame;
 use std::f32::consts::{PI, TAU};
 use std::sync::Arc;
@@ -49,6 +49,45 @@ pub struct WorldMesh {
     pub area: f32,
 }
 
+/// A rectangle's corner and orthonormal edge frame in double precision (Ureña et al. 2013's
+/// setup that does not depend on the reference point).
+#[derive(Clone, Copy, Debug)]
+pub struct RectBasis {
+    /// The corner at object (−1, −1).
+    pub corner: DVec3,
+    /// Unit vector along the object x edge.
+    pub x: DVec3,
+    /// Unit vector along the object y edge.
+    pub y: DVec3,
+    /// `x × y`.
+    pub z: DVec3,
+    /// Length of the x edge.
+    pub exl: f64,
+    /// Length of the y edge.
+    pub eyl: f64,
+}
+
+impl RectBasis {
+    fn new(m: &Affine3A) -> Option<Self> {
+        let ex = m.matrix3.x_axis.as_dvec3() * 2.0;
+        let ey = m.matrix3.y_axis.as_dvec3() * 2.0;
+        let (exl, eyl) = (ex.length(), ey.length());
+        if ex.dot(ey).abs() > 1e-5 * exl * eyl {
+            return None; // a parallelogram: no spherical-rectangle parameterization
+        }
+        let (x, y) = (ex / exl, ey / eyl);
+        let corner = m.transform_point3(Vec3::new(-1.0, -1.0, 0.0)).as_dvec3();
+        Some(Self {
+            corner,
+            x,
+            y,
+            z: x.cross(y),
+            exl,
+            eyl,
+        })
+    }
+}
+
 /// The world-space geometry of a [`WorldShape`].
 #[derive(Clone, Debug)]
 pub enum ShapeKind {
@@ -73,6 +112,9 @@ pub enum ShapeKind {
         n: Vec3,
         /// Area.
         area: f32,
+        /// The orthonormal edge frame for spherical-rectangle sampling (`None` for a
+        /// parallelogram).
+        basis: Option<RectBasis>,
     },
     /// The image of the unit disk in z = 0 under `to_world` (an ellipse in general).
     Disk {
@@ -252,6 +294,7 @@ impl WorldShape {
                 let ex = Vec3::from(m.matrix3.x_axis);
                 let ey = Vec3::from(m.matrix3.y_axis);
                 ShapeKind::Rectangle {
+                    basis: RectBasis::new(&m),
                     to_world: m,
                     to_object: m.inverse(),
                     n: plane_normal(&m),
