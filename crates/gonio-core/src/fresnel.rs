@@ -34,6 +34,7 @@
 //! η > 1 is the external average, η < 1 the internal one (with TIR). The two are tied by
 //! 1 − Fdr(1/η) = (1 − Fdr(η))/η².
 
+use crate::quadrature::gauss_legendre;
 use crate::spectrum::SampledSpectrum;
 use glam::Vec3;
 
@@ -229,50 +230,16 @@ fn fresnel_dielectric_f64(cos_theta_i: f64, eta: f64) -> f64 {
 /// Gauss–Legendre order of each quadrature panel.
 const N_GL: usize = 24;
 
-/// P_n(z) and P_n'(z) for n = [`N_GL`] by the three-term recurrence.
-fn legendre(z: f64) -> (f64, f64) {
-    let (mut p0, mut p1) = (1.0, z);
-    for j in 2..=N_GL {
-        let jf = j as f64;
-        let p2 = ((2.0 * jf - 1.0) * z * p1 - (jf - 1.0) * p0) / jf;
-        p0 = p1;
-        p1 = p2;
-    }
-    (p1, N_GL as f64 * (z * p1 - p0) / (z * z - 1.0))
-}
-
-/// Gauss–Legendre nodes and weights on [−1, 1]: Newton on P_n from Tricomi's initial guesses,
-/// w = 2/((1 − z²) P_n'(z)²).
-fn gauss_legendre() -> ([f64; N_GL], [f64; N_GL]) {
-    let mut x = [0.0; N_GL];
-    let mut w = [0.0; N_GL];
-    for i in 0..N_GL {
-        let mut z = (std::f64::consts::PI * (i as f64 + 0.75) / (N_GL as f64 + 0.5)).cos();
-        for _ in 0..100 {
-            let (p, dp) = legendre(z);
-            let dz = p / dp;
-            z -= dz;
-            if dz.abs() < 1e-16 {
-                break;
-            }
-        }
-        let (_, dp) = legendre(z);
-        x[i] = z;
-        w[i] = 2.0 / ((1.0 - z * z) * dp * dp);
-    }
-    (x, w)
-}
-
 /// ∫₀¹ f, composite Gauss–Legendre on panels graded geometrically towards 0 from `scale` (the
 /// distance of the integrand's nearest singularity from 0), so that a near-singular integrand
 /// still converges to machine precision.
 fn integrate_graded(f: impl Fn(f64) -> f64, scale: f64) -> f64 {
-    let (x, w) = gauss_legendre();
+    let rule = gauss_legendre(N_GL, -1.0, 1.0);
     let mut sum = 0.0;
     let mut panel = |a: f64, b: f64| {
         let (m, h) = (0.5 * (a + b), 0.5 * (b - a));
-        for i in 0..N_GL {
-            sum += w[i] * h * f(m + h * x[i]);
+        for &(x, w) in &rule {
+            sum += w * h * f(m + h * x);
         }
     };
     let mut b = scale.clamp(1e-12, 1.0);
