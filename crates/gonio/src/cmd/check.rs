@@ -5,11 +5,8 @@
 //! runs: one implementation. One row per check with the measured figure, the threshold and the
 //! verdict; exit status 0 when every row passes, 1 when one fails, 2 on bad input.
 
-use crate::cmd::bsdf::load_material;
-use crate::cmd::plot::bsdf_label;
-use anyhow::Context;
+use crate::cmd::plot::{bsdf_label, load};
 use clap::Args as ClapArgs;
-use glam::Vec2;
 use gonio_core::check::{Bound, CheckConfig, CheckResult, all_passed, battery};
 use std::io::Write;
 use std::process::ExitCode;
@@ -17,7 +14,7 @@ use std::process::ExitCode;
 /// Arguments of `gonio check`.
 #[derive(ClapArgs)]
 pub struct Args {
-    /// The BSDF: a Mitsuba `<bsdf>` element, inline or a file.
+    /// The BSDF: a Mitsuba `<bsdf>` element (inline or a file) or a measured table file.
     bsdf: String,
     /// Print the report as JSON (an array of rows) instead of a table.
     #[arg(long)]
@@ -32,14 +29,14 @@ pub struct Args {
 
 /// Runs `gonio check`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let m = load_material(&args.bsdf).with_context(|| format!("loading BSDF {}", bsdf_label(&args.bsdf)))?;
+    let m = load(&args.bsdf)?;
     let mut config = if args.quick {
         CheckConfig::quick()
     } else {
         CheckConfig::default()
     };
     config.seed = args.seed;
-    let rows = m.with_bsdf(Vec2::splat(0.5), |b| battery(b, &config));
+    let rows = m.with_bsdf(|b| battery(b, &config));
     let ok = all_passed(&rows);
     let mut out = std::io::stdout().lock();
     if args.json {

@@ -9,9 +9,8 @@
 //! instrument's own small intersector: multiple scattering and shadowing included; or with
 //! `--spheres` a half-space sparsely filled with spheres whose surface is that BSDF.
 
-use crate::cmd::bsdf::load_material;
-use crate::cmd::plot::bsdf_label;
-use anyhow::{Context, anyhow, bail};
+use crate::cmd::plot::{bsdf_label, load};
+use anyhow::{anyhow, bail};
 use clap::Args as ClapArgs;
 use glam::Vec2;
 use gonio_core::Bsdf;
@@ -89,11 +88,11 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         crate::cmd::plot::check_lambda("--lambda", l)?;
     }
     let label = bsdf_label(&a.bsdf);
-    let m = load_material(&a.bsdf).with_context(|| format!("loading BSDF {label}"))?;
+    let m = load(&a.bsdf)?;
     if m.is_textured() {
         bail!("{label}: a textured BSDF varies over the surface; measure an untextured one");
     }
-    let table = m.with_bsdf(Vec2::splat(0.5), |b: &dyn Bsdf| -> anyhow::Result<_> {
+    let table = m.with_bsdf(|b: &dyn Bsdf| -> anyhow::Result<_> {
         let specimen: Box<dyn Sample + '_> = match a.heightfield {
             None if a.spheres => Box::new(SphereHalfSpaceSpecimen::new(
                 Arc::new(Borrowed(b)),

@@ -2,13 +2,15 @@
 //!
 //! Every subcommand takes `-o PATH`: `PATH.png` or `PATH.svg` writes that format, a path
 //! without an extension writes both. The written files are printed on stdout. A BSDF argument is
-//! a Mitsuba `<bsdf>` element, inline (starting with `<`) or the path of a file holding one.
+//! a Mitsuba `<bsdf>` element, inline (starting with `<`) or the path of a file holding one, or
+//! a table measured by `gonio measure` (played back by the `tabulated` BSDF).
 //! See `docs/instruments.md`.
 
 use crate::cmd::bsdf::load_material;
 use anyhow::{Context, anyhow, bail};
 use clap::{Args as ClapArgs, Subcommand, ValueEnum};
 use glam::Vec2;
+use gonio_core::bsdfs::Tabulated;
 use gonio_core::color::{cie_xyz, d65, linear_srgb_from_xyz, srgb_encode};
 use gonio_core::instruments::albedo::{Wavelengths, directional_albedo};
 use gonio_core::instruments::polar::compute_polar;
@@ -16,6 +18,7 @@ use gonio_core::instruments::slice::{Fixed, Projection, SliceSettings, compute_s
 use gonio_core::{SampledWavelengths, TransportMode, named};
 use gonio_render::material::Material;
 use gonio_render::plot::{Figure, Panel, figures, save};
+use gonio_render::tabulated_io::read_tabulated;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -77,7 +80,7 @@ enum ProjectionArg {
 
 #[derive(ClapArgs)]
 struct SliceArgs {
-    /// The BSDF: a Mitsuba `<bsdf>` element, inline or a file.
+    /// The BSDF: a Mitsuba `<bsdf>` element (inline or a file) or a measured table file.
     bsdf: String,
     /// Which direction is fixed.
     #[arg(long, value_enum, default_value_t = FixArg::Light)]
@@ -113,7 +116,7 @@ struct SliceArgs {
 
 #[derive(ClapArgs)]
 struct PolarArgs {
-    /// One or more BSDFs (Mitsuba `<bsdf>` elements, inline or files).
+    /// One or more BSDFs (Mitsuba `<bsdf>` elements, inline or files, or measured tables).
     #[arg(required = true)]
     bsdfs: Vec<String>,
     /// Polar angle of the light, degrees.
@@ -141,7 +144,7 @@ enum ModeArg {
 
 #[derive(ClapArgs)]
 struct AlbedoArgs {
-    /// One or more BSDFs (Mitsuba `<bsdf>` elements, inline or files).
+    /// One or more BSDFs (Mitsuba `<bsdf>` elements, inline or files, or measured tables).
     #[arg(required = true)]
     bsdfs: Vec<String>,
     /// Monte Carlo samples per angle.
@@ -257,8 +260,48 @@ pub fn bsdf_label(arg: &str) -> String {
         .unwrap_or_else(|| arg.into())
 }
 
-fn load(arg: &str) -> anyhow::Result<Material> {
-    load_material(arg).with_context(|| format!("loading BSDF {}", bsdf_label(arg)))
+/// A loaded BSDF argument: a Mitsuba `<bsdf>` element, or a measured table (a file starting
+/// with `gonio-tabulated`, as `gonio measure` writes), played back by the `tabulated` BSDF.
+pub enum Loaded {
+    /// A material of the scene reader.
+    Material(Material),
+    /// A measured table.
+    Table(Box<Tabulated>),
+}
+
+impl Loaded {
+    /// Calls `f` with the BSDF (materials at uv = (0.5, 0.5)).
+    pub fn with_bsdf<R>(&self, f: impl FnOnce(&dyn gonio_core::Bsdf) -> R) -> R {
+        match self {
+            Loaded::Material(m) => m.with_bsdf(Vec2::splat(0.5), f),
+            Loaded::Table(t) => f(t.as_ref()),
+        }
+    }
+
+    /// True when the BSDF varies over the surface (a textured material).
+    pub fn is_textured(&self) -> bool {
+        matches!(self, Loaded::Material(m) if m.is_textured())
+    }
+}
+
+/// Loads a BSDF argument: inline `<bsdf>`, a file holding one, or a measured table file.
+pub fn load(arg: &str) -> anyhow::Result<Loaded> {
+    let trimmed = arg.trim_start();
+    if !trimmed.starts_with('<') {
+        let path = std::path::Path::new(arg);
+        let mut head = [0u8; 15];
+        let is_table = std::fs::File::open(path)
+            .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head))
+            .map(|_| &head == b"gonio-tabulated")
+            .unwrap_or(false);
+        if is_table {
+            let data = read_tabulated(path)?;
+            return Ok(Loaded::Table(Box::new(Tabulated::new(data))));
+        }
+    }
+    Ok(Loaded::Material(
+        load_material(arg).with_context(|| format!("loading BSDF {}", bsdf_label(arg)))?,
+    ))
 }
 
 fn slice(a: SliceArgs) -> anyhow::Result<ExitCode> {
@@ -287,7 +330,7 @@ fn slice(a: SliceArgs) -> anyhow::Result<ExitCode> {
             ProjectionArg::Parabolic => Projection::Parabolic,
         },
     };
-    let panel = m.with_bsdf(Vec2::splat(0.5), |b| {
+    let panel = m.with_bsdf(|b| {
         if a.rgb {
             rgb_slice_panel(b, &settings, &name)
         } else {
@@ -379,9 +422,7 @@ fn polar(a: PolarArgs) -> anyhow::Result<ExitCode> {
     let mut lobes = vec![];
     for arg in &a.bsdfs {
         let m = load(arg)?;
-        let lobe = m.with_bsdf(Vec2::splat(0.5), |b| {
-            compute_polar(b, a.theta_i, 721, a.cosine, &wl)
-        });
+        let lobe = m.with_bsdf(|b| compute_polar(b, a.theta_i, 721, a.cosine, &wl));
         lobes.push((bsdf_label(arg), lobe));
     }
     let fig = figures::polar_figure(&lobes, a.log, &format!("λ = {} nm", a.lambda));
@@ -416,9 +457,7 @@ fn albedo(a: AlbedoArgs) -> anyhow::Result<ExitCode> {
     let mut curves = vec![];
     for arg in &a.bsdfs {
         let m = load(arg)?;
-        let pts = m.with_bsdf(Vec2::splat(0.5), |b| {
-            directional_albedo(b, &thetas, a.samples, mode, wls, a.back, a.seed)
-        });
+        let pts = m.with_bsdf(|b| directional_albedo(b, &thetas, a.samples, mode, wls, a.back, a.seed));
         if a.print {
             println!("# {}: theta_deg R R_stderr T T_stderr", bsdf_label(arg));
             for p in &pts {
