@@ -303,3 +303,60 @@ fn cornell_closest_brute_force(bencher: divan::Bencher) {
         .counter(divan::counter::ItemsCount::new(rays.len()))
         .bench(|| rays.iter().filter(|r| a.intersect(r).is_some()).count());
 }
+
+/// Baseline: obvhs on its own (its triangle type and Möller–Trumbore test, hit distance only,
+/// no hit record), same mesh, same BVH settings: the cost of our wrapper is the difference.
+fn native() -> &'static (obvhs::cwbvh::CwBvh, Vec<obvhs::triangle::Triangle>) {
+    static N: OnceLock<(obvhs::cwbvh::CwBvh, Vec<obvhs::triangle::Triangle>)> = OnceLock::new();
+    N.get_or_init(|| {
+        let gonio_render::geometry::ShapeKind::Mesh(m) = &shapes()[0].kind else {
+            unreachable!()
+        };
+        let tris: Vec<obvhs::triangle::Triangle> = (0..m.indices.len())
+            .map(|i| {
+                let [a, b, c] = m.tri(i);
+                obvhs::triangle::Triangle {
+                    v0: a.into(),
+                    v1: b.into(),
+                    v2: c.into(),
+                }
+            })
+            .collect();
+        let bvh = obvhs::cwbvh::builder::build_cwbvh_from_tris(
+            &tris,
+            obvhs::BvhBuildParams::medium_build(),
+            &mut std::time::Duration::default(),
+        );
+        let ordered = bvh.primitive_indices.iter().map(|&i| tris[i as usize]).collect();
+        (bvh, ordered)
+    })
+}
+
+fn native_closest(rays: &[Ray]) -> usize {
+    let (bvh, tris) = native();
+    rays.iter()
+        .filter(|r| {
+            let ray = obvhs::ray::Ray::new(r.o.into(), r.d.into(), 0.0, r.tmax);
+            let mut hit = obvhs::ray::RayHit::none();
+            bvh.ray_traverse(ray, &mut hit, |ray, id| tris[id].intersect(ray))
+        })
+        .count()
+}
+
+#[divan::bench(sample_count = 5, sample_size = 1)]
+fn native_obvhs_closest_coherent(bencher: divan::Bencher) {
+    native();
+    let rays = coherent_rays();
+    bencher
+        .counter(divan::counter::ItemsCount::new(rays.len()))
+        .bench(|| native_closest(rays));
+}
+
+#[divan::bench(sample_count = 5, sample_size = 1)]
+fn native_obvhs_closest_incoherent(bencher: divan::Bencher) {
+    native();
+    let rays = incoherent_rays();
+    bencher
+        .counter(divan::counter::ItemsCount::new(rays.len()))
+        .bench(|| native_closest(rays));
+}
