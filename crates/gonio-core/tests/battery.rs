@@ -509,3 +509,14 @@ fn broken_transmitter_fails_eta2_law() {
         &["eta2_law"],
     );
 }
+
+#[test]
+fn broken_pdf_off_by_three_percent_fails() {
+    // Sensitivity: a 3 % normalization error adds ≈ N·0.03² = 900 to χ² (σ ≈ 71 at 2500 dof)
+    // and is ≈ 10 standard errors for the pdf normalization.
+    assert_fails(
+        "PdfOffByFactor 0.97",
+        &PdfOffByFactor { factor: 0.97 },
+        &["chi2", "pdf_normalization"],
+    );
+}
