@@ -16,11 +16,11 @@
 //! # Stratified and low-discrepancy samples
 //!
 //! Independent uniforms are not the only input a BSDF's `sample` sees: a renderer feeds it
-//! stratified or quasi-Monte Carlo points, whose dimensions are correlated in a structured way.
-//! A `sample` that reuses a dimension (the lobe-selection number also shaping the direction)
-//! can pass a χ² test with independent uniforms and fail with a stratified sampler
-//! (Mitsuba 3 issue #1288). So the χ² check also runs with [`Stratified2D`] (jittered grid)
-//! and [`Kronecker`] (Roberts' R_d sequence with a Cranley–Patterson random shift).
+//! stratified or quasi-Monte Carlo points, whose dimensions are correlated in a structured way,
+//! and a `sample` can behave on those differently from independent uniforms (Mitsuba 3 issue
+//! #1288). So the χ² check also runs with [`Stratified2D`] (jittered grid) and [`Kronecker`]
+//! (Roberts' R_d sequence with a Cranley–Patterson random shift); see `check::chi2` for what
+//! those configurations can and cannot detect.
 
 use glam::Vec2;
 

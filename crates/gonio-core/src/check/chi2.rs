@@ -29,9 +29,9 @@
 //! less than multinomial counts, so a correct sampler scores χ² ≈ 200–500 at 2500 dof (p = 1):
 //! the χ²(dof) reference stays valid (no false alarms) but becomes conservative, and these
 //! configurations only reject gross distortions (χ² ≫ dof) and the sanity failures. They exist
-//! for what independent uniforms cannot show: a `sample` that misbehaves on structured inputs,
-//! e.g. reusing the lobe-selection number for the direction (Mitsuba 3 issue #1288). Subtle
-//! errors are the independent configurations' job (`tests/battery.rs` keeps a 3 % case).
+//! for what independent uniforms cannot show: a `sample` that misbehaves on the structured,
+//! correlated inputs a renderer's samplers feed it (testing.md §1.3, Mitsuba 3 issue #1288).
+//! Subtle errors are the independent configurations' job (`tests/battery.rs` keeps a 3 % case).
 
 use super::{Bound, CheckConfig, CheckResult, Chi2Config, SamplerKind};
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags};
