@@ -51,41 +51,8 @@ impl From<crate::scene::SamplerKind> for Pattern {
     }
 }
 
-/// PCG32 (O'Neill 2014, XSH-RR), as in Mitsuba's `independent` sampler.
-#[derive(Clone, Copy, Debug)]
-pub struct Pcg32 {
-    state: u64,
-    inc: u64,
-}
-
-impl Pcg32 {
-    /// The generator for `seed` on stream `stream`.
-    pub fn new(seed: u64, stream: u64) -> Self {
-        let mut r = Self {
-            state: 0,
-            inc: (stream << 1) | 1,
-        };
-        r.next_u32();
-        r.state = r.state.wrapping_add(seed);
-        r.next_u32();
-        r
-    }
-
-    /// 32 random bits.
-    #[inline]
-    pub fn next_u32(&mut self) -> u32 {
-        let old = self.state;
-        self.state = old.wrapping_mul(0x5851_f42d_4c95_7f2d).wrapping_add(self.inc);
-        let x = (((old >> 18) ^ old) >> 27) as u32;
-        x.rotate_right((old >> 59) as u32)
-    }
-
-    /// Uniform in [0, 1).
-    #[inline]
-    pub fn next_f32(&mut self) -> f32 {
-        (self.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
-    }
-}
+/// PCG32 (O'Neill 2014, XSH-RR), as in Mitsuba's `independent` sampler: the core's generator.
+pub use gonio_core::rng::Pcg32;
 
 /// A sampler: pattern, samples per pixel and seed, plus the state of the current pixel sample.
 #[derive(Clone, Debug)]
