@@ -255,7 +255,7 @@ pub fn slice_panel(slice: &Slice, name: &str, log: bool, wavelength_note: &str) 
     };
     let empty = vmax <= 0.0;
     let mut note = format!(
-        "{}: centre = normal, rim = horizon, rings every 30°; {wavelength_note}",
+        "{}: centre = normal, rim = horizon, rings every 30°, azimuth φ anticlockwise from the right; {wavelength_note}",
         proj.description()
     );
     if empty {

@@ -89,7 +89,7 @@ impl HemispherePlot {
             .iter()
             .any(|d| matches!(d.pixels, Pixels::Scalar { .. }));
         let avail_w = w as i32 - if has_bar { BAR_W as i32 } else { 0 } - 20;
-        let d = ((avail_w / n - 40).min(h as i32 - TOP - 80)).max(16);
+        let d = ((avail_w / n - 100).min(h as i32 - TOP - 80)).max(16);
         let gap = (avail_w - n * d) / (n + 1);
         let disks = (0..n)
             .map(|k| (10 + gap + k * (d + gap), TOP + 20, d as u32))
@@ -181,7 +181,7 @@ impl HemispherePlot {
             ] {
                 let (px, py) = to_px((dx * 1.04, dy * 1.04));
                 area.draw(&Text::new(
-                    format!("φ={deg}°"),
+                    format!("{deg}°"),
                     (px, py),
                     font(12).color(&grey).pos(pos),
                 ))
