@@ -3,7 +3,7 @@
 //! 360–830 nm, and any valid parameter: reflectances in [0, 1], indices of refraction in
 //! [1.0001, 4] and their inverses, conductor η ∈ [0, 5] and k ∈ [0, 10] including the
 //! n = k = 0 corner (0/0 in the textbook formula), exterior indices, tints, both plastic modes,
-//! and `twosided` / `blendbsdf` nested over all of these.
+//! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
 //! transport modes with the per-query functions of `gonio_core::check::health`, the same code
@@ -11,7 +11,10 @@
 //! `PROPTEST_CASES` (default 4096 here; each case takes microseconds).
 
 use glam::{Vec2, Vec3};
-use gonio_core::bsdfs::{BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, ThinDielectric, TwoSided};
+use gonio_core::bsdfs::tabulated::TabulatedData;
+use gonio_core::bsdfs::{
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Tabulated, ThinDielectric, TwoSided,
+};
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
 use gonio_core::rng::ONE_MINUS_EPSILON;
@@ -53,6 +56,10 @@ enum Spec {
         nonlinear: bool,
         tint: f32,
         s: Option<f32>,
+    },
+    /// A measured table on a 4 × 4 × 3 (θi, θo, φd) grid at two wavelengths, values in [0, 1].
+    Tabulated {
+        values: Vec<f32>,
     },
     TwoSided {
         front: Box<Spec>,
@@ -113,6 +120,7 @@ fn ior_pair() -> impl Strategy<Value = (f32, f32)> {
 
 fn leaf() -> impl Strategy<Value = Spec> {
     prop_oneof![
+        proptest::collection::vec(unit(), 96).prop_map(|values| Spec::Tabulated { values }),
         reflectance().prop_map(|rho| Spec::Diffuse { rho }),
         (
             prop_oneof![Just(0.0f32), 0.0f32..=5.0],
@@ -228,6 +236,20 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
                 p = p.with_specular_sampling_weight(*s);
             }
             f(&p)
+        }
+        Spec::Tabulated { values } => {
+            let th = vec![0.0, 30.0, 60.0, 90.0];
+            let data = TabulatedData::new(
+                th.clone(),
+                th,
+                vec![0.0, 90.0, 180.0],
+                vec![450.0, 650.0],
+                values.clone(),
+                None,
+                "proptest".into(),
+            )
+            .unwrap();
+            f(&Tabulated::new(data))
         }
         Spec::TwoSided { front, back } => with_bsdf(front, &mut |fr| match back {
             None => f(&TwoSided::new(fr)),
