@@ -72,6 +72,11 @@ pub enum Material {
         /// Second child.
         bsdf1: Box<Material>,
     },
+    /// `tabulated` (ours): a measured isotropic BRDF table played back (`gonio measure`).
+    Tabulated {
+        /// The interpolated, reciprocity-enforced, importance-sampled table.
+        model: std::sync::Arc<gonio_core::bsdfs::Tabulated>,
+    },
 }
 
 /// The constant value of a texture for a prebuilt model (the mean when textured).
@@ -211,6 +216,7 @@ impl Material {
             Material::Blend { weight, bsdf0, bsdf1 } => {
                 weight.is_textured() || bsdf0.is_textured() || bsdf1.is_textured()
             }
+            Material::Tabulated { .. } => false,
         }
     }
 
@@ -310,6 +316,7 @@ impl Material {
                     })
                 })
             }
+            Material::Tabulated { model } => f(model.as_ref()),
         }
     }
 }

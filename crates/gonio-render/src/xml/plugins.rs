@@ -1424,6 +1424,23 @@ impl<'d> Builder<'d> {
                 let bsdf1 = Box::new(self.bsdf(kids[1].0, &kids[1].1.value_loc)?);
                 Material::Blend { weight, bsdf0, bsdf1 }
             }
+            // tabulated (ours): `filename`, a table written by `gonio measure`
+            // (docs/instruments.md gives the format).
+            "tabulated" => {
+                let Some((name, floc)) = p.string_opt("filename")? else {
+                    return Err(err(
+                        &obj.loc,
+                        ErrorKind::Grammar,
+                        "<bsdf type=\"tabulated\"> needs a filename",
+                    ));
+                };
+                let path = doc.resolve(obj, name);
+                let data = crate::tabulated_io::read_tabulated(&path)
+                    .map_err(|e| err(floc, ErrorKind::BadValue, format!("filename \"{name}\": {e}")))?;
+                Material::Tabulated {
+                    model: std::sync::Arc::new(gonio_core::bsdfs::Tabulated::new(data)),
+                }
+            }
             _ => {
                 return Err(unknown_plugin(
                     obj,
@@ -1435,6 +1452,7 @@ impl<'d> Builder<'d> {
                         "plastic",
                         "twosided",
                         "blendbsdf",
+                        "tabulated",
                     ],
                 ));
             }
