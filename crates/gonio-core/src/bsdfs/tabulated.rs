@@ -393,10 +393,8 @@ impl Bsdf for Tabulated {
             return None;
         }
         let f = self.eval(ctx, wi, wo, wl);
+        // Returned even when black (see `Bsdf::sample`: mixtures need the direction).
         let weight = f * (wo.z / pdf);
-        if weight.is_black() {
-            return None;
-        }
         Some(BsdfSample {
             wo,
             weight,
