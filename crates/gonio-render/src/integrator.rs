@@ -23,8 +23,8 @@
 //!    β ← β/q. The η² undoes the radiance compression of refraction, so a path inside glass is
 //!    not killed more often than outside it.
 //!
-//! `max_depth` counts scattering events as Mitsuba does: −1 = unbounded, 1 = only emitters seen
-//! directly, 2 = direct lighting.
+//! `max_depth` counts path segments as Mitsuba does: −1 = unbounded, 0 = black, 1 = only emitters
+//! seen directly, 2 = direct lighting.
 //!
 //! # Thin sheets (beyond Mitsuba)
 //!
@@ -151,6 +151,10 @@ impl<'a> PathTracer<'a> {
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
     ) -> SampledSpectrum {
+        if self.max_depth == 0 {
+            // Mitsuba: max_depth 0 renders nothing, not even emitters.
+            return SampledSpectrum::ZERO;
+        }
         let ctx = BsdfContext::radiance();
         let mut l = SampledSpectrum::ZERO;
         let mut beta = SampledSpectrum::ONE;
@@ -175,7 +179,7 @@ impl<'a> PathTracer<'a> {
                         let w = match prev {
                             Some((r, bsdf_pdf, false)) => mis_power(
                                 bsdf_pdf,
-                                self.lights.pmf(i as usize) * light.pdf_li_infinite(&r, ray.d),
+                                self.lights.pmf_at(&r, i as usize) * light.pdf_li_infinite(&r, ray.d),
                             ),
                             _ => 1.0,
                         };
@@ -193,7 +197,7 @@ impl<'a> PathTracer<'a> {
                         let w = match prev {
                             Some((r, bsdf_pdf, false)) => {
                                 let shape = &self.accel.shapes()[si.shape as usize];
-                                let light_pdf = self.lights.pmf(li) * pdf_solid_angle(shape, r.p, &si);
+                                let light_pdf = self.lights.pmf_at(&r, li) * pdf_solid_angle(shape, r.p, &si);
                                 mis_power(bsdf_pdf, light_pdf)
                             }
                             _ => 1.0,
@@ -277,7 +281,7 @@ impl<'a> PathTracer<'a> {
         let u_light = sampler.next_2d();
         let mut nee = SampledSpectrum::ZERO;
         if flags.has_smooth()
-            && let Some((li, p_sel)) = self.lights.select(u_sel)
+            && let Some((li, p_sel)) = self.lights.select_at(&light_ref, u_sel)
             && let Some(ls) = self.sample_light(li, &light_ref, u_light, wl)
         {
             let wo = si.shading.to_local(ls.wi);

@@ -158,11 +158,20 @@ impl PreparedScene {
         let mut lights = Vec::new();
         for (index, shape) in scene.shapes.iter().enumerate() {
             if let Some(em) = &shape.emitter {
+                let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+                for prim in 0..world[index].prim_count() {
+                    let (a, b) = world[index].prim_bounds(prim);
+                    lo = lo.min(a);
+                    hi = hi.max(b);
+                }
+                let sphere = bounding_sphere(lo, hi);
                 lights.push(Light::Area(AreaLight {
                     shape: index,
                     radiance: em.radiance.clone(),
                     area: world[index].area(),
                     mean_radiance: em.radiance.mean(),
+                    center: sphere.center,
+                    radius: sphere.radius,
                 }));
             }
         }

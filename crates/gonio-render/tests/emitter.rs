@@ -367,3 +367,73 @@ fn power_heuristic_values() {
     assert!((mis_power(3.0, 1.0) - 0.9).abs() < 1e-6);
     assert!((mis_power(2.0, 5.0) + mis_power(5.0, 2.0) - 1.0).abs() < 1e-6);
 }
+
+#[test]
+fn selection_by_position_is_a_consistent_distribution() {
+    let bounds = BoundingSphere {
+        center: Vec3::ZERO,
+        radius: 10.0,
+    };
+    let lights = vec![
+        Light::Point(PointLight {
+            position: Vec3::new(0.0, 1.0, 0.0),
+            intensity: Spectrum::Constant(1.0),
+        }),
+        Light::Point(PointLight {
+            position: Vec3::new(5.0, 1.0, 0.0),
+            intensity: Spectrum::Constant(1.0),
+        }),
+        Light::Directional(DirectionalLight {
+            direction: Vec3::NEG_Y,
+            irradiance: Spectrum::Constant(0.5),
+        }),
+        Light::Constant(ConstantLight {
+            radiance: Spectrum::Constant(0.2),
+        }),
+    ];
+    let set = Lights::new(lights, 0, 100.0, bounds);
+    for (p, n) in [
+        (Vec3::ZERO, Vec3::Y),
+        (Vec3::new(5.0, 0.0, 0.0), Vec3::Y),
+        (Vec3::ZERO, Vec3::NEG_Y),
+    ] {
+        let r = LightRef {
+            p,
+            n,
+            hemisphere: true,
+        };
+        let pmf: Vec<f32> = (0..4).map(|i| set.pmf_at(&r, i)).collect();
+        assert!((pmf.iter().sum::<f32>() - 1.0).abs() < 1e-5, "{pmf:?}");
+        // Every light with power keeps at least the 10 % defensive share of its global probability.
+        for (i, &q) in pmf.iter().enumerate() {
+            assert!(q >= 0.1 * set.pmf(i) - 1e-6);
+        }
+        let n_draws = 20_000;
+        let mut counts = [0usize; 4];
+        for k in 0..n_draws {
+            let (i, q) = set.select_at(&r, (k as f32 + 0.5) / n_draws as f32).unwrap();
+            assert!((q - pmf[i]).abs() < 1e-6);
+            counts[i] += 1;
+        }
+        for i in 0..4 {
+            assert!(
+                (counts[i] as f32 / n_draws as f32 - pmf[i]).abs() < 1e-3,
+                "light {i}: {counts:?} vs {pmf:?}"
+            );
+        }
+    }
+    // The nearer light dominates at its foot; facing down, the lights above get only the
+    // defensive share.
+    let below_first = LightRef {
+        p: Vec3::ZERO,
+        n: Vec3::Y,
+        hemisphere: true,
+    };
+    assert!(set.pmf_at(&below_first, 0) > 5.0 * set.pmf_at(&below_first, 1));
+    let facing_down = LightRef {
+        p: Vec3::ZERO,
+        n: Vec3::NEG_Y,
+        hemisphere: true,
+    };
+    assert!((set.pmf_at(&facing_down, 0) - 0.1 * set.pmf(0)).abs() < 1e-6);
+}

@@ -209,3 +209,27 @@ fn thin_shadows_keep_the_expectation_and_lower_the_noise() {
     // Light does arrive through the pane: about (1 − R)² of the unobstructed 0.125, R ≈ 4 %.
     assert!(m_on[1] > 0.8 * 0.125 && m_on[1] < 0.125, "mean {}", m_on[1]);
 }
+
+/// An `envmap` (lat-long EXR written here): 2 above the horizon, 0 below, 64 rows so the
+/// bilinear blend at the horizon is negligible. The plane sees the upper hemisphere: L = ρ·2.
+/// Importance sampling has zero density below the horizon; MIS with the BSDF must still add up.
+#[test]
+fn environment_map_on_lambertian_plane() {
+    let dir = std::env::temp_dir().join(format!("gonio-envmap-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let env = RgbImage::from_fn(32, 64, |_, y| if y < 32 { [2.0; 3] } else { [0.0; 3] });
+    env.write_exr(dir.join("sky.exr")).unwrap();
+    let xml = scene_xml(
+        "",
+        r#"<emitter type="envmap"><string name="filename" value="sky.exr"/>
+             <transform name="to_world"><rotate y="1" angle="30"/></transform></emitter>"#,
+        "",
+    );
+    let scene = gonio_render::xml::load_scene_str(&xml, &dir, &[]).expect("envmap scene loads");
+    let _ = std::fs::remove_dir_all(&dir);
+    let prepared = PreparedScene::new(scene).unwrap();
+    let mut options = RenderOptions::from_scene(&prepared.scene);
+    options.spp = 64;
+    let img = render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image;
+    assert_grey(&img, 1.0, 0.005, "environment map");
+}

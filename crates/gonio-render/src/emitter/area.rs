@@ -27,6 +27,10 @@ pub struct AreaLight {
     pub area: f32,
     /// Mean of the radiance over 360–830 nm and over the surface (for selection).
     pub mean_radiance: f32,
+    /// Centre of a sphere bounding the shape (for selection by position).
+    pub center: Vec3,
+    /// Radius of that sphere.
+    pub radius: f32,
 }
 
 impl AreaLight {

@@ -15,6 +15,14 @@
 //! unoccluded surface over the area that can face it), with r the bounding-sphere radius used
 //! when the scene has no surfaces. Lights of zero power are never chosen; if every light has
 //! zero power the choice is uniform.
+//!
+//! With a few lights ([`MAX_LOCAL_LIGHTS`] or fewer) the choice also looks at the shading point
+//! ([`Lights::select_at`]): each light gets a cheap bound of the irradiance it can deliver there
+//! (area: mean radiance × min(A/d², 2π) × the cosine towards its bounding sphere, widened by the
+//! sphere's angular radius; point and spot: I/d² × cosine; directional: E × cosine; constant and
+//! envmap: π × mean radiance), and the probability is 90 % ∝ that bound plus 10 % ∝ power, so a
+//! light the bound undervalues (it ignores occlusion) keeps a share. The integrator recomputes the
+//! same probability at the previous vertex for MIS when a BSDF sample hits a light.
 
 pub mod area;
 pub mod delta;
@@ -189,6 +197,66 @@ impl Light {
         }
     }
 
+    /// The scalar emission used by [`Self::local_importance`]: mean radiance, intensity or
+    /// irradiance over 360–830 nm (computed once per light: a spectrum's mean is a 471-point sum).
+    pub fn mean_emission(&self) -> f32 {
+        match self {
+            Light::Area(a) => a.mean_radiance,
+            Light::Point(l) => l.intensity.mean(),
+            Light::Spot(l) => l.intensity.mean(),
+            Light::Directional(l) => l.irradiance.mean(),
+            Light::Constant(c) => c.mean_radiance(),
+            Light::EnvMap(e) => e.mean_radiance(),
+        }
+    }
+
+    /// A cheap bound of the irradiance this light can deliver at `r` (see the module docs);
+    /// `mean` is [`Self::mean_emission`].
+    pub fn local_importance(&self, r: &LightRef, mean: f32) -> f32 {
+        let cos_towards = |d: Vec3, half_angle_sin: f32| -> f32 {
+            if !r.hemisphere {
+                return 1.0;
+            }
+            let len = d.length();
+            if len == 0.0 {
+                return 1.0;
+            }
+            let cos_n = (r.n.dot(d) / len).clamp(-1.0, 1.0);
+            if half_angle_sin >= 1.0 {
+                return 1.0;
+            }
+            // Angle to the normal, reduced by the angular radius of the light's bounding sphere.
+            let theta = cos_n.acos() - half_angle_sin.asin();
+            if theta <= 0.0 {
+                1.0
+            } else if theta >= std::f32::consts::FRAC_PI_2 {
+                0.0
+            } else {
+                theta.cos()
+            }
+        };
+        let v = match self {
+            Light::Area(a) => {
+                let d = a.center - r.p;
+                let d2 = d.length_squared().max(1e-12);
+                let sin_half = (a.radius / d2.sqrt()).min(1.0);
+                let solid = (a.area / d2).min(2.0 * std::f32::consts::PI);
+                mean * solid * cos_towards(d, sin_half)
+            }
+            Light::Point(l) => {
+                let d = l.position - r.p;
+                mean / d.length_squared().max(1e-12) * cos_towards(d, 0.0)
+            }
+            Light::Spot(l) => {
+                let d = l.position() - r.p;
+                mean / d.length_squared().max(1e-12) * cos_towards(d, 0.0)
+            }
+            Light::Directional(l) => mean * cos_towards(-l.direction, 0.0),
+            Light::Constant(_) | Light::EnvMap(_) => std::f32::consts::PI * mean,
+        };
+        if v.is_finite() { v.max(0.0) } else { 0.0 }
+    }
+
     /// Scalar power estimate for light selection (see the module docs). `scene_area` is the
     /// total surface area of the scene's shapes, `bounds` the bounding sphere.
     pub fn power(&self, scene_area: f32, bounds: &BoundingSphere) -> f32 {
@@ -209,6 +277,9 @@ impl Light {
     }
 }
 
+/// Lights per scene up to which the choice depends on the shading point.
+pub const MAX_LOCAL_LIGHTS: usize = 8;
+
 /// All the lights of a scene and the distribution that picks one.
 #[derive(Clone, Debug)]
 pub struct Lights {
@@ -218,6 +289,8 @@ pub struct Lights {
     shape_light: Vec<Option<u32>>,
     infinite: Vec<u32>,
     bounds: BoundingSphere,
+    /// [`Light::mean_emission`] of each light.
+    means: Vec<f32>,
 }
 
 impl Lights {
@@ -235,12 +308,14 @@ impl Lights {
                 _ => {}
             }
         }
+        let means = lights.iter().map(Light::mean_emission).collect();
         Self {
             lights,
             selection,
             shape_light,
             infinite,
             bounds,
+            means,
         }
     }
 
@@ -272,6 +347,64 @@ impl Lights {
         } else {
             self.selection.pmf(i)
         }
+    }
+
+    /// Per-light probabilities at `r` (position-aware when there are few lights), written into
+    /// `out` (length ≥ the number of lights); returns false when the global distribution applies.
+    #[inline]
+    fn local_pmf(&self, r: &LightRef, out: &mut [f32; MAX_LOCAL_LIGHTS]) -> bool {
+        let n = self.lights.len();
+        if n <= 1 || n > MAX_LOCAL_LIGHTS {
+            return false;
+        }
+        let mut total = 0.0f32;
+        for (i, l) in self.lights.iter().enumerate() {
+            out[i] = l.local_importance(r, self.means[i]);
+            total += out[i];
+        }
+        for i in 0..n {
+            let local = if total > 0.0 { out[i] / total } else { 0.0 };
+            let global = self.selection.pmf(i);
+            out[i] = if total > 0.0 {
+                0.9 * local + 0.1 * global
+            } else {
+                global
+            };
+        }
+        true
+    }
+
+    /// Picks a light for next-event estimation from `r`: (index, probability).
+    #[inline]
+    pub fn select_at(&self, r: &LightRef, u: f32) -> Option<(usize, f32)> {
+        let mut p = [0.0f32; MAX_LOCAL_LIGHTS];
+        if !self.local_pmf(r, &mut p) {
+            return self.select(u);
+        }
+        let n = self.lights.len();
+        let mut acc = 0.0f32;
+        let mut last = None;
+        for (i, &pi) in p.iter().enumerate().take(n) {
+            if pi <= 0.0 {
+                continue;
+            }
+            acc += pi;
+            last = Some((i, pi));
+            if u < acc {
+                return Some((i, pi));
+            }
+        }
+        last
+    }
+
+    /// Probability that [`Self::select_at`] from `r` picks light `i`.
+    #[inline]
+    pub fn pmf_at(&self, r: &LightRef, i: usize) -> f32 {
+        let mut p = [0.0f32; MAX_LOCAL_LIGHTS];
+        if !self.local_pmf(r, &mut p) {
+            return self.pmf(i);
+        }
+        p.get(i).copied().unwrap_or(0.0)
     }
 
     /// The area light on shape `shape`, if it emits.
