@@ -11,8 +11,8 @@
 //!    light's solid-angle density from the previous vertex). `hide_emitters` drops what the
 //!    camera sees directly.
 //! 2. **Next-event estimation**, only when the BSDF has a smooth (diffuse or glossy) lobe: pick a
-//!    light ∝ power ([`Lights::select`]), draw a direction on it (solid angle for spheres and
-//!    rectangles), add β·f·|cos|·Lᵢ·T/(p_sel·p_dir)·w, with w the power heuristic against the
+//!    light ([`Lights::select_at`]), draw a direction on it (solid angle for spheres, and for
+//!    rectangles that subtend more than [`SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE`]; area otherwise), add β·f·|cos|·Lᵢ·T/(p_sel·p_dir)·w, with w the power heuristic against the
 //!    BSDF density (w = 1 for delta lights). T is the visibility: 0 or 1, or, with
 //!    `thin_shadows`, the product of the straight-through transmittances
 //!    ([`gonio_core::Bsdf::null_transmission`]) of the `thindielectric` sheets crossed.
@@ -42,9 +42,11 @@
 //! from the side of the geometric normal that their direction points to.
 
 use crate::accel::{Accel, Intersect};
+use crate::emitter::AreaLight;
 use crate::emitter::{BoundingSphere, Light, LightRef, LightSample, Lights};
-use crate::geometry::sampling::{pdf_solid_angle, sample_solid_angle};
+use crate::geometry::sampling::{pdf_solid_angle, sample_area, sample_solid_angle};
 use crate::geometry::{Ray, SurfaceInteraction};
+use crate::geometry::{ShapeKind, WorldShape};
 use crate::material::Material;
 use crate::scene::Integrator as IntegratorSettings;
 use glam::{Vec2, Vec3};
@@ -197,7 +199,12 @@ impl<'a> PathTracer<'a> {
                         let w = match prev {
                             Some((r, bsdf_pdf, false)) => {
                                 let shape = &self.accel.shapes()[si.shape as usize];
-                                let light_pdf = self.lights.pmf_at(&r, li) * pdf_solid_angle(shape, r.p, &si);
+                                let dir_pdf = if by_area(area, shape, r.p) {
+                                    area_pdf_to_solid_angle(1.0 / area.area, r.p, si.p, si.n)
+                                } else {
+                                    pdf_solid_angle(shape, r.p, &si)
+                                };
+                                let light_pdf = self.lights.pmf_at(&r, li) * dir_pdf;
                                 mis_power(bsdf_pdf, light_pdf)
                             }
                             _ => 1.0,
@@ -316,8 +323,14 @@ impl<'a> PathTracer<'a> {
         match &self.lights.lights()[li] {
             Light::Area(area) => {
                 let shape = self.accel.shapes().get(area.shape)?;
-                let s = sample_solid_angle(shape, r.p, u)?;
-                area.sample_from_point(r.p, s.p, s.n, s.uv, s.pdf, wl)
+                if by_area(area, shape, r.p) {
+                    let s = sample_area(shape, u);
+                    let pdf = area_pdf_to_solid_angle(s.pdf, r.p, s.p, s.n);
+                    area.sample_from_point(r.p, s.p, s.n, s.uv, pdf, wl)
+                } else {
+                    let s = sample_solid_angle(shape, r.p, u)?;
+                    area.sample_from_point(r.p, s.p, s.n, s.uv, s.pdf, wl)
+                }
             }
             light => light.sample_li_nonarea(r, u, wl),
         }
@@ -381,6 +394,33 @@ impl<'a> PathTracer<'a> {
             };
         }
         SampledSpectrum::ZERO
+    }
+}
+
+/// Below this solid angle (estimated as A/d² from the light's bounding-sphere centre) a rectangle
+/// light is sampled uniformly by area: spherical-rectangle sampling (Ureña et al. 2013) costs a
+/// dozen transcendental functions and gains little when the light subtends a small angle, where
+/// the area density is nearly proportional to solid angle anyway.
+pub const SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE: f32 = 0.1;
+
+/// True when the area light is sampled by area from `p` (rectangles subtending a small angle).
+/// A function of the light and the point only, so light sampling and the MIS density agree.
+#[inline]
+fn by_area(light: &AreaLight, shape: &WorldShape, p: Vec3) -> bool {
+    matches!(shape.kind, ShapeKind::Rectangle { .. })
+        && light.area < SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE * (light.center - p).length_squared()
+}
+
+/// An area density at `p` (normal `n`) seen from `r`, per unit solid angle: p_A·d²/|cos|.
+#[inline]
+fn area_pdf_to_solid_angle(pdf_area: f32, r: Vec3, p: Vec3, n: Vec3) -> f32 {
+    let v = p - r;
+    let d2 = v.length_squared();
+    let cos = (n.dot(v) / d2.sqrt()).abs();
+    if cos > 0.0 && d2 > 0.0 {
+        pdf_area * d2 / cos
+    } else {
+        0.0
     }
 }
 

@@ -320,11 +320,11 @@ pub struct RenderOutput {
 }
 
 /// Dimensions drawn from the structured pattern before switching to independent numbers: the
-/// camera (3) and three full path vertices (7 each: light choice, light point, lobe, direction,
+/// camera (3) and two full path vertices (7 each: light choice, light point, lobe, direction,
 /// roulette). Stratification matters most for the first bounces; beyond them a scrambled Sobol
 /// point costs more than it gains, so deeper dimensions come from a PCG32 stream keyed by
 /// (seed, pixel, sample index) — still a pure function of the sample, as determinism requires.
-const STRUCTURED_DIMS: u32 = 3 + 3 * 7;
+const STRUCTURED_DIMS: u32 = 3 + 2 * 7;
 
 /// Adapter from the render sampler to the integrator's interface (with the padding above).
 struct Dims<'s> {

@@ -112,22 +112,28 @@ fn spherical_light_on_lambertian_plane() {
 
 #[test]
 fn rectangular_light_on_lambertian_plane() {
-    // A 2 × 2 square light at height 1 facing down, centred above the point seen: the irradiance
-    // under the centre of a square of half-side a at height h is
-    // E = 4 Lₑ [a/√(a²+h²)·atan(a/√(a²+h²))] (form factor of a parallel square, Howell's catalogue
-    // C-11 summed over four quadrants).
-    let xml = scene_xml(
-        "",
-        r#"<shape type="rectangle">
-             <transform name="to_world"><rotate x="1" angle="90"/><translate y="1"/></transform>
-             <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>"#,
-        "",
-    );
-    let (a, h, le) = (1.0f64, 1.0f64, 3.0f64);
-    let s = (a * a + h * h).sqrt();
-    let e = 4.0 * le * (a / s) * (a / s).atan();
-    // The camera at (6, 5, 0) looks past the light's edge at the origin.
-    assert_grey(&render_xml(&xml, 64, 0), 0.5 / PI * e, 0.005, "rectangular light");
+    // A square light of half-side a at height h facing down, centred above the point seen: the
+    // irradiance under its centre is E = 4 Lₑ [a/√(a²+h²)·atan(a/√(a²+h²))] (form factor of a
+    // parallel square, Howell's catalogue C-11 summed over four quadrants). The large, near light
+    // is sampled by spherical rectangle, the small, far one by area (see the integrator).
+    for (a, h) in [(1.0f64, 1.0f64), (0.1, 3.0)] {
+        let light = format!(
+            r#"<shape type="rectangle">
+             <transform name="to_world"><scale value="{a}"/><rotate x="1" angle="90"/><translate y="{h}"/></transform>
+             <emitter type="area"><rgb name="radiance" value="3"/></emitter></shape>"#
+        );
+        let xml = scene_xml("", &light, "");
+        let le = 3.0f64;
+        let s = (a * a + h * h).sqrt();
+        let e = 4.0 * le * (a / s) * (a / s).atan();
+        // The camera at (6, 5, 0) looks past the light's edge at the origin.
+        assert_grey(
+            &render_xml(&xml, 64, 0),
+            0.5 / PI * e,
+            0.005,
+            &format!("rectangular light a = {a}, h = {h}"),
+        );
+    }
 }
 
 #[test]
