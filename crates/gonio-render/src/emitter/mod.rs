@@ -225,15 +225,14 @@ impl Light {
             if half_angle_sin >= 1.0 {
                 return 1.0;
             }
-            // Angle to the normal, reduced by the angular radius of the light's bounding sphere.
-            let theta = cos_n.acos() - half_angle_sin.asin();
-            if theta <= 0.0 {
-                1.0
-            } else if theta >= std::f32::consts::FRAC_PI_2 {
-                0.0
-            } else {
-                theta.cos()
+            // cos of (angle to the normal − angular radius of the light's bounding sphere),
+            // clamped to [0, 1], without inverse trigonometric functions.
+            let cos_b = (1.0 - half_angle_sin * half_angle_sin).max(0.0).sqrt();
+            if cos_n >= cos_b {
+                return 1.0;
             }
+            let sin_n = (1.0 - cos_n * cos_n).max(0.0).sqrt();
+            (cos_n * cos_b + sin_n * half_angle_sin).max(0.0)
         };
         let v = match self {
             Light::Area(a) => {
