@@ -2,11 +2,11 @@
 //! Lambertian sphere, a closed glass sphere, a thin-glass sphere) are invisible, so every pixel
 //! is 1. Checked per 8 × 8 block (block means), in each channel, within 0.5 %.
 //!
-//! What remains in a correct renderer is the colour noise of the spectral estimator (a D65
-//! spectrum seen through four wavelengths per sample): the background's pixels carry exactly the
-//! same noise as the spheres'. A biased path (the η² factor of refraction not undone, a lost
-//! Fresnel branch, a wrong MIS weight on the environment) shifts a sphere's blocks by several
-//! per cent.
+//! What remains in a correct renderer is Monte Carlo noise: the colour noise of the spectral
+//! estimator (a D65 spectrum seen through four wavelengths per sample) everywhere, and on the
+//! spheres the noise of light arriving by different paths (a diffuse point lit through the glass
+//! sphere only by BSDF sampling). A biased path (the η² factor of refraction not undone, a lost
+//! Fresnel branch, a wrong MIS weight on the environment) shifts a sphere's blocks by per cents.
 //!
 //! Noise level (`furnace_noise_level`, full 256 × 128 film, Sobol pattern, seeds 0–3): the worst of
 //! the 512 blocks deviates from 1 by 0.47–0.68 % at 64 spp, 0.21–0.49 % at 256 spp and
