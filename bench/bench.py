@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Whole-render timing: gonio against Mitsuba 3.9.1 on the shared scenes, at the same spp.
+
+For each scene of testdata/mitsuba/scenes this renders with
+  * gonio (`target/release/gonio render`, all cores, our default Sobol sampler),
+  * Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` (through ../shared/tools/mitsuba-render.py,
+    if a Python with `mitsuba` is given),
+several runs each at the same spp, and prints a Markdown table: median render time (scene loading
+excluded for both), relMSE against the 4096-spp reference (pixels, and 8x8-block means), and the
+equal-error time ratio gonio/Mitsuba = (t_gonio * relMSE_gonio) / (t_mitsuba * relMSE_mitsuba):
+for unbiased Monte Carlo relMSE ~ 1/spp, so that ratio is how much of Mitsuba's time gonio needs to
+reach Mitsuba's error.
+
+Usage (from the repository root, after `cargo build --release -p gonio`):
+    python3 -m venv .venv-mitsuba && .venv-mitsuba/bin/pip install mitsuba==3.9.1 numpy
+    apt-get install -y libllvm19    # for llvm_ad_spectral
+    .venv-mitsuba/bin/python bench/bench.py [--spp 64] [--runs 3] [--scenes materials furnace]
+        [--mitsuba-tool ../shared/tools/mitsuba-render.py] [--no-mitsuba]
+
+Images are read with the `mitsuba` module's Bitmap; without it only gonio's timings are reported.
+Run it on an otherwise idle machine: the table compares wall-clock times.
+"""
+import argparse
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SCENES = ["materials", "cornell-spheres", "thin-vs-thick", "furnace"]
+
+
+def read_exr(path):
+    import mitsuba as mi
+    import numpy as np
+
+    mi.set_variant("scalar_rgb")
+    return np.array(mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
+
+
+def relmse(a, b, block=1):
+    import numpy as np
+
+    if block > 1:
+        h, w = (a.shape[0] // block) * block, (a.shape[1] // block) * block
+        a = a[:h, :w].reshape(h // block, block, w // block, block, 3).mean(axis=(1, 3))
+        b = b[:h, :w].reshape(h // block, block, w // block, block, 3).mean(axis=(1, 3))
+    return float(np.mean((a - b) ** 2 / (b * b + 1e-2)))
+
+
+def run_gonio(gonio, scene, spp, seed, out):
+    r = subprocess.run(
+        [gonio, "render", scene, "--spp", str(spp), "--seed", str(seed), "-o", out],
+        capture_output=True,
+        text=True,
+    )
+    if r.returncode != 0:
+        sys.exit(f"gonio failed on {scene}: {r.stderr}")
+    m = re.search(r"rendered in ([0-9.]+) s", r.stderr)
+    return float(m.group(1))
+
+
+def run_mitsuba(python, tool, scene, spp, variant, runs, out):
+    env = dict(os.environ)
+    if variant.startswith("llvm") and "DRJIT_LIBLLVM_PATH" not in env:
+        for cand in ["/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1", "/usr/lib/x86_64-linux-gnu/libLLVM-19.so"]:
+            if os.path.exists(cand):
+                env["DRJIT_LIBLLVM_PATH"] = cand
+                break
+    # One extra run first: the LLVM variant compiles its kernels on the first render.
+    r = subprocess.run(
+        [python, tool, scene, out, "--variant", variant, "--spp", str(spp), "--repeat", str(runs + 1)],
+        capture_output=True,
+        text=True,
+        env=env,
+    )
+    if r.returncode != 0:
+        print(f"# mitsuba {variant} failed on {scene}: {r.stderr.strip().splitlines()[-1:]}", file=sys.stderr)
+        return None
+    times = [float(t) for t in re.findall(r"render=([0-9.]+)s", r.stdout)]
+    return times[1:]
+
+
+def main():
+    p = argparse.ArgumentParser()
+    p.add_argument("--spp", type=int, default=64)
+    p.add_argument("--runs", type=int, default=3)
+    p.add_argument("--scenes", nargs="*", default=SCENES)
+    p.add_argument("--gonio", default=os.path.join(ROOT, "target", "release", "gonio"))
+    p.add_argument("--mitsuba-tool", default=os.path.join(ROOT, "..", "shared", "tools", "mitsuba-render.py"))
+    p.add_argument("--no-mitsuba", action="store_true")
+    a = p.parse_args()
+
+    try:
+        import mitsuba  # noqa: F401
+
+        have_mi = not a.no_mitsuba and os.path.exists(a.mitsuba_tool)
+        can_read = True
+    except ImportError:
+        have_mi, can_read = False, False
+
+    tmp = tempfile.mkdtemp(prefix="gonio-bench-")
+    rows = []
+    for name in a.scenes:
+        scene = os.path.join(ROOT, "testdata", "mitsuba", "scenes", name + ".xml")
+        ref = read_exr(os.path.join(ROOT, "testdata", "mitsuba", "reference", name + ".exr")) if can_read else None
+        out = os.path.join(tmp, f"{name}-gonio.exr")
+        times = [run_gonio(a.gonio, scene, a.spp, seed, out) for seed in range(a.runs)]
+        g = {"t": statistics.median(times)}
+        if can_read:
+            img = read_exr(out)
+            g["e"], g["eb"] = relmse(img, ref), relmse(img, ref, 8)
+        result = {"scene": name, "gonio": g}
+        if have_mi:
+            for variant in ["scalar_spectral", "llvm_ad_spectral"]:
+                mout = os.path.join(tmp, f"{name}-{variant}.exr")
+                ts = run_mitsuba(sys.executable, a.mitsuba_tool, scene, a.spp, variant, a.runs, mout)
+                if ts:
+                    img = read_exr(mout)
+                    result[variant] = {"t": statistics.median(ts), "e": relmse(img, ref), "eb": relmse(img, ref, 8)}
+        rows.append(result)
+        print(f"# {name}: {result}", file=sys.stderr, flush=True)
+
+    print(f"spp = {a.spp}, median of {a.runs} runs, render time only (scene loading excluded), "
+          f"{os.cpu_count()} cores.\n")
+    print("| scene | gonio s | relMSE | block relMSE | scalar_spectral s | relMSE | equal-error ratio | "
+          "llvm_ad_spectral s | relMSE | equal-error ratio |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        g = r["gonio"]
+        cells = [r["scene"], f"{g['t']:.2f}", f"{g.get('e', float('nan')):.2e}", f"{g.get('eb', float('nan')):.2e}"]
+        for v in ["scalar_spectral", "llvm_ad_spectral"]:
+            m = r.get(v)
+            if m and "e" in g:
+                ratio = (g["t"] * g["e"]) / (m["t"] * m["e"])
+                cells += [f"{m['t']:.2f}", f"{m['e']:.2e}", f"{ratio:.2f}"]
+            else:
+                cells += ["-", "-", "-"]
+        print("| " + " | ".join(cells) + " |")
+
+
+if __name__ == "__main__":
+    main()
