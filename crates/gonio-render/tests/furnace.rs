@@ -10,9 +10,9 @@
 //!
 //! Noise level (`furnace_noise_level`, full 256 × 128 film, Sobol pattern, seeds 0–3): the worst of
 //! the 512 blocks deviates from 1 by 0.47–0.68 % at 64 spp, 0.21–0.49 % at 256 spp and
-//! 0.18–0.31 % at 512 spp (noise falls as 1/√spp). The noisiest blocks are on the diffuse
+//! 0.17–0.33 % at 512 spp (noise falls as 1/√spp). The noisiest blocks are on the diffuse
 //! sphere's rim facing the glass sphere, lit through the glass only by BSDF sampling. At 512 spp
-//! the 0.5 % bound keeps a margin of 1.6× over the worst measured block, while a 1 % bias fails.
+//! the 0.5 % bound keeps a margin of 1.5× over the worst measured block, while a 1 % bias fails.
 
 use gonio_render::image::RgbImage;
 use gonio_render::render::{PreparedScene, RenderOptions, render};
