@@ -2,7 +2,7 @@
 //!
 //! * `gonio render scene.xml [-o out.exr] [--spp N] [--threads N] [--seed S] [-D k=v]...`
 //! * The output format follows the extension: `.exr` is linear sRGB float, `.png` is sRGB 8-bit.
-//!   Without `-o` the image is written next to the current directory as `<scene name>.exr`.
+//!   Without `-o` the image is written to the current directory as `<scene name>.exr`.
 //! * Without a scene, the embedded default scene (a gallery of the lecture's materials) is
 //!   rendered to `gonio.png` and `gonio.exr`.
 //! * All cores by default; the same seed gives the same image whatever `--threads` says.
