@@ -79,34 +79,10 @@ fn downsample(img: &RgbImage, k: usize) -> RgbImage {
     })
 }
 
-/// relMSE of `block` × `block` means of `a` against `b` (see the module docs).
+/// relMSE of `block` × `block` means of `a` against `b` (see the module docs; the same metric as
+/// `gonio compare`).
 fn block_relmse(a: &RgbImage, b: &RgbImage, block: usize) -> f64 {
-    assert_eq!((a.width, a.height), (b.width, b.height));
-    let (bx, by) = (a.width / block, a.height / block);
-    let mut acc = 0.0f64;
-    for j in 0..by {
-        for i in 0..bx {
-            let (mut ma, mut mb) = ([0.0f64; 3], [0.0f64; 3]);
-            for y in 0..block {
-                for x in 0..block {
-                    let (ca, cb) = (
-                        a.get(i * block + x, j * block + y),
-                        b.get(i * block + x, j * block + y),
-                    );
-                    for c in 0..3 {
-                        ma[c] += ca[c] as f64;
-                        mb[c] += cb[c] as f64;
-                    }
-                }
-            }
-            for c in 0..3 {
-                let n = (block * block) as f64;
-                let (ma, mb) = (ma[c] / n, mb[c] / n);
-                acc += (ma - mb).powi(2) / (mb * mb + 1e-2);
-            }
-        }
-    }
-    acc / (bx * by * 3) as f64
+    gonio_render::compare::block_relmse(a, b, block).expect("images of the same size")
 }
 
 /// gonio-vs-gonio relMSE at CI size, seeds 1 and 2 (printed by `measure`; see the module docs).
