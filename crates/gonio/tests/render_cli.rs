@@ -57,6 +57,15 @@ fn renders_exr_and_png_and_is_deterministic_across_threads() {
         "summary line: {stderr}"
     );
 
+    // Mitsuba's independent sampler gives another (noisier) image of the same scene.
+    let ind = run(
+        &[&common[..], &["-o", "d.exr", "--sampler", "independent"]].concat(),
+        &dir,
+    );
+    assert!(ind.status.success());
+    assert!(RgbImage::read(dir.join("d.exr")).unwrap().data != ia.data);
+    std::fs::remove_file(dir.join("d.exr")).unwrap();
+
     let p = run(&[&common[..], &["-o", "c.png"]].concat(), &dir);
     assert!(p.status.success());
     let bytes = std::fs::read(dir.join("c.png")).unwrap();
@@ -114,6 +123,13 @@ fn bad_input_is_a_clear_error() {
     let bad_ext = run(&["render", s, "-o", "x.tiff", "--spp", "1"], &dir);
     assert_eq!(bad_ext.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad_ext.stderr).contains("x.tiff"));
+
+    let bad_sampler = run(&["render", s, "--sampler", "halton", "--spp", "1"], &dir);
+    assert_eq!(
+        bad_sampler.status.code(),
+        Some(2),
+        "clap rejects an unknown sampler"
+    );
 
     let zero = run(&["render", s, "--spp", "0"], &dir);
     assert_eq!(zero.status.code(), Some(2));
