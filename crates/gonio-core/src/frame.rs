@@ -53,7 +53,13 @@ mod tests {
 
     #[test]
     fn frames_are_orthonormal_and_invertible() {
-        for n in [Vec3::Z, -Vec3::Z, Vec3::X, Vec3::new(0.3, -0.5, 0.8).normalize(), Vec3::new(1e-4, 0.0, -1.0).normalize()] {
+        for n in [
+            Vec3::Z,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::new(0.3, -0.5, 0.8).normalize(),
+            Vec3::new(1e-4, 0.0, -1.0).normalize(),
+        ] {
             let f = Frame::from_normal(n);
             assert!((f.s.length() - 1.0).abs() < 1e-5 && (f.t.length() - 1.0).abs() < 1e-5);
             assert!(f.s.dot(f.t).abs() < 1e-5 && f.s.dot(n).abs() < 1e-5 && f.t.dot(n).abs() < 1e-5);

@@ -251,13 +251,19 @@ impl SampledWavelengths {
             }
             lambda[i] = l;
         }
-        Self { lambda, pdf: [1.0 / (hi - lo); N_SPECTRUM_SAMPLES] }
+        Self {
+            lambda,
+            pdf: [1.0 / (hi - lo); N_SPECTRUM_SAMPLES],
+        }
     }
 
     /// One fixed wavelength, for point queries (`gonio bsdf eval ... lambda_nm`): all four
     /// entries are `lambda` with pdf 1, so each slot of a result holds the value at `lambda`.
     pub fn fixed(lambda: f32) -> Self {
-        Self { lambda: [lambda; N_SPECTRUM_SAMPLES], pdf: [1.0; N_SPECTRUM_SAMPLES] }
+        Self {
+            lambda: [lambda; N_SPECTRUM_SAMPLES],
+            pdf: [1.0; N_SPECTRUM_SAMPLES],
+        }
     }
 
     /// Four given wavelengths with given pdfs (tests, instruments).

@@ -4,20 +4,20 @@
 //! spectral path tracer, film and image files. Depends only on `gonio-core`.
 #![warn(missing_docs)]
 
-pub mod camera;
-pub mod sampler;
-pub mod emitter;
 pub mod accel;
+pub mod camera;
 pub mod compare;
+pub mod emitter;
 pub mod film;
 pub mod geometry;
 pub mod image;
+pub mod integrator;
 pub mod material;
 pub mod mesh;
 pub mod plot;
+pub mod render;
+pub mod sampler;
 pub mod scene;
 pub mod tabulated_io;
 pub mod texture;
 pub mod xml;
-pub mod integrator;
-pub mod render;

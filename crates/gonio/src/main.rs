@@ -7,7 +7,11 @@ use std::process::ExitCode;
 mod cmd;
 
 #[derive(Parser)]
-#[command(name = "gonio", version, about = "Physically based reflection models: render, query and measure BSDFs")]
+#[command(
+    name = "gonio",
+    version,
+    about = "Physically based reflection models: render, query and measure BSDFs"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -2,8 +2,8 @@
 
 pub mod bsdf;
 pub mod check;
-pub mod measure;
 pub mod compare;
+pub mod measure;
 pub mod plot;
 pub mod relight;
 pub mod render;
