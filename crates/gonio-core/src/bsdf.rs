@@ -287,6 +287,27 @@ pub trait Bsdf: Send + Sync {
     }
 }
 
+/// Which of a pair of delta lobes (mirror reflection; refracted or straight transmission) a sample
+/// takes, as the lecture's "sampling reflection + transmission" slide does: with both lobes enabled
+/// in `ctx`, the reflection with probability `p_reflect` (the lecture's best choice p_r = F_r) and
+/// the transmission otherwise; with one lobe enabled, that one with probability 1 (Mitsuba's
+/// single-lobe convention). Returns `(reflect, probability)`; the sample's weight is then the
+/// chosen lobe's throughput divided by the probability. `None` when neither lobe is enabled or the
+/// chosen lobe has probability 0.
+#[inline]
+pub fn choose_delta_lobe(ctx: &BsdfContext, u1: f32, p_reflect: f32) -> Option<(bool, f32)> {
+    let has_r = ctx.is_enabled(BsdfFlags::DELTA_REFLECTION);
+    let has_t = ctx.is_enabled(BsdfFlags::DELTA_TRANSMISSION);
+    let choice = match (has_r, has_t) {
+        (true, true) if u1 < p_reflect => (true, p_reflect),
+        (true, true) => (false, 1.0 - p_reflect),
+        (true, false) => (true, 1.0),
+        (false, true) => (false, 1.0),
+        (false, false) => return None,
+    };
+    (choice.1 > 0.0).then_some(choice)
+}
+
 /// cos θ of a local-frame direction.
 #[inline]
 pub fn cos_theta(w: Vec3) -> f32 {

@@ -34,7 +34,7 @@
 //!
 //! gonio additionally accepts a spectrum (Sellmeier, table) for either index.
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode, reflect};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode, choose_delta_lobe, reflect};
 use crate::fresnel::{fresnel_dielectric, fresnel_dielectric_spectrum, refract};
 use crate::ior::{Ior, relative_eta, relative_hero_eta};
 use crate::spectra::Spectrum;
@@ -98,16 +98,18 @@ impl Bsdf for Dielectric {
         _u2: Vec2,
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
-        let has_r = ctx.is_enabled(BsdfFlags::DELTA_REFLECTION);
-        let has_t = ctx.is_enabled(BsdfFlags::DELTA_TRANSMISSION);
-        if (!has_r && !has_t) || wi.z == 0.0 {
+        if wi.z == 0.0 {
             return None;
         }
         let dispersive = self.int_ior.is_dispersive() || self.ext_ior.is_dispersive();
         // Per-wavelength η for amplitudes; [0] is the hero's.
         let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
         let f_hero = fresnel_dielectric(wi.z, eta[0]).0;
-        let reflect_chosen = if has_r && has_t { u1 < f_hero } else { has_r };
+        // Total internal reflection with the reflection masked: no transmission (probability 0).
+        let (reflect_chosen, pdf) = choose_delta_lobe(ctx, u1, f_hero)?;
+        if !reflect_chosen && f_hero >= 1.0 {
+            return None;
+        }
 
         if reflect_chosen {
             let f = if dispersive {
@@ -115,8 +117,7 @@ impl Bsdf for Dielectric {
             } else {
                 SampledSpectrum::splat(f_hero)
             };
-            let (pdf, base) = if has_t { (f_hero, f / f_hero) } else { (1.0, f) };
-            let weight = base * self.specular_reflectance.sample(wl);
+            let weight = f / pdf * self.specular_reflectance.sample(wl);
             return (pdf > 0.0 && !weight.is_black()).then_some(BsdfSample {
                 wo: reflect(wi),
                 weight,
@@ -126,11 +127,7 @@ impl Bsdf for Dielectric {
             });
         }
 
-        let t_hero = 1.0 - f_hero;
-        if t_hero <= 0.0 {
-            return None; // total internal reflection with the reflection lobe masked
-        }
-        let (pdf, base) = if has_r { (t_hero, 1.0) } else { (1.0, t_hero) };
+        let base = (1.0 - f_hero) / pdf;
         // The one scalar η the direction needs; terminates the secondaries if dispersive.
         let eta_hero = relative_hero_eta(&self.int_ior, &self.ext_ior, wl);
         let (_, cos_theta_t, eta_it, eta_ti) = fresnel_dielectric(wi.z, eta_hero);

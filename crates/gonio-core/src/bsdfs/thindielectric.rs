@@ -27,7 +27,7 @@
 //! | `specular_reflectance`   | spectrum    | 1 (tint; not physical) |
 //! | `specular_transmittance` | spectrum    | 1 (tint; not physical) |
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, reflect};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, choose_delta_lobe, reflect};
 use crate::fresnel::{fresnel_dielectric, thin_slab_reflectance, thin_slab_transmittance};
 use crate::ior::{Ior, relative_eta};
 use crate::spectra::Spectrum;
@@ -102,33 +102,22 @@ impl Bsdf for ThinDielectric {
         _u2: Vec2,
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
-        let has_r = ctx.is_enabled(BsdfFlags::DELTA_REFLECTION);
-        let has_t = ctx.is_enabled(BsdfFlags::DELTA_TRANSMISSION);
-        if (!has_r && !has_t) || wi.z == 0.0 {
+        if wi.z == 0.0 {
             return None;
         }
         let (r, t) = self.reflectance_transmittance(wi.z, wl);
-        let reflect_chosen = if has_r && has_t { u1 < r[0] } else { has_r };
-        let (wo, lobe, tint, pdf, base) = if reflect_chosen {
-            let (pdf, base) = if has_t { (r[0], r / r[0]) } else { (1.0, r) };
+        let (reflect_chosen, pdf) = choose_delta_lobe(ctx, u1, r[0])?;
+        let (wo, lobe, tint, throughput) = if reflect_chosen {
             (
                 reflect(wi),
                 BsdfFlags::DELTA_REFLECTION,
                 &self.specular_reflectance,
-                pdf,
-                base,
+                r,
             )
         } else {
-            let (pdf, base) = if has_r { (t[0], t / t[0]) } else { (1.0, t) };
-            (
-                -wi,
-                Self::TRANSMISSION_FLAGS,
-                &self.specular_transmittance,
-                pdf,
-                base,
-            )
+            (-wi, Self::TRANSMISSION_FLAGS, &self.specular_transmittance, t)
         };
-        let weight = base * tint.sample(wl);
+        let weight = throughput / pdf * tint.sample(wl);
         (pdf > 0.0 && !weight.is_black()).then_some(BsdfSample {
             wo,
             weight,
