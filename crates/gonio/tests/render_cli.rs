@@ -188,3 +188,27 @@ fn ctrl_c_still_writes_the_image() {
     assert!(img.data.iter().any(|c| c[0] > 0.0));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn loader_warnings_reach_the_user() {
+    // A scene without an integrator renders with Mitsuba's defaults, and says so on stderr with
+    // the file and position of the scene element.
+    let dir = tempdir("warnings");
+    std::fs::write(
+        dir.join("nointeg.xml"),
+        r#"<scene version="3.0.0">
+    <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="6"/></film></sensor>
+    <shape type="sphere"/>
+    <emitter type="constant"/>
+</scene>"#,
+    )
+    .unwrap();
+    let out = run(&["render", "nointeg.xml", "-o", "ni.exr"], &dir);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("warning") && err.contains("nointeg.xml:1:1") && err.contains("integrator"),
+        "{err}"
+    );
+    assert!(dir.join("ni.exr").exists());
+}

@@ -84,8 +84,12 @@ pub fn run(args: RenderArgs) -> Result<ExitCode> {
     let defines = parse_defines(&args.define)?;
     let (scene, outputs) = match &args.scene {
         Some(path) => {
-            let scene = gonio_render::xml::load_scene_file(path, &defines)
+            let loaded = gonio_render::xml::load_scene_file_with_warnings(path, &defines)
                 .with_context(|| format!("loading {}", path.display()))?;
+            for w in &loaded.warnings {
+                eprintln!("gonio: warning: {w}");
+            }
+            let scene = loaded.scene;
             let out = args.output.clone().unwrap_or_else(|| {
                 let stem = path
                     .file_stem()
