@@ -37,7 +37,19 @@ enum Command {
     Compare(cmd::compare::Args),
 }
 
+/// A closed stdout (`gonio compare a.exr b.exr | head -3`) ends the process quietly, as it does
+/// for `cat` or `grep`, instead of `println!` panicking on EPIPE. Rust ignores SIGPIPE by default;
+/// restore the default action. Output files are written atomically, so none is left half-written.
+fn default_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: called first thing in main, before any thread exists; SIG_DFL is a valid handler.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
+    default_sigpipe();
     let cli = Cli::parse();
     let result: anyhow::Result<ExitCode> = match cli.command {
         Command::Bsdf(args) => cmd::bsdf::run(args),

@@ -106,3 +106,32 @@ fn bad_input_names_the_line_and_exits_with_two() {
     assert_eq!(code, 2);
     assert!(err.contains("no/such/file.xml"), "{err}");
 }
+
+#[test]
+fn closed_stdout_ends_quietly_without_a_panic() {
+    // `gonio compare a.exr b.exr | head -0`: the reader is gone before gonio prints. Without the
+    // default SIGPIPE action, `println!` panics on EPIPE ("failed printing to stdout").
+    let reference = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../testdata/mitsuba/reference/furnace.exr"
+    );
+    let mut child = Command::new(env!("CARGO_BIN_EXE_gonio"))
+        .args(["compare", reference, reference])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take()); // close the read end while the images are still loading
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("panicked"), "{err}");
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        assert_eq!(
+            out.status.signal(),
+            Some(13),
+            "ended by SIGPIPE, as cat or grep would be"
+        );
+    }
+}
