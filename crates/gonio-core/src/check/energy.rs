@@ -23,7 +23,7 @@
 use super::{Bound, CheckConfig, CheckResult, direction, sidak, uniform_sphere, z_quantile};
 use crate::bsdf::{Bsdf, BsdfContext, TransportMode};
 use crate::rng::Pcg32;
-use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledWavelengths};
+use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
 use crate::warp::square_to_uniform_sphere_pdf;
 use glam::Vec3;
 
@@ -93,6 +93,30 @@ pub fn albedo_sampled(
     n: usize,
     rng: &mut Pcg32,
 ) -> Albedo {
+    albedo_sampled_by(
+        bsdf,
+        ctx,
+        wi,
+        n,
+        rng,
+        |_| *wl,
+        |_, w| w.to_array().map(|x| x as f64),
+    )
+}
+
+/// [`albedo_sampled`] with the wavelengths drawn per sample by `draw` and the sample weight turned
+/// into the per-slot values by `value` (e.g. the spectral estimator (1/N)Σ w(λᵢ)/p(λᵢ) for an
+/// albedo averaged over the visible range, as `gonio plot albedo` shows). `draw` runs before the
+/// sample's own uniforms are taken from `rng`.
+pub fn albedo_sampled_by(
+    bsdf: &(impl Bsdf + ?Sized),
+    ctx: &BsdfContext,
+    wi: Vec3,
+    n: usize,
+    rng: &mut Pcg32,
+    mut draw: impl FnMut(&mut Pcg32) -> SampledWavelengths,
+    value: impl Fn(&SampledWavelengths, SampledSpectrum) -> [f64; N],
+) -> Albedo {
     let (mut r, mut t, mut tot, mut sm) = (
         Moments::default(),
         Moments::default(),
@@ -100,15 +124,11 @@ pub fn albedo_sampled(
         Moments::default(),
     );
     for _ in 0..n {
-        let mut wl2 = *wl;
+        let mut wl2 = draw(rng);
         let u1 = rng.next_f32();
         let s = bsdf.sample(ctx, wi, u1, rng.next_vec2(), &mut wl2);
         let (w, refl, smooth) = match s {
-            Some(s) => (
-                s.weight.to_array().map(|x| x as f64),
-                s.wo.z * wi.z > 0.0,
-                !s.flags.is_delta(),
-            ),
+            Some(s) => (value(&wl2, s.weight), s.wo.z * wi.z > 0.0, !s.flags.is_delta()),
             None => ([0.0; N], true, true),
         };
         let zero = [0.0; N];

@@ -8,8 +8,9 @@
 //! in radiance mode a refraction carries the η² factor of radiance.
 
 use crate::bsdf::{Bsdf, BsdfContext, TransportMode};
+use crate::check::energy::albedo_sampled_by;
 use crate::rng::Pcg32;
-use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, SampledWavelengths};
+use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, N_SPECTRUM_SAMPLES, SampledWavelengths};
 use glam::Vec3;
 
 /// Which wavelengths the albedo is averaged over.
@@ -36,26 +37,9 @@ pub struct AlbedoPoint {
     pub t_stderr: f64,
 }
 
-struct Moments {
-    s: f64,
-    s2: f64,
-}
-
-impl Moments {
-    fn push(&mut self, x: f64) {
-        self.s += x;
-        self.s2 += x * x;
-    }
-    fn mean_stderr(&self, n: usize) -> (f64, f64) {
-        let n = n as f64;
-        let mean = self.s / n;
-        let var = ((self.s2 / n - mean * mean) * n / (n - 1.0).max(1.0)).max(0.0);
-        (mean, (var / n).sqrt())
-    }
-}
-
 /// R(θ), T(θ) at each angle in `thetas_deg`, `samples` samples each, from a wi in the x–z plane
-/// on the front side (+z) or, with `back_side`, on the back side (−z).
+/// on the front side (+z) or, with `back_side`, on the back side (−z). The estimator is the
+/// battery's ([`crate::check::energy::albedo_sampled_by`]): one implementation.
 pub fn directional_albedo<B: Bsdf + ?Sized>(
     bsdf: &B,
     thetas_deg: &[f32],
@@ -80,37 +64,33 @@ pub fn directional_albedo<B: Bsdf + ?Sized>(
                 wi.z = -wi.z;
             }
             let mut rng = Pcg32::new(seed, k as u64);
-            let (mut r, mut tr) = (Moments { s: 0.0, s2: 0.0 }, Moments { s: 0.0, s2: 0.0 });
-            for _ in 0..samples {
-                let mut wl = match wavelengths {
-                    Wavelengths::Fixed(l) => SampledWavelengths::fixed(l),
-                    Wavelengths::Visible => {
-                        SampledWavelengths::sample_uniform(rng.next_f32(), LAMBDA_MIN, LAMBDA_MAX)
-                    }
-                };
-                let u1 = rng.next_f32();
-                let u2 = rng.next_vec2();
-                let (mut xr, mut xt) = (0.0, 0.0);
-                if let Some(s) = bsdf.sample(&ctx, wi, u1, u2, &mut wl) {
-                    let v = match wavelengths {
-                        Wavelengths::Fixed(_) => s.weight[0] as f64,
-                        Wavelengths::Visible => (wl.estimate(s.weight) / (LAMBDA_MAX - LAMBDA_MIN)) as f64,
-                    };
-                    if v.is_finite() {
-                        if s.wo.z * wi.z > 0.0 { xr = v } else { xt = v }
-                    }
-                }
-                r.push(xr);
-                tr.push(xt);
-            }
-            let (r, r_stderr) = r.mean_stderr(samples);
-            let (t, t_stderr) = tr.mean_stderr(samples);
+            let a = match wavelengths {
+                Wavelengths::Fixed(l) => albedo_sampled_by(
+                    bsdf,
+                    &ctx,
+                    wi,
+                    samples,
+                    &mut rng,
+                    |_| SampledWavelengths::fixed(l),
+                    |_, w| [w[0] as f64; N_SPECTRUM_SAMPLES],
+                ),
+                // The visible-range mean (1/Δλ)∫ a(λ) dλ, by the spectral estimator.
+                Wavelengths::Visible => albedo_sampled_by(
+                    bsdf,
+                    &ctx,
+                    wi,
+                    samples,
+                    &mut rng,
+                    |rng| SampledWavelengths::sample_uniform(rng.next_f32(), LAMBDA_MIN, LAMBDA_MAX),
+                    |wl, w| [(wl.estimate(w) / (LAMBDA_MAX - LAMBDA_MIN)) as f64; N_SPECTRUM_SAMPLES],
+                ),
+            };
             AlbedoPoint {
                 theta_deg,
-                r,
-                r_stderr,
-                t,
-                t_stderr,
+                r: a.r[0],
+                r_stderr: a.r_se[0],
+                t: a.t[0],
+                t_stderr: a.t_se[0],
             }
         })
         .collect()
