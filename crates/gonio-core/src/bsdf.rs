@@ -241,6 +241,17 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
+impl std::fmt::Display for BsdfSample {
+    /// `wo (x, y, z) weight [..] pdf p flags eta e`, for reports.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "wo ({:.4}, {:.4}, {:.4}) weight {:.5} pdf {:.5} {} eta {}",
+            self.wo.x, self.wo.y, self.wo.z, self.weight, self.pdf, self.flags, self.eta
+        )
+    }
+}
+
 /// A bidirectional scattering distribution function in its local frame. See the module docs for
 /// every convention.
 pub trait Bsdf: Send + Sync {

@@ -119,6 +119,15 @@ impl SampledSpectrum {
     }
 }
 
+impl std::fmt::Display for SampledSpectrum {
+    /// `[a, b, c, d]`, each with the formatter's precision (default 6 significant digits).
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let p = f.precision().unwrap_or(6);
+        let [a, b, c, d] = self.to_array();
+        write!(f, "[{a:.p$}, {b:.p$}, {c:.p$}, {d:.p$}]")
+    }
+}
+
 impl Index<usize> for SampledSpectrum {
     type Output = f32;
     #[inline]

@@ -35,7 +35,7 @@ pub fn isotropy(bsdf: &dyn Bsdf, config: &CheckConfig) -> CheckResult {
         let (fr, pr) = (bsdf.eval(&ctx, ra, rb, &wl), bsdf.pdf(&ctx, ra, rb, &wl));
         for i in 0..4 {
             record(rel_diff(f[i] as f64, fr[i] as f64, TINY), &|| {
-                format!("f at a={a:.4} b={b:.4}: {f:?}, rotated by {psi:.3}: {fr:?}")
+                format!("f at a={a:.4} b={b:.4}: {f}, rotated by {psi:.3}: {fr}")
             });
         }
         record(rel_diff(p as f64, pr as f64, TINY), &|| {
@@ -54,7 +54,7 @@ pub fn isotropy(bsdf: &dyn Bsdf, config: &CheckConfig) -> CheckResult {
                 }
                 e = e.max(((rot * s.wo) - sr.wo).length() as f64);
                 record(e, &|| {
-                    format!("delta sample at a={a:.4}: {s:?}; rotated by {psi:.3}: {sr:?}")
+                    format!("delta sample at a={a:.4}: {s}; rotated by {psi:.3}: {sr}")
                 });
             }
         }

@@ -89,7 +89,7 @@ pub fn reciprocity(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
             w_adj = (
                 adj,
                 format!(
-                    "{} f_imp(a,b)={:?} f_rad(b,a)={:?}",
+                    "{} f_imp(a,b)={} f_rad(b,a)={}",
                     at(),
                     bsdf.eval(&imp, a, b, &wl),
                     fba
@@ -103,7 +103,7 @@ pub fn reciprocity(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
             n_refl += 1;
             let e = max_rel(fab, fba, N_SPECTRUM_SAMPLES);
             if e > w_refl.0 {
-                w_refl = (e, format!("{} f(a,b)={fab:?} f(b,a)={fba:?}", at()));
+                w_refl = (e, format!("{} f(a,b)={fab} f(b,a)={fba}", at()));
             }
         } else {
             n_tran += 1;
@@ -113,11 +113,7 @@ pub fn reciprocity(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
             if e > w_tran.0 {
                 w_tran = (
                     e,
-                    format!(
-                        "{} e={eta} f(a,b)·e²={:?} f(b,a)={fba:?}",
-                        at(),
-                        fab * (eta * eta)
-                    ),
+                    format!("{} e={eta} f(a,b)·e²={} f(b,a)={fba}", at(), fab * (eta * eta)),
                 );
             }
         }
