@@ -101,6 +101,64 @@ impl Camera {
     pub fn position(&self) -> Vec3 {
         self.to_world.transform_point3(Vec3::ZERO)
     }
+
+    /// The camera's side of a connection from a world point `p` (light tracing), or `None` when
+    /// `p` is behind the camera, outside the near–far range or off the film.
+    ///
+    /// A pixel's value is the mean radiance over its footprint on the image plane at distance 1
+    /// (area `A_pix = A/(W·H)`, `A = 4·tan²(fov_x/2)/aspect`). An image-plane element `du` sees
+    /// the solid angle `cos³θ·du` (θ off the optical axis) and a surface element `dA` at distance
+    /// `d` the solid angle `|cos θ_p|·dA/d²`, so
+    /// `∫_pixel L du / A_pix = ∫ L·|cos θ_p| / (d²·cos³θ·A_pix) dA`. The factor
+    /// [`CameraConnection::importance`] is `1/(cos³θ·A_pix)`; the caller multiplies by
+    /// `|cos θ_p|/d²` and by its path throughput.
+    pub fn connect(&self, p: Vec3) -> Option<CameraConnection> {
+        let c = self.to_camera.transform_point3(p);
+        if !(c.z >= self.near && c.z <= self.far) {
+            return None;
+        }
+        let s = 0.5 * (1.0 - c.x / (c.z * self.tan_half));
+        let t = 0.5 * (1.0 - self.aspect * c.y / (c.z * self.tan_half));
+        let film = Vec2::new(s * self.width, t * self.height);
+        if !(film.x >= 0.0 && film.x < self.width && film.y >= 0.0 && film.y < self.height) {
+            return None;
+        }
+        let dist = c.length();
+        let cos = c.z / dist;
+        let plane_area = 4.0 * self.tan_half * self.tan_half / self.aspect;
+        let pixel_area = plane_area / (self.width * self.height);
+        // The camera ray through `p` starts on the near plane: occluders only count beyond it.
+        let origin = self.position();
+        let to_p = p - origin;
+        let world_dist = to_p.length();
+        let near_point = origin + to_p * (self.near / c.z);
+        Some(CameraConnection {
+            film,
+            near_point,
+            dir: -to_p / world_dist,
+            dist2: world_dist * world_dist,
+            importance: 1.0 / (cos * cos * cos * pixel_area),
+            film_pdf: 1.0 / (cos * cos * cos * plane_area),
+        })
+    }
+}
+
+/// See [`Camera::connect`].
+#[derive(Clone, Copy, Debug)]
+pub struct CameraConnection {
+    /// Film position of the point (pixels).
+    pub film: Vec2,
+    /// Where the camera ray through the point starts (on the near plane).
+    pub near_point: Vec3,
+    /// Unit direction from the point towards the camera.
+    pub dir: Vec3,
+    /// Squared distance from the point to the camera.
+    pub dist2: f32,
+    /// `1/(cos³θ·A_pix)`: the pinhole's importance per unit pixel value.
+    pub importance: f32,
+    /// `1/(cos³θ·A)`: the density per unit solid angle of the direction towards the point when
+    /// the film position is uniform over the whole film (one camera sample anywhere).
+    pub film_pdf: f32,
 }
 
 /// Mitsuba's `lookat` transform: camera → world with columns `[left, up, dir, origin]`, where

@@ -236,3 +236,117 @@ impl FilmTile {
         }
     }
 }
+
+/// An image that light paths splat into from any thread (light tracing, see
+/// `integrator::caustics`), with sums that do not depend on the order of the splats.
+///
+/// A splat of colour `c` at film position `p` adds `h_q(p)·c / ∫h_q` to every pixel `q` the
+/// filter reaches, where `h_q` is the reconstruction filter centred on `q` and `∫h_q` its
+/// integral over the film: the estimate of the same filtered pixel mean the camera samples of
+/// [`Film`] compute (they normalize by `Σ w`, whose expectation is that integral).
+///
+/// Sums are kept in 64-bit fixed point with atomic integer additions: integer addition is
+/// associative, so the image is bit-identical whatever the thread count and the order in which
+/// splats arrive, without per-thread copies of the image. The unit is 2⁻⁴⁰ (10⁻¹² absolute), so
+/// a pixel channel holds sums up to 8·10⁶: callers splat values already divided by the number of
+/// light paths, which makes the sums pixel values.
+#[derive(Debug)]
+pub struct SplatFilm {
+    width: u32,
+    height: u32,
+    kernel: Kernel,
+    /// Per column and per row: ∫ of the 1-D filter centred on the pixel over the film.
+    norm_x: Vec<f32>,
+    norm_y: Vec<f32>,
+    sums: Vec<std::sync::atomic::AtomicI64>,
+    dropped: std::sync::atomic::AtomicU64,
+}
+
+/// Fixed-point scale of [`SplatFilm`] sums.
+const SPLAT_SCALE: f64 = (1u64 << 40) as f64;
+
+impl SplatFilm {
+    /// An empty splat image of the film's size and filter.
+    pub fn new(width: u32, height: u32, filter: Filter) -> Self {
+        let kernel = Kernel::new(filter);
+        let norm = |n: u32| -> Vec<f32> {
+            (0..n)
+                .map(|i| {
+                    let c = i as f64 + 0.5;
+                    let (a, b) = (
+                        (c - kernel.radius as f64).max(0.0),
+                        (c + kernel.radius as f64).min(n as f64),
+                    );
+                    // Midpoint rule; exact for the box filter away from the film's edges.
+                    const STEPS: usize = 1024;
+                    let h = (b - a) / STEPS as f64;
+                    let s: f64 = (0..STEPS)
+                        .map(|k| kernel.eval((a + (k as f64 + 0.5) * h - c) as f32) as f64)
+                        .sum();
+                    (s * h) as f32
+                })
+                .collect()
+        };
+        Self {
+            width,
+            height,
+            norm_x: norm(width),
+            norm_y: norm(height),
+            kernel,
+            sums: (0..3 * width as usize * height as usize)
+                .map(|_| std::sync::atomic::AtomicI64::new(0))
+                .collect(),
+            dropped: std::sync::atomic::AtomicU64::new(0),
+        }
+    }
+
+    /// Adds colour `c` at film position `p` (pixels), spread by the filter.
+    pub fn splat(&self, p: Vec2, c: [f32; 3]) {
+        use std::sync::atomic::Ordering::Relaxed;
+        let limit = (i64::MAX / 4) as f64 / SPLAT_SCALE;
+        if !c.iter().all(|v| v.is_finite() && (*v as f64).abs() < limit) {
+            self.dropped.fetch_add(1, Relaxed);
+            return;
+        }
+        let r = self.kernel.radius;
+        let x0 = ((p.x - 0.5 - r).ceil() as i64).max(0);
+        let x1 = ((p.x - 0.5 + r).floor() as i64).min(self.width as i64 - 1);
+        let y0 = ((p.y - 0.5 - r).ceil() as i64).max(0);
+        let y1 = ((p.y - 0.5 + r).floor() as i64).min(self.height as i64 - 1);
+        for y in y0..=y1 {
+            let wy = self.kernel.eval(p.y - y as f32 - 0.5) / self.norm_y[y as usize];
+            if !(wy > 0.0) {
+                continue;
+            }
+            for x in x0..=x1 {
+                let w = wy * self.kernel.eval(p.x - x as f32 - 0.5) / self.norm_x[x as usize];
+                if !(w > 0.0) {
+                    continue;
+                }
+                let i = 3 * (y as usize * self.width as usize + x as usize);
+                for (k, &v) in c.iter().enumerate() {
+                    let q = (w as f64 * v as f64 * SPLAT_SCALE).round() as i64;
+                    if q != 0 {
+                        self.sums[i + k].fetch_add(q, Relaxed);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Splats rejected as non-finite or absurdly large.
+    pub fn dropped(&self) -> u64 {
+        self.dropped.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Adds `scale` × the splat sums to `image` (of the same size).
+    pub fn add_to(&self, image: &mut RgbImage, scale: f64) {
+        use std::sync::atomic::Ordering::Relaxed;
+        for (i, px) in image.data.iter_mut().enumerate().take(self.sums.len() / 3) {
+            for (k, v) in px.iter_mut().enumerate() {
+                let s = self.sums[3 * i + k].load(Relaxed) as f64 / SPLAT_SCALE;
+                *v = (*v as f64 + s * scale) as f32;
+            }
+        }
+    }
+}

@@ -92,3 +92,50 @@ fn mirrored_to_world_flips_the_image() {
     let r = c.generate_ray(Vec2::new(90.0, 50.0));
     assert!(r.d.x < 0.0 && (r.d.length() - 1.0).abs() < 1e-6);
 }
+
+/// `connect` inverts `generate_ray`, and its importance is one over the solid angle of the pixel
+/// (measured from the pixel's corner rays), so a splat of radiance L through it gives L.
+#[test]
+fn connect_inverts_generate_ray_and_importance_is_the_pixel_solid_angle() {
+    let c = cam(40.0, 64, 48);
+    let eye = c.position();
+    for film in [
+        Vec2::new(0.5, 0.5),
+        Vec2::new(31.2, 20.7),
+        Vec2::new(63.5, 47.5),
+        Vec2::new(10.0, 40.0),
+    ] {
+        let ray = c.generate_ray(film);
+        let p = ray.o + ray.d * 3.0;
+        let k = c.connect(p).expect("a point in view connects");
+        assert!((k.film - film).length() < 1e-3, "film {:?} vs {film:?}", k.film);
+        assert!((k.dir + ray.d).length() < 1e-5);
+        assert!(((p - eye).length_squared() - k.dist2).abs() < 1e-4);
+        // Solid angle of the pixel around `film`: two triangles of corner directions.
+        let (x, y) = (film.x.floor(), film.y.floor());
+        let d = |u: f32, v: f32| {
+            let r = c.generate_ray(Vec2::new(u, v));
+            r.d
+        };
+        let tri = |a: Vec3, b: Vec3, cc: Vec3| {
+            // Van Oosterom–Strackee.
+            let num = a.dot(b.cross(cc)).abs();
+            let den = 1.0 + a.dot(b) + b.dot(cc) + cc.dot(a);
+            2.0 * num.atan2(den)
+        };
+        let (a, b, cc, dd) = (d(x, y), d(x + 1.0, y), d(x + 1.0, y + 1.0), d(x, y + 1.0));
+        let omega = tri(a, b, cc) + tri(a, cc, dd);
+        assert!(
+            (k.importance * omega - 1.0).abs() < 2e-3,
+            "importance {} × pixel solid angle {omega} = {}",
+            k.importance,
+            k.importance * omega
+        );
+        // The film density is the importance shared over all pixels.
+        assert!((k.film_pdf * 64.0 * 48.0 / k.importance - 1.0).abs() < 1e-5);
+    }
+    // Behind the camera, beyond the far plane, or off the film: no connection.
+    assert!(c.connect(Vec3::new(0.0, 0.0, 6.0)).is_none());
+    assert!(c.connect(Vec3::new(0.0, 0.0, -2000.0)).is_none());
+    assert!(c.connect(Vec3::new(50.0, 0.0, 0.0)).is_none());
+}

@@ -1,7 +1,7 @@
 //! Film: filter weights, weighted means, tiles and merge order.
 
 use glam::{UVec2, Vec2};
-use gonio_render::film::Film;
+use gonio_render::film::{Film, SplatFilm};
 use gonio_render::scene::Filter;
 
 #[test]
@@ -130,4 +130,57 @@ fn non_finite_samples_are_dropped_and_counted() {
     let mut film = film;
     film.merge(&t);
     assert_eq!(film.to_image().get(0, 0), [1.0, 0.0, 0.0]);
+}
+
+/// Light-tracing splats: a box filter puts a splat in the pixel it lands in, weight one; a tent
+/// spreads splats with weights that sum to one on average over positions (away from the edges:
+/// the estimate of a pixel's filtered mean is unbiased); the sums do not depend on the
+/// order of the splats (fixed-point integers).
+#[test]
+fn splats_are_normalized_and_order_independent() {
+    let to_image = |s: &SplatFilm, w: usize, h: usize| {
+        let mut img = gonio_render::image::RgbImage::from_fn(w, h, |_, _| [0.0; 3]);
+        s.add_to(&mut img, 1.0);
+        img
+    };
+    let b = SplatFilm::new(8, 6, Filter::Box { radius: 0.5 });
+    b.splat(Vec2::new(2.3, 1.7), [1.0, 2.0, 3.0]);
+    let img = to_image(&b, 8, 6);
+    for (i, c) in img.data.iter().enumerate() {
+        let want = if i == 8 + 2 { [1.0, 2.0, 3.0] } else { [0.0; 3] };
+        assert!(
+            c.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-4),
+            "pixel {i}: {c:?}"
+        );
+    }
+
+    let t = SplatFilm::new(16, 16, Filter::Tent { radius: 1.5 });
+    let k = 64;
+    for i in 0..k {
+        for j in 0..k {
+            let p = Vec2::new(
+                6.0 + 3.0 * (i as f32 + 0.5) / k as f32,
+                6.0 + 3.0 * (j as f32 + 0.5) / k as f32,
+            );
+            t.splat(p, [1.0 / (k * k) as f32; 3]);
+        }
+    }
+    let total: f32 = to_image(&t, 16, 16).data.iter().map(|c| c[0]).sum();
+    assert!((total - 1.0).abs() < 1e-3, "tent splat weights average {total}");
+
+    let splats: Vec<(Vec2, [f32; 3])> = (0..500)
+        .map(|k| {
+            let x = (k as f32 * 0.618_034).fract() * 16.0;
+            let y = (k as f32 * 0.414_214).fract() * 16.0;
+            (Vec2::new(x, y), [k as f32 * 1e-3, 1.0 / (1.0 + k as f32), 7.5])
+        })
+        .collect();
+    let forward = SplatFilm::new(16, 16, Filter::Gaussian { stddev: 0.5 });
+    let backward = SplatFilm::new(16, 16, Filter::Gaussian { stddev: 0.5 });
+    splats.iter().for_each(|(p, c)| forward.splat(*p, *c));
+    splats.iter().rev().for_each(|(p, c)| backward.splat(*p, *c));
+    assert!(to_image(&forward, 16, 16).data == to_image(&backward, 16, 16).data);
+    // Non-finite splats are counted and dropped.
+    forward.splat(Vec2::new(1.0, 1.0), [f32::NAN, 0.0, 0.0]);
+    assert_eq!(forward.dropped(), 1);
 }
