@@ -36,9 +36,10 @@ use crate::camera::Camera;
 use crate::emitter::{
     AreaLight, ConstantLight, DirectionalLight, EnvMapLight, Light, Lights, PointLight, SpotLight,
 };
-use crate::film::{Film, FilmTile};
+use crate::film::{Film, FilmTile, SplatFilm};
 use crate::geometry::WorldShape;
 use crate::image::RgbImage;
+use crate::integrator::caustics::LightSubpath;
 use crate::integrator::{PathSampler, PathTracer, bounding_sphere};
 use crate::sampler::{Pattern, Pcg32, Sampler};
 use crate::scene::{Emitter, Scene};
@@ -382,6 +383,9 @@ impl PathSampler for Dims<'_> {
     }
 }
 
+/// Mixed into a sample's key to seed its light path's random numbers.
+const LIGHT_PATH_KEY: u64 = 0x6c69_6768_745f_7061;
+
 /// A 64-bit key of one sample: (seed, pixel, sample index), well mixed.
 #[inline]
 fn sample_key(seed: u64, px: u32, py: u32, s: u32) -> u64 {
@@ -409,11 +413,21 @@ pub fn render(
         &prepared.lights,
         &scene.materials,
         &prepared.shape_material,
-    );
+    )
+    .with_camera(&prepared.camera);
     let spp = options.spp.max(1);
     let mut film = Film::new(width, height, scene.sensor.film.filter);
+    // Light tracing of the caustics seen directly (`integrator::caustics`): one light path per
+    // camera sample, splatted anywhere on the film.
+    let splats = tracer
+        .traces_caustics()
+        .then(|| SplatFilm::new(width, height, scene.sensor.film.filter));
+    // One light-subpath slot per camera sample; splats arrive divided by their total (the
+    // light tracer estimates the image with N = spp·pixels subpaths).
+    let light_paths = AtomicU64::new(0);
     let blocks: Vec<(UVec2, UVec2)> = film.tiles(TILE).iter().map(|t| t.block()).collect();
     let total = width as u64 * height as u64 * spp as u64;
+    let inv_light_paths = 1.0 / total as f32;
     let done = AtomicU64::new(0);
     let mut complete_spp = 0;
     let wavelengths = VisibleWavelengthTable::new();
@@ -430,6 +444,7 @@ pub fn render(
                 }
                 let mut tile = film.tile(lo, hi);
                 let mut sampler = Sampler::new(options.pattern, spp, options.seed);
+                let mut light = LightSubpath::EMPTY;
                 for py in lo.y..hi.y {
                     for px in lo.x..hi.x {
                         for s in start..start + count {
@@ -438,13 +453,24 @@ pub fn render(
                             let mut wl = wavelengths.sample(sampler.next_1d());
                             let ray = prepared.camera.generate_ray(pos);
                             let key = sample_key(options.seed, px, py, s);
+                            // The light subpath first: it shares the wavelengths (and may
+                            // terminate the secondary ones).
+                            if let Some(splats) = &splats {
+                                let mut rng = Pcg32::new(key ^ LIGHT_PATH_KEY, key.rotate_left(29));
+                                let mut splat = |p, value, wl: &SampledWavelengths| {
+                                    let rgb = linear_srgb_from_sampled(value, wl) * inv_light_paths;
+                                    splats.splat(p, rgb.to_array())
+                                };
+                                tracer.trace_light_path(&mut rng, &mut wl, &mut splat, &mut light);
+                            }
                             let mut dims = Dims::new(&mut sampler, 3, options.pattern, key);
-                            let l = tracer.li(ray, &mut dims, &mut wl);
+                            let l = tracer.li(ray, &mut dims, &mut wl, &light);
                             tile.add_sample(pos, linear_srgb_from_sampled(l, &wl).to_array());
                         }
                     }
                 }
                 let n = ((hi.x - lo.x) * (hi.y - lo.y) * count) as u64;
+                light_paths.fetch_add(n, Ordering::Relaxed);
                 progress(done.fetch_add(n, Ordering::Relaxed) + n, total);
                 Some(tile)
             })
@@ -469,7 +495,14 @@ pub fn render(
         }
     }
 
-    let image = film.to_image();
+    let mut image = film.to_image();
+    let traced = light_paths.load(Ordering::Relaxed);
+    if let Some(splats) = &splats
+        && traced > 0
+    {
+        // A cancelled render traced fewer.
+        splats.add_to(&mut image, total as f64 / traced as f64);
+    }
     RenderOutput {
         image,
         complete_spp,

@@ -40,16 +40,21 @@ pub struct Integrator {
     pub hide_emitters: bool,
     /// Ours: shadow rays pass through `thindielectric` sheets, attenuated (default true).
     pub thin_shadows: bool,
+    /// Ours: trace light paths for the caustics seen directly (emitter → specular chain → smooth
+    /// surface → camera) instead of finding them by BSDF sampling (default true; see
+    /// `integrator::caustics`).
+    pub caustic_paths: bool,
 }
 
 impl Default for Integrator {
-    /// Mitsuba's `path` defaults plus `thin_shadows = true`.
+    /// Mitsuba's `path` defaults plus `thin_shadows = true` and `caustic_paths = true`.
     fn default() -> Self {
         Self {
             max_depth: -1,
             rr_depth: 5,
             hide_emitters: false,
             thin_shadows: true,
+            caustic_paths: true,
         }
     }
 }

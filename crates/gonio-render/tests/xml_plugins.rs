@@ -43,16 +43,17 @@ fn integrator_path() {
         "<scene version=\"3.0.0\"><integrator type=\"path\"/><sensor type=\"perspective\"/></scene>",
     );
     assert_eq!((s.integrator.max_depth, s.integrator.rr_depth), (-1, 5));
-    assert!(!s.integrator.hide_emitters && s.integrator.thin_shadows);
+    assert!(!s.integrator.hide_emitters && s.integrator.thin_shadows && s.integrator.caustic_paths);
     let s = load_full(
         r#"<scene version="3.0.0"><integrator type="path">
             <integer name="max_depth" value="3"/><integer name="rr_depth" value="2"/>
             <boolean name="hide_emitters" value="TRUE"/><boolean name="thin_shadows" value="false"/>
+            <boolean name="caustic_paths" value="false"/>
             <integer name="samples_per_pass" value="4"/><float name="timeout" value="10"/>
         </integrator><sensor type="perspective"/></scene>"#,
     );
     assert_eq!((s.integrator.max_depth, s.integrator.rr_depth), (3, 2));
-    assert!(s.integrator.hide_emitters && !s.integrator.thin_shadows);
+    assert!(s.integrator.hide_emitters && !s.integrator.thin_shadows && !s.integrator.caustic_paths);
 }
 
 #[test]

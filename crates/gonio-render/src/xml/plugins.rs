@@ -481,7 +481,7 @@ impl<'d> Builder<'d> {
     }
 
     /// Integrator `path`: `max_depth` (−1 = ∞), `rr_depth` (5), `hide_emitters` (false), ours
-    /// `thin_shadows` (true); `samples_per_pass` and `timeout` accepted and ignored.
+    /// `thin_shadows` (true) and `caustic_paths` (true); `samples_per_pass` and `timeout` accepted and ignored.
     fn integrator(&mut self, idx: usize) -> Result<Integrator> {
         let obj = &self.doc.objs[idx];
         if obj.ty != "path" {
@@ -492,6 +492,7 @@ impl<'d> Builder<'d> {
         let rr_depth = p.int_in("rr_depth", 5, 1, u32::MAX as i64)? as u32;
         let hide_emitters = p.bool("hide_emitters", false)?;
         let thin_shadows = p.bool("thin_shadows", true)?;
+        let caustic_paths = p.bool("caustic_paths", true)?;
         p.int_in("samples_per_pass", -1, -1, i64::MAX)?;
         p.float("timeout", -1.0)?;
         p.finish()?;
@@ -500,6 +501,7 @@ impl<'d> Builder<'d> {
             rr_depth,
             hide_emitters,
             thin_shadows,
+            caustic_paths,
         })
     }
 

@@ -36,10 +36,20 @@
 //! transmission is an ordinary delta event and sheets block shadow rays: Mitsuba's exact
 //! behaviour (the light behind a window then arrives only through BSDF sampling).
 //!
+//! # Caustic light paths (beyond Mitsuba)
+//!
+//! With `caustic_paths` (the default; active when the scene has an area light and a delta lobe),
+//! each camera sample also traces a light subpath through delta chains ([`caustics`]), whose
+//! smooth vertices are connected to the camera (splatted) and to every smooth vertex of this
+//! path. The paths both can produce (an area light reached through a delta chain) are weighted
+//! by the power heuristic between the two; see that module for the densities.
+//!
 //! # Shading normals
 //!
 //! BSDFs are evaluated in the shading frame (interpolated normals), as in Mitsuba; rays leave
 //! from the side of the geometric normal that their direction points to.
+
+pub mod caustics;
 
 use crate::accel::{Accel, Intersect};
 use crate::emitter::AreaLight;
@@ -59,6 +69,18 @@ pub trait PathSampler {
     fn next_1d(&mut self) -> f32;
     /// Two numbers in [0, 1)².
     fn next_2d(&mut self) -> Vec2;
+}
+
+/// Independent numbers from a PCG32 stream (light paths, tests).
+impl PathSampler for gonio_core::rng::Pcg32 {
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        self.next_f32()
+    }
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        self.next_vec2()
+    }
 }
 
 /// Power heuristic with exponent 2 for two strategies with densities `a` (the one used) and `b`.
@@ -92,6 +114,10 @@ pub struct PathTracer<'a> {
     rr_depth: u32,
     hide_emitters: bool,
     thin_shadows: bool,
+    /// Light tracing of the caustics, when enabled and useful.
+    caustics: Option<caustics::EmissionSampler>,
+    /// The camera light paths connect to (light tracing needs it).
+    camera: Option<&'a crate::camera::Camera>,
 }
 
 /// What happened at one surface vertex (computed while the per-hit BSDF exists).
@@ -99,6 +125,8 @@ struct VertexOutcome {
     nee: SampledSpectrum,
     sample: Option<BsdfSample>,
     light_ref: LightRef,
+    /// Density of the light tracer sampling the reverse of a smooth sample (when asked for).
+    reverse_pdf: f32,
 }
 
 impl<'a> PathTracer<'a> {
@@ -113,6 +141,11 @@ impl<'a> PathTracer<'a> {
     ) -> Self {
         let thin: Vec<bool> = materials.iter().map(material_has_null_transmission).collect();
         let any_thin = thin.iter().any(|&t| t);
+        let caustics = if settings.caustic_paths {
+            caustics::EmissionSampler::new(lights, materials, shape_material, accel.shapes())
+        } else {
+            None
+        };
         Self {
             accel,
             lights,
@@ -128,7 +161,22 @@ impl<'a> PathTracer<'a> {
             rr_depth: settings.rr_depth,
             hide_emitters: settings.hide_emitters,
             thin_shadows: settings.thin_shadows,
+            caustics,
+            camera: None,
         }
+    }
+
+    /// The camera, which enables light tracing of caustics (when the settings ask for it and the
+    /// scene has an area light and a delta lobe).
+    pub fn with_camera(mut self, camera: &'a crate::camera::Camera) -> Self {
+        self.camera = Some(camera);
+        self
+    }
+
+    /// True when light subpaths ([`PathTracer::trace_light_path`]) take part: each camera sample
+    /// then traces one and passes it to [`PathTracer::li`].
+    pub fn traces_caustics(&self) -> bool {
+        self.caustics.is_some() && self.camera.is_some()
     }
 
     fn material_of(&self, shape: u32) -> Option<&'a Material> {
@@ -146,12 +194,15 @@ impl<'a> PathTracer<'a> {
     }
 
     /// Radiance arriving along `ray` at the wavelengths `wl` (which a dispersive refraction may
-    /// reduce to the hero wavelength).
+    /// reduce to the hero wavelength). `light` is the light subpath traced for this camera sample
+    /// by [`PathTracer::trace_light_path`] with the same wavelengths (empty when
+    /// [`PathTracer::traces_caustics`] is false).
     pub fn li(
         &self,
         mut ray: Ray,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
+        light: &caustics::LightSubpath,
     ) -> SampledSpectrum {
         if self.max_depth == 0 {
             // Mitsuba: max_depth 0 renders nothing, not even emitters.
@@ -166,6 +217,9 @@ impl<'a> PathTracer<'a> {
         // density of the direction taken, and whether that lobe was a delta. None = the camera.
         let mut prev: Option<(LightRef, f32, bool)> = None;
         let mut null_crossings = 0u32;
+        // The last smooth vertex and the delta chain after it, for the MIS weight against the
+        // light-path connections ([`caustics`]).
+        let mut chain: Option<caustics::ChainState> = None;
 
         loop {
             let hit = self.accel.intersect(&ray);
@@ -207,7 +261,8 @@ impl<'a> PathTracer<'a> {
                                 let light_pdf = self.lights.pmf_at(&r, li) * dir_pdf;
                                 mis_power(bsdf_pdf, light_pdf)
                             }
-                            _ => 1.0,
+                            // After a delta lobe: light paths may have found this path too.
+                            _ => self.caustic_path_weight(chain.as_ref(), li, area, si.p, si.n, -ray.d),
                         };
                         l += beta * le * w;
                     }
@@ -223,8 +278,22 @@ impl<'a> PathTracer<'a> {
 
             let wi_world = -ray.d;
             let wi = si.shading.to_local(wi_world);
+            // Density of reaching this point from the previous vertex, per unit area, as the
+            // connection strategy sees it (zero after a delta lobe: no connection is possible).
+            let arrival = if self.traces_caustics() {
+                self.arrival_density(
+                    prev.as_ref().map(|(r, pdf, delta)| (r.p, *pdf, *delta)),
+                    &si,
+                    ray.d,
+                )
+            } else {
+                0.0
+            };
+            // After a delta lobe, a smooth sample here needs the light tracer's density of the
+            // reverse direction for the MIS ratio.
+            let want_reverse = self.traces_caustics() && matches!(prev, Some((_, _, true)));
             let outcome = material.with_bsdf(si.uv, |bsdf: &dyn Bsdf| {
-                self.scatter(bsdf, &ctx, &si, wi, beta, sampler, wl)
+                self.scatter(bsdf, &ctx, &si, wi, beta, depth, light, want_reverse, sampler, wl)
             });
             l += outcome.nee;
 
@@ -243,6 +312,17 @@ impl<'a> PathTracer<'a> {
             }
 
             eta_path *= bs.eta;
+            if self.traces_caustics() {
+                chain = caustics::ChainState::after_sample(
+                    chain,
+                    &bs,
+                    arrival,
+                    si.n.dot(wi_world).abs(),
+                    si.n.dot(dir).abs(),
+                    outcome.reverse_pdf,
+                    want_reverse,
+                );
+            }
             prev = Some((outcome.light_ref, bs.pdf, bs.flags.is_delta()));
             depth += 1;
 
@@ -272,6 +352,9 @@ impl<'a> PathTracer<'a> {
         si: &SurfaceInteraction,
         wi: Vec3,
         beta: SampledSpectrum,
+        depth: u32,
+        light: &caustics::LightSubpath,
+        want_reverse: bool,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
     ) -> VertexOutcome {
@@ -307,15 +390,26 @@ impl<'a> PathTracer<'a> {
             }
         }
 
+        if flags.has_smooth() && !light.is_empty() {
+            nee += beta * self.connect_light_vertices(bsdf, si, wi, depth, light, wl);
+        }
+
         let u_lobe = sampler.next_1d();
         let u_dir = sampler.next_2d();
         let sample = bsdf.sample(ctx, wi, u_lobe, u_dir, wl).filter(|bs| {
             bs.weight.is_finite() && !bs.weight.is_black() && (bs.flags.is_delta() || bs.pdf > 0.0)
         });
+        let reverse_pdf = match &sample {
+            Some(bs) if want_reverse && !bs.flags.is_delta() => {
+                bsdf.pdf(&BsdfContext::importance(), bs.wo, wi, wl)
+            }
+            _ => 0.0,
+        };
         VertexOutcome {
             nee,
             sample,
             light_ref,
+            reverse_pdf,
         }
     }
 
@@ -349,6 +443,12 @@ impl<'a> PathTracer<'a> {
         } else {
             si.spawn_ray(ls.wi)
         };
+        self.visibility(ray, wl)
+    }
+
+    /// Visibility along a shadow ray: 0/1, or with thin shadows the transmittance of the sheets
+    /// crossed.
+    fn visibility(&self, ray: Ray, wl: &SampledWavelengths) -> SampledSpectrum {
         if !(self.thin_shadows && self.any_thin) {
             return if self.accel.occluded(&ray) {
                 SampledSpectrum::ZERO
