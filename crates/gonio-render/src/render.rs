@@ -321,11 +321,12 @@ pub struct RenderOutput {
 }
 
 /// Dimensions drawn from the structured pattern before switching to independent numbers: the
-/// camera (3) and two full path vertices (7 each: light choice, light point, lobe, direction,
-/// roulette). Stratification matters most for the first bounces; beyond them a scrambled Sobol
+/// camera (3) and two vertices with a smooth lobe (6 each: light choice, light point, lobe,
+/// direction; a purely delta vertex takes one, its lobe choice, and roulette numbers start at
+/// `rr_depth`). Stratification matters most for the first bounces; beyond them a scrambled Sobol
 /// point costs more than it gains, so deeper dimensions come from a PCG32 stream keyed by
 /// (seed, pixel, sample index) — still a pure function of the sample, as determinism requires.
-const STRUCTURED_DIMS: u32 = 3 + 2 * 7;
+const STRUCTURED_DIMS: u32 = 3 + 2 * 6;
 
 /// Adapter from the render sampler to the integrator's interface (with the padding above).
 struct Dims<'s> {

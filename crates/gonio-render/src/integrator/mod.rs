@@ -326,10 +326,11 @@ impl<'a> PathTracer<'a> {
             prev = Some((outcome.light_ref, bs.pdf, bs.flags.is_delta()));
             depth += 1;
 
-            // Russian roulette (the random number is always consumed to keep dimensions aligned).
-            let u_rr = sampler.next_1d();
+            // Russian roulette, from `rr_depth` on (its number is drawn only there: a function of
+            // the depth, so the dimensions of paths of the same shape stay aligned).
             let beta_max = beta.max_component();
             if depth >= self.rr_depth {
+                let u_rr = sampler.next_1d();
                 let q = (beta_max * eta_path * eta_path).min(0.95);
                 if !(u_rr < q) {
                     break;
@@ -366,9 +367,16 @@ impl<'a> PathTracer<'a> {
             hemisphere: !flags.is_transmission(),
         };
 
-        // Next-event estimation (random numbers always consumed).
-        let u_sel = sampler.next_1d();
-        let u_light = sampler.next_2d();
+        // Random numbers: a vertex with a smooth lobe takes five (light choice, light point,
+        // lobe, direction), a purely delta one only its lobe choice (it samples no light and
+        // needs no direction), so the sampler's structured dimensions reach the smooth vertices
+        // behind glass and mirrors. The count is a function of the path, as it must be.
+        let smooth = flags.has_smooth();
+        let (u_sel, u_light) = if smooth {
+            (sampler.next_1d(), sampler.next_2d())
+        } else {
+            (0.5, Vec2::splat(0.5))
+        };
         let mut nee = SampledSpectrum::ZERO;
         if flags.has_smooth()
             && let Some((li, p_sel)) = self.lights.select_at(&light_ref, u_sel)
@@ -395,7 +403,11 @@ impl<'a> PathTracer<'a> {
         }
 
         let u_lobe = sampler.next_1d();
-        let u_dir = sampler.next_2d();
+        let u_dir = if smooth {
+            sampler.next_2d()
+        } else {
+            Vec2::splat(0.5)
+        };
         let sample = bsdf.sample(ctx, wi, u_lobe, u_dir, wl).filter(|bs| {
             bs.weight.is_finite() && !bs.weight.is_black() && (bs.flags.is_delta() || bs.pdf > 0.0)
         });
