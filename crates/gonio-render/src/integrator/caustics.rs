@@ -414,8 +414,8 @@ impl LightSubpath {
 /// an area light hit at the end of a delta chain.
 #[derive(Clone, Copy, Debug)]
 pub struct ChainState {
-    /// `p_x(z)`, per unit area.
-    arrival: f32,
+    /// How `z` was reached (gives `p_x(z)`).
+    arrival: Arrival,
     /// BSDF density at `z` of the direction taken.
     pdf_z: f32,
     /// |ω_z·n_g| at `z`.
@@ -425,23 +425,36 @@ pub struct ChainState {
     /// Product of the relative indices crossed since `z` (η_l/η_z).
     eta: f32,
     /// Delta vertices since `z`.
-    pub(super) deltas: u32,
-    /// True while the vertices since `z` alternate (no two smooth vertices in a row).
-    valid: bool,
+    deltas: u32,
+}
+
+/// How the path tracer reached a vertex, for `p_x(z)`: resolved only when an MIS weight needs it
+/// (most candidates never meet a light), so the camera's projection is not computed per hit.
+#[derive(Clone, Copy, Debug)]
+pub enum Arrival {
+    /// After a delta lobe: no connection strategy.
+    Delta,
+    /// Straight from the camera, at point `p` with |cos θ_z| = `cos`.
+    Camera {
+        /// The vertex.
+        p: Vec3,
+        /// |ω·n_g| at the vertex.
+        cos: f32,
+    },
+    /// From a smooth vertex: the density per unit area.
+    Density(f32),
 }
 
 impl ChainState {
-    /// The state after a real scattering event at a vertex reached with `arrival` = `p_x(v)`
-    /// (zero after a delta lobe), `cos_in`/`cos_out` = |ω·n_g| of the incoming and the sampled
+    /// The state after a real scattering event at a vertex reached by `arrival`, `cos_in`/`cos_out` = |ω·n_g| of the incoming and the sampled
     /// direction, `reverse_pdf` the light tracer's density of the reverse of a smooth sample.
     pub fn after_sample(
         state: Option<Self>,
         bs: &BsdfSample,
-        arrival: f32,
+        arrival: Arrival,
         cos_in: f32,
         cos_out: f32,
         reverse_pdf: f32,
-        after_delta: bool,
     ) -> Option<Self> {
         if bs.flags.is_delta() {
             return state.map(|s| Self {
@@ -450,7 +463,7 @@ impl ChainState {
                 ..s
             });
         }
-        if !after_delta {
+        if !matches!(arrival, Arrival::Delta) {
             // Reached from a smooth vertex or the camera: the new candidate.
             return Some(Self {
                 arrival,
@@ -459,10 +472,10 @@ impl ChainState {
                 ratio: 1.0,
                 eta: 1.0,
                 deltas: 0,
-                valid: true,
             });
         }
-        // A smooth vertex after a delta one: part of the candidate's light subpath.
+        // A smooth vertex after a delta one (so `deltas` > 0: the vertices since `z` alternate):
+        // part of the candidate's light subpath.
         state.map(|s| {
             let denom = reverse_pdf * cos_out;
             Self {
@@ -471,7 +484,6 @@ impl ChainState {
                 } else {
                     f32::INFINITY
                 },
-                valid: s.valid && s.deltas > 0,
                 ..s
             }
         })
@@ -488,25 +500,29 @@ fn weight_of_ratio(r: f32) -> f32 {
 }
 
 impl PathTracer<'_> {
-    /// `p_x(y)` for the vertex `si` reached along `d` from `prev` = (point, BSDF pdf, delta?) of
-    /// the previous real vertex, or from the camera when `None`.
-    pub(super) fn arrival_density(
-        &self,
-        prev: Option<(Vec3, f32, bool)>,
-        si: &SurfaceInteraction,
-        d: Vec3,
-    ) -> f32 {
+    /// How the vertex `si` was reached along `d` from `prev` = (point, BSDF pdf, delta?) of the
+    /// previous real vertex, or from the camera when `None`.
+    pub(super) fn arrival(prev: Option<(Vec3, f32, bool)>, si: &SurfaceInteraction, d: Vec3) -> Arrival {
         let cos = si.n.dot(d).abs();
         match prev {
-            None => self
-                .camera
-                .and_then(|c| c.connect(si.p))
-                .map_or(0.0, |c| c.film_pdf * cos / c.dist2),
-            Some((_, _, true)) => 0.0,
+            None => Arrival::Camera { p: si.p, cos },
+            Some((_, _, true)) => Arrival::Delta,
             Some((p, pdf, false)) => {
                 let d2 = (si.p - p).length_squared();
-                if d2 > 0.0 { pdf * cos / d2 } else { 0.0 }
+                Arrival::Density(if d2 > 0.0 { pdf * cos / d2 } else { 0.0 })
             }
+        }
+    }
+
+    /// `p_x(z)` per unit area (zero where no connection can produce the path).
+    fn arrival_density(&self, arrival: Arrival) -> f32 {
+        match arrival {
+            Arrival::Delta => 0.0,
+            Arrival::Camera { p, cos } => self
+                .camera
+                .and_then(|c| c.connect(p))
+                .map_or(0.0, |c| c.film_pdf * cos / c.dist2),
+            Arrival::Density(d) => d,
         }
     }
 
@@ -525,11 +541,15 @@ impl PathTracer<'_> {
         let (Some(c), Some(emission)) = (chain, &self.caustics) else {
             return 1.0;
         };
-        if !c.valid || c.deltas == 0 || c.deltas > MAX_CHAIN || c.arrival <= 0.0 || self.camera.is_none() {
+        if c.deltas == 0 || c.deltas > MAX_CHAIN {
+            return 1.0;
+        }
+        let arrival = self.arrival_density(c.arrival);
+        if !(arrival > 0.0) {
             return 1.0;
         }
         let p2 = emission.light_density(li, area, l, n_l, w_l) * c.cos_z;
-        weight_of_ratio(c.arrival * c.pdf_z * c.ratio * c.eta * c.eta / p2)
+        weight_of_ratio(arrival * c.pdf_z * c.ratio * c.eta * c.eta / p2)
     }
 
     /// Σ over the light subpath's vertices of the connection from camera-path vertex `si`

@@ -278,17 +278,12 @@ impl<'a> PathTracer<'a> {
 
             let wi_world = -ray.d;
             let wi = si.shading.to_local(wi_world);
-            // Density of reaching this point from the previous vertex, per unit area, as the
-            // connection strategy sees it (zero after a delta lobe: no connection is possible).
-            let arrival = if self.traces_caustics() {
-                self.arrival_density(
-                    prev.as_ref().map(|(r, pdf, delta)| (r.p, *pdf, *delta)),
-                    &si,
-                    ray.d,
-                )
-            } else {
-                0.0
-            };
+            // How this point was reached, for the MIS weight against light-subpath connections.
+            let arrival = Self::arrival(
+                prev.as_ref().map(|(r, pdf, delta)| (r.p, *pdf, *delta)),
+                &si,
+                ray.d,
+            );
             // After a delta lobe, a smooth sample here needs the light tracer's density of the
             // reverse direction for the MIS ratio.
             let want_reverse = self.traces_caustics() && matches!(prev, Some((_, _, true)));
@@ -320,7 +315,6 @@ impl<'a> PathTracer<'a> {
                     si.n.dot(wi_world).abs(),
                     si.n.dot(dir).abs(),
                     outcome.reverse_pdf,
-                    want_reverse,
                 );
             }
             prev = Some((outcome.light_ref, bs.pdf, bs.flags.is_delta()));
