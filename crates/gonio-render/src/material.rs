@@ -246,59 +246,39 @@ impl Material {
                 }
             }
             Material::Conductor {
-                specular_reflectance,
+                specular_reflectance: r,
                 model,
-            } => {
-                if specular_reflectance.is_textured() {
-                    let mut m = model.clone();
-                    m.specular_reflectance = specular_reflectance.eval(uv);
-                    f(&m)
-                } else {
-                    f(model)
-                }
-            }
+            } => retinted(model, r.is_textured(), |m| m.specular_reflectance = r.eval(uv), f),
             Material::Dielectric {
-                specular_reflectance,
-                specular_transmittance,
+                specular_reflectance: r,
+                specular_transmittance: t,
                 model,
-            } => {
-                if specular_reflectance.is_textured() || specular_transmittance.is_textured() {
-                    let mut m = model.clone();
-                    m.specular_reflectance = specular_reflectance.eval(uv);
-                    m.specular_transmittance = specular_transmittance.eval(uv);
-                    f(&m)
-                } else {
-                    f(model)
-                }
-            }
+            } => retinted(
+                model,
+                r.is_textured() || t.is_textured(),
+                |m| (m.specular_reflectance, m.specular_transmittance) = (r.eval(uv), t.eval(uv)),
+                f,
+            ),
             Material::ThinDielectric {
-                specular_reflectance,
-                specular_transmittance,
+                specular_reflectance: r,
+                specular_transmittance: t,
                 model,
-            } => {
-                if specular_reflectance.is_textured() || specular_transmittance.is_textured() {
-                    let mut m = model.clone();
-                    m.specular_reflectance = specular_reflectance.eval(uv);
-                    m.specular_transmittance = specular_transmittance.eval(uv);
-                    f(&m)
-                } else {
-                    f(model)
-                }
-            }
+            } => retinted(
+                model,
+                r.is_textured() || t.is_textured(),
+                |m| (m.specular_reflectance, m.specular_transmittance) = (r.eval(uv), t.eval(uv)),
+                f,
+            ),
             Material::Plastic {
-                diffuse_reflectance,
-                specular_reflectance,
+                diffuse_reflectance: d,
+                specular_reflectance: r,
                 model,
-            } => {
-                if diffuse_reflectance.is_textured() || specular_reflectance.is_textured() {
-                    let mut m = model.clone();
-                    m.diffuse_reflectance = diffuse_reflectance.eval(uv);
-                    m.specular_reflectance = specular_reflectance.eval(uv);
-                    f(&m)
-                } else {
-                    f(model)
-                }
-            }
+            } => retinted(
+                model,
+                d.is_textured() || r.is_textured(),
+                |m| (m.diffuse_reflectance, m.specular_reflectance) = (d.eval(uv), r.eval(uv)),
+                f,
+            ),
             Material::TwoSided { front, back } => front.visit(uv, &mut |fb: &dyn Bsdf| match back {
                 Some(back) => back.visit(uv, &mut |bb: &dyn Bsdf| f(&TwoSided { front: fb, back: bb })),
                 None => f(&TwoSided { front: fb, back: fb }),
@@ -318,5 +298,22 @@ impl Material {
             }
             Material::Tabulated { model } => f(model.as_ref()),
         }
+    }
+}
+
+/// Hands `f` the prebuilt `model`, or, when some of its tints are textured, a copy on the stack
+/// with the tints at this point set by `retint`.
+fn retinted<M: Bsdf + Clone>(
+    model: &M,
+    textured: bool,
+    retint: impl FnOnce(&mut M),
+    f: &mut dyn FnMut(&dyn Bsdf),
+) {
+    if textured {
+        let mut m = model.clone();
+        retint(&mut m);
+        f(&m)
+    } else {
+        f(model)
     }
 }
