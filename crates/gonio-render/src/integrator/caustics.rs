@@ -361,6 +361,15 @@ pub struct LightVertex {
     segments: u32,
 }
 
+impl LightVertex {
+    /// The connection's MIS weight `1/(1 + r²)` for a camera-side density `arrival` = `p_x(z)`
+    /// per unit area and the BSDF density `pdf_z` at this vertex of the direction towards the
+    /// light (the ratio `r` of the module documentation, from this end).
+    fn connection_weight(&self, arrival: f32, pdf_z: f32) -> f32 {
+        1.0 - weight_of_ratio(arrival * pdf_z * self.eta2 / (self.light_density * self.cos_chain))
+    }
+}
+
 /// The kept vertices of one light subpath (at most [`MAX_CHAIN`]: each follows its own delta
 /// vertex), on the stack.
 #[derive(Clone, Copy, Debug)]
@@ -596,8 +605,7 @@ impl PathTracer<'_> {
             if c.is_black() || !c.is_finite() {
                 continue;
             }
-            let r = pdf_x * cos_y / d2 * pdf_y * y.eta2 / (y.light_density * y.cos_chain);
-            let w = 1.0 - weight_of_ratio(r);
+            let w = y.connection_weight(pdf_x * cos_y / d2, pdf_y);
             if !(w > 0.0) {
                 continue;
             }
@@ -803,8 +811,7 @@ impl PathTracer<'_> {
         if value.is_black() || !value.is_finite() {
             return;
         }
-        let r = c.film_pdf * cos_cam / c.dist2 * pdf_y * y.eta2 / (y.light_density * y.cos_chain);
-        let w = 1.0 - weight_of_ratio(r);
+        let w = y.connection_weight(c.film_pdf * cos_cam / c.dist2, pdf_y);
         if !(w > 0.0) {
             return;
         }
@@ -879,16 +886,26 @@ mod tests {
         assert_eq!(none.pdf(Vec3::ZERO, n, -w), 0.0);
     }
 
-    /// The MIS weights of the two strategies are a partition of unity for any ratio.
+    /// The path tracer's weight is the power heuristic r²/(1 + r²): a number in [0, 1] for every
+    /// ratio (it was NaN for r = 1e20 once), increasing, 0 where only the connection can produce
+    /// the path, 1 where only the path tracer can, ½ at r = 1.
     #[test]
-    fn the_two_weights_sum_to_one() {
-        for r in [0.0, 1e-6, 0.3, 1.0, 7.0, 1e20, f32::INFINITY] {
-            let w1 = weight_of_ratio(r);
-            let w2 = 1.0 - weight_of_ratio(r);
-            assert!(
-                (w1 + w2 - 1.0).abs() < 1e-6 && (0.0..=1.0).contains(&w1),
-                "r = {r}"
-            );
+    fn path_tracer_weight_is_the_power_heuristic_for_every_ratio() {
+        let rs = [0.0, 1e-6, 0.3, 1.0, 7.0, 1e15, 1e20, f32::MAX, f32::INFINITY];
+        let mut last = -1.0;
+        for r in rs {
+            let w = weight_of_ratio(r);
+            assert!((0.0..=1.0).contains(&w), "r = {r}: weight {w}");
+            assert!(w >= last, "not increasing at r = {r}");
+            if r < 1e15 {
+                let r2 = (r as f64) * (r as f64);
+                assert!((w as f64 - r2 / (1.0 + r2)).abs() < 1e-6, "r = {r}: {w}");
+            }
+            last = w;
         }
+        assert_eq!(weight_of_ratio(0.0), 0.0);
+        assert_eq!(weight_of_ratio(f32::INFINITY), 1.0);
+        assert_eq!(weight_of_ratio(f32::NAN), 1.0);
+        assert!((weight_of_ratio(1.0) - 0.5).abs() < 1e-7);
     }
 }
