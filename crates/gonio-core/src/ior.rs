@@ -77,16 +77,76 @@ impl From<f32> for Ior {
     }
 }
 
+/// An index of refraction as a BSDF model holds it: an [`Ior`] (any wavelengths) or a
+/// [`SampledIor`] (already evaluated at one path's wavelengths, for the per-hit BSDF value).
+/// Either way the only scalar η for a refraction comes from [`IorValue::hero_eta`].
+pub trait IorValue: Clone + std::fmt::Debug + Send + Sync {
+    /// True when the index depends on wavelength.
+    fn is_dispersive(&self) -> bool;
+    /// Index at each of the four wavelengths (for amplitudes only, never for a direction).
+    fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum;
+    /// The scalar index a refraction uses: the hero's; terminates the secondaries if dispersive.
+    fn hero_eta(&self, wl: &mut SampledWavelengths) -> f32;
+}
+
+impl IorValue for Ior {
+    fn is_dispersive(&self) -> bool {
+        Ior::is_dispersive(self)
+    }
+    fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+        Ior::sample(self, wl)
+    }
+    fn hero_eta(&self, wl: &mut SampledWavelengths) -> f32 {
+        Ior::hero_eta(self, wl)
+    }
+}
+
+/// An [`Ior`] evaluated at a path's four wavelengths ([`Ior::at`]): `Copy`, for the BSDF value a
+/// material becomes at a hit. Valid only for those wavelengths (a terminated secondary keeps its
+/// λ, so termination does not invalidate it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampledIor {
+    /// The index at each wavelength.
+    pub eta: SampledSpectrum,
+    /// Whether the index depends on wavelength (refraction then terminates the secondaries).
+    pub dispersive: bool,
+}
+
+impl Ior {
+    /// This index at the four wavelengths of `wl`.
+    pub fn at(&self, wl: &SampledWavelengths) -> SampledIor {
+        SampledIor {
+            eta: self.sample(wl),
+            dispersive: self.is_dispersive(),
+        }
+    }
+}
+
+impl IorValue for SampledIor {
+    fn is_dispersive(&self) -> bool {
+        self.dispersive
+    }
+    fn sample(&self, _wl: &SampledWavelengths) -> SampledSpectrum {
+        self.eta
+    }
+    fn hero_eta(&self, wl: &mut SampledWavelengths) -> f32 {
+        if self.dispersive {
+            wl.terminate_secondary();
+        }
+        self.eta[0]
+    }
+}
+
 /// Relative index η = n_int/n_ext that a refraction uses; terminates the secondary wavelengths if
 /// either side is dispersive.
-pub fn relative_hero_eta(int_ior: &Ior, ext_ior: &Ior, wl: &mut SampledWavelengths) -> f32 {
+pub fn relative_hero_eta<I: IorValue>(int_ior: &I, ext_ior: &I, wl: &mut SampledWavelengths) -> f32 {
     let n_int = int_ior.hero_eta(wl);
     let n_ext = ext_ior.hero_eta(wl);
     n_int / n_ext
 }
 
 /// Relative index n_int/n_ext per wavelength, for amplitudes only.
-pub fn relative_eta(int_ior: &Ior, ext_ior: &Ior, wl: &SampledWavelengths) -> SampledSpectrum {
+pub fn relative_eta<I: IorValue>(int_ior: &I, ext_ior: &I, wl: &SampledWavelengths) -> SampledSpectrum {
     int_ior.sample(wl) / ext_ior.sample(wl)
 }
 

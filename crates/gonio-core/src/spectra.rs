@@ -513,6 +513,30 @@ impl Spectrum {
     }
 }
 
+/// A spectral parameter as a BSDF model holds it: a [`Spectrum`] (any wavelengths; what the
+/// battery and the instruments use) or a [`SampledSpectrum`] already evaluated at one path's
+/// wavelengths (the `Copy` BSDF value a material becomes at a hit, see
+/// [`crate::bsdfs::SurfaceBsdf`]). Models are generic over it, so their formulas are written once.
+pub trait SpectralValue: Clone + std::fmt::Debug + Send + Sync {
+    /// Values at the four wavelengths of a path.
+    fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum;
+}
+
+impl SpectralValue for Spectrum {
+    #[inline]
+    fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+        Spectrum::sample(self, wl)
+    }
+}
+
+/// Already evaluated: the wavelengths must be the ones it was evaluated at.
+impl SpectralValue for SampledSpectrum {
+    #[inline]
+    fn sample(&self, _wl: &SampledWavelengths) -> SampledSpectrum {
+        *self
+    }
+}
+
 impl From<f32> for Spectrum {
     fn from(v: f32) -> Self {
         Spectrum::Constant(v)

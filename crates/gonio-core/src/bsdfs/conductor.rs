@@ -26,23 +26,23 @@
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, reflect};
 use crate::fresnel::fresnel_conductor_exterior;
-use crate::ior::Ior;
-use crate::spectra::Spectrum;
+use crate::ior::{Ior, IorValue, SampledIor};
+use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
 /// A smooth conductor: delta reflection weighted by the complex-index Fresnel reflectance.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Conductor {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conductor<S = Spectrum, I = Ior> {
     /// Real part n of the complex index of refraction.
-    pub eta: Spectrum,
+    pub eta: S,
     /// Imaginary part k (extinction coefficient).
-    pub k: Spectrum,
+    pub k: S,
     /// Index of the dielectric the metal is immersed in (1 = vacuum; Mitsuba has no such
     /// parameter and assumes 1).
-    pub ext_ior: Ior,
+    pub ext_ior: I,
     /// Tint multiplying the Fresnel term (not physically based; default 1).
-    pub specular_reflectance: Spectrum,
+    pub specular_reflectance: S,
 }
 
 impl Default for Conductor {
@@ -69,6 +69,18 @@ impl Conductor {
         Self::new(Spectrum::Constant(0.0), Spectrum::Constant(1.0))
     }
 
+    /// This model at the four wavelengths of a path (the per-hit `Copy` value).
+    pub fn at(&self, wl: &SampledWavelengths) -> Conductor<SampledSpectrum, SampledIor> {
+        Conductor {
+            eta: self.eta.sample(wl),
+            k: self.k.sample(wl),
+            ext_ior: self.ext_ior.at(wl),
+            specular_reflectance: self.specular_reflectance.sample(wl),
+        }
+    }
+}
+
+impl<S: SpectralValue, I: IorValue> Conductor<S, I> {
     /// Fresnel reflectance times the tint at incidence cosine `cos_theta_i` (> 0), per
     /// wavelength.
     pub fn reflectance(&self, cos_theta_i: f32, wl: &SampledWavelengths) -> SampledSpectrum {
@@ -82,7 +94,7 @@ impl Conductor {
     }
 }
 
-impl Bsdf for Conductor {
+impl<S: SpectralValue, I: IorValue> Bsdf for Conductor<S, I> {
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION
     }

@@ -36,22 +36,22 @@
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode, choose_delta_lobe, reflect};
 use crate::fresnel::{fresnel_dielectric, fresnel_dielectric_spectrum, refract};
-use crate::ior::{Ior, relative_eta, relative_hero_eta};
-use crate::spectra::Spectrum;
+use crate::ior::{Ior, IorValue, SampledIor, relative_eta, relative_hero_eta};
+use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
 /// A smooth dielectric interface: Fresnel-weighted delta reflection and refraction.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Dielectric {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dielectric<S = Spectrum, I = Ior> {
     /// Index of the interior (the side the normal points away from).
-    pub int_ior: Ior,
+    pub int_ior: I,
     /// Index of the exterior (the side the normal points to).
-    pub ext_ior: Ior,
+    pub ext_ior: I,
     /// Tint of the reflection (default 1).
-    pub specular_reflectance: Spectrum,
+    pub specular_reflectance: S,
     /// Tint of the refraction (default 1).
-    pub specular_transmittance: Spectrum,
+    pub specular_transmittance: S,
 }
 
 impl Default for Dielectric {
@@ -61,7 +61,13 @@ impl Default for Dielectric {
     }
 }
 
+/// The lobe flags of the refraction.
+const TRANSMISSION: BsdfFlags = BsdfFlags(BsdfFlags::DELTA_TRANSMISSION.0 | BsdfFlags::NON_SYMMETRIC.0);
+
 impl Dielectric {
+    /// The lobe flags of the refraction.
+    pub const TRANSMISSION_FLAGS: BsdfFlags = TRANSMISSION;
+
     /// An untinted interface between `int_ior` (inside) and `ext_ior` (outside).
     pub fn new(int_ior: Ior, ext_ior: Ior) -> Self {
         Self {
@@ -72,14 +78,20 @@ impl Dielectric {
         }
     }
 
-    /// The lobe flags of the refraction.
-    pub const TRANSMISSION_FLAGS: BsdfFlags =
-        BsdfFlags(BsdfFlags::DELTA_TRANSMISSION.0 | BsdfFlags::NON_SYMMETRIC.0);
+    /// This model at the four wavelengths of a path (the per-hit `Copy` value).
+    pub fn at(&self, wl: &SampledWavelengths) -> Dielectric<SampledSpectrum, SampledIor> {
+        Dielectric {
+            int_ior: self.int_ior.at(wl),
+            ext_ior: self.ext_ior.at(wl),
+            specular_reflectance: self.specular_reflectance.sample(wl),
+            specular_transmittance: self.specular_transmittance.sample(wl),
+        }
+    }
 }
 
-impl Bsdf for Dielectric {
+impl<S: SpectralValue, I: IorValue> Bsdf for Dielectric<S, I> {
     fn flags(&self) -> BsdfFlags {
-        BsdfFlags::DELTA_REFLECTION | Self::TRANSMISSION_FLAGS
+        BsdfFlags::DELTA_REFLECTION | TRANSMISSION
     }
 
     fn eval(&self, _ctx: &BsdfContext, _wi: Vec3, _wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
@@ -139,7 +151,7 @@ impl Bsdf for Dielectric {
             wo: refract(wi, cos_theta_t, eta_ti),
             weight,
             pdf,
-            flags: Self::TRANSMISSION_FLAGS,
+            flags: TRANSMISSION,
             eta: eta_it,
         })
     }

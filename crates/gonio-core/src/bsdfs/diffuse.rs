@@ -17,17 +17,17 @@
 //! | `reflectance` | spectrum | 0.5     |
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
-use crate::spectra::Spectrum;
+use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
 /// The Lambertian BRDF f = ρ/π.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Diffuse {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Diffuse<S = Spectrum> {
     /// ρ, the directional (and hemispherical) reflectance.
-    pub reflectance: Spectrum,
+    pub reflectance: S,
 }
 
 impl Default for Diffuse {
@@ -44,9 +44,16 @@ impl Diffuse {
     pub fn new(reflectance: Spectrum) -> Self {
         Self { reflectance }
     }
+
+    /// This model at the four wavelengths of a path (the per-hit `Copy` value).
+    pub fn at(&self, wl: &SampledWavelengths) -> Diffuse<SampledSpectrum> {
+        Diffuse {
+            reflectance: self.reflectance.sample(wl),
+        }
+    }
 }
 
-impl Bsdf for Diffuse {
+impl<S: SpectralValue> Bsdf for Diffuse<S> {
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::DIFFUSE_REFLECTION
     }

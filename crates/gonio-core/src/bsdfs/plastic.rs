@@ -40,19 +40,19 @@
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, reflect};
 use crate::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance};
-use crate::spectra::Spectrum;
+use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
 /// Smooth dielectric coating over a Lambertian base (Mitsuba `plastic`).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Plastic {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plastic<S = Spectrum> {
     /// ρ, the albedo of the Lambertian base.
-    pub diffuse_reflectance: Spectrum,
+    pub diffuse_reflectance: S,
     /// Tint of the coat's mirror reflection (default 1).
-    pub specular_reflectance: Spectrum,
+    pub specular_reflectance: S,
     /// true: the physical internal-reflection series 1/(1 − ρ r̃); false (default): 1/(1 − r̃).
     pub nonlinear: bool,
     int_ior: f32,
@@ -105,6 +105,24 @@ impl Plastic {
         }
     }
 
+    /// This model at the four wavelengths of a path (the per-hit `Copy` value).
+    pub fn at(&self, wl: &SampledWavelengths) -> Plastic<SampledSpectrum> {
+        Plastic {
+            diffuse_reflectance: self.diffuse_reflectance.sample(wl),
+            specular_reflectance: self.specular_reflectance.sample(wl),
+            nonlinear: self.nonlinear,
+            int_ior: self.int_ior,
+            ext_ior: self.ext_ior,
+            eta: self.eta,
+            inv_eta2: self.inv_eta2,
+            fdr_int: self.fdr_int,
+            fdr_ext: self.fdr_ext,
+            specular_sampling_weight: self.specular_sampling_weight,
+        }
+    }
+}
+
+impl<S: SpectralValue> Plastic<S> {
     /// Replaces the specular sampling weight s ∈ [0, 1] (e.g. for a textured ρ whose mean is not
     /// representative). Changes the variance only, never the expected value.
     pub fn with_specular_sampling_weight(mut self, s: f32) -> Self {
@@ -156,7 +174,7 @@ impl Plastic {
     }
 }
 
-impl Bsdf for Plastic {
+impl<S: SpectralValue> Bsdf for Plastic<S> {
     fn flags(&self) -> BsdfFlags {
         BsdfFlags::DELTA_REFLECTION | BsdfFlags::DIFFUSE_REFLECTION
     }

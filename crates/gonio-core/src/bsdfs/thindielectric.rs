@@ -29,22 +29,22 @@
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, choose_delta_lobe, reflect};
 use crate::fresnel::{fresnel_dielectric, thin_slab_reflectance, thin_slab_transmittance};
-use crate::ior::{Ior, relative_eta};
-use crate::spectra::Spectrum;
+use crate::ior::{Ior, IorValue, SampledIor, relative_eta};
+use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
 /// A thin dielectric sheet: Stokes-summed delta reflection and straight-through transmission.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ThinDielectric {
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ThinDielectric<S = Spectrum, I = Ior> {
     /// Index of the sheet.
-    pub int_ior: Ior,
+    pub int_ior: I,
     /// Index of the surrounding medium.
-    pub ext_ior: Ior,
+    pub ext_ior: I,
     /// Tint of the reflection (default 1).
-    pub specular_reflectance: Spectrum,
+    pub specular_reflectance: S,
     /// Tint of the transmission, applied once (default 1).
-    pub specular_transmittance: Spectrum,
+    pub specular_transmittance: S,
 }
 
 impl Default for ThinDielectric {
@@ -54,9 +54,12 @@ impl Default for ThinDielectric {
     }
 }
 
+/// The lobe flags of the straight-through transmission.
+const TRANSMISSION: BsdfFlags = BsdfFlags(BsdfFlags::DELTA_TRANSMISSION.0 | BsdfFlags::NULL.0);
+
 impl ThinDielectric {
     /// The lobe flags of the straight-through transmission.
-    pub const TRANSMISSION_FLAGS: BsdfFlags = BsdfFlags(BsdfFlags::DELTA_TRANSMISSION.0 | BsdfFlags::NULL.0);
+    pub const TRANSMISSION_FLAGS: BsdfFlags = TRANSMISSION;
 
     /// An untinted sheet of index `int_ior` in a medium of index `ext_ior`.
     pub fn new(int_ior: Ior, ext_ior: Ior) -> Self {
@@ -68,6 +71,18 @@ impl ThinDielectric {
         }
     }
 
+    /// This model at the four wavelengths of a path (the per-hit `Copy` value).
+    pub fn at(&self, wl: &SampledWavelengths) -> ThinDielectric<SampledSpectrum, SampledIor> {
+        ThinDielectric {
+            int_ior: self.int_ior.at(wl),
+            ext_ior: self.ext_ior.at(wl),
+            specular_reflectance: self.specular_reflectance.sample(wl),
+            specular_transmittance: self.specular_transmittance.sample(wl),
+        }
+    }
+}
+
+impl<S: SpectralValue, I: IorValue> ThinDielectric<S, I> {
     /// Untinted (R', T') per wavelength at |cos θi| = `cos_theta`.
     pub fn reflectance_transmittance(
         &self,
@@ -81,9 +96,9 @@ impl ThinDielectric {
     }
 }
 
-impl Bsdf for ThinDielectric {
+impl<S: SpectralValue, I: IorValue> Bsdf for ThinDielectric<S, I> {
     fn flags(&self) -> BsdfFlags {
-        BsdfFlags::DELTA_REFLECTION | Self::TRANSMISSION_FLAGS
+        BsdfFlags::DELTA_REFLECTION | TRANSMISSION
     }
 
     fn eval(&self, _ctx: &BsdfContext, _wi: Vec3, _wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
@@ -115,7 +130,7 @@ impl Bsdf for ThinDielectric {
                 r,
             )
         } else {
-            (-wi, Self::TRANSMISSION_FLAGS, &self.specular_transmittance, t)
+            (-wi, TRANSMISSION, &self.specular_transmittance, t)
         };
         let weight = throughput / pdf * tint.sample(wl);
         (pdf > 0.0 && !weight.is_black()).then_some(BsdfSample {

@@ -1,0 +1,408 @@
+//! The BSDF a material becomes at one hit: a small `Copy` value, closed over the models.
+//!
+//! As in pbrt-v4 (`Material::GetBSDF` returning a `BSDF` over a closed `BxDF` variant), a
+//! renderer turns its material into a [`SurfaceBsdf`] once per hit: textures looked up and every
+//! spectrum evaluated at the path's four wavelengths ([`SpectralValue`] for
+//! [`SampledSpectrum`](crate::SampledSpectrum), [`crate::ior::SampledIor`]). The value holds no
+//! `Arc`, allocates nothing, and can be kept (in a queue of a wavefront renderer, say) for as long
+//! as the scene it borrows from (a measured table is borrowed, not copied).
+//!
+//! `blendbsdf` and `twosided` are nodes of a small tree stored in a fixed array (children before
+//! parents, the root last); they are evaluated by the very same code as the core
+//! [`BlendBsdf`] and [`TwoSided`] adapters, so a material gives the same numbers whether it is
+//! evaluated here or through the adapters (what the battery checks).
+//!
+//! **Validity**: a value built for wavelengths `wl` answers only for those wavelengths (a
+//! dispersive refraction may terminate the secondaries; their λ, and so these values, stay the
+//! same).
+//!
+//! [`SpectralValue`]: crate::spectra::SpectralValue
+
+use super::{BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Tabulated, ThinDielectric, TwoSided};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
+use crate::ior::SampledIor;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3};
+
+/// The most nodes (models, blends, two-sided wrappers) one material may have.
+pub const MAX_NODES: usize = 8;
+
+/// One reflection model specialised at a hit. To add a model: a variant here and one arm in
+/// [`with_leaf!`]'s match.
+#[derive(Clone, Copy, Debug)]
+pub enum LeafBsdf<'a> {
+    /// `diffuse`.
+    Diffuse(Diffuse<SampledSpectrum>),
+    /// `conductor`.
+    Conductor(Conductor<SampledSpectrum, SampledIor>),
+    /// `dielectric`.
+    Dielectric(Dielectric<SampledSpectrum, SampledIor>),
+    /// `thindielectric`.
+    ThinDielectric(ThinDielectric<SampledSpectrum, SampledIor>),
+    /// `plastic`.
+    Plastic(Plastic<SampledSpectrum>),
+    /// `tabulated` (a measured table, borrowed from the scene).
+    Tabulated(&'a Tabulated),
+}
+
+/// Calls `$body` with `$b: &dyn Bsdf` bound to the model inside a [`LeafBsdf`] (static dispatch
+/// per arm).
+macro_rules! with_leaf {
+    ($leaf:expr, $b:ident => $body:expr) => {
+        match $leaf {
+            LeafBsdf::Diffuse($b) => $body,
+            LeafBsdf::Conductor($b) => $body,
+            LeafBsdf::Dielectric($b) => $body,
+            LeafBsdf::ThinDielectric($b) => $body,
+            LeafBsdf::Plastic($b) => $body,
+            LeafBsdf::Tabulated($b) => {
+                let $b: &Tabulated = $b;
+                $body
+            }
+        }
+    };
+}
+
+impl Bsdf for LeafBsdf<'_> {
+    #[inline]
+    fn flags(&self) -> BsdfFlags {
+        with_leaf!(self, b => b.flags())
+    }
+    #[inline]
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        with_leaf!(self, b => b.eval(ctx, wi, wo, wl))
+    }
+    #[inline]
+    fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
+        with_leaf!(self, b => b.pdf(ctx, wi, wo, wl))
+    }
+    #[inline]
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        with_leaf!(self, b => b.sample(ctx, wi, u1, u2, wl))
+    }
+    #[inline]
+    fn null_transmission(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
+        with_leaf!(self, b => b.null_transmission(wi, wl))
+    }
+    #[inline]
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        with_leaf!(self, b => b.eval_pdf(ctx, wi, wo, wl))
+    }
+}
+
+/// A node of a material's tree.
+#[derive(Clone, Copy, Debug)]
+enum Node<'a> {
+    /// Unused slot.
+    Empty,
+    /// A model.
+    Leaf(LeafBsdf<'a>),
+    /// `blendbsdf`: (1 − weight)·node a + weight·node b.
+    Blend { weight: f32, a: u8, b: u8 },
+    /// `twosided`: node `front` for cos θi ≥ 0, node `back` mirrored below.
+    TwoSided { front: u8, back: u8 },
+}
+
+/// The tree has no room for another node: the material nests more than [`MAX_NODES`] BSDFs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TooManyNodes;
+
+impl std::fmt::Display for TooManyNodes {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "a material may nest at most {MAX_NODES} BSDFs (models, blends and two-sided wrappers)"
+        )
+    }
+}
+
+impl std::error::Error for TooManyNodes {}
+
+/// A material at one hit: a tree of at most [`MAX_NODES`] nodes whose root is the last one
+/// pushed. Implements [`Bsdf`]; see the module docs.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceBsdf<'a> {
+    nodes: [Node<'a>; MAX_NODES],
+    len: u8,
+}
+
+impl Default for SurfaceBsdf<'_> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<'a> SurfaceBsdf<'a> {
+    /// An empty tree (no root yet: push at least one leaf before evaluating).
+    pub const fn new() -> Self {
+        Self {
+            nodes: [Node::Empty; MAX_NODES],
+            len: 0,
+        }
+    }
+
+    /// A tree of one model.
+    pub fn leaf(leaf: LeafBsdf<'a>) -> Self {
+        let mut t = Self::new();
+        t.nodes[0] = Node::Leaf(leaf);
+        t.len = 1;
+        t
+    }
+
+    fn push(&mut self, node: Node<'a>) -> Result<u8, TooManyNodes> {
+        let i = self.len as usize;
+        if i >= MAX_NODES {
+            return Err(TooManyNodes);
+        }
+        self.nodes[i] = node;
+        self.len += 1;
+        Ok(i as u8)
+    }
+
+    /// Adds a model; returns its node index.
+    pub fn push_leaf(&mut self, leaf: LeafBsdf<'a>) -> Result<u8, TooManyNodes> {
+        self.push(Node::Leaf(leaf))
+    }
+
+    /// Adds `(1 − weight)·a + weight·b` of two nodes pushed before; returns its index.
+    pub fn push_blend(&mut self, weight: f32, a: u8, b: u8) -> Result<u8, TooManyNodes> {
+        debug_assert!(a < self.len && b < self.len);
+        self.push(Node::Blend { weight, a, b })
+    }
+
+    /// Adds a two-sided wrapper of nodes pushed before; returns its index.
+    pub fn push_two_sided(&mut self, front: u8, back: u8) -> Result<u8, TooManyNodes> {
+        debug_assert!(front < self.len && back < self.len);
+        self.push(Node::TwoSided { front, back })
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// True before the first push.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    #[inline]
+    fn root(&self) -> NodeRef<'_, 'a> {
+        debug_assert!(self.len > 0, "SurfaceBsdf evaluated before a node was pushed");
+        NodeRef {
+            tree: self,
+            i: self.len.saturating_sub(1),
+        }
+    }
+}
+
+/// One node of a tree, as a [`Bsdf`] (children are `NodeRef`s too, so blends and two-sided
+/// wrappers run the core adapters' code).
+#[derive(Clone, Copy)]
+struct NodeRef<'t, 'a> {
+    tree: &'t SurfaceBsdf<'a>,
+    i: u8,
+}
+
+impl NodeRef<'_, '_> {
+    /// Runs `f` on this node as a `&dyn Bsdf`.
+    #[inline]
+    fn with<R>(&self, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
+        let at = |i: u8| NodeRef { tree: self.tree, i };
+        match &self.tree.nodes[self.i as usize] {
+            Node::Leaf(l) => with_leaf!(l, b => f(b)),
+            Node::Blend { weight, a, b } => f(&BlendBsdf::new(*weight, &at(*a), &at(*b))),
+            Node::TwoSided { front, back } => f(&TwoSided::with_back(&at(*front), &at(*back))),
+            Node::Empty => f(&Empty),
+        }
+    }
+}
+
+/// The BSDF of an empty slot: black, never sampled.
+struct Empty;
+
+impl Bsdf for Empty {
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::NONE
+    }
+    fn eval(&self, _: &BsdfContext, _: Vec3, _: Vec3, _: &SampledWavelengths) -> SampledSpectrum {
+        SampledSpectrum::ZERO
+    }
+    fn pdf(&self, _: &BsdfContext, _: Vec3, _: Vec3, _: &SampledWavelengths) -> f32 {
+        0.0
+    }
+    fn sample(
+        &self,
+        _: &BsdfContext,
+        _: Vec3,
+        _: f32,
+        _: Vec2,
+        _: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        None
+    }
+}
+
+impl Bsdf for NodeRef<'_, '_> {
+    #[inline]
+    fn flags(&self) -> BsdfFlags {
+        self.with(|b| b.flags())
+    }
+    #[inline]
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        self.with(|b| b.eval(ctx, wi, wo, wl))
+    }
+    #[inline]
+    fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
+        self.with(|b| b.pdf(ctx, wi, wo, wl))
+    }
+    #[inline]
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        self.with(|b| b.sample(ctx, wi, u1, u2, wl))
+    }
+    #[inline]
+    fn null_transmission(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
+        self.with(|b| b.null_transmission(wi, wl))
+    }
+    #[inline]
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        self.with(|b| b.eval_pdf(ctx, wi, wo, wl))
+    }
+}
+
+impl Bsdf for SurfaceBsdf<'_> {
+    #[inline]
+    fn flags(&self) -> BsdfFlags {
+        self.root().flags()
+    }
+    #[inline]
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        self.root().eval(ctx, wi, wo, wl)
+    }
+    #[inline]
+    fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
+        self.root().pdf(ctx, wi, wo, wl)
+    }
+    #[inline]
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        self.root().sample(ctx, wi, u1, u2, wl)
+    }
+    #[inline]
+    fn null_transmission(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
+        self.root().null_transmission(wi, wl)
+    }
+    #[inline]
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        self.root().eval_pdf(ctx, wi, wo, wl)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Ior;
+    use crate::rng::Pcg32;
+    use crate::spectra::Spectrum;
+
+    /// The per-hit tree and the core adapters over the unspecialised models give the same
+    /// values, bit for bit, for eval, pdf and sample (blend of a two-sided plastic and a
+    /// dispersive dielectric; a conductor).
+    #[test]
+    fn surface_bsdf_matches_the_adapters_bit_for_bit() {
+        let plastic = Plastic::new(
+            Spectrum::rgb_albedo([0.8, 0.3, 0.1]),
+            1.49,
+            1.0,
+            true,
+            Spectrum::Constant(1.0),
+        );
+        let glass = Dielectric::new(
+            Ior::from_spectrum(Spectrum::sellmeier([1.04, 0.23, 1.01], [0.006, 0.02, 103.5])),
+            Ior::Constant(1.0),
+        );
+        let gold = Conductor::new(Spectrum::Constant(0.2), Spectrum::Constant(3.1));
+        let mut rng = Pcg32::new(7, 3);
+        for _ in 0..2000 {
+            let wl = SampledWavelengths::sample_visible(rng.next_f32());
+            let two = TwoSided::new(&plastic);
+            let reference = BlendBsdf::new(0.3, &two, &glass);
+            let mut tree = SurfaceBsdf::new();
+            let p = tree.push_leaf(LeafBsdf::Plastic(plastic.at(&wl))).unwrap();
+            let t = tree.push_two_sided(p, p).unwrap();
+            let g = tree.push_leaf(LeafBsdf::Dielectric(glass.at(&wl))).unwrap();
+            tree.push_blend(0.3, t, g).unwrap();
+            let single = SurfaceBsdf::leaf(LeafBsdf::Conductor(gold.at(&wl)));
+            let dir = |r: &mut Pcg32| {
+                let z = 2.0 * r.next_f32() - 1.0;
+                let phi = std::f32::consts::TAU * r.next_f32();
+                let s = (1.0 - z * z).max(0.0).sqrt();
+                Vec3::new(s * phi.cos(), s * phi.sin(), z)
+            };
+            let (wi, wo) = (dir(&mut rng), dir(&mut rng));
+            let (u1, u2) = (rng.next_f32(), Vec2::new(rng.next_f32(), rng.next_f32()));
+            for (a, b) in [(&tree as &dyn Bsdf, &reference as &dyn Bsdf), (&single, &gold)] {
+                for ctx in [BsdfContext::radiance(), BsdfContext::importance()] {
+                    assert_eq!(a.flags(), b.flags());
+                    assert_eq!(a.eval(&ctx, wi, wo, &wl), b.eval(&ctx, wi, wo, &wl));
+                    assert_eq!(a.pdf(&ctx, wi, wo, &wl), b.pdf(&ctx, wi, wo, &wl));
+                    let (mut wa, mut wb) = (wl, wl);
+                    assert_eq!(
+                        a.sample(&ctx, wi, u1, u2, &mut wa),
+                        b.sample(&ctx, wi, u1, u2, &mut wb)
+                    );
+                    assert_eq!(wa, wb);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_ninth_node_is_refused() {
+        let d = Diffuse::default().at(&SampledWavelengths::fixed(550.0));
+        let mut tree = SurfaceBsdf::new();
+        for _ in 0..MAX_NODES {
+            tree.push_leaf(LeafBsdf::Diffuse(d)).unwrap();
+        }
+        assert_eq!(tree.push_leaf(LeafBsdf::Diffuse(d)), Err(TooManyNodes));
+        assert_eq!(tree.len(), MAX_NODES);
+    }
+}
