@@ -2,7 +2,7 @@
 
 use glam::{Affine3A, Vec2, Vec3};
 use gonio_core::Spectrum;
-use gonio_render::material::Material;
+use gonio_render::material::{ConductorMaterial, DiffuseMaterial};
 use gonio_render::scene::{Emitter, Geometry, Scene};
 use gonio_render::texture::Texture;
 use gonio_render::xml::{load_scene_file, load_scene_str};
@@ -82,9 +82,11 @@ fn references_named_positional_and_forward() {
         "an alias names the same object"
     );
     assert_ne!(s.shapes[0].material, s.shapes[2].material);
-    let refl = |i: usize| match &s.materials[s.shapes[i].material] {
-        Material::Diffuse { reflectance, .. } => reflectance.as_spectrum().unwrap().as_constant().unwrap(),
-        m => panic!("{m:?}"),
+    let refl = |i: usize| match s.materials[s.shapes[i].material].get::<DiffuseMaterial>() {
+        Some(DiffuseMaterial { reflectance, .. }) => {
+            reflectance.as_spectrum().unwrap().as_constant().unwrap()
+        }
+        None => panic!("{:?}", s.materials[s.shapes[i].material]),
     };
     assert_eq!((refl(0), refl(2)), (0.75, 0.25));
     assert_eq!(s.materials.len(), 2);
@@ -217,14 +219,14 @@ fn legacy_camel_case_names() {
         Vec3::new(5.0, 0.0, 0.0)
     ));
     assert!(s.shapes[1].flip_normals);
-    let Material::Diffuse { reflectance, .. } = &s.materials[s.shapes[1].material] else {
+    let Some(DiffuseMaterial { reflectance, .. }) = (&s.materials[s.shapes[1].material]).get() else {
         panic!()
     };
     assert_eq!(reflectance.as_spectrum().unwrap().as_constant(), Some(0.3));
-    let Material::Diffuse {
+    let Some(DiffuseMaterial {
         reflectance: Texture::Checkerboard { to_uv, .. },
         ..
-    } = &s.materials[s.shapes[0].material]
+    }) = (&s.materials[s.shapes[0].material]).get()
     else {
         panic!()
     };
@@ -243,9 +245,9 @@ fn spectrum_forms() {
 <shape type="sphere"><emitter type="area"><float name="radiance" value="2"/></emitter></shape>
 <shape type="sphere"><emitter type="area"><spectrum name="radiance" value="2"/></emitter></shape>"#,
     );
-    let refl = |i: usize| match &s.materials[s.shapes[i].material] {
-        Material::Diffuse { reflectance, .. } => reflectance.as_spectrum().unwrap().clone(),
-        m => panic!("{m:?}"),
+    let refl = |i: usize| match s.materials[s.shapes[i].material].get::<DiffuseMaterial>() {
+        Some(DiffuseMaterial { reflectance, .. }) => reflectance.as_spectrum().unwrap().clone(),
+        None => panic!("{:?}", s.materials[s.shapes[i].material]),
     };
     assert_eq!(refl(0).as_constant(), Some(0.3));
     let p = refl(1);
@@ -284,7 +286,7 @@ fn rgb_roles() {
 <emitter type="constant"><rgb name="radiance" value="0.5, 0.5, 0.5"/></emitter>
 <emitter type="point"><point name="position" x="1" y="2" z="3"/><rgb name="intensity" value="5"/></emitter>"#,
     );
-    let Material::Conductor { model, .. } = &s.materials[0] else {
+    let Some(ConductorMaterial { model, .. }) = (&s.materials[0]).get() else {
         panic!()
     };
     // Unbounded: values above 1 survive (k ≈ 3.9 in the red).

@@ -4,7 +4,10 @@
 use glam::{Vec2, Vec3};
 use gonio_core::bsdf::BsdfContext;
 use gonio_core::{BsdfFlags, Ior, SampledWavelengths, Spectrum};
-use gonio_render::material::Material;
+use gonio_render::material::{
+    BlendMaterial, ConductorMaterial, DielectricMaterial, DiffuseMaterial, Material, PlasticMaterial,
+    ThinDielectricMaterial,
+};
 use gonio_render::scene::{Emitter, Filter, Geometry, SamplerKind, Scene};
 use gonio_render::texture::Texture;
 use gonio_render::xml::{load_bsdf_str, load_scene_str};
@@ -176,7 +179,7 @@ fn shapes() {
     assert!(mesh(9).normals.is_empty() && s.shapes[9].face_normals);
     // Default materials: one shared diffuse 0.5 for all shapes without a BSDF.
     assert!(s.shapes.iter().all(|x| x.material == s.shapes[0].material));
-    let Material::Diffuse { reflectance, .. } = &s.materials[s.shapes[0].material] else {
+    let Some(DiffuseMaterial { reflectance, .. }) = (&s.materials[s.shapes[0].material]).get() else {
         panic!()
     };
     assert_eq!(reflectance.as_spectrum().unwrap().as_constant(), Some(0.5));
@@ -257,10 +260,10 @@ fn textures() {
     // Repeat wrap by default: u = 1.1 is u = 0.1.
     assert!((red_at(Vec2::new(1.1, 0.1)) - red_at(Vec2::new(0.1, 0.1))).abs() < 1e-6);
     // Bilinear with to_uv scale 0.5 and clamp: u = 0.5 → 0.25, the centre of the left column.
-    let Material::Diffuse {
+    let Some(DiffuseMaterial {
         reflectance: Texture::Bitmap(b),
         ..
-    } = m(1)
+    }) = m(1).get()
     else {
         panic!()
     };
@@ -290,7 +293,7 @@ fn bsdf_defaults_and_parameters() {
     assert!((f_normal(&d, Vec2::ZERO, 550.0) - 0.5 * FRAC_1_PI).abs() < 1e-6);
     // conductor default: ideal mirror.
     let c = load_bsdf_str("<bsdf version=\"3.0.0\" type=\"conductor\"/>").unwrap();
-    let Material::Conductor { model, .. } = &c else {
+    let Some(ConductorMaterial { model, .. }) = (&c).get() else {
         panic!()
     };
     assert_eq!(model.reflectance(0.7, &wl)[0], 1.0);
@@ -299,7 +302,7 @@ fn bsdf_defaults_and_parameters() {
         "<bsdf type=\"conductor\"><float name=\"eta\" value=\"0.2\"/><float name=\"k\" value=\"3\"/><string name=\"ext_ior\" value=\"water\"/></bsdf>",
     )
     .unwrap();
-    let Material::Conductor { model, .. } = &c else {
+    let Some(ConductorMaterial { model, .. }) = (&c).get() else {
         panic!()
     };
     assert_eq!(
@@ -309,7 +312,7 @@ fn bsdf_defaults_and_parameters() {
     assert_eq!(model.ext_ior, Ior::Constant(1.333));
     // dielectric defaults bk7/air; presets by name; dispersive glass by name; spectrum.
     let g = load_bsdf_str("<bsdf type=\"dielectric\"/>").unwrap();
-    let Material::Dielectric { model, .. } = &g else {
+    let Some(DielectricMaterial { model, .. }) = (&g).get() else {
         panic!()
     };
     assert_eq!(
@@ -320,7 +323,7 @@ fn bsdf_defaults_and_parameters() {
         "<bsdf type=\"thindielectric\"><string name=\"int_ior\" value=\"Diamond\"/><string name=\"ext_ior\" value=\"water\"/></bsdf>",
     )
     .unwrap();
-    let Material::ThinDielectric { model, .. } = &g else {
+    let Some(ThinDielectricMaterial { model, .. }) = (&g).get() else {
         panic!()
     };
     assert_eq!(
@@ -329,7 +332,7 @@ fn bsdf_defaults_and_parameters() {
     );
     let g =
         load_bsdf_str("<bsdf type=\"dielectric\"><string name=\"int_ior\" value=\"SF11\"/></bsdf>").unwrap();
-    let Material::Dielectric { model, .. } = &g else {
+    let Some(DielectricMaterial { model, .. }) = (&g).get() else {
         panic!()
     };
     assert!(model.int_ior.is_dispersive());
@@ -338,7 +341,7 @@ fn bsdf_defaults_and_parameters() {
         "<bsdf type=\"dielectric\"><spectrum name=\"int_ior\" value=\"400:1.55, 700:1.5\"/></bsdf>",
     )
     .unwrap();
-    let Material::Dielectric { model, .. } = &g else {
+    let Some(DielectricMaterial { model, .. }) = (&g).get() else {
         panic!()
     };
     assert!((model.int_ior.eval(550.0) - 1.525).abs() < 1e-6);
@@ -348,7 +351,7 @@ fn bsdf_defaults_and_parameters() {
     );
     // plastic defaults: polypropylene/air, linear, ρ 0.5.
     let p = load_bsdf_str("<bsdf type=\"plastic\"/>").unwrap();
-    let Material::Plastic { model, .. } = &p else {
+    let Some(PlasticMaterial { model, .. }) = (&p).get() else {
         panic!()
     };
     assert_eq!(
@@ -360,7 +363,7 @@ fn bsdf_defaults_and_parameters() {
         "<bsdf type=\"plastic\"><boolean name=\"nonlinear\" value=\"true\"/><float name=\"int_ior\" value=\"1.5\"/><float name=\"ext_ior\" value=\"1\"/><spectrum name=\"diffuse_reflectance\" value=\"0.8\"/></bsdf>",
     )
     .unwrap();
-    let Material::Plastic { model, .. } = &p else {
+    let Some(PlasticMaterial { model, .. }) = (&p).get() else {
         panic!()
     };
     assert!(model.nonlinear && model.int_ior() == 1.5 && model.ext_ior() == 1.0);
@@ -396,10 +399,10 @@ fn twosided_and_blend() {
     .unwrap();
     // Sorted by name: bsdf0 = "aa" (ρ 0), bsdf1 = "zz" (ρ 1) → 0.25/π.
     assert!((f_normal(&bl, Vec2::ZERO, 550.0) - 0.25 * FRAC_1_PI).abs() < 1e-6);
-    let Material::Blend { bsdf0, .. } = &bl else {
+    let Some(BlendMaterial { bsdf0, .. }) = (&bl).get() else {
         panic!()
     };
-    assert!(matches!(**bsdf0, Material::Diffuse { .. }));
+    assert!(bsdf0.get::<DiffuseMaterial>().is_some());
     let flags = bl.with_bsdf(Vec2::ZERO, |b| b.flags());
     assert!(flags.contains(BsdfFlags::DIFFUSE_REFLECTION));
     // Unnamed children keep document order.
@@ -451,7 +454,7 @@ fn textured_plastic_uses_texture_means_for_sampling() {
             <float name="color0" value="0.9"/><float name="color1" value="0.1"/></texture></bsdf>"#,
     )
     .unwrap();
-    let Material::Plastic { model, .. } = &p else {
+    let Some(PlasticMaterial { model, .. }) = (&p).get() else {
         panic!()
     };
     // mean(ρ) = 0.5, mean(spec) = 1: s = 1/1.5.

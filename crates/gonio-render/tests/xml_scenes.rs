@@ -2,7 +2,9 @@
 
 use glam::{Vec2, Vec3};
 use gonio_core::{Ior, Spectrum};
-use gonio_render::material::Material;
+use gonio_render::material::{
+    ConductorMaterial, DielectricMaterial, DiffuseMaterial, PlasticMaterial, ThinDielectricMaterial,
+};
 use gonio_render::scene::{Emitter, Filter, Geometry, SamplerKind, Scene};
 use gonio_render::texture::Texture;
 use gonio_render::xml::{load_scene_file, load_scene_file_with_warnings};
@@ -69,13 +71,13 @@ fn materials_scene() {
     };
     assert_eq!((center, radius), (Vec3::new(-4.4, 1.0, 0.0), 1.0));
     // matte: rgb (0.7, 0.25, 0.2) uplifted as a reflectance: red > green at the right wavelengths.
-    let Material::Diffuse { reflectance, .. } = mat(0) else {
+    let Some(DiffuseMaterial { reflectance, .. }) = mat(0).get() else {
         panic!("{:?}", mat(0))
     };
     let r = reflectance.as_spectrum().unwrap();
     assert!(r.eval(650.0) > 0.5 && r.eval(530.0) < 0.35, "{r:?}");
     // mirror: η = 0, k = 1.
-    let Material::Conductor { model, .. } = mat(1) else {
+    let Some(ConductorMaterial { model, .. }) = mat(1).get() else {
         panic!()
     };
     assert_eq!(
@@ -83,12 +85,12 @@ fn materials_scene() {
         (Some(0.0), Some(1.0))
     );
     // gold: tabulated η, k.
-    let Material::Conductor { model, .. } = mat(2) else {
+    let Some(ConductorMaterial { model, .. }) = mat(2).get() else {
         panic!()
     };
     assert!(model.eta.as_constant().is_none() && model.k.eval(600.0) > 2.0);
     // glass 1.5 / 1.0.
-    let Material::Dielectric { model, .. } = mat(3) else {
+    let Some(DielectricMaterial { model, .. }) = mat(3).get() else {
         panic!()
     };
     assert_eq!(
@@ -96,11 +98,11 @@ fn materials_scene() {
         (&Ior::Constant(1.5), &Ior::Constant(1.0))
     );
     // coated: plastic, int_ior 1.5, default ext_ior air.
-    let Material::Plastic {
+    let Some(PlasticMaterial {
         model,
         diffuse_reflectance,
         ..
-    } = mat(4)
+    }) = mat(4).get()
     else {
         panic!()
     };
@@ -109,10 +111,10 @@ fn materials_scene() {
     assert!(!model.nonlinear);
     assert!(diffuse_reflectance.as_spectrum().unwrap().eval(460.0) > 0.4);
     // Floor checkerboard 0.2 / 0.6 scaled 12×.
-    let Material::Diffuse {
+    let Some(DiffuseMaterial {
         reflectance: Texture::Checkerboard { to_uv, .. },
         ..
-    } = mat(5)
+    }) = mat(5).get()
     else {
         panic!()
     };
@@ -122,7 +124,7 @@ fn materials_scene() {
     let l = light.emitter.as_ref().unwrap().radiance.as_spectrum().unwrap();
     assert!(l.as_constant().is_none() && l.eval(560.0) > 4.0);
     // The emitter has no BSDF: default black diffuse.
-    let Material::Diffuse { reflectance, .. } = &s.materials[light.material] else {
+    let Some(DiffuseMaterial { reflectance, .. }) = (&s.materials[light.material]).get() else {
         panic!()
     };
     assert_eq!(constant(reflectance), 0.0);
@@ -136,21 +138,23 @@ fn furnace_scene() {
     assert_eq!((s.sensor.film.width, s.sensor.film.height), (256, 128));
     assert_eq!(s.shapes.len(), 3);
     assert_eq!(s.materials.len(), 3);
-    let Material::Diffuse { reflectance, .. } = &s.materials[s.shapes[0].material] else {
+    let Some(DiffuseMaterial { reflectance, .. }) = (&s.materials[s.shapes[0].material]).get() else {
         panic!()
     };
     // A white rgb reflectance is exactly 1 at every wavelength.
     for l in [360.0, 450.0, 550.0, 700.0, 830.0] {
         assert!((reflectance.as_spectrum().unwrap().eval(l) - 1.0).abs() < 1e-4);
     }
-    assert!(matches!(
-        s.materials[s.shapes[1].material],
-        Material::Dielectric { .. }
-    ));
-    assert!(matches!(
-        s.materials[s.shapes[2].material],
-        Material::ThinDielectric { .. }
-    ));
+    assert!(
+        s.materials[s.shapes[1].material]
+            .get::<DielectricMaterial>()
+            .is_some()
+    );
+    assert!(
+        s.materials[s.shapes[2].material]
+            .get::<ThinDielectricMaterial>()
+            .is_some()
+    );
     let Emitter::Constant { radiance } = &s.emitters[0] else {
         panic!()
     };
@@ -174,14 +178,16 @@ fn thin_vs_thick_scene() {
     let (sn, cs) = 55f32.to_radians().sin_cos();
     let want = Vec3::new(cs * 1.0 + sn * 0.15 - 1.3, 1.1 + 1.2, -sn * 1.0 + cs * 0.15);
     assert!((p - want).length() < 1e-5, "{p} vs {want}");
-    assert!(matches!(
-        s.materials[s.shapes[1].material],
-        Material::Dielectric { .. }
-    ));
-    assert!(matches!(
-        s.materials[s.shapes[2].material],
-        Material::ThinDielectric { .. }
-    ));
+    assert!(
+        s.materials[s.shapes[1].material]
+            .get::<DielectricMaterial>()
+            .is_some()
+    );
+    assert!(
+        s.materials[s.shapes[2].material]
+            .get::<ThinDielectricMaterial>()
+            .is_some()
+    );
     // The light rectangle: rotate x 90° maps its +z normal to −y (facing down).
     let light = &s.shapes[3];
     let n = light.to_world.matrix3.inverse().transpose() * Vec3::Z;

@@ -121,10 +121,7 @@ impl EmissionSampler {
         shape_material: &[usize],
         shapes: &[WorldShape],
     ) -> Option<Self> {
-        let delta: Vec<bool> = materials
-            .iter()
-            .map(|m| m.with_bsdf(Vec2::ZERO, |b: &dyn Bsdf| b.flags().is_delta()))
-            .collect();
+        let delta: Vec<bool> = materials.iter().map(|m| m.flags().is_delta()).collect();
         let any_delta = shape_material
             .iter()
             .any(|&m| delta.get(m).copied().unwrap_or(false));
@@ -595,7 +592,8 @@ impl PathTracer<'_> {
                 continue;
             };
             let wi_y = y.shading.to_local(-dir);
-            let (f_y, pdf_y) = material.with_bsdf(y.uv, |b: &dyn Bsdf| b.eval_pdf(&radiance, wi_y, y.wi, wl));
+            let (f_y, pdf_y) =
+                material.with_bsdf_at(y.uv, *wl, |b: &dyn Bsdf| b.eval_pdf(&radiance, wi_y, y.wi, wl));
             if f_y.is_black() {
                 continue;
             }
@@ -698,7 +696,7 @@ impl PathTracer<'_> {
             let wi = si.shading.to_local(wi_world);
             let cos_in_g = si.n.dot(wi_world).abs();
 
-            let sample = material.with_bsdf(si.uv, |bsdf: &dyn Bsdf| {
+            let sample = material.with_bsdf_at(si.uv, *wl, |bsdf: &dyn Bsdf| {
                 let flags = bsdf.flags();
                 if after_smooth && !flags.is_delta() {
                     // Two smooth vertices in a row (or light reaching a smooth surface directly):

@@ -139,7 +139,7 @@ impl<'a> PathTracer<'a> {
         materials: &'a [Material],
         shape_material: &'a [usize],
     ) -> Self {
-        let thin: Vec<bool> = materials.iter().map(material_has_null_transmission).collect();
+        let thin: Vec<bool> = materials.iter().map(Material::has_null_transmission).collect();
         let any_thin = thin.iter().any(|&t| t);
         let caustics = if settings.caustic_paths {
             caustics::EmissionSampler::new(lights, materials, shape_material, accel.shapes())
@@ -287,7 +287,7 @@ impl<'a> PathTracer<'a> {
             // After a delta lobe, a smooth sample here needs the light tracer's density of the
             // reverse direction for the MIS ratio.
             let want_reverse = self.traces_caustics() && matches!(prev, Some((_, _, true)));
-            let outcome = material.with_bsdf(si.uv, |bsdf: &dyn Bsdf| {
+            let outcome = material.with_bsdf_at(si.uv, *wl, |bsdf: &dyn Bsdf| {
                 self.scatter(bsdf, &ctx, &si, wi, beta, depth, light, want_reverse, sampler, wl)
             });
             l += outcome.nee;
@@ -475,7 +475,7 @@ impl<'a> PathTracer<'a> {
                 return SampledSpectrum::ZERO;
             };
             let wi = h.shading.to_local(-ray.d);
-            let t = material.with_bsdf(h.uv, |bsdf: &dyn Bsdf| bsdf.null_transmission(wi, wl));
+            let t = material.with_bsdf_at(h.uv, *wl, |bsdf: &dyn Bsdf| bsdf.null_transmission(wi, wl));
             match t {
                 Some(t) => tr *= t,
                 None => return SampledSpectrum::ZERO,
@@ -529,22 +529,6 @@ fn area_pdf_to_solid_angle(pdf_area: f32, r: Vec3, p: Vec3, n: Vec3) -> f32 {
         pdf_area * d2 / cos
     } else {
         0.0
-    }
-}
-
-/// True when a material can pass light straight through (a `thindielectric`, possibly inside
-/// `twosided` or `blendbsdf`).
-pub fn material_has_null_transmission(m: &Material) -> bool {
-    match m {
-        Material::ThinDielectric { .. } => true,
-        Material::TwoSided { front, back } => {
-            material_has_null_transmission(front)
-                || back.as_deref().is_some_and(material_has_null_transmission)
-        }
-        Material::Blend { bsdf0, bsdf1, .. } => {
-            material_has_null_transmission(bsdf0) || material_has_null_transmission(bsdf1)
-        }
-        _ => false,
     }
 }
 

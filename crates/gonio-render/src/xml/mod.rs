@@ -11,15 +11,20 @@
 //! Every error is a [`SceneError`] naming the file, line and column, and the offending value.
 
 mod error;
+mod params;
 mod parse;
-mod plugins;
+pub(crate) mod plugins;
 mod values;
 
 pub use error::{ErrorKind, Location, SceneError};
+pub(crate) use params::Params;
+pub use params::{BsdfPlugin, DefaultValue, ParamSpec, ParamType};
+pub(crate) use parse::Tag;
+pub(crate) use plugins::Builder;
 
 use crate::material::Material;
 use crate::scene::Scene;
-use parse::{Parser, Tag};
+use parse::Parser;
 use std::path::Path;
 use std::sync::Arc;
 

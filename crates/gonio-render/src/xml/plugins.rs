@@ -3,7 +3,8 @@
 //! parameter"), as in Mitsuba.
 
 use super::error::{ErrorKind, Location, SceneError};
-use super::parse::{Doc, Obj, Prop, Tag, Value};
+use super::params::{ParamSpec, Params, err, resolve_ref, to_affine};
+use super::parse::{Doc, Obj, Tag, Value};
 use super::values::SpecValue;
 use crate::image::{Encoding, RgbImage};
 use crate::material::Material;
@@ -13,8 +14,9 @@ use crate::scene::{
     TriangleMesh,
 };
 use crate::texture::{Bitmap, FilterType, Texture, WrapMode};
-use glam::{Affine2, Affine3A, DMat4, DVec3, Mat2, Vec2, Vec3};
+use glam::{Affine3A, DVec3, Vec3};
 use gonio_core::Ior;
+use gonio_core::bsdfs::surface::MAX_NODES;
 use gonio_core::named;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, RgbKind, Spectrum};
 use std::collections::HashMap;
@@ -23,286 +25,9 @@ use std::sync::Arc;
 
 type Result<T> = std::result::Result<T, SceneError>;
 
-fn err(loc: &Location, kind: ErrorKind, msg: impl Into<String>) -> SceneError {
-    SceneError::new(loc.clone(), kind, msg)
-}
-
-/// Parameter access for one object: typed getters with defaults, and the unused-parameter check.
-struct Params<'d> {
-    doc: &'d Doc,
-    obj: &'d Obj,
-    used: Vec<bool>,
-}
-
-impl<'d> Params<'d> {
-    fn new(doc: &'d Doc, idx: usize) -> Self {
-        let obj = &doc.objs[idx];
-        Self {
-            doc,
-            obj,
-            used: vec![false; obj.props.len()],
-        }
-    }
-
-    fn what(&self) -> String {
-        format!("<{} type=\"{}\">", self.obj.tag.name(), self.obj.ty)
-    }
-
-    /// The property `name`, marked as used.
-    fn get(&mut self, name: &str) -> Option<&'d Prop> {
-        let i = self.obj.props.iter().position(|p| p.name == name)?;
-        self.used[i] = true;
-        Some(&self.obj.props[i])
-    }
-
-    fn has(&self, name: &str) -> bool {
-        self.obj.props.iter().any(|p| p.name == name)
-    }
-
-    fn wrong_type(&self, p: &Prop, expected: &str) -> SceneError {
-        err(
-            &p.value_loc,
-            ErrorKind::WrongType,
-            format!(
-                "parameter \"{}\" of {} has the wrong type: expected {expected}, found {}",
-                p.name,
-                self.what(),
-                p.value.describe(self.doc)
-            ),
-        )
-    }
-
-    fn float_opt(&mut self, name: &str) -> Result<Option<(f64, &'d Location)>> {
-        match self.get(name) {
-            None => Ok(None),
-            Some(p) => match p.value {
-                Value::Float(v) => Ok(Some((v, &p.value_loc))),
-                Value::Int(v) => Ok(Some((v as f64, &p.value_loc))),
-                _ => Err(self.wrong_type(p, "float")),
-            },
-        }
-    }
-
-    fn float(&mut self, name: &str, default: f64) -> Result<f64> {
-        Ok(self.float_opt(name)?.map_or(default, |(v, _)| v))
-    }
-
-    /// A float that must be finite and satisfy `ok`.
-    fn float_checked(
-        &mut self,
-        name: &str,
-        default: f64,
-        ok: impl Fn(f64) -> bool,
-        rule: &str,
-    ) -> Result<f64> {
-        match self.float_opt(name)? {
-            None => Ok(default),
-            Some((v, loc)) if v.is_finite() && ok(v) => {
-                let _ = loc;
-                Ok(v)
-            }
-            Some((v, loc)) => Err(err(
-                loc,
-                ErrorKind::BadValue,
-                format!("invalid {name} {v} in {} ({rule})", self.what()),
-            )),
-        }
-    }
-
-    fn int_opt(&mut self, name: &str) -> Result<Option<(i64, &'d Location)>> {
-        match self.get(name) {
-            None => Ok(None),
-            Some(p) => match p.value {
-                Value::Int(v) => Ok(Some((v, &p.value_loc))),
-                _ => Err(self.wrong_type(p, "integer")),
-            },
-        }
-    }
-
-    /// An integer in [lo, hi].
-    fn int_in(&mut self, name: &str, default: i64, lo: i64, hi: i64) -> Result<i64> {
-        match self.int_opt(name)? {
-            None => Ok(default),
-            Some((v, loc)) if (lo..=hi).contains(&v) => {
-                let _ = loc;
-                Ok(v)
-            }
-            Some((v, loc)) => Err(err(
-                loc,
-                ErrorKind::BadValue,
-                format!("invalid {name} {v} in {} (must be in [{lo}, {hi}])", self.what()),
-            )),
-        }
-    }
-
-    fn bool(&mut self, name: &str, default: bool) -> Result<bool> {
-        match self.get(name) {
-            None => Ok(default),
-            Some(p) => match p.value {
-                Value::Bool(v) => Ok(v),
-                _ => Err(self.wrong_type(p, "boolean")),
-            },
-        }
-    }
-
-    fn string_opt(&mut self, name: &str) -> Result<Option<(&'d str, &'d Location)>> {
-        match self.get(name) {
-            None => Ok(None),
-            Some(p) => match &p.value {
-                Value::Str(s) => Ok(Some((s.as_str(), &p.value_loc))),
-                _ => Err(self.wrong_type(p, "string")),
-            },
-        }
-    }
-
-    /// A string that must be one of `allowed`.
-    fn choice(
-        &mut self,
-        name: &str,
-        default: &'static str,
-        allowed: &[&'static str],
-    ) -> Result<&'static str> {
-        match self.string_opt(name)? {
-            None => Ok(default),
-            Some((s, loc)) => allowed
-                .iter()
-                .find(|a| a.eq_ignore_ascii_case(s))
-                .copied()
-                .ok_or_else(|| {
-                    err(
-                        loc,
-                        ErrorKind::BadValue,
-                        format!(
-                            "invalid {name} \"{s}\" in {} (expected one of: {})",
-                            self.what(),
-                            allowed.join(", ")
-                        ),
-                    )
-                }),
-        }
-    }
-
-    fn point_opt(&mut self, name: &str) -> Result<Option<(DVec3, &'d Location)>> {
-        match self.get(name) {
-            None => Ok(None),
-            Some(p) => match p.value {
-                Value::Point(v) | Value::Vector(v) => Ok(Some((v, &p.value_loc))),
-                _ => Err(self.wrong_type(p, "point")),
-            },
-        }
-    }
-
-    fn transform_opt(&mut self, name: &str) -> Result<Option<(DMat4, &'d Location)>> {
-        match self.get(name) {
-            None => Ok(None),
-            Some(p) => match p.value {
-                Value::Transform(m) => Ok(Some((m, &p.loc))),
-                _ => Err(self.wrong_type(p, "transform")),
-            },
-        }
-    }
-
-    fn affine(&mut self, name: &str) -> Result<Affine3A> {
-        match self.transform_opt(name)? {
-            None => Ok(Affine3A::IDENTITY),
-            Some((m, loc)) => to_affine(m, loc, name),
-        }
-    }
-
-    fn to_uv(&mut self) -> Result<Affine2> {
-        Ok(match self.transform_opt("to_uv")? {
-            None => Affine2::IDENTITY,
-            Some((m, _)) => {
-                // Rows/columns 0, 1, 3 of the 4×4 (Mitsuba drops the third).
-                Affine2::from_mat2_translation(
-                    Mat2::from_cols(
-                        Vec2::new(m.x_axis.x as f32, m.x_axis.y as f32),
-                        Vec2::new(m.y_axis.x as f32, m.y_axis.y as f32),
-                    ),
-                    Vec2::new(m.w_axis.x as f32, m.w_axis.y as f32),
-                )
-            }
-        })
-    }
-
-    /// Nested objects (positional or named) whose tag is `tag`, sorted by property name (Mitsuba
-    /// orders a plugin's child objects by name; `_arg_N` keeps document order).
-    fn objects(&mut self, tag: Tag) -> Result<Vec<(usize, &'d Prop)>> {
-        let mut out = Vec::new();
-        for (i, p) in self.obj.props.iter().enumerate() {
-            let target = match &p.value {
-                Value::Object(o) => *o,
-                Value::Ref(id) => resolve_ref(self.doc, id, &p.value_loc)?,
-                _ => continue,
-            };
-            if self.doc.objs[target].tag == tag {
-                self.used[i] = true;
-                out.push((target, p));
-            }
-        }
-        out.sort_by(|a, b| a.1.name.cmp(&b.1.name));
-        Ok(out)
-    }
-
-    /// Fails on the first property nobody asked for.
-    fn finish(self) -> Result<()> {
-        for (p, used) in self.obj.props.iter().zip(&self.used) {
-            if !used {
-                let what = match &p.value {
-                    Value::Object(_) | Value::Ref(_) => format!("nested {}", p.value.describe(self.doc)),
-                    v => format!("parameter \"{}\" ({})", p.name, v.describe(self.doc)),
-                };
-                return Err(err(
-                    &p.loc,
-                    ErrorKind::UnusedParameter,
-                    format!(
-                        "unused {what} in {} (misspelt or not supported by this plugin)",
-                        self.what()
-                    ),
-                ));
-            }
-        }
-        Ok(())
-    }
-}
-
-fn resolve_ref(doc: &Doc, id: &str, loc: &Location) -> Result<usize> {
-    doc.ids.get(id).copied().ok_or_else(|| {
-        err(
-            loc,
-            ErrorKind::Reference,
-            format!("reference to unknown id \"{id}\""),
-        )
-    })
-}
-
-/// A 4×4 to an affine map; rejects projective, degenerate and non-finite matrices.
-fn to_affine(m: DMat4, loc: &Location, name: &str) -> Result<Affine3A> {
-    let row3 = m.row(3);
-    if !m.is_finite() || (row3 - glam::DVec4::new(0.0, 0.0, 0.0, 1.0)).abs().max_element() > 1e-9 {
-        return Err(err(
-            loc,
-            ErrorKind::BadValue,
-            format!(
-                "{name} is not an affine transform (last row {:?})",
-                row3.to_array()
-            ),
-        ));
-    }
-    let det = m.determinant();
-    if det.abs() < 1e-300 || !det.is_finite() {
-        return Err(err(
-            loc,
-            ErrorKind::BadValue,
-            format!("{name} is singular (determinant {det})"),
-        ));
-    }
-    Ok(Affine3A::from_mat4(m.as_mat4()))
-}
-
 /// The builder: caches so that a referenced BSDF, texture or mesh is built once.
 pub(crate) struct Builder<'d> {
-    doc: &'d Doc,
+    pub(crate) doc: &'d Doc,
     materials: Vec<Material>,
     material_index: HashMap<usize, usize>,
     default_material: [Option<usize>; 2],
@@ -1010,7 +735,7 @@ impl<'d> Builder<'d> {
     // Spectra and textures
 
     /// A spectrum parameter that may not vary over a surface.
-    fn spectrum_param(
+    pub(crate) fn spectrum_param(
         &mut self,
         p: &mut Params<'d>,
         name: &str,
@@ -1041,7 +766,7 @@ impl<'d> Builder<'d> {
     /// emitters), `<rgb>` is uplifted (albedo: each component in [0, 1]; unbounded; illuminant
     /// × D65), `<spectrum>` values are uniform (also on emitters) or piecewise linear,
     /// nested or referenced `<texture>`/`<spectrum type>` objects are built in that role.
-    fn texture_param(
+    pub(crate) fn texture_param(
         &mut self,
         p: &mut Params<'d>,
         name: &str,
@@ -1189,7 +914,7 @@ impl<'d> Builder<'d> {
     /// An index of refraction: a number, a Mitsuba preset name (case-insensitive), a dispersive
     /// glass name (`N-BK7`, `SF11`, …; ours), or a spectrum (ours). NaN, infinite and non-positive
     /// values are rejected.
-    fn ior_param(&mut self, p: &mut Params<'d>, name: &str, default: &str) -> Result<Ior> {
+    pub(crate) fn ior_param(&mut self, p: &mut Params<'d>, name: &str, default: &str) -> Result<Ior> {
         let Some(prop) = p.get(name) else {
             return Ok(Ior::Constant(
                 named::ior_preset(default).expect("default IOR presets exist"),
@@ -1252,7 +977,7 @@ impl<'d> Builder<'d> {
     // ----------------------------------------------------------------------------------------
     // BSDFs
 
-    /// Builds a `<bsdf>` object (cached).
+    /// Builds a `<bsdf>` object (cached) with its registered plugin ([`crate::material`]).
     pub(crate) fn bsdf(&mut self, idx: usize, loc: &Location) -> Result<Material> {
         if let Some(m) = self.bsdfs.get(&idx) {
             return Ok(m.clone());
@@ -1266,203 +991,59 @@ impl<'d> Builder<'d> {
                 format!("expected a bsdf, found <{} type=\"{}\">", obj.tag.name(), obj.ty),
             ));
         }
-        self.enter(idx, loc)?;
-        let mut p = Params::new(doc, idx);
-        let m = match obj.ty.as_str() {
-            // diffuse: reflectance (0.5).
-            "diffuse" => {
-                Material::diffuse(self.texture_param(&mut p, "reflectance", RgbKind::Albedo, 0.5)?)
-            }
-            // conductor: material ("none"), or eta (0) and k (1); specular_reflectance (1); ours:
-            // ext_ior (1).
-            "conductor" => {
-                let material = p.string_opt("material")?;
-                let (eta, k) = match material {
-                    Some((m, mloc)) if !m.eq_ignore_ascii_case("none") => {
-                        if p.has("eta") || p.has("k") {
-                            let which = if p.has("eta") { "eta" } else { "k" };
-                            let bad = p.get(which).expect("checked above");
-                            return Err(err(
-                                &bad.loc,
-                                ErrorKind::Grammar,
-                                format!("give either material=\"{m}\" or eta and k, not both"),
-                            ));
-                        }
-                        named::conductor(m).ok_or_else(|| {
-                            err(
-                                mloc,
-                                ErrorKind::UnknownPreset,
-                                format!(
-                                    "unknown conductor material \"{m}\" (known: {})",
-                                    named::conductor_names().join(", ")
-                                ),
-                            )
-                        })?
-                    }
-                    _ => (
-                        self.spectrum_param(&mut p, "eta", RgbKind::Unbounded, 0.0)?,
-                        self.spectrum_param(&mut p, "k", RgbKind::Unbounded, 1.0)?,
-                    ),
-                };
-                let specular = self.texture_param(&mut p, "specular_reflectance", RgbKind::Albedo, 1.0)?;
-                let ext_ior = if p.has("ext_ior") {
-                    self.ior_param(&mut p, "ext_ior", "vacuum")?
-                } else {
-                    Ior::Constant(1.0)
-                };
-                Material::conductor(eta, k, ext_ior, specular)
-            }
-            // dielectric / thindielectric: int_ior ("bk7"), ext_ior ("air"), specular_reflectance
-            // (1), specular_transmittance (1).
-            "dielectric" | "thindielectric" => {
-                let int_ior = self.ior_param(&mut p, "int_ior", "bk7")?;
-                let ext_ior = self.ior_param(&mut p, "ext_ior", "air")?;
-                let r = self.texture_param(&mut p, "specular_reflectance", RgbKind::Albedo, 1.0)?;
-                let t = self.texture_param(&mut p, "specular_transmittance", RgbKind::Albedo, 1.0)?;
-                if obj.ty == "dielectric" {
-                    Material::dielectric(int_ior, ext_ior, r, t)
-                } else {
-                    Material::thin_dielectric(int_ior, ext_ior, r, t)
-                }
-            }
-            // plastic: diffuse_reflectance (0.5), nonlinear (false), int_ior ("polypropylene"),
-            // ext_ior ("air"), specular_reflectance (1). Indices must not be dispersive.
-            "plastic" => {
-                let d = self.texture_param(&mut p, "diffuse_reflectance", RgbKind::Albedo, 0.5)?;
-                let nonlinear = p.bool("nonlinear", false)?;
-                let mut scalar = |p: &mut Params<'d>, name: &str, default: &str| -> Result<f32> {
-                    match self.ior_param(p, name, default)? {
-                        Ior::Constant(v) => Ok(v),
-                        Ior::Dispersive(_) => {
-                            let l = p
-                                .obj
-                                .props
-                                .iter()
-                                .find(|x| x.name == name)
-                                .map(|x| x.value_loc.clone());
-                            Err(err(
-                                l.as_ref().unwrap_or(&p.obj.loc),
-                                ErrorKind::BadValue,
-                                format!("plastic needs a constant {name}, not a dispersive one"),
-                            ))
-                        }
-                    }
-                };
-                let int_ior = scalar(&mut p, "int_ior", "polypropylene")?;
-                let ext_ior = scalar(&mut p, "ext_ior", "air")?;
-                let s = self.texture_param(&mut p, "specular_reflectance", RgbKind::Albedo, 1.0)?;
-                Material::plastic(d, int_ior, ext_ior, nonlinear, s)
-            }
-            // twosided: one or two nested BSDFs (front, back); allow_transmission (false).
-            "twosided" => {
-                let allow = p.bool("allow_transmission", false)?;
-                let kids = p.objects(Tag::Bsdf)?;
-                if kids.is_empty() || kids.len() > 2 {
-                    return Err(err(
-                        &obj.loc,
-                        ErrorKind::Grammar,
-                        format!("twosided needs one or two nested BSDFs, found {}", kids.len()),
-                    ));
-                }
-                let mut built = Vec::new();
-                for (k, prop) in &kids {
-                    let m = self.bsdf(*k, &prop.value_loc)?;
-                    if !allow && m.has_transmission() {
-                        return Err(err(
-                            &prop.loc,
-                            ErrorKind::BadValue,
-                            format!(
-                                "twosided cannot wrap the transmitting <bsdf type=\"{}\"> (set allow_transmission)",
-                                doc.objs[*k].ty
-                            ),
-                        ));
-                    }
-                    built.push(m);
-                }
-                let back = if built.len() == 2 {
-                    built.pop().map(Box::new)
-                } else {
-                    None
-                };
-                let front = Box::new(built.pop().expect("one child at least"));
-                Material::TwoSided { front, back }
-            }
-            // blendbsdf: weight (float or texture in [0, 1]; required, as in Mitsuba 3.9.1) and
-            // exactly two nested BSDFs, ordered by name (document order for unnamed ones).
-            "blendbsdf" => {
-                if !p.has("weight") {
-                    return Err(err(
-                        &obj.loc,
-                        ErrorKind::Grammar,
-                        "blendbsdf needs a \"weight\" (float or texture)",
-                    ));
-                }
-                let wloc = p
-                    .obj
-                    .props
-                    .iter()
-                    .find(|x| x.name == "weight")
-                    .map(|x| x.value_loc.clone());
-                let weight = self.texture_param(&mut p, "weight", RgbKind::Albedo, 0.5)?;
-                if let Texture::Spectrum(s) = &weight {
-                    let w = s.as_constant().unwrap_or(f32::NAN);
-                    if !(0.0..=1.0).contains(&w) {
-                        return Err(err(
-                            wloc.as_ref().unwrap_or(&obj.loc),
-                            ErrorKind::BadValue,
-                            format!("blendbsdf weight {w} must be a number in [0, 1]"),
-                        ));
-                    }
-                }
-                let kids = p.objects(Tag::Bsdf)?;
-                if kids.len() != 2 {
-                    return Err(err(
-                        &obj.loc,
-                        ErrorKind::Grammar,
-                        format!("blendbsdf needs exactly two nested BSDFs, found {}", kids.len()),
-                    ));
-                }
-                let bsdf0 = Box::new(self.bsdf(kids[0].0, &kids[0].1.value_loc)?);
-                let bsdf1 = Box::new(self.bsdf(kids[1].0, &kids[1].1.value_loc)?);
-                Material::Blend { weight, bsdf0, bsdf1 }
-            }
-            // tabulated (ours): `filename`, a table written by `gonio measure`
-            // (docs/instruments.md gives the format).
-            "tabulated" => {
-                let Some((name, floc)) = p.string_opt("filename")? else {
-                    return Err(err(
-                        &obj.loc,
-                        ErrorKind::Grammar,
-                        "<bsdf type=\"tabulated\"> needs a filename",
-                    ));
-                };
-                let path = doc.resolve(obj, name);
-                let data = crate::tabulated_io::read_tabulated(&path)
-                    .map_err(|e| err(floc, ErrorKind::BadValue, format!("filename \"{name}\": {e}")))?;
-                Material::Tabulated {
-                    model: std::sync::Arc::new(gonio_core::bsdfs::Tabulated::new(data)),
-                }
-            }
-            _ => {
-                return Err(unknown_plugin(
-                    obj,
-                    &[
-                        "diffuse",
-                        "conductor",
-                        "dielectric",
-                        "thindielectric",
-                        "plastic",
-                        "twosided",
-                        "blendbsdf",
-                        "tabulated",
-                    ],
-                ));
-            }
+        let Some(plugin) = crate::material::bsdf_plugin(&obj.ty) else {
+            let names: Vec<&str> = crate::material::BSDF_PLUGINS.iter().map(|p| p.name).collect();
+            return Err(unknown_plugin(obj, &names));
         };
+        self.enter(idx, loc)?;
+        let mut p = Params::with_specs(doc, idx, plugin.params);
+        let m = (plugin.build)(self, &mut p)?;
         p.finish()?;
         self.leave();
+        if m.as_surface().node_count() > MAX_NODES {
+            return Err(err(
+                &obj.loc,
+                ErrorKind::BadValue,
+                format!(
+                    "<bsdf type=\"{}\"> nests {} BSDFs; {}",
+                    obj.ty,
+                    m.as_surface().node_count(),
+                    gonio_core::bsdfs::surface::TooManyNodes
+                ),
+            ));
+        }
         self.bsdfs.insert(idx, m.clone());
         Ok(m)
+    }
+
+    /// The object being built by `p` (for plugin builders: its location, type and folder).
+    pub(crate) fn object(&self, p: &Params<'d>) -> &'d Obj {
+        p.obj
+    }
+
+    /// Resolves a file name written in the object of `p`.
+    pub(crate) fn resolve_file(&self, p: &Params<'d>, name: &str) -> PathBuf {
+        self.doc.resolve(p.obj, name)
+    }
+
+    /// A spectrum-or-texture parameter from its table row (default and name from the row).
+    pub(crate) fn texture(&mut self, p: &mut Params<'d>, spec: &ParamSpec, kind: RgbKind) -> Result<Texture> {
+        self.texture_param(p, spec.name, kind, spec.default.float() as f32)
+    }
+
+    /// A spectrum parameter (not spatially varying) from its table row.
+    pub(crate) fn spectrum(
+        &mut self,
+        p: &mut Params<'d>,
+        spec: &ParamSpec,
+        kind: RgbKind,
+    ) -> Result<Spectrum> {
+        self.spectrum_param(p, spec.name, kind, spec.default.float() as f32)
+    }
+
+    /// An index-of-refraction parameter from its table row (default: the row's preset name).
+    pub(crate) fn ior(&mut self, p: &mut Params<'d>, spec: &ParamSpec) -> Result<Ior> {
+        self.ior_param(p, spec.name, spec.default.str())
     }
 }
 

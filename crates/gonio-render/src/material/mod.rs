@@ -1,0 +1,214 @@
+//! Materials: the BSDF plugins of a scene, one module each.
+//!
+//! A BSDF plugin is one file in this folder holding
+//! 1. its **parameter table** ([`ParamSpec`]s: Mitsuba's names, types, defaults and meaning),
+//!    from which the reader takes every default, the "unused parameter" check its list of accepted
+//!    names, and `docs/plugins.md` its text;
+//! 2. its **builder** from parsed parameters (a [`BsdfPlugin`] registered in [`BSDF_PLUGINS`]);
+//! 3. its **scene-side material** (textures and the prebuilt core model), a [`SurfaceMaterial`]
+//!    that at each hit becomes a `Copy` [`SurfaceBsdf`]: textures looked up at the hit's uv and
+//!    spectra evaluated at the path's wavelengths.
+//!
+//! The physics stays in `gonio_core::bsdfs` (one file per model). To add a BSDF: write the core
+//! model (and its [`LeafBsdf`](gonio_core::bsdfs::LeafBsdf) variant), write its plugin file here,
+//! add it to [`BSDF_PLUGINS`], and add it to the battery (`crates/gonio-core/tests/battery.rs`);
+//! `docs/adding-a-plugin.md` walks through one.
+
+pub mod blendbsdf;
+pub mod conductor;
+pub mod dielectric;
+pub mod diffuse;
+pub mod plastic;
+pub mod tabulated;
+pub mod thindielectric;
+pub mod twosided;
+
+pub use crate::xml::{BsdfPlugin, DefaultValue, ParamSpec, ParamType};
+pub use blendbsdf::BlendMaterial;
+pub use conductor::ConductorMaterial;
+pub use dielectric::DielectricMaterial;
+pub use diffuse::DiffuseMaterial;
+pub use plastic::PlasticMaterial;
+pub use tabulated::TabulatedMaterial;
+pub use thindielectric::ThinDielectricMaterial;
+pub use twosided::TwoSidedMaterial;
+
+use crate::texture::Texture;
+use glam::Vec2;
+use gonio_core::bsdfs::SurfaceBsdf;
+use gonio_core::bsdfs::surface::TooManyNodes;
+use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths, Spectrum};
+use std::any::Any;
+use std::fmt::Debug;
+use std::sync::Arc;
+
+/// Every BSDF plugin the reader knows, in the order the documentation lists them.
+pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
+    &diffuse::PLUGIN,
+    &conductor::PLUGIN,
+    &dielectric::PLUGIN,
+    &thindielectric::PLUGIN,
+    &plastic::PLUGIN,
+    &twosided::PLUGIN,
+    &blendbsdf::PLUGIN,
+    &tabulated::PLUGIN,
+];
+
+/// The registered plugin called `name`.
+pub fn bsdf_plugin(name: &str) -> Option<&'static BsdfPlugin> {
+    BSDF_PLUGINS.iter().copied().find(|p| p.name == name)
+}
+
+/// A material as the scene holds it: one BSDF plugin with its textures and prebuilt model.
+pub trait SurfaceMaterial: Send + Sync + Debug + Any {
+    /// Union of the lobe flags of every BSDF this material can become (null transmission,
+    /// delta lobes, transmission... are read from here, not by walking materials).
+    fn flags(&self) -> BsdfFlags;
+
+    /// True when some parameter varies over the surface.
+    fn is_textured(&self) -> bool;
+
+    /// Number of [`SurfaceBsdf`] nodes [`SurfaceMaterial::push`] adds (1 for a model).
+    fn node_count(&self) -> usize {
+        1
+    }
+
+    /// Adds this material at surface coordinates `uv` and wavelengths `wl` to `tree`; returns
+    /// the index of its root node.
+    fn push<'a>(
+        &'a self,
+        uv: Vec2,
+        wl: &SampledWavelengths,
+        tree: &mut SurfaceBsdf<'a>,
+    ) -> Result<u8, TooManyNodes>;
+
+    /// Calls `f` exactly once with the BSDF at `uv`, valid for every wavelength (what the
+    /// instruments and the battery use). Nothing is allocated.
+    fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf));
+}
+
+/// A scene material: a shared [`SurfaceMaterial`].
+#[derive(Clone, Debug)]
+pub struct Material(Arc<dyn SurfaceMaterial>);
+
+impl Material {
+    /// Wraps a plugin's material.
+    pub fn new(m: impl SurfaceMaterial) -> Self {
+        Material(Arc::new(m))
+    }
+
+    /// Mitsuba's default material for a shape without a BSDF: diffuse with ρ = 0.5, or ρ = 0 if
+    /// the shape emits.
+    pub fn default_for_shape(emitter: bool) -> Self {
+        Material::new(DiffuseMaterial::new(Texture::constant(if emitter {
+            0.0
+        } else {
+            0.5
+        })))
+    }
+
+    /// The plugin's own type, when it is a `T` (for inspection and tests).
+    pub fn get<T: SurfaceMaterial>(&self) -> Option<&T> {
+        let any: &dyn Any = self.0.as_ref();
+        any.downcast_ref::<T>()
+    }
+
+    /// The plugin's material.
+    pub fn as_surface(&self) -> &dyn SurfaceMaterial {
+        self.0.as_ref()
+    }
+
+    /// The `Copy` BSDF value at a hit: textures at `uv`, spectra at `wl`. Valid for `wl` only.
+    #[inline]
+    pub fn bsdf_at(&self, uv: Vec2, wl: &SampledWavelengths) -> SurfaceBsdf<'_> {
+        let mut tree = SurfaceBsdf::new();
+        // The reader refuses materials of more than MAX_NODES nodes (`check_node_count`), so this
+        // cannot fail; an empty tree would be black.
+        let _ = self.0.push(uv, wl, &mut tree);
+        tree
+    }
+
+    /// Builds the BSDF value at a hit ([`Material::bsdf_at`]) and hands it to `f`.
+    #[inline]
+    pub fn with_bsdf_at<R>(&self, uv: Vec2, wl: SampledWavelengths, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
+        f(&self.bsdf_at(uv, &wl))
+    }
+
+    /// Union of the lobe flags.
+    pub fn flags(&self) -> BsdfFlags {
+        self.0.flags()
+    }
+
+    /// True when the material transmits light.
+    pub fn has_transmission(&self) -> bool {
+        self.flags().is_transmission()
+    }
+
+    /// True when some lobe passes straight through without changing the medium (a thin sheet).
+    pub fn has_null_transmission(&self) -> bool {
+        self.flags().contains(BsdfFlags::NULL)
+    }
+
+    /// True when some parameter varies over the surface.
+    pub fn is_textured(&self) -> bool {
+        self.0.is_textured()
+    }
+
+    /// Builds the BSDF at `uv`, valid for every wavelength, and hands it to `f` (instruments).
+    pub fn with_bsdf<R>(&self, uv: Vec2, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
+        let mut f = Some(f);
+        let mut out = None;
+        self.0.visit(uv, &mut |b| {
+            if let Some(f) = f.take() {
+                out = Some(f(b));
+            }
+        });
+        out.expect("SurfaceMaterial::visit calls its callback exactly once")
+    }
+}
+
+/// The constant value of a texture for a prebuilt model (the mean when textured).
+pub(crate) fn model_value(t: &Texture) -> Spectrum {
+    match t {
+        Texture::Spectrum(s) => s.clone(),
+        _ => Spectrum::Constant(t.mean()),
+    }
+}
+
+/// A texture's value at a hit, at the path's wavelengths.
+#[inline]
+pub(crate) fn texture_at(t: &Texture, uv: Vec2, wl: &SampledWavelengths) -> gonio_core::SampledSpectrum {
+    match t {
+        Texture::Spectrum(s) => s.sample(wl),
+        _ => t.eval(uv).sample(wl),
+    }
+}
+
+/// Hands `f` the prebuilt `model`, or, when some of its tints are textured, a copy on the stack
+/// with the tints at this point set by `retint`.
+pub(crate) fn retinted<M: Bsdf + Clone>(
+    model: &M,
+    textured: bool,
+    retint: impl FnOnce(&mut M),
+    f: &mut dyn FnMut(&dyn Bsdf),
+) {
+    if textured {
+        let mut m = model.clone();
+        retint(&mut m);
+        f(&m)
+    } else {
+        f(model)
+    }
+}
+
+/// The parameter tables of every BSDF plugin as Markdown (`docs/plugins.md`).
+pub fn plugins_markdown() -> String {
+    let mut s = String::from(
+        "# BSDF plugins\n\nGenerated from the plugins' parameter tables (`crates/gonio-render/src/material/`);\n\
+         a test keeps this file in step with them. Names, types and defaults are Mitsuba 3's unless marked (ours).\n",
+    );
+    for p in BSDF_PLUGINS {
+        s.push_str(&p.markdown());
+    }
+    s
+}

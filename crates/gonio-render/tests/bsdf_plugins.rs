@@ -1,0 +1,137 @@
+//! The BSDF plugin registry: its tables are consistent, the reader's errors and
+//! `docs/plugins.md` come from them, and every plugin's per-hit value equals its
+//! any-wavelength BSDF.
+
+use glam::{Vec2, Vec3};
+use gonio_core::rng::Pcg32;
+use gonio_core::{Bsdf, BsdfContext, SampledWavelengths};
+use gonio_render::material::{BSDF_PLUGINS, DefaultValue, ParamType, plugins_markdown};
+use gonio_render::xml::{ErrorKind, load_bsdf_str};
+
+#[test]
+fn every_table_default_has_its_parameters_type() {
+    for plugin in BSDF_PLUGINS {
+        assert!(!plugin.summary.is_empty(), "{}", plugin.name);
+        for p in plugin.params {
+            let ok = match (p.ty, p.default) {
+                (_, DefaultValue::None) => true,
+                (ParamType::Float | ParamType::Spectrum | ParamType::Texture, DefaultValue::Float(v)) => {
+                    v.is_finite()
+                }
+                (ParamType::Boolean, DefaultValue::Bool(_)) => true,
+                (ParamType::String | ParamType::Ior, DefaultValue::Str(s)) => !s.is_empty(),
+                _ => false,
+            };
+            assert!(
+                ok,
+                "{}.{}: default {:?} does not fit {:?}",
+                plugin.name, p.name, p.default, p.ty
+            );
+            assert!(!p.doc.is_empty(), "{}.{} has no doc", plugin.name, p.name);
+        }
+    }
+}
+
+#[test]
+fn unknown_plugin_error_lists_the_registry() {
+    let e = load_bsdf_str("<bsdf type=\"velvet\"/>").unwrap_err();
+    assert_eq!(e.kind, ErrorKind::UnknownPlugin);
+    for plugin in BSDF_PLUGINS {
+        assert!(e.to_string().contains(plugin.name), "{e}");
+    }
+}
+
+#[test]
+fn unused_parameter_error_lists_the_accepted_names() {
+    let e =
+        load_bsdf_str("<bsdf type=\"plastic\"><float name=\"int_iro\" value=\"1.5\"/></bsdf>").unwrap_err();
+    assert_eq!(e.kind, ErrorKind::UnusedParameter);
+    let msg = e.to_string();
+    assert!(
+        msg.contains("int_iro") && msg.contains("it accepts: diffuse_reflectance, nonlinear, int_ior"),
+        "{msg}"
+    );
+}
+
+#[test]
+fn materials_nesting_more_than_a_hit_can_hold_are_refused() {
+    // blend(blend(d, d), blend(d, d)) has 7 nodes: accepted; one more level of blends (15) is not.
+    let leaf = "<bsdf type=\"diffuse\"/>";
+    let blend = |a: &str, b: &str| {
+        format!("<bsdf type=\"blendbsdf\"><float name=\"weight\" value=\"0.5\"/>{a}{b}</bsdf>")
+    };
+    let seven = blend(&blend(leaf, leaf), &blend(leaf, leaf));
+    assert!(load_bsdf_str(&seven).is_ok());
+    let fifteen = blend(&seven, &seven);
+    let e = load_bsdf_str(&fifteen).unwrap_err();
+    assert_eq!(e.kind, ErrorKind::BadValue);
+    assert!(e.to_string().contains("at most 8"), "{e}");
+}
+
+/// `docs/plugins.md` is generated from the tables; `GONIO_BLESS=1` rewrites it.
+#[test]
+fn docs_plugins_md_is_generated_from_the_tables() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../docs/plugins.md");
+    let want = plugins_markdown();
+    if std::env::var_os("GONIO_BLESS").is_some() {
+        std::fs::write(path, &want).unwrap();
+    }
+    let have = std::fs::read_to_string(path).unwrap_or_default();
+    assert!(
+        have == want,
+        "docs/plugins.md is stale: run GONIO_BLESS=1 cargo test --release -p gonio-render --test bsdf_plugins"
+    );
+}
+
+/// For textured and untextured instances of every plugin, the per-hit `Copy` value
+/// (`Material::bsdf_at`) and the any-wavelength BSDF (`Material::with_bsdf`) agree bit for bit.
+#[test]
+fn per_hit_value_equals_the_any_wavelength_bsdf() {
+    let scenes = [
+        "<bsdf type=\"diffuse\"><rgb name=\"reflectance\" value=\"0.2, 0.5, 0.9\"/></bsdf>",
+        "<bsdf type=\"conductor\"><string name=\"material\" value=\"Au\"/></bsdf>",
+        "<bsdf type=\"conductor\"><texture name=\"specular_reflectance\" type=\"checkerboard\"/></bsdf>",
+        "<bsdf type=\"dielectric\"><string name=\"int_ior\" value=\"SF11\"/></bsdf>",
+        "<bsdf type=\"thindielectric\"><texture name=\"specular_transmittance\" type=\"checkerboard\"/></bsdf>",
+        "<bsdf type=\"plastic\"><texture name=\"diffuse_reflectance\" type=\"checkerboard\"/><boolean name=\"nonlinear\" value=\"true\"/></bsdf>",
+        "<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/><bsdf type=\"plastic\"/></bsdf>",
+        "<bsdf type=\"blendbsdf\"><texture name=\"weight\" type=\"checkerboard\"/><bsdf type=\"twosided\"><bsdf type=\"conductor\"/></bsdf><bsdf type=\"dielectric\"/></bsdf>",
+    ];
+    let mut rng = Pcg32::new(11, 5);
+    let mut dir = || {
+        let z: f32 = 2.0 * rng.next_f32() - 1.0;
+        let phi = std::f32::consts::TAU * rng.next_f32();
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        Vec3::new(s * phi.cos(), s * phi.sin(), z)
+    };
+    let mut u = Pcg32::new(3, 9);
+    for text in scenes {
+        let m = load_bsdf_str(text).unwrap_or_else(|e| panic!("{text}: {e}"));
+        for k in 0..300 {
+            let uv = Vec2::new((k % 17) as f32 / 17.0, (k % 13) as f32 / 13.0);
+            let wl = SampledWavelengths::sample_visible(u.next_f32());
+            let (wi, wo) = (dir(), dir());
+            let (u1, u2) = (u.next_f32(), Vec2::new(u.next_f32(), u.next_f32()));
+            let hit = m.bsdf_at(uv, &wl);
+            m.with_bsdf(uv, |any: &dyn Bsdf| {
+                assert_eq!(hit.flags(), any.flags(), "{text}");
+                for ctx in [BsdfContext::radiance(), BsdfContext::importance()] {
+                    assert_eq!(hit.eval(&ctx, wi, wo, &wl), any.eval(&ctx, wi, wo, &wl), "{text}");
+                    assert_eq!(hit.pdf(&ctx, wi, wo, &wl), any.pdf(&ctx, wi, wo, &wl), "{text}");
+                    let (mut a, mut b) = (wl, wl);
+                    assert_eq!(
+                        hit.sample(&ctx, wi, u1, u2, &mut a),
+                        any.sample(&ctx, wi, u1, u2, &mut b),
+                        "{text}"
+                    );
+                    assert_eq!(a, b);
+                    assert_eq!(
+                        hit.null_transmission(wi, &wl),
+                        any.null_transmission(wi, &wl),
+                        "{text}"
+                    );
+                }
+            });
+        }
+    }
+}
