@@ -18,7 +18,7 @@ mod values;
 
 pub use error::{ErrorKind, Location, SceneError};
 pub(crate) use params::Params;
-pub use params::{BsdfPlugin, DefaultValue, ParamSpec, ParamType};
+pub use params::{BsdfPlugin, DefaultValue, ParamSpec, ParamType, Plugin};
 pub(crate) use parse::Tag;
 pub(crate) use plugins::Builder;
 

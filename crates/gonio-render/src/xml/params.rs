@@ -115,28 +115,34 @@ impl ParamSpec {
     }
 }
 
-/// Builds a plugin's scene object from its parsed parameters.
-pub(crate) type BuildBsdf =
-    for<'d, 'b> fn(&'b mut super::plugins::Builder<'d>, &'b mut Params<'d>) -> Result<Material>;
+/// Builds a plugin's scene object of type `T` from its parsed parameters.
+pub(crate) type Build<T> =
+    for<'d, 'b> fn(&'b mut super::plugins::Builder<'d>, &'b mut Params<'d>) -> Result<T>;
 
-/// A BSDF plugin: its name, its parameter table and its builder (see [`crate::material`]).
-pub struct BsdfPlugin {
-    /// The `type` of `<bsdf type="...">`.
+/// A plugin of some kind (`<bsdf>`, `<shape>`, ...): its name, its parameter table and its
+/// builder of the scene object `T`. Each kind has a registry of them (e.g.
+/// [`crate::material::BSDF_PLUGINS`]), from which the reader's "unknown plugin" and
+/// "unused parameter" errors and `docs/plugins.md` are made.
+pub struct Plugin<T: 'static> {
+    /// The `type` attribute that selects it.
     pub name: &'static str,
     /// One line on what it is, with its source.
     pub summary: &'static str,
     /// Every parameter it accepts.
     pub params: &'static [ParamSpec],
-    pub(crate) build: BuildBsdf,
+    pub(crate) build: Build<T>,
 }
 
-impl std::fmt::Debug for BsdfPlugin {
+/// A `<bsdf>` plugin.
+pub type BsdfPlugin = Plugin<Material>;
+
+impl<T> std::fmt::Debug for Plugin<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("BsdfPlugin").field("name", &self.name).finish()
+        f.debug_struct("Plugin").field("name", &self.name).finish()
     }
 }
 
-impl BsdfPlugin {
+impl<T> Plugin<T> {
     /// The plugin's section of `docs/plugins.md`.
     pub fn markdown(&self) -> String {
         let mut s = format!("\n## `{}`\n\n{}\n\n", self.name, self.summary);
