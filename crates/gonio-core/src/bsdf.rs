@@ -225,12 +225,15 @@ impl BsdfContext {
 }
 
 /// The result of [`Bsdf::sample`].
+///
+/// The weight's type is a parameter ([`crate::weight::Weight`]): a spectrum here, a Mueller
+/// matrix for a polarized renderer.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BsdfSample {
+pub struct BsdfSample<W = SampledSpectrum> {
     /// The sampled direction, local frame, unit length.
     pub wo: Vec3,
     /// f·|cos θo|/pdf for smooth lobes; throughput/selection probability for delta lobes.
-    pub weight: SampledSpectrum,
+    pub weight: W,
     /// Solid-angle density (smooth lobe) or discrete selection probability (delta lobe).
     pub pdf: f32,
     /// The lobe that was sampled.
@@ -241,7 +244,7 @@ pub struct BsdfSample {
     pub eta: f32,
 }
 
-impl std::fmt::Display for BsdfSample {
+impl<W: std::fmt::Display> std::fmt::Display for BsdfSample<W> {
     /// `wo (x, y, z) weight [..] pdf p flags eta e`, for reports.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(

@@ -24,6 +24,7 @@ pub mod rng;
 pub mod spectra;
 pub mod spectrum;
 pub mod warp;
+pub mod weight;
 
 pub use bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
 pub use frame::Frame;
