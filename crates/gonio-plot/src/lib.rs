@@ -269,21 +269,10 @@ fn raster_png(r: &Raster) -> Result<(Vec<u8>, u32, u32), PlotError> {
     Ok((out, r.width, r.height))
 }
 
+/// Standard base64 (RFC 4648 §4, padded), for PNGs embedded in SVG `data:` URIs.
 fn base64(data: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::with_capacity(data.len().div_ceil(3) * 4);
-    for c in data.chunks(3) {
-        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
-        let n = ((b[0] as u32) << 16) | ((b[1] as u32) << 8) | b[2] as u32;
-        for k in 0..4 {
-            if k <= c.len() {
-                s.push(T[((n >> (18 - 6 * k)) & 63) as usize] as char);
-            } else {
-                s.push('=');
-            }
-        }
-    }
-    s
+    use ::base64::Engine;
+    ::base64::engine::general_purpose::STANDARD.encode(data)
 }
 
 /// The files a figure is saved as, each with its encoded bytes: PNG or SVG chosen by `path`'s
