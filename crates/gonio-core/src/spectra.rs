@@ -644,7 +644,7 @@ mod tests {
 
     #[test]
     fn blackbody_matches_planck_reference_values() {
-        // spectral.md §4.2, within 0.1 %.
+        // pbrt-v4 util/spectrum_test.cpp (Blackbody; values from spectralcalc.com), within 0.1 %.
         for (l, t, b) in [
             (483.0, 6000.0, 3.1849e13),
             (600.0, 6000.0, 2.86772e13),
@@ -671,7 +671,8 @@ mod tests {
 
     #[test]
     fn cauchy_and_sellmeier_formulas() {
-        // Cauchy BK7 of spectral.md §6.2: A = 1.5046, B = 0.00420 µm² → n(500 nm) = 1.5046 + 0.0168.
+        // Two-term Cauchy BK7 (textbook table, e.g. Wikipedia "Cauchy's equation"): A = 1.5046,
+        // B = 0.00420 µm² → n(500 nm) = 1.5046 + 0.0168.
         let c = Spectrum::cauchy(1.5046, 0.00420);
         assert!((c.eval(500.0) - 1.5214).abs() < 1e-6);
         assert!((c.max_value() - c.eval(360.0)).abs() < 1e-6);

@@ -342,7 +342,8 @@ mod tests {
 
     #[test]
     fn visible_sampling_matches_reference_values() {
-        // testing.md §6.13: λ(0) = 360, λ(0.5) = 545.90, λ(1) = 830.
+        // Inverse CDF of pbrt-v4's SampleVisibleWavelengths (util/sampling.h), computed: λ(0) = 360,
+        // λ(0.5) = 545.90, λ(1) = 830.
         assert!((sample_visible_wavelength(0.0) - 360.0).abs() < 1e-3);
         assert!((sample_visible_wavelength(0.5) - 545.90).abs() < 0.01);
         assert!((sample_visible_wavelength(1.0) - 830.0).abs() < 1e-3);

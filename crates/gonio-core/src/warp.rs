@@ -54,7 +54,8 @@ mod tests {
 
     #[test]
     fn cosine_warp_reference_value() {
-        // testing.md §6.7: ξ = (0.3, 0.7) → (−0.282843, 0.282843, 0.916515).
+        // Mitsuba 3's square_to_cosine_hemisphere (core/warp.h): ξ = (0.3, 0.7) →
+        // (−0.282843, 0.282843, 0.916515).
         let w = square_to_cosine_hemisphere(Vec2::new(0.3, 0.7));
         assert!(
             (w - Vec3::new(-0.282843, 0.282843, 0.916515)).length() < 1e-5,

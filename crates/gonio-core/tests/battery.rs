@@ -154,7 +154,7 @@ fn dielectric_inverted_tinted() {
 
 #[test]
 fn dielectric_dispersive() {
-    // BK7-like dispersion (testing.md §6.13 values at 400/550/700 nm).
+    // BK7-like dispersion (Schott N-BK7 Sellmeier values at 400/550/700 nm).
     let n = piecewise(&[400.0, 1.53085, 550.0, 1.51852, 700.0, 1.51306]);
     assert_passes(
         "dielectric dispersive BK7-like",
@@ -240,7 +240,7 @@ fn twosided_conductor() {
 
 #[test]
 fn blend_mirror_diffuse() {
-    // The delta + smooth mix Mitsuba 3.9.1 gets wrong (testing.md §6.9).
+    // The delta + smooth mix Mitsuba 3.9.1 gets wrong (see the tests of src/bsdfs/blendbsdf.rs).
     let (m, d) = (Conductor::mirror(), Diffuse::new(Spectrum::Constant(0.3)));
     assert_passes("blend 0.5 mirror + diffuse ρ=0.3", &BlendBsdf::new(0.5, &m, &d));
 }

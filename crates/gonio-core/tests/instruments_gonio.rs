@@ -215,8 +215,8 @@ fn a_measured_table_passes_the_property_battery() {
 
 #[test]
 fn a_half_space_of_lambertian_spheres_has_the_published_plane_albedo() {
-    // lambertian-generalizations.md §1.9: plane albedo of the half-space of Lambert spheres
-    // with c = 0.5, a(μ = 1) = 0.175734, a(μ = 0.5) = 0.200553 (deterministic solver).
+    // Plane albedo of d'Eon 2021's half-space of Lambert spheres (CGF 40(4), EGSR) with c = 0.5:
+    // a(μ = 1) = 0.175734, a(μ = 0.5) = 0.200553 (deterministic solver of its transport problem).
     use gonio_core::instruments::gonioreflectometer::SphereHalfSpaceSpecimen;
     let c: Arc<dyn Bsdf> = Arc::new(Diffuse::new(Spectrum::Constant(0.5)));
     let spheres = SphereHalfSpaceSpecimen::new(c, 1000, "diffuse 0.5");

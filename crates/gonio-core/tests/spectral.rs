@@ -1,6 +1,6 @@
 //! Spectral data against published reference values: RGB uplifting round trips, Sellmeier glasses
-//! (spectral.md §6.1, Schott catalogue, pbrt-v4's refractiveindex.info tables), metal Fresnel
-//! reflectance and colours (spectral.md §7.2, §7.3).
+//! (Schott catalogue, Malitson 1965, pbrt-v4's refractiveindex.info tables), metal Fresnel
+//! reflectance and colours (pbrt-v4's metal tables; Mitsuba 3.9.1's RGB projections).
 
 use glam::Vec3;
 use gonio_core::color::{emission_to_linear_srgb, spectrum_to_linear_srgb};
@@ -139,7 +139,8 @@ fn abbe(n: &Spectrum) -> (f32, f32) {
 
 #[test]
 fn sellmeier_bk7_and_fused_silica_match_the_reference_table() {
-    // spectral.md §6.1 at 400, 450, …, 700 nm (1e-5), n_d and Abbe numbers.
+    // Sellmeier formulas (Schott N-BK7; Malitson 1965) at 400, 450, …, 700 nm (1e-5); n_d and
+    // Abbe numbers of the Schott data sheet.
     let bk7 = glass("N-BK7").unwrap();
     let silica = glass("fused silica").unwrap();
     let bk7_ref = [1.53085, 1.52532, 1.52141, 1.51852, 1.51629, 1.51452, 1.51306];
@@ -217,7 +218,7 @@ fn f0(n: f32, k: f32) -> f32 {
 
 #[test]
 fn gold_normal_reflectance_matches_the_reference_table() {
-    // spectral.md §7.2: λ, n, k, R(0°).
+    // pbrt-v4's metal-Au-eta/-k (util/spectrum.cpp), linearly interpolated: λ, n, k, R(0°).
     let table = [
         (400.0, 1.6579, 1.9560, 0.391),
         (430.0, 1.6095, 1.9349, 0.390),
@@ -251,7 +252,8 @@ fn gold_normal_reflectance_matches_the_reference_table() {
 
 #[test]
 fn metal_colours_at_normal_incidence() {
-    // spectral.md §7.3: F0(λ) integrated to linear sRGB under D65 with the 1 nm CIE tables.
+    // Computed from pbrt-v4's metal tables: F0(λ) integrated to linear sRGB under D65 with the
+    // 1 nm CIE tables.
     for (name, rgb_ref) in [
         ("Au", [1.022, 0.782, 0.343]),
         ("Ag", [0.972, 0.960, 0.915]),
@@ -286,7 +288,7 @@ fn metal_colours_at_normal_incidence() {
 
 #[test]
 fn conductor_tables_project_to_mitsubas_rgb_eta_k() {
-    // spectral.md §7.3: Mitsuba 3.9.1's RGB variants project η(λ) and k(λ) separately with the
+    // Measured with Mitsuba 3.9.1: its RGB variants project η(λ) and k(λ) separately with the
     // equal-energy CIE projection; the same projection of our tables must give its numbers (this
     // ties the Cr and W data, which have no other reference here, to Mitsuba's files).
     let cases: [(&str, [f32; 3], [f32; 3]); 6] = [

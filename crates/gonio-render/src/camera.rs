@@ -1,4 +1,5 @@
-//! Mitsuba's `perspective` sensor, exactly (notes: mitsuba-xml.md §1.5, §2.2).
+//! Mitsuba's `perspective` sensor, exactly (Mitsuba 3 `src/sensors/perspective.cpp`,
+//! `src/render/sensor.cpp`).
 //!
 //! Camera space: +z forward, +y up, **+x left** (Mitsuba's `lookat` builds the columns
 //! `[left, up, dir, origin]`). A camera-space point (x, y, z) lands at film coordinates

@@ -4,10 +4,11 @@
 //! Formats are recognized by their magic bytes, not by the file name, so a mislabelled file still
 //! reads and a file that is none of them gives a clear [`ImageError`] naming it.
 //!
-//! Every write goes to a temporary file in the destination's folder which is then renamed over the
-//! destination: a reader never sees a half-written image, and a crash leaves the old file in place.
+//! Every write goes through [`crate::output::write_atomically`] (a temporary file in the
+//! destination's folder, then renamed over the destination): a reader never sees a half-written
+//! image, and a crash leaves the old file in place.
 
-use std::io::{Cursor, Write};
+use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
 /// A linear RGB image in row-major order (row 0 at the top), one `[r, g, b]` per pixel.
@@ -296,41 +297,12 @@ fn decode_exr(bytes: &[u8], path: &Path) -> Result<RgbImage, ImageError> {
     Ok(RgbImage { width, height, data })
 }
 
-/// Writes `bytes` to `path` atomically: a temporary file in the same folder (so the rename
-/// cannot cross file systems), flushed and synced, then renamed over `path`. On failure the
-/// temporary file is removed and `path` is untouched.
-pub fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
-    let io = |source| ImageError::Io {
-        path: path.to_owned(),
-        source,
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_owned(),
-        _ => PathBuf::from("."),
-    };
-    let file_name = path.file_name().ok_or_else(|| ImageError::Encode {
-        path: path.to_owned(),
-        message: "not a file name".into(),
-    })?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(file_name);
-    // Process id plus a per-process counter: concurrent writers never share a temporary file.
-    static COUNTER: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let n = COUNTER.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    tmp_name.push(format!(".{}-{n}.tmp", std::process::id()));
-    let tmp = dir.join(tmp_name);
-    let result = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-        drop(f);
-        std::fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = std::fs::remove_file(&tmp);
-        return Err(io(e));
-    }
-    Ok(())
+/// Writes `bytes` through the one atomic writer ([`crate::output::write_atomically`]).
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+    crate::output::write_atomically(path, bytes).map_err(|e| ImageError::Io {
+        path: e.path,
+        source: e.source,
+    })
 }
 
 /// The inverse sRGB transfer curve (IEC 61966-2-1). H1's `gonio_core::color` has the same curve;

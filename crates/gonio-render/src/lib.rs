@@ -14,7 +14,7 @@ pub mod image;
 pub mod integrator;
 pub mod material;
 pub mod mesh;
-pub mod plot;
+pub mod output;
 pub mod render;
 pub mod sampler;
 pub mod scene;

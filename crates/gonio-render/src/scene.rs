@@ -2,7 +2,8 @@
 //! renderer consumes. Plain data, no behaviour beyond small helpers; geometry is in object space
 //! and each shape carries its `to_world`.
 //!
-//! Conventions follow Mitsuba 3 (see `mitsuba-xml.md`): camera space is +z forward, +y up,
+//! Conventions follow Mitsuba 3 (`look_at` in `include/mitsuba/core/transform.h`,
+//! `src/sensors/perspective.cpp`): camera space is +z forward, +y up,
 //! +x left; `Sensor::fov_x_deg` is the horizontal field of view after the `fov_axis` /
 //! `focal_length` conversion.
 

@@ -253,9 +253,10 @@ pub fn format_tabulated(t: &TabulatedData) -> String {
     s
 }
 
-/// Writes a table atomically (a temporary file in the same folder, then a rename).
+/// Writes a table atomically ([`crate::output::write_atomically`]: a temporary file in the same
+/// folder, then a rename).
 pub fn write_tabulated(path: &Path, t: &TabulatedData) -> Result<(), TableError> {
-    crate::plot::write_atomic(path, format_tabulated(t).as_bytes()).map_err(|e| TableError {
+    crate::output::write_atomically(path, format_tabulated(t).as_bytes()).map_err(|e| TableError {
         file: path.display().to_string(),
         line: 0,
         message: e.to_string(),

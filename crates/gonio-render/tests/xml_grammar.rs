@@ -148,13 +148,14 @@ fn transforms_apply_in_document_order() {
     assert!(close(r.transform_point3(Vec3::X), Vec3::Y));
     let r = to_world("<rotate value=\"0, 0, 2\" angle=\"90\"/>");
     assert!(close(r.transform_point3(Vec3::X), Vec3::Y));
-    // rotate x −90°: the rectangle normal +z becomes +y (mitsuba-xml.md §3 floor).
+    // rotate x −90°: the rectangle normal +z becomes +y (the floor of
+    // testdata/mitsuba/scenes/materials.xml).
     let f = to_world("<scale value=\"10\"/><rotate x=\"1\" angle=\"-90\"/>");
     assert!(close(f.transform_vector3(Vec3::Z).normalize(), Vec3::Y));
     // Non-uniform scale with missing components = 1.
     let s = to_world("<scale y=\"3\"/>");
     assert!(close(s.transform_point3(Vec3::ONE), Vec3::new(1.0, 3.0, 1.0)));
-    // Row-major 4×4: the light of mitsuba-xml.md §3 maps (x, y, z) → (0.5x, 4 − 0.5z, 0.5y).
+    // Row-major 4×4 = scale 0.5, rotate x +90°, translate y 4: (x, y, z) → (0.5x, 4 − 0.5z, 0.5y).
     let m = to_world("<matrix value=\"0.5 0 0 0  0 0 -0.5 4  0 0.5 0 0  0 0 0 1\"/>");
     assert!(close(
         m.transform_point3(Vec3::new(1.0, 2.0, 3.0)),

@@ -66,7 +66,7 @@ fn sensor_defaults_and_fov_axes() {
     assert_eq!(s.sensor.film.filter, Filter::Gaussian { stddev: 0.5 });
     assert_eq!(s.sensor.sampler.kind, SamplerKind::Independent);
     assert_eq!((s.sensor.sampler.sample_count, s.sensor.sampler.seed), (4, 0));
-    // focal_length 50mm at 768×576 → 38.1848° (mitsuba-xml.md §2.2).
+    // focal_length 50mm at 768×576 → 38.1848° (Mitsuba 3 src/render/sensor.cpp).
     assert!(
         (s.sensor.fov_x_deg - 38.1848).abs() < 1e-3,
         "{}",

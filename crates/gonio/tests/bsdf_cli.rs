@@ -30,7 +30,7 @@ const GLASS: &str = r#"<bsdf version="3.0.0" type="dielectric"><float name="int_
 #[test]
 fn albedo_of_glass_is_fresnel_and_eta_squared_exactly() {
     // Normal incidence, η = 1.5: R = 0.04; radiance T = 0.96/η² from outside, 0.96·η² from
-    // inside; importance T = 0.96 (testing.md §6.3).
+    // inside; importance T = 0.96 (as Mitsuba 3 src/bsdfs/dielectric.cpp).
     let (code, out, _) = gonio_bsdf(&["albedo", GLASS], "0 0 1 550\n0 0 -1 550\n");
     assert_eq!(code, 0);
     let rows: Vec<Vec<f64>> = out.lines().map(numbers).collect();

@@ -142,7 +142,8 @@ mod tests {
 
     #[test]
     fn mirror_reflects_everything_exactly() {
-        // testing.md §6.6: conductor "none": weight 1 at all angles, pdf 1, eval = pdf = 0.
+        // Mitsuba 3 src/bsdfs/conductor.cpp, material "none": weight 1 at all angles, pdf 1,
+        // eval = pdf = 0.
         let m = Conductor::default();
         let ctx = BsdfContext::radiance();
         for deg in [0.0f32, 30.0, 60.0, 80.0, 89.9] {
@@ -178,7 +179,8 @@ mod tests {
 
     #[test]
     fn gold_weight_is_fresnel_of_complex_index() {
-        // Gold at 400 nm and 550 nm (spectral.md §7.2): R(0°) 0.391 / 0.848, R(60°) 0.416 / 0.843.
+        // Gold at 400 nm and 550 nm (n, k of pbrt-v4's metal-Au tables; R from the complex Fresnel
+        // equations): R(0°) 0.391 / 0.848, R(60°) 0.416 / 0.843.
         let n = PiecewiseLinear::new(vec![400.0, 550.0], vec![1.6579, 0.3504], Extrapolation::Clamp).unwrap();
         let k = PiecewiseLinear::new(vec![400.0, 550.0], vec![1.9560, 2.7141], Extrapolation::Clamp).unwrap();
         let au = Conductor::new(

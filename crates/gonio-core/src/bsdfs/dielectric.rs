@@ -211,7 +211,7 @@ mod tests {
 
     #[test]
     fn mitsuba_unit_test_values() {
-        // testing.md §6.3, test_dielectric.py: η = 1.5, tints 0.3 / 0.6, ωi = +z.
+        // Mitsuba 3 src/bsdfs/tests/test_dielectric.py: η = 1.5, tints 0.3 / 0.6, ωi = +z.
         let d = tinted_15();
         let rad = BsdfContext::radiance();
         let imp = BsdfContext::importance();
@@ -254,7 +254,7 @@ mod tests {
 
     #[test]
     fn default_sampling_table() {
-        // testing.md §6.3, defaults η = 1.504183, radiance mode, ξ2 = (0.3, 0.7).
+        // Measured with Mitsuba 3.9.1, defaults η = 1.504183, radiance mode, ξ2 = (0.3, 0.7).
         let d = Dielectric::default();
         let ctx = BsdfContext::radiance();
         let u2 = Vec2::new(0.3, 0.7);
@@ -376,7 +376,8 @@ mod tests {
                 assert!(close(exact_albedo(&d, &rad, wi), expect, 1e-5));
             }
         }
-        // testing.md §6.3 computed values.
+        // F + (1 − F)/η² computed from the Fresnel equations (Mitsuba 3.9.1 measures 0.4647, 0.4704,
+        // 0.6588).
         for (deg, a) in [(0.0, 0.464596), (45.0, 0.470337), (80.0, 0.658714)] {
             assert!(close(exact_albedo(&d, &rad, dir(deg)), a, 2e-6), "{deg}");
         }

@@ -102,7 +102,7 @@ mod tests {
 
     #[test]
     fn lambert_values_match_mitsuba() {
-        // testing.md §6.7: eval = ρ cos θo/π in Mitsuba's convention, i.e. f = ρ/π here.
+        // Mitsuba 3 src/bsdfs/diffuse.cpp: eval = ρ cos θo/π (its convention), i.e. f = ρ/π here.
         let d = Diffuse::default();
         let wl = SampledWavelengths::fixed(550.0);
         let ctx = BsdfContext::radiance();

@@ -167,7 +167,8 @@ mod tests {
 
     #[test]
     fn stokes_table_and_sampling_values() {
-        // testing.md §6.4 at the defaults (η = 1.504183).
+        // Stokes' sums R′ = 2R/(1 + R) at the defaults of Mitsuba's src/bsdfs/thindielectric.cpp
+        // (η = 1.504183).
         let d = ThinDielectric::default();
         let wl = SampledWavelengths::fixed(550.0);
         for (deg, rp, tp) in [

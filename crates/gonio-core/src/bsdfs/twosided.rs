@@ -136,8 +136,8 @@ mod tests {
     use std::f32::consts::FRAC_1_PI;
 
     fn grid_dirs() -> Vec<Vec3> {
-        // 5 × 5 grid of the uniform sphere (testing.md §2, Mitsuba twosided test03), offset so
-        // that no direction lies in the surface plane.
+        // 5 × 5 grid of the uniform sphere (Mitsuba 3 src/bsdfs/tests/test_twosided.py, test03),
+        // offset so that no direction lies in the surface plane.
         let mut v = Vec::new();
         for a in 0..5 {
             for b in 0..5 {
@@ -208,8 +208,8 @@ mod tests {
 
     #[test]
     fn back_face_albedo_of_twosided_diffuse_is_rho() {
-        // testing.md §6.7: twosided(diffuse 0.5) from the back ⇒ albedo 0.5 (every sample
-        // weighs ρ; the plain one-sided diffuse returns nothing there).
+        // As Mitsuba 3 src/bsdfs/twosided.cpp: twosided(diffuse 0.5) from the back ⇒ albedo 0.5
+        // (every sample weighs ρ; the plain one-sided diffuse returns nothing there).
         let d = Diffuse::default();
         let ts = TwoSided::new(&d);
         let ctx = BsdfContext::radiance();

@@ -1,4 +1,4 @@
-//! χ² goodness-of-fit of `sample` against `pdf` (testing.md §1): does the histogram of the
+//! χ² goodness-of-fit of `sample` against `pdf`: does the histogram of the
 //! directions `sample` produces match the density `pdf` claims?
 //!
 //! Recipe of Mitsuba 3 (`src/python/python/chi2.py`, pooling as in `chi2()` of
@@ -30,7 +30,7 @@
 //! the χ²(dof) reference stays valid (no false alarms) but becomes conservative, and these
 //! configurations only reject gross distortions (χ² ≫ dof) and the sanity failures. They exist
 //! for what independent uniforms cannot show: a `sample` that misbehaves on the structured,
-//! correlated inputs a renderer's samplers feed it (testing.md §1.3, Mitsuba 3 issue #1288).
+//! correlated inputs a renderer's samplers feed it (Mitsuba 3 issue #1288).
 //! Subtle errors are the independent configurations' job (`tests/battery.rs` keeps a 3 % case).
 
 use super::{Bound, CheckConfig, CheckResult, Chi2Config, SamplerKind};

@@ -1,4 +1,4 @@
-//! `eval` / `pdf` / `sample` consistency (testing.md §2).
+//! `eval` / `pdf` / `sample` consistency (as Mitsuba 3's `src/bsdfs/tests/*.py` check it).
 //!
 //! * `weight_vs_eval`: at every smooth sample, weight = f(wi, wo)·|cos θo| / pdf, per wavelength
 //!   (Mitsuba measures ≤ 6e-8 for its models; `f32` rounding only).

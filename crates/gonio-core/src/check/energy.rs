@@ -1,4 +1,5 @@
-//! Energy (white-furnace) checks: directional albedo, testing.md §3.
+//! Energy (white-furnace) checks: directional albedo, as in pbrt-v4's energy test
+//! (`src/pbrt/bsdfs_test.cpp`).
 //!
 //! The directional albedo a(wi) = ∫ f(wi, ωo)·|cos θo| dωo (delta lobes included) is estimated
 //! two independent ways:
@@ -18,7 +19,7 @@
 //! * `albedo_estimators`: the smooth part of the importance estimate (delta samples excluded)
 //!   equals the uniform estimate within k combined standard errors, in both modes. A weight
 //!   inconsistent with eval/pdf, or a mixture whose smooth pdf omits a lobe (Mitsuba's
-//!   blendbsdf bias, testing.md §6.9), fails here.
+//!   blendbsdf bias, measured with Mitsuba 3.9.1), fails here.
 
 use super::{Bound, CheckConfig, CheckResult, direction, sidak, uniform_sphere, z_quantile};
 use crate::bsdf::{Bsdf, BsdfContext, TransportMode};

@@ -1,4 +1,4 @@
-//! Numerical health (testing.md §7, §6.6 "NaN regression"): `eval`, `pdf`, `eval_pdf` and
+//! Numerical health: `eval`, `pdf`, `eval_pdf` and
 //! `sample` never return NaN, ±∞ or negative values, for random directions on both hemispheres,
 //! for the degenerate ones a renderer meets (exactly grazing z = 0, |z| ≤ 1e-6, the poles,
 //! wi = ±wo) and for wavelengths across 360–830 nm including both ends; and a returned sample

@@ -1,4 +1,4 @@
-//! Isotropy (lecture slide "BRDF properties"; testing.md §4): an isotropic BSDF depends on the
+//! Isotropy (lecture slide "BRDF properties"): an isotropic BSDF depends on the
 //! azimuths of wi and wo only through their difference, so rotating both about the normal by a
 //! common angle ψ leaves f, the pdf and every delta lobe's throughput unchanged (and rotates a
 //! delta lobe's direction with them).

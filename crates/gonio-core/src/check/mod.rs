@@ -5,16 +5,16 @@
 //! | row | measures | module | source |
 //! |---|---|---|---|
 //! | `chi2` | histogram of `sample` vs the integral of `pdf` (p-value) | [`chi2`] | Mitsuba 3 `chi2.py`, pbrt-v4 `bsdfs_test.cpp` |
-//! | `weight_vs_eval` | weight = f·\|cos θo\|/pdf at sampled directions | [`consistency`] | testing.md §2 |
-//! | `sample_pdf_vs_pdf` | the pdf `sample` reports = `pdf(wo)` | [`consistency`] | testing.md §2 |
+//! | `weight_vs_eval` | weight = f·\|cos θo\|/pdf at sampled directions | [`consistency`] | Mitsuba 3 `test_twosided.py`, `test_blendbsdf.py` |
+//! | `sample_pdf_vs_pdf` | the pdf `sample` reports = `pdf(wo)` | [`consistency`] | Mitsuba 3 `test_twosided.py` |
 //! | `eval_pdf` | `eval_pdf` = (`eval`, `pdf`) | [`consistency`] | Mitsuba `test_eval_pdf` |
-//! | `pdf_integral` | ∫ pdf dω ≤ 1 | [`consistency`] | testing.md §2 |
+//! | `pdf_integral` | ∫ pdf dω ≤ 1 | [`consistency`] | Mitsuba 3 `chi2.py` sanity check |
 //! | `pdf_normalization` | ∫ pdf dω = probability that `sample` returns a smooth lobe | [`consistency`] | (ours) |
-//! | `energy` | directional albedo R + T ≤ 1 in importance mode | [`energy`] | pbrt-v4 energy test, testing.md §3 |
-//! | `albedo_estimators` | mean sample weight = uniform-sphere integral of f·\|cos\| | [`energy`] | testing.md §3 |
-//! | `reciprocity`, `eta2_law`, `adjoint`, `delta_reciprocity` | f(a,b) = f(b,a); f(a,b)/η_a² = f(b,a)/η_b²; f_imp(a,b) = f_rad(b,a) | [`reciprocity`] | testing.md §4 |
-//! | `isotropy` | f under a common rotation about the normal | [`isotropy`] | testing.md §4 |
-//! | `health`, `lobe_flags` | no NaN/Inf/negative values, grazing included; flags match sides | [`health`] | testing.md §7 |
+//! | `energy` | directional albedo R + T ≤ 1 in importance mode | [`energy`] | pbrt-v4 energy test (`bsdfs_test.cpp`) |
+//! | `albedo_estimators` | mean sample weight = uniform-sphere integral of f·\|cos\| | [`energy`] | (ours) |
+//! | `reciprocity`, `eta2_law`, `adjoint`, `delta_reciprocity` | f(a,b) = f(b,a); f(a,b)/η_a² = f(b,a)/η_b²; f_imp(a,b) = f_rad(b,a) | [`reciprocity`] | Veach 1997, §5.2 |
+//! | `isotropy` | f under a common rotation about the normal | [`isotropy`] | lecture slide "BRDF properties" |
+//! | `health`, `lobe_flags` | no NaN/Inf/negative values, grazing included; flags match sides | [`health`] | (ours) |
 //!
 //! # Thresholds
 //!
@@ -189,7 +189,7 @@ impl fmt::Display for SamplerKind {
     }
 }
 
-/// Settings of the χ² test (defaults: Mitsuba 3's recipe, testing.md §1.1).
+/// Settings of the χ² test (defaults: Mitsuba 3's recipe, `src/python/python/chi2.py`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chi2Config {
     /// Number of `sample` calls per configuration (10⁶).
@@ -422,7 +422,7 @@ mod tests {
 
     #[test]
     fn sidak_and_quantiles() {
-        // testing.md §1.2: pbrt's 5 runs at 0.01 → 0.0020080.
+        // pbrt-v4 src/pbrt/bsdfs_test.cpp: CHI2_RUNS = 5 at CHI2_SLEVEL = 0.01 → 0.0020080.
         assert!((sidak(0.01, 5) - 0.002008).abs() < 1e-6);
         assert_eq!(sidak(0.01, 1), 0.01);
         // Normal quantiles: two-sided 5 % → 1.959964, 1 % → 2.575829.

@@ -1,4 +1,4 @@
-//! Reciprocity and adjointness (testing.md §4; lecture slide "BRDF properties").
+//! Reciprocity and adjointness (lecture slide "BRDF properties").
 //!
 //! In Mitsuba's argument order, with η_x the index on x's side (Veach 1997, §5.2):
 //!

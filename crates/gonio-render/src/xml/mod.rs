@@ -1,7 +1,7 @@
 //! The Mitsuba 3 scene XML reader.
 //!
-//! [`load_scene_file`] / [`load_scene_str`] read a scene as Mitsuba 3 would (grammar in
-//! `mitsuba-xml.md` §1: `version`, `<default>` and `$name` substitution with `-D` overrides,
+//! [`load_scene_file`] / [`load_scene_str`] read a scene as Mitsuba 3 would (grammar of
+//! its `src/core/parser.cpp`: `version`, `<default>` and `$name` substitution with `-D` overrides,
 //! `id`/`ref` with forward references, `<include>`, `<alias>`, `<path>`, property values and
 //! transforms; legacy scenes with version < 2 have their camelCase names converted) and
 //! instantiate the plugins with Mitsuba's parameter names and defaults (each loader in
@@ -139,7 +139,7 @@ mod tests {
         assert_eq!(fov_to_x(30.0, "smaller", aspect), fx);
         assert_eq!(fov_to_x(30.0, "larger", aspect), 30.0);
         assert_eq!(fov_to_x(30.0, "smaller", 0.5), 30.0);
-        // 50 mm on 35 mm film at 4:3 → 38.1848° (mitsuba-xml.md §2.2).
+        // 50 mm on 35 mm film at 4:3 → 38.1848° (Mitsuba 3 src/render/sensor.cpp).
         let diag = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
         let fd = 2.0 * (diag / 100.0).atan().to_degrees();
         assert!((fov_to_x(fd, "diagonal", aspect) - 38.1848).abs() < 1e-3);

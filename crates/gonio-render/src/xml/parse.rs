@@ -1,4 +1,5 @@
-//! XML → object tree: the grammar of Mitsuba 3 scene files (`mitsuba-xml.md` §1).
+//! XML → object tree: the grammar of Mitsuba 3 scene files (Mitsuba 3
+//! `docs/src/key_topics/scene_format.rst`, `src/core/parser.cpp`).
 //!
 //! The parser reads the XML with `roxmltree`, substitutes `$name` parameters in every attribute
 //! value, expands `<include>`, parses property values and transforms, and produces an arena of

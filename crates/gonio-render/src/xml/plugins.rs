@@ -761,7 +761,7 @@ impl<'d> Builder<'d> {
         }
     }
 
-    /// A spectrum or texture parameter in the given role (`spectral.md` §4.5, Mitsuba's
+    /// A spectrum or texture parameter in the given role (Mitsuba 3 `src/core/properties.cpp`,
     /// `create_texture_from_rgb/spectrum`): `<float>`/`<integer>` are constant (× D65 for
     /// emitters), `<rgb>` is uplifted (albedo: each component in [0, 1]; unbounded; illuminant
     /// × D65), `<spectrum>` values are uniform (also on emitters) or piecewise linear,
@@ -1087,7 +1087,8 @@ fn perspective_default() -> Sensor {
     }
 }
 
-/// Converts a field of view along `axis` into the horizontal one (`mitsuba-xml.md` §2.2).
+/// Converts a field of view along `axis` into the horizontal one (Mitsuba 3
+/// `src/render/sensor.cpp`).
 pub(crate) fn fov_to_x(fov_deg: f64, axis: &str, aspect: f64) -> f64 {
     let t = (fov_deg.to_radians() / 2.0).tan();
     let axis = match axis {

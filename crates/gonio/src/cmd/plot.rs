@@ -16,11 +16,12 @@ use gonio_core::instruments::albedo::{Wavelengths, directional_albedo};
 use gonio_core::instruments::polar::compute_polar;
 use gonio_core::instruments::slice::{Fixed, Projection, SliceSettings, compute_slice};
 use gonio_core::{SampledWavelengths, TransportMode, named};
+use gonio_plot::{Figure, Panel, figures};
 use gonio_render::material::Material;
-use gonio_render::plot::{Figure, Panel, figures, save};
+use gonio_render::output::write_atomically;
 use gonio_render::tabulated_io::read_tabulated;
 use std::io::Write;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// Arguments of `gonio plot`.
@@ -181,6 +182,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Kind::Polar(a) => polar(a),
         Kind::Albedo(a) => albedo(a),
     }
+}
+
+/// Encodes a figure as `path` asks (`gonio_plot::encode`) and writes each file atomically.
+/// Returns the files written.
+fn save(figure: &Figure, path: &Path) -> anyhow::Result<Vec<PathBuf>> {
+    let mut files = vec![];
+    for (file, bytes) in gonio_plot::encode(figure, path)? {
+        write_atomically(&file, &bytes)?;
+        files.push(file);
+    }
+    Ok(files)
 }
 
 fn written(files: Vec<PathBuf>) -> anyhow::Result<ExitCode> {
@@ -352,7 +364,7 @@ fn rgb_slice_panel(
     b: &dyn gonio_core::Bsdf,
     settings: &SliceSettings,
     name: &str,
-) -> gonio_render::plot::HemispherePlot {
+) -> gonio_plot::HemispherePlot {
     const N: usize = 16;
     let lambdas: Vec<f32> = (0..N)
         .map(|k| 380.0 + (k as f32 + 0.5) * 400.0 / N as f32)

@@ -1,13 +1,19 @@
-//! Plots for the lecture's instruments, as PNG and SVG through `plotters`.
+//! # gonio-plot
+//!
+//! Plots for the lecture's instruments, as PNG and SVG through `plotters`. Depends only on
+//! `gonio-core`, and does no file I/O: it returns encoded bytes, which the caller writes (the
+//! `gonio` binary writes them atomically with `gonio_render::output::write_atomically`).
 //!
 //! * Text is drawn with DejaVu Sans, embedded in the binary (`assets/fonts`, Bitstream Vera
 //!   licence beside it), so a PNG is the same on every machine and needs no system font. SVG
 //!   files name the family `sans-serif` and let the viewer draw the text.
 //! * Every figure is a [`Figure`]: a list of panels ([`LinePlot`], [`HemispherePlot`],
-//!   [`PolarPlot`]) laid out in a grid. [`save`] picks the format from the file extension
-//!   (`.png` or `.svg`) and writes atomically (a temporary file, then a rename).
+//!   [`PolarPlot`]) laid out in a grid. [`encode`] picks the format from the file extension
+//!   (`.png` or `.svg`, or both for any other name) and returns each file's name and bytes.
 //! * Raster content (the hemisphere images) is composited under the vector drawing: copied into
 //!   the bitmap for PNG, embedded as a base64 PNG `<image>` for SVG.
+
+#![warn(missing_docs)]
 
 mod colormap;
 pub mod figures;
@@ -27,7 +33,7 @@ use std::sync::Once;
 
 /// The font family name every plot uses.
 pub const FONT: &str = "sans-serif";
-static FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+static FONT_BYTES: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 
 /// Registers the embedded font with plotters (once per process).
 pub fn ensure_font() {
@@ -46,14 +52,6 @@ pub enum PlotError {
     /// The output path names no file.
     #[error("{0}: not a file name for a plot (use NAME.png, NAME.svg or NAME for both)")]
     UnknownFormat(PathBuf),
-    /// Writing the file failed.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The cause.
-        source: std::io::Error,
-    },
     /// plotters reported an error.
     #[error("drawing failed: {0}")]
     Draw(String),
@@ -271,61 +269,23 @@ fn raster_png(r: &Raster) -> Result<(Vec<u8>, u32, u32), PlotError> {
     Ok((out, r.width, r.height))
 }
 
+/// Standard base64 (RFC 4648 §4, padded), for PNGs embedded in SVG `data:` URIs.
 fn base64(data: &[u8]) -> String {
-    const T: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::with_capacity(data.len().div_ceil(3) * 4);
-    for c in data.chunks(3) {
-        let b = [c[0], *c.get(1).unwrap_or(&0), *c.get(2).unwrap_or(&0)];
-        let n = ((b[0] as u32) << 16) | ((b[1] as u32) << 8) | b[2] as u32;
-        for k in 0..4 {
-            if k <= c.len() {
-                s.push(T[((n >> (18 - 6 * k)) & 63) as usize] as char);
-            } else {
-                s.push('=');
-            }
-        }
-    }
-    s
+    use ::base64::Engine;
+    ::base64::engine::general_purpose::STANDARD.encode(data)
 }
 
-/// Writes `bytes` to `path` atomically: a temporary file in the same directory, then a rename.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), PlotError> {
-    let io = |source| PlotError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let name = path
-        .file_name()
-        .ok_or_else(|| io(std::io::Error::other("not a file name")))?;
-    let tmp = dir.join(format!(".{}.tmp{}", name.to_string_lossy(), std::process::id()));
-    std::fs::write(&tmp, bytes).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
-}
-
-/// Saves a figure as PNG or SVG, chosen by `path`'s extension. Any other path (no extension,
-/// or another one such as `glass-1.5`) writes both `path.png` and `path.svg`. Returns the files
-/// written.
-pub fn save(figure: &Figure, path: &Path) -> Result<Vec<PathBuf>, PlotError> {
+/// The files a figure is saved as, each with its encoded bytes: PNG or SVG chosen by `path`'s
+/// extension. Any other path (no extension, or another one such as `glass-1.5`) gives both
+/// `path.png` and `path.svg`, in that order. Nothing is written: the caller writes the files.
+pub fn encode(figure: &Figure, path: &Path) -> Result<Vec<(PathBuf, Vec<u8>)>, PlotError> {
     match path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase())
     {
-        Some(e) if e == "png" => {
-            write_atomic(path, &figure.to_png()?)?;
-            Ok(vec![path.to_path_buf()])
-        }
-        Some(e) if e == "svg" => {
-            write_atomic(path, figure.to_svg()?.as_bytes())?;
-            Ok(vec![path.to_path_buf()])
-        }
+        Some(e) if e == "png" => Ok(vec![(path.to_path_buf(), figure.to_png()?)]),
+        Some(e) if e == "svg" => Ok(vec![(path.to_path_buf(), figure.to_svg()?.into_bytes())]),
         _ => {
             if path.file_name().is_none() {
                 return Err(PlotError::UnknownFormat(path.to_path_buf()));
@@ -335,10 +295,10 @@ pub fn save(figure: &Figure, path: &Path) -> Result<Vec<PathBuf>, PlotError> {
                 s.push(ext);
                 PathBuf::from(s)
             };
-            let (png, svg) = (with(".png"), with(".svg"));
-            write_atomic(&png, &figure.to_png()?)?;
-            write_atomic(&svg, figure.to_svg()?.as_bytes())?;
-            Ok(vec![png, svg])
+            Ok(vec![
+                (with(".png"), figure.to_png()?),
+                (with(".svg"), figure.to_svg()?.into_bytes()),
+            ])
         }
     }
 }

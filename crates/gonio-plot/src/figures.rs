@@ -386,7 +386,7 @@ pub fn albedo_figure(curves: &[(String, Vec<AlbedoPoint>)], note: &str) -> Figur
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::plot::MarkerKind;
+    use crate::MarkerKind;
     use gonio_core::SampledWavelengths;
     use gonio_core::bsdfs::{Conductor, Diffuse};
     use gonio_core::instruments::slice::{SliceSettings, compute_slice};
