@@ -15,6 +15,7 @@ pub mod integrator;
 pub mod material;
 pub mod mesh;
 pub mod plot;
+pub mod plugins;
 pub mod render;
 pub mod sampler;
 pub mod scene;
