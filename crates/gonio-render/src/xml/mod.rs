@@ -1,7 +1,7 @@
 //! The Mitsuba 3 scene XML reader.
 //!
-//! [`load_scene_file`] / [`load_scene_str`] read a scene as Mitsuba 3 would (grammar in
-//! `mitsuba-xml.md` §1: `version`, `<default>` and `$name` substitution with `-D` overrides,
+//! [`load_scene_file`] / [`load_scene_str`] read a scene as Mitsuba 3 would (the grammar of
+//! its `src/core/xml.cpp`: `version`, `<default>` and `$name` substitution with `-D` overrides,
 //! `id`/`ref` with forward references, `<include>`, `<alias>`, `<path>`, property values and
 //! transforms; legacy scenes with version < 2 have their camelCase names converted) and
 //! instantiate the plugins with Mitsuba's parameter names and defaults (each plugin's table in

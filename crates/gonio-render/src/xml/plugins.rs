@@ -207,8 +207,6 @@ impl<'d> Builder<'d> {
         Ok((scene, self.warnings))
     }
 
-    /// Integrator `path`: `max_depth` (−1 = ∞), `rr_depth` (5), `hide_emitters` (false), ours
-
     // ----------------------------------------------------------------------------------------
     // Plugins
 
@@ -332,7 +330,7 @@ impl<'d> Builder<'d> {
         }
     }
 
-    /// A spectrum or texture parameter in the given role (`spectral.md` §4.5, Mitsuba's
+    /// A spectrum or texture parameter in the given role (Mitsuba 3's
     /// `create_texture_from_rgb/spectrum`): `<float>`/`<integer>` are constant (× D65 for
     /// emitters), `<rgb>` is uplifted (albedo: each component in [0, 1]; unbounded; illuminant
     /// × D65), `<spectrum>` values are uniform (also on emitters) or piecewise linear,
@@ -409,9 +407,6 @@ impl<'d> Builder<'d> {
         self.textures.insert(key, t.clone());
         Ok(t)
     }
-
-    /// Texture `bitmap`: `filename`, `filter_type` (bilinear, nearest), `wrap_mode` (repeat,
-    /// mirror, clamp), `raw` (false), `to_uv`; `format` (auto, variant, fp16) and `accel` are
 
     /// An index of refraction: a number, a Mitsuba preset name (case-insensitive), a dispersive
     /// glass name (`N-BK7`, `SF11`, …; ours), or a spectrum (ours). NaN, infinite and non-positive
@@ -623,8 +618,7 @@ fn pairs_spectrum(pairs: &[(f64, f64)], loc: &Location, name: &str, kind: RgbKin
     Ok(Spectrum::piecewise(pl))
 }
 
-/// A spectrum times a factor (as a 1 nm table over the visible range).
-
+/// The error for an image file that cannot be read (I/O or decoding).
 pub(crate) fn image_error(loc: &Location, name: &str, e: crate::image::ImageError) -> SceneError {
     use crate::image::ImageError as E;
     let kind = if matches!(e, E::Io { .. }) {
