@@ -1,4 +1,4 @@
-//! `spot`: a point light restricted to a cone with a smooth falloff (Mitsuba 3
+//! `spot`: a point light restricted to a cone, with a linear falloff at its edge (Mitsuba 3
 //! `src/emitters/spot.cpp`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
@@ -34,7 +34,7 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 /// The `spot` plugin.
 pub static PLUGIN: Plugin<Emitter> = Plugin {
     name: "spot",
-    summary: "Spot light: intensity along +z of `to_world`, falling off smoothly from `beam_width` to `cutoff_angle`.",
+    summary: "Spot light along +z of `to_world`: full intensity within `beam_width`, then linear in angle down to 0 at `cutoff_angle`.",
     params: &[INTENSITY, CUTOFF_ANGLE, BEAM_WIDTH, TO_WORLD],
     build,
 };
