@@ -15,6 +15,7 @@ pub mod integrator;
 pub mod material;
 pub mod mesh;
 pub mod output;
+pub mod plugins;
 pub mod render;
 pub mod sampler;
 pub mod scene;

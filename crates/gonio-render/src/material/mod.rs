@@ -3,7 +3,8 @@
 //! A BSDF plugin is one file in this folder holding
 //! 1. its **parameter table** ([`ParamSpec`]s: Mitsuba's names, types, defaults and meaning),
 //!    from which the reader takes every default, the "unused parameter" check its list of accepted
-//!    names, and `docs/plugins.md` its text;
+//!    names, and `docs/plugins.md` its text ([`crate::plugins::plugins_markdown`], with the
+//!    plugins of every other kind);
 //! 2. its **builder** from parsed parameters (a [`BsdfPlugin`] registered in [`BSDF_PLUGINS`]);
 //! 3. its **scene-side material** (textures and the prebuilt core model), a [`SurfaceMaterial`]
 //!    that at each hit becomes a `Copy` [`SurfaceBsdf`]: textures looked up at the hit's uv and
@@ -56,7 +57,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
 
 /// The registered plugin called `name`.
 pub fn bsdf_plugin(name: &str) -> Option<&'static BsdfPlugin> {
-    BSDF_PLUGINS.iter().copied().find(|p| p.name == name)
+    crate::xml::Plugin::find(BSDF_PLUGINS, name)
 }
 
 /// A material as the scene holds it: one BSDF plugin with its textures and prebuilt model.
@@ -199,16 +200,4 @@ pub(crate) fn retinted<M: Bsdf + Clone>(
     } else {
         f(model)
     }
-}
-
-/// The parameter tables of every BSDF plugin as Markdown (`docs/plugins.md`).
-pub fn plugins_markdown() -> String {
-    let mut s = String::from(
-        "# BSDF plugins\n\nGenerated from the plugins' parameter tables (`crates/gonio-render/src/material/`);\n\
-         a test keeps this file in step with them. Names, types and defaults are Mitsuba 3's unless marked (ours).\n",
-    );
-    for p in BSDF_PLUGINS {
-        s.push_str(&p.markdown());
-    }
-    s
 }

@@ -4,9 +4,10 @@
 //! its `src/core/parser.cpp`: `version`, `<default>` and `$name` substitution with `-D` overrides,
 //! `id`/`ref` with forward references, `<include>`, `<alias>`, `<path>`, property values and
 //! transforms; legacy scenes with version < 2 have their camelCase names converted) and
-//! instantiate the plugins with Mitsuba's parameter names and defaults (each loader in
-//! `plugins.rs` lists them). As in Mitsuba, an unknown plugin or a parameter that no plugin uses
-//! is an error. [`load_bsdf_str`] reads a lone `<bsdf>` element (for `gonio bsdf`).
+//! instantiate the plugins with Mitsuba's parameter names and defaults (each plugin's table in
+//! [`crate::plugins`] and [`crate::material`] lists them). As in Mitsuba, an unknown plugin or a
+//! parameter that no plugin uses is an error. [`load_bsdf_str`] reads a lone `<bsdf>` element
+//! (for `gonio bsdf`).
 //!
 //! Every error is a [`SceneError`] naming the file, line and column, and the offending value.
 
@@ -17,10 +18,10 @@ pub(crate) mod plugins;
 mod values;
 
 pub use error::{ErrorKind, Location, SceneError};
-pub(crate) use params::Params;
 pub use params::{BsdfPlugin, DefaultValue, ParamSpec, ParamType, Plugin};
+pub(crate) use params::{Params, err, to_affine};
 pub(crate) use parse::Tag;
-pub(crate) use plugins::Builder;
+pub(crate) use plugins::{Builder, image_error, unknown_plugin};
 
 use crate::material::Material;
 use crate::scene::Scene;
@@ -119,7 +120,7 @@ pub fn load_bsdf_str(text: &str) -> Result<Material, SceneError> {
 #[cfg(test)]
 mod tests {
     use super::parse::camel_to_snake;
-    use super::plugins::fov_to_x;
+    use crate::plugins::sensor::perspective::fov_to_x;
 
     #[test]
     fn camel_case_names() {

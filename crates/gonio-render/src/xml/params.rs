@@ -27,6 +27,18 @@ pub enum ParamType {
     Ior,
     /// Nested `<bsdf>` objects.
     Bsdf,
+    /// A `<point>` (or `<vector>`).
+    Point,
+    /// A `<transform>`.
+    Transform,
+    /// A nested `<emitter>`.
+    Emitter,
+    /// A nested `<film>`.
+    Film,
+    /// A nested `<sampler>`.
+    Sampler,
+    /// A nested `<rfilter>`.
+    Rfilter,
 }
 
 impl ParamType {
@@ -41,6 +53,12 @@ impl ParamType {
             ParamType::Texture => "spectrum or texture",
             ParamType::Ior => "float or string",
             ParamType::Bsdf => "bsdf",
+            ParamType::Point => "point",
+            ParamType::Transform => "transform",
+            ParamType::Emitter => "emitter",
+            ParamType::Film => "film",
+            ParamType::Sampler => "sampler",
+            ParamType::Rfilter => "rfilter",
         }
     }
 }
@@ -50,10 +68,15 @@ impl ParamType {
 pub enum DefaultValue {
     /// A number (floats, constant spectra and textures).
     Float(f64),
+    /// An integer.
+    Int(i64),
     /// A boolean.
     Bool(bool),
     /// A string (names of presets, choices).
     Str(&'static str),
+    /// A default that depends on other parameters, as the documentation states it (e.g.
+    /// "¾ · cutoff_angle"); the builder computes it.
+    Derived(&'static str),
     /// No default: the parameter must be given (or its absence has the meaning in the doc).
     None,
 }
@@ -64,6 +87,13 @@ impl DefaultValue {
         match self {
             DefaultValue::Float(v) => v,
             _ => 0.0,
+        }
+    }
+    /// The integer; 0 for a non-integer.
+    pub const fn int(self) -> i64 {
+        match self {
+            DefaultValue::Int(v) => v,
+            _ => 0,
         }
     }
     /// The boolean; false for a non-boolean.
@@ -83,6 +113,8 @@ impl std::fmt::Display for DefaultValue {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             DefaultValue::Float(v) => write!(f, "{v}"),
+            DefaultValue::Int(v) => write!(f, "{v}"),
+            DefaultValue::Derived(s) => f.write_str(s),
             DefaultValue::Bool(b) => write!(f, "{b}"),
             DefaultValue::Str(s) => write!(f, "\"{s}\""),
             DefaultValue::None => f.write_str("—"),
@@ -121,7 +153,7 @@ pub(crate) type Build<T> =
 
 /// A plugin of some kind (`<bsdf>`, `<shape>`, ...): its name, its parameter table and its
 /// builder of the scene object `T`. Each kind has a registry of them (e.g.
-/// [`crate::material::BSDF_PLUGINS`]), from which the reader's "unknown plugin" and
+/// [`crate::plugins::SHAPE_PLUGINS`]), from which the reader's "unknown plugin" and
 /// "unused parameter" errors and `docs/plugins.md` are made.
 pub struct Plugin<T: 'static> {
     /// The `type` attribute that selects it.
@@ -136,6 +168,18 @@ pub struct Plugin<T: 'static> {
 /// A `<bsdf>` plugin.
 pub type BsdfPlugin = Plugin<Material>;
 
+impl<T> Plugin<T> {
+    /// The plugin called `name` in `registry`.
+    pub fn find(registry: &'static [&'static Plugin<T>], name: &str) -> Option<&'static Plugin<T>> {
+        registry.iter().copied().find(|p| p.name == name)
+    }
+
+    /// The names of the plugins in `registry`, in order.
+    pub fn names(registry: &[&Plugin<T>]) -> Vec<&'static str> {
+        registry.iter().map(|p| p.name).collect()
+    }
+}
+
 impl<T> std::fmt::Debug for Plugin<T> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Plugin").field("name", &self.name).finish()
@@ -143,9 +187,9 @@ impl<T> std::fmt::Debug for Plugin<T> {
 }
 
 impl<T> Plugin<T> {
-    /// The plugin's section of `docs/plugins.md`.
+    /// The plugin's section of `docs/plugins.md` (a level-3 heading).
     pub fn markdown(&self) -> String {
-        let mut s = format!("\n## `{}`\n\n{}\n\n", self.name, self.summary);
+        let mut s = format!("\n### `{}`\n\n{}\n\n", self.name, self.summary);
         s.push_str("| parameter | type | default | meaning |\n|---|---|---|---|\n");
         for p in self.params {
             s.push_str(&format!(
@@ -392,8 +436,8 @@ impl<'d> Params<'d> {
         Ok(out)
     }
 
-    /// Fails on the first property nobody asked for.
-    pub(crate) fn finish(self) -> Result<()> {
+    /// Fails on the first property nobody asked for (checking again later is harmless).
+    pub(crate) fn finish(&self) -> Result<()> {
         for (p, used) in self.obj.props.iter().zip(&self.used) {
             if !used {
                 let what = match &p.value {

@@ -1,0 +1,66 @@
+//! `envmap`: an environment map in the equirectangular (latitude-longitude) layout (Mitsuba 3
+//! `src/emitters/envmap.cpp`).
+
+use crate::image::RgbImage;
+use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
+use crate::scene::Emitter;
+use crate::xml::{Builder, ErrorKind, Params, SceneError, err, image_error};
+use std::sync::Arc;
+
+const FILENAME: ParamSpec = ParamSpec::new(
+    "filename",
+    ParamType::String,
+    DefaultValue::None,
+    "the image (EXR, Radiance HDR, PNG or JPEG), relative to the scene file (required)",
+);
+const SCALE: ParamSpec = ParamSpec::new(
+    "scale",
+    ParamType::Float,
+    DefaultValue::Float(1.0),
+    "factor on the radiance (non-negative)",
+);
+const TO_WORLD: ParamSpec = ParamSpec::new(
+    "to_world",
+    ParamType::Transform,
+    DefaultValue::None,
+    "orientation of the environment (+y up in its own frame)",
+);
+const MIS_COMPENSATION: ParamSpec = ParamSpec::new(
+    "mis_compensation",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "accepted and ignored",
+);
+
+/// The `envmap` plugin.
+pub static PLUGIN: Plugin<Emitter> = Plugin {
+    name: "envmap",
+    summary: "Environment map: radiance from every direction read from an equirectangular image.",
+    params: &[FILENAME, SCALE, TO_WORLD, MIS_COMPENSATION],
+    build,
+};
+
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneError> {
+    let Some((name, loc)) = p.string_opt(FILENAME.name)? else {
+        return Err(err(
+            &p.obj.loc,
+            ErrorKind::Grammar,
+            "<emitter type=\"envmap\"> needs a filename",
+        ));
+    };
+    let path = b.resolve_file(p, name);
+    let image = RgbImage::read(&path).map_err(|e| image_error(loc, name, e))?;
+    let scale = p.float_checked(
+        SCALE.name,
+        SCALE.default.float(),
+        |v| v >= 0.0,
+        "must be non-negative",
+    )? as f32;
+    let to_world = p.affine(TO_WORLD.name)?;
+    p.bool(MIS_COMPENSATION.name, MIS_COMPENSATION.default.bool())?;
+    Ok(Emitter::EnvMap {
+        image: Arc::new(image),
+        scale,
+        to_world,
+    })
+}

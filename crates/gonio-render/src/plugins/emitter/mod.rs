@@ -1,0 +1,48 @@
+//! `<emitter>` plugins (Mitsuba 3 `src/emitters/`). The runtime lights are in
+//! [`crate::emitter`]. An `area` emitter is nested in a shape ([`area`]); the others stand in
+//! the scene (`build`). Colours and numbers are × D65, as in spectral Mitsuba.
+
+pub mod area;
+pub mod constant;
+pub mod directional;
+pub mod envmap;
+pub mod point;
+pub mod spot;
+
+use crate::plugins::{AREA_EMITTER_PLUGINS, EMITTER_PLUGINS, Plugin};
+use crate::scene::{AreaEmitter, Emitter};
+use crate::xml::{Builder, ErrorKind, Location, SceneError, err, unknown_plugin};
+
+/// Builds the `<emitter>` object `idx` standing in the scene.
+pub(crate) fn build(b: &mut Builder<'_>, idx: usize) -> Result<Emitter, SceneError> {
+    let obj = &b.doc.objs[idx];
+    if Plugin::find(AREA_EMITTER_PLUGINS, &obj.ty).is_some() {
+        return Err(err(
+            &obj.loc,
+            ErrorKind::Grammar,
+            format!("an \"{}\" emitter must be nested in a <shape>", obj.ty),
+        ));
+    }
+    let Some(plugin) = Plugin::find(EMITTER_PLUGINS, &obj.ty) else {
+        let mut names = Plugin::names(AREA_EMITTER_PLUGINS);
+        names.extend(Plugin::names(EMITTER_PLUGINS));
+        return Err(unknown_plugin(obj, &names));
+    };
+    b.run_plugin(plugin, idx)
+}
+
+/// Builds the emitter object `idx` nested in a shape (at `loc`).
+pub(crate) fn area(b: &mut Builder<'_>, idx: usize, loc: &Location) -> Result<AreaEmitter, SceneError> {
+    let obj = &b.doc.objs[idx];
+    let Some(plugin) = Plugin::find(AREA_EMITTER_PLUGINS, &obj.ty) else {
+        return Err(err(
+            &obj.ty_loc,
+            ErrorKind::UnknownPlugin,
+            format!("a shape can only carry an \"area\" emitter, found \"{}\"", obj.ty),
+        ));
+    };
+    b.enter(idx, loc)?;
+    let e = b.run_plugin(plugin, idx)?;
+    b.leave();
+    Ok(e)
+}

@@ -1,0 +1,63 @@
+//! `spot`: a point light restricted to a cone, with a linear falloff at its edge (Mitsuba 3
+//! `src/emitters/spot.cpp`).
+
+use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
+use crate::scene::Emitter;
+use crate::xml::{Builder, Params, SceneError};
+use gonio_core::spectra::RgbKind;
+
+const INTENSITY: ParamSpec = ParamSpec::new(
+    "intensity",
+    ParamType::Spectrum,
+    DefaultValue::Float(1.0),
+    "radiant intensity at the cone's centre, W/sr (numbers and colours × D65)",
+);
+const CUTOFF_ANGLE: ParamSpec = ParamSpec::new(
+    "cutoff_angle",
+    ParamType::Float,
+    DefaultValue::Float(20.0),
+    "half-angle of the cone in degrees, in (0, 90]",
+);
+const BEAM_WIDTH: ParamSpec = ParamSpec::new(
+    "beam_width",
+    ParamType::Float,
+    DefaultValue::Derived("¾ · `cutoff_angle`"),
+    "half-angle in degrees of the full-intensity core, in (0, `cutoff_angle`]",
+);
+const TO_WORLD: ParamSpec = ParamSpec::new(
+    "to_world",
+    ParamType::Transform,
+    DefaultValue::None,
+    "light to world: position, and the cone along +z",
+);
+
+/// The `spot` plugin.
+pub static PLUGIN: Plugin<Emitter> = Plugin {
+    name: "spot",
+    summary: "Spot light along +z of `to_world`: full intensity within `beam_width`, then linear in angle down to 0 at `cutoff_angle`.",
+    params: &[INTENSITY, CUTOFF_ANGLE, BEAM_WIDTH, TO_WORLD],
+    build,
+};
+
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneError> {
+    let intensity = b.spectrum(p, &INTENSITY, RgbKind::Illuminant)?;
+    let cutoff = p.float_checked(
+        CUTOFF_ANGLE.name,
+        CUTOFF_ANGLE.default.float(),
+        |v| v > 0.0 && v <= 90.0,
+        "must be in (0, 90]",
+    )?;
+    let beam = p.float_checked(
+        BEAM_WIDTH.name,
+        cutoff * 0.75,
+        |v| v > 0.0 && v <= cutoff,
+        "must be in (0, cutoff_angle]",
+    )?;
+    let to_world = p.affine(TO_WORLD.name)?;
+    Ok(Emitter::Spot {
+        to_world,
+        intensity,
+        cutoff_angle_deg: cutoff as f32,
+        beam_width_deg: beam as f32,
+    })
+}

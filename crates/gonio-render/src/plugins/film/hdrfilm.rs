@@ -1,0 +1,136 @@
+//! `hdrfilm`: Mitsuba 3's high-dynamic-range film (`src/films/hdrfilm.cpp`) with its nested
+//! reconstruction filter; the runtime film is [`crate::film`]. gonio writes the format the output
+//! file name asks for, so Mitsuba's output settings are accepted and ignored.
+
+use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin, RFILTER_PLUGINS};
+use crate::scene::Film;
+use crate::xml::{Builder, Params, SceneError, Tag};
+
+const WIDTH: ParamSpec = ParamSpec::new(
+    "width",
+    ParamType::Integer,
+    DefaultValue::Int(768),
+    "image width in pixels, in [1, 65536]",
+);
+const HEIGHT: ParamSpec = ParamSpec::new(
+    "height",
+    ParamType::Integer,
+    DefaultValue::Int(576),
+    "image height in pixels, in [1, 65536]",
+);
+const FILE_FORMAT: ParamSpec = ParamSpec::new(
+    "file_format",
+    ParamType::String,
+    DefaultValue::Str("openexr"),
+    "`openexr`, `exr`, `rgbe`, `pfm`; accepted and ignored",
+);
+const PIXEL_FORMAT: ParamSpec = ParamSpec::new(
+    "pixel_format",
+    ParamType::String,
+    DefaultValue::Str("rgb"),
+    "`rgb`, `rgba`, `luminance`, `luminance_alpha`, `xyz`, `xyza`; accepted and ignored",
+);
+const COMPONENT_FORMAT: ParamSpec = ParamSpec::new(
+    "component_format",
+    ParamType::String,
+    DefaultValue::Str("float16"),
+    "`float16`, `float32`, `uint32`; accepted and ignored",
+);
+const SAMPLE_BORDER: ParamSpec = ParamSpec::new(
+    "sample_border",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "accepted and ignored",
+);
+const COMPENSATE: ParamSpec = ParamSpec::new(
+    "compensate",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "accepted and ignored",
+);
+const CROP_OFFSET_X: ParamSpec = ParamSpec::new(
+    "crop_offset_x",
+    ParamType::Integer,
+    DefaultValue::Int(0),
+    "crop window; only the full image (0) is supported",
+);
+const CROP_OFFSET_Y: ParamSpec = ParamSpec::new(
+    "crop_offset_y",
+    ParamType::Integer,
+    DefaultValue::Int(0),
+    "crop window; only the full image (0) is supported",
+);
+const CROP_WIDTH: ParamSpec = ParamSpec::new(
+    "crop_width",
+    ParamType::Integer,
+    DefaultValue::Derived("`width`"),
+    "crop window; only the full image (`width`) is supported",
+);
+const CROP_HEIGHT: ParamSpec = ParamSpec::new(
+    "crop_height",
+    ParamType::Integer,
+    DefaultValue::Derived("`height`"),
+    "crop window; only the full image (`height`) is supported",
+);
+const RFILTER: ParamSpec = ParamSpec::new(
+    "(nested rfilter)",
+    ParamType::Rfilter,
+    DefaultValue::Str("gaussian"),
+    "at most one nested reconstruction filter",
+);
+
+/// The `hdrfilm` plugin.
+pub static PLUGIN: Plugin<Film> = Plugin {
+    name: "hdrfilm",
+    summary: "High-dynamic-range film: the image size and the reconstruction filter.",
+    params: &[
+        WIDTH,
+        HEIGHT,
+        FILE_FORMAT,
+        PIXEL_FORMAT,
+        COMPONENT_FORMAT,
+        SAMPLE_BORDER,
+        COMPENSATE,
+        CROP_OFFSET_X,
+        CROP_OFFSET_Y,
+        CROP_WIDTH,
+        CROP_HEIGHT,
+        RFILTER,
+    ],
+    build,
+};
+
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Film, SceneError> {
+    let width = p.int_in(WIDTH.name, WIDTH.default.int(), 1, 1 << 16)? as u32;
+    let height = p.int_in(HEIGHT.name, HEIGHT.default.int(), 1, 1 << 16)? as u32;
+    let filter = b
+        .nested_one(p, Tag::Rfilter, RFILTER_PLUGINS, "film")?
+        .unwrap_or_default();
+    p.choice(
+        FILE_FORMAT.name,
+        FILE_FORMAT.default.str(),
+        &["openexr", "exr", "rgbe", "pfm"],
+    )?;
+    p.choice(
+        PIXEL_FORMAT.name,
+        PIXEL_FORMAT.default.str(),
+        &["rgb", "rgba", "luminance", "luminance_alpha", "xyz", "xyza"],
+    )?;
+    p.choice(
+        COMPONENT_FORMAT.name,
+        COMPONENT_FORMAT.default.str(),
+        &["float16", "float32", "uint32"],
+    )?;
+    p.bool(SAMPLE_BORDER.name, SAMPLE_BORDER.default.bool())?;
+    p.bool(COMPENSATE.name, COMPENSATE.default.bool())?;
+    p.int_in(CROP_OFFSET_X.name, CROP_OFFSET_X.default.int(), 0, 0)?;
+    p.int_in(CROP_OFFSET_Y.name, CROP_OFFSET_Y.default.int(), 0, 0)?;
+    let (w, h) = (width as i64, height as i64);
+    p.int_in(CROP_WIDTH.name, w, w, w)?;
+    p.int_in(CROP_HEIGHT.name, h, h, h)?;
+    Ok(Film {
+        width,
+        height,
+        filter,
+    })
+}

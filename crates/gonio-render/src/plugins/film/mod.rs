@@ -1,0 +1,3 @@
+//! `<film>` plugins (nested in a sensor).
+
+pub mod hdrfilm;

@@ -1,0 +1,3 @@
+//! `<integrator>` plugins.
+
+pub mod path;

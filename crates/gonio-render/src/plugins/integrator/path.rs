@@ -1,0 +1,88 @@
+//! `path`: the unidirectional path tracer with next-event estimation and MIS (Mitsuba 3
+//! `src/integrators/path.cpp`); ours adds shadow rays through thin sheets and light subpaths for
+//! caustics (`crate::integrator`).
+
+use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
+use crate::scene::Integrator;
+use crate::xml::{Builder, Params, SceneError};
+
+const MAX_DEPTH: ParamSpec = ParamSpec::new(
+    "max_depth",
+    ParamType::Integer,
+    DefaultValue::Int(-1),
+    "longest path, in segments; −1 is unbounded",
+);
+const RR_DEPTH: ParamSpec = ParamSpec::new(
+    "rr_depth",
+    ParamType::Integer,
+    DefaultValue::Int(5),
+    "path depth at which Russian roulette starts (≥ 1)",
+);
+const HIDE_EMITTERS: ParamSpec = ParamSpec::new(
+    "hide_emitters",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "hide directly visible emitters",
+);
+const THIN_SHADOWS: ParamSpec = ParamSpec::new(
+    "thin_shadows",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) shadow rays cross `thindielectric` sheets, attenuated by their transmittance",
+);
+const CAUSTIC_PATHS: ParamSpec = ParamSpec::new(
+    "caustic_paths",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) light subpaths for caustics, weighted by MIS against the path tracer",
+);
+const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
+    "samples_per_pass",
+    ParamType::Integer,
+    DefaultValue::Int(-1),
+    "accepted and ignored (gonio renders in passes of its own)",
+);
+const TIMEOUT: ParamSpec = ParamSpec::new(
+    "timeout",
+    ParamType::Float,
+    DefaultValue::Float(-1.0),
+    "accepted and ignored",
+);
+
+/// The `path` plugin.
+pub static PLUGIN: Plugin<Integrator> = Plugin {
+    name: "path",
+    summary: "Path tracer: emission and next-event estimation combined by MIS (power heuristic), BSDF sampling, Russian roulette.",
+    params: &[
+        MAX_DEPTH,
+        RR_DEPTH,
+        HIDE_EMITTERS,
+        THIN_SHADOWS,
+        CAUSTIC_PATHS,
+        SAMPLES_PER_PASS,
+        TIMEOUT,
+    ],
+    build,
+};
+
+fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrator, SceneError> {
+    let max_depth = p.int_in(MAX_DEPTH.name, MAX_DEPTH.default.int(), -1, i32::MAX as i64)? as i32;
+    let rr_depth = p.int_in(RR_DEPTH.name, RR_DEPTH.default.int(), 1, u32::MAX as i64)? as u32;
+    let hide_emitters = p.bool(HIDE_EMITTERS.name, HIDE_EMITTERS.default.bool())?;
+    let thin_shadows = p.bool(THIN_SHADOWS.name, THIN_SHADOWS.default.bool())?;
+    let caustic_paths = p.bool(CAUSTIC_PATHS.name, CAUSTIC_PATHS.default.bool())?;
+    p.int_in(
+        SAMPLES_PER_PASS.name,
+        SAMPLES_PER_PASS.default.int(),
+        -1,
+        i64::MAX,
+    )?;
+    p.float(TIMEOUT.name, TIMEOUT.default.float())?;
+    Ok(Integrator {
+        max_depth,
+        rr_depth,
+        hide_emitters,
+        thin_shadows,
+        caustic_paths,
+    })
+}

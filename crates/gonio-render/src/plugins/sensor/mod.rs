@@ -1,0 +1,3 @@
+//! `<sensor>` plugins.
+
+pub mod perspective;

@@ -1,0 +1,23 @@
+//! `cube`: the cube [−1, 1]³ as a triangle mesh (Mitsuba 3 `src/shapes/cube.cpp`;
+//! [`crate::mesh::cube`]).
+
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, TO_WORLD, assemble, common};
+use crate::plugins::Plugin;
+use crate::scene::{Geometry, Shape};
+use crate::xml::{Builder, Params, SceneError};
+use std::sync::Arc;
+
+/// The `cube` plugin.
+pub static PLUGIN: Plugin<Shape> = Plugin {
+    name: "cube",
+    summary: "Cube [−1, 1]³ (12 triangles), placed by `to_world`.",
+    params: &[TO_WORLD, FLIP_NORMALS, FACE_NORMALS, BSDF, EMITTER],
+    build,
+};
+
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Shape, SceneError> {
+    let c = common(p)?;
+    let face_normals = p.bool(FACE_NORMALS.name, FACE_NORMALS.default.bool())?;
+    let geometry = Geometry::Mesh(Arc::new(crate::mesh::cube()));
+    assemble(b, p, c, geometry, face_normals)
+}

@@ -1,0 +1,197 @@
+//! `<shape>` plugins (Mitsuba 3 `src/shapes/`). The runtime shapes are in [`crate::geometry`].
+//!
+//! What every shape shares lives here: the rows [`TO_WORLD`], [`FLIP_NORMALS`], [`BSDF`] and
+//! [`EMITTER`] of each table, reading them (`common`, `assemble`: one nested or referenced
+//! BSDF, by default Mitsuba's diffuse 0.5, or black when the shape emits; one nested `area`
+//! emitter), the similarity check of the analytic shapes and the loading of `obj`/`ply` meshes
+//! with the mesh cache (`mesh`).
+
+pub mod cube;
+pub mod disk;
+pub mod obj;
+pub mod ply;
+pub mod rectangle;
+pub mod sphere;
+
+use crate::mesh as meshes;
+use crate::plugins::{DefaultValue, ParamSpec, ParamType};
+use crate::scene::{Geometry, Shape, TriangleMesh};
+use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
+use glam::Affine3A;
+use std::sync::Arc;
+
+type Result<T> = std::result::Result<T, SceneError>;
+
+/// `to_world`, shared by every shape.
+pub const TO_WORLD: ParamSpec = ParamSpec::new(
+    "to_world",
+    ParamType::Transform,
+    DefaultValue::None,
+    "object to world (identity when absent)",
+);
+/// `flip_normals`, shared by every shape.
+pub const FLIP_NORMALS: ParamSpec = ParamSpec::new(
+    "flip_normals",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "flip the geometric and shading normals (and so the emitting side)",
+);
+/// The nested BSDF, shared by every shape.
+pub const BSDF: ParamSpec = ParamSpec::new(
+    "(nested bsdf)",
+    ParamType::Bsdf,
+    DefaultValue::None,
+    "at most one nested or referenced BSDF; without one, diffuse 0.5 (black if the shape emits)",
+);
+/// The nested emitter, shared by every shape.
+pub const EMITTER: ParamSpec = ParamSpec::new(
+    "(nested emitter)",
+    ParamType::Emitter,
+    DefaultValue::None,
+    "at most one nested `area` emitter",
+);
+/// `face_normals`, shared by the meshes.
+pub const FACE_NORMALS: ParamSpec = ParamSpec::new(
+    "face_normals",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "shade with the triangles' normals, ignoring (and not computing) vertex normals",
+);
+
+/// The parameters every shape reads first.
+pub(crate) struct Common {
+    to_world: Affine3A,
+    flip_normals: bool,
+}
+
+impl Common {
+    /// Object to world.
+    pub(crate) fn to_world(&self) -> &Affine3A {
+        &self.to_world
+    }
+}
+
+/// Reads `to_world` and `flip_normals`.
+pub(crate) fn common(p: &mut Params<'_>) -> Result<Common> {
+    let to_world = p.affine(TO_WORLD.name)?;
+    let flip_normals = p.bool(FLIP_NORMALS.name, FLIP_NORMALS.default.bool())?;
+    Ok(Common {
+        to_world,
+        flip_normals,
+    })
+}
+
+/// The shape of `geometry`: reads its nested BSDF and emitter, checks that no parameter is left
+/// unread, then builds the emitter and finds the material.
+pub(crate) fn assemble<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+    common: Common,
+    geometry: Geometry,
+    face_normals: bool,
+) -> Result<Shape> {
+    let bsdfs = p.objects(Tag::Bsdf)?;
+    let emitters = p.objects(Tag::Emitter)?;
+    p.finish()?;
+    let emitter = match emitters.as_slice() {
+        [] => None,
+        [(e, prop)] => Some(super::emitter::area(b, *e, &prop.value_loc)?),
+        [_, (_, extra), ..] => {
+            return Err(err(
+                &extra.loc,
+                ErrorKind::Grammar,
+                "more than one emitter attached to a shape",
+            ));
+        }
+    };
+    let bsdf = match bsdfs.as_slice() {
+        [] => None,
+        [(i, prop)] => Some((*i, &prop.value_loc)),
+        [_, (_, extra), ..] => {
+            return Err(err(
+                &extra.loc,
+                ErrorKind::Grammar,
+                "more than one bsdf attached to a shape",
+            ));
+        }
+    };
+    let material = b.shape_material(bsdf, emitter.is_some())?;
+    Ok(Shape {
+        geometry,
+        to_world: common.to_world,
+        flip_normals: common.flip_normals,
+        face_normals,
+        material,
+        emitter,
+        id: p.obj.id.clone(),
+    })
+}
+
+/// Sphere and disk keep their shape only under rotation, uniform scale and translation.
+pub(crate) fn check_similarity(p: &Params<'_>, m: &Affine3A) -> Result<()> {
+    let a = m.matrix3;
+    let (x, y, z) = (a.x_axis.length(), a.y_axis.length(), a.z_axis.length());
+    let s = x.max(y).max(z);
+    let ortho = a
+        .x_axis
+        .dot(a.y_axis)
+        .abs()
+        .max(a.y_axis.dot(a.z_axis).abs())
+        .max(a.x_axis.dot(a.z_axis).abs());
+    let tol = 1e-4 * s.max(1e-30);
+    if (x - y).abs() > tol * s.max(1.0) || (y - z).abs() > tol * s.max(1.0) || ortho > tol * s {
+        return Err(err(
+            &p.obj.loc,
+            ErrorKind::BadValue,
+            format!(
+                "<shape type=\"{}\"> to_world has a non-uniform scale or shear (axis lengths {x}, {y}, {z}); use a mesh",
+                p.obj.ty
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A mesh file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum MeshFormat {
+    /// Wavefront OBJ ([`meshes::load_obj`]).
+    Obj,
+    /// Stanford PLY ([`meshes::load_ply`]).
+    Ply,
+}
+
+/// The mesh named by `filename` (relative to the scene file), loaded once per (file,
+/// `flip_tex_coords`, `face_normals`). Mitsuba smooths meshes without normals unless
+/// `face_normals` is set.
+pub(crate) fn mesh<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+    filename: &ParamSpec,
+    format: MeshFormat,
+    flip_tex_coords: bool,
+    face_normals: bool,
+) -> Result<Arc<TriangleMesh>> {
+    let Some((name, loc)) = p.string_opt(filename.name)? else {
+        return Err(err(
+            &p.obj.loc,
+            ErrorKind::Grammar,
+            format!("<shape type=\"{}\"> needs a filename", p.obj.ty),
+        ));
+    };
+    let path = b.resolve_file(p, name);
+    b.cached_mesh((path.clone(), flip_tex_coords, face_normals), || {
+        let r = match format {
+            MeshFormat::Obj => meshes::load_obj(&path, flip_tex_coords),
+            MeshFormat::Ply => meshes::load_ply(&path, flip_tex_coords),
+        };
+        let mut m = r.map_err(|e| {
+            let kind = if e.is_io() { ErrorKind::Io } else { ErrorKind::Mesh };
+            err(loc, kind, format!("cannot load mesh \"{name}\": {e}"))
+        })?;
+        if !face_normals && m.normals.is_empty() {
+            m.normals = meshes::vertex_normals(&m);
+        }
+        Ok(m)
+    })
+}

@@ -1,0 +1,43 @@
+//! `obj`: a Wavefront OBJ triangle mesh (Mitsuba 3 `src/shapes/obj.cpp`; loader [`crate::mesh::load_obj`]).
+
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, assemble, common, mesh};
+use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
+use crate::scene::{Geometry, Shape};
+use crate::xml::{Builder, Params, SceneError};
+
+const FILENAME: ParamSpec = ParamSpec::new(
+    "filename",
+    ParamType::String,
+    DefaultValue::None,
+    "the Wavefront OBJ file, relative to the scene file (required)",
+);
+const FLIP_TEX_COORDS: ParamSpec = ParamSpec::new(
+    "flip_tex_coords",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "use 1 − v as the v texture coordinate",
+);
+
+/// The `obj` plugin.
+pub static PLUGIN: Plugin<Shape> = Plugin {
+    name: "obj",
+    summary: "Wavefront OBJ triangle mesh; vertex normals are computed when the file has none (unless `face_normals`).",
+    params: &[
+        TO_WORLD,
+        FLIP_NORMALS,
+        FILENAME,
+        FACE_NORMALS,
+        FLIP_TEX_COORDS,
+        BSDF,
+        EMITTER,
+    ],
+    build,
+};
+
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Shape, SceneError> {
+    let c = common(p)?;
+    let face_normals = p.bool(FACE_NORMALS.name, FACE_NORMALS.default.bool())?;
+    let flip = p.bool(FLIP_TEX_COORDS.name, FLIP_TEX_COORDS.default.bool())?;
+    let m = mesh(b, p, &FILENAME, MeshFormat::Obj, flip, face_normals)?;
+    assemble(b, p, c, Geometry::Mesh(m), face_normals)
+}

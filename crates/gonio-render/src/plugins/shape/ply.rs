@@ -1,0 +1,43 @@
+//! `ply`: a Stanford PLY triangle mesh, ASCII or binary (Mitsuba 3 `src/shapes/ply.cpp`; loader [`crate::mesh::load_ply`]).
+
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, assemble, common, mesh};
+use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
+use crate::scene::{Geometry, Shape};
+use crate::xml::{Builder, Params, SceneError};
+
+const FILENAME: ParamSpec = ParamSpec::new(
+    "filename",
+    ParamType::String,
+    DefaultValue::None,
+    "the Stanford PLY file, relative to the scene file (required)",
+);
+const FLIP_TEX_COORDS: ParamSpec = ParamSpec::new(
+    "flip_tex_coords",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "use 1 − v as the v texture coordinate",
+);
+
+/// The `ply` plugin.
+pub static PLUGIN: Plugin<Shape> = Plugin {
+    name: "ply",
+    summary: "Stanford PLY triangle mesh; vertex normals are computed when the file has none (unless `face_normals`).",
+    params: &[
+        TO_WORLD,
+        FLIP_NORMALS,
+        FILENAME,
+        FACE_NORMALS,
+        FLIP_TEX_COORDS,
+        BSDF,
+        EMITTER,
+    ],
+    build,
+};
+
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Shape, SceneError> {
+    let c = common(p)?;
+    let face_normals = p.bool(FACE_NORMALS.name, FACE_NORMALS.default.bool())?;
+    let flip = p.bool(FLIP_TEX_COORDS.name, FLIP_TEX_COORDS.default.bool())?;
+    let m = mesh(b, p, &FILENAME, MeshFormat::Ply, flip, face_normals)?;
+    assemble(b, p, c, Geometry::Mesh(m), face_normals)
+}
