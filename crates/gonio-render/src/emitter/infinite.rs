@@ -22,8 +22,8 @@
 //! distribution), so the solid-angle density is p(u, v)/(2π² sin θ).
 
 use super::LightRef;
-use super::distribution::Distribution2D;
 use glam::{Affine3A, Vec2, Vec3};
+use gonio_core::sampling::Distribution2D;
 use gonio_core::warp;
 use gonio_core::{Frame, SampledSpectrum, SampledWavelengths, Spectrum};
 use std::f32::consts::{PI, TAU};
