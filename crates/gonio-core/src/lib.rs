@@ -15,6 +15,7 @@ pub mod color;
 mod data;
 pub mod frame;
 pub mod fresnel;
+pub mod hash;
 pub mod instruments;
 pub mod ior;
 pub mod math;
