@@ -35,7 +35,7 @@
 //! gonio additionally accepts a spectrum (Sellmeier, table) for either index.
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode, choose_delta_lobe, reflect};
-use crate::fresnel::{fresnel_dielectric, fresnel_dielectric_spectrum, refract};
+use crate::fresnel::{FresnelDielectric, fresnel_dielectric, fresnel_dielectric_spectrum, refract};
 use crate::ior::{Ior, relative_eta, relative_hero_eta};
 use crate::spectra::Spectrum;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -104,7 +104,7 @@ impl Bsdf for Dielectric {
         let dispersive = self.int_ior.is_dispersive() || self.ext_ior.is_dispersive();
         // Per-wavelength η for amplitudes; [0] is the hero's.
         let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
-        let f_hero = fresnel_dielectric(wi.z, eta[0]).0;
+        let f_hero = fresnel_dielectric(wi.z, eta[0]).reflectance;
         // Total internal reflection with the reflection masked: no transmission (probability 0).
         let (reflect_chosen, pdf) = choose_delta_lobe(ctx, u1, f_hero)?;
         if !reflect_chosen && f_hero >= 1.0 {
@@ -130,7 +130,12 @@ impl Bsdf for Dielectric {
         let base = (1.0 - f_hero) / pdf;
         // The one scalar η the direction needs; terminates the secondaries if dispersive.
         let eta_hero = relative_hero_eta(&self.int_ior, &self.ext_ior, wl);
-        let (_, cos_theta_t, eta_it, eta_ti) = fresnel_dielectric(wi.z, eta_hero);
+        let FresnelDielectric {
+            cos_theta_t,
+            eta_it,
+            eta_ti,
+            ..
+        } = fresnel_dielectric(wi.z, eta_hero);
         let mut weight = self.specular_transmittance.sample(wl) * base;
         if ctx.mode == TransportMode::Radiance {
             weight *= eta_ti * eta_ti;
@@ -321,7 +326,7 @@ mod tests {
         let n = 200_000;
         let mut u = uniforms(7);
         for wi in [dir(0.0), dir(60.0), dir(80.0), -dir(30.0)] {
-            let f = fresnel_dielectric(wi.z, eta).0 as f64;
+            let f = fresnel_dielectric(wi.z, eta).reflectance as f64;
             let mut hits = 0usize;
             for _ in 0..n {
                 let mut wl = SampledWavelengths::fixed(550.0);
@@ -347,7 +352,7 @@ mod tests {
         for deg in [0.0f32, 20.0, 45.0, 60.0, 80.0, 89.0] {
             for wi in [dir(deg), -dir(deg)] {
                 assert!(close(exact_albedo(&d, &imp, wi), 1.0, 1e-6), "importance θ {deg}");
-                let f = fresnel_dielectric(wi.z, eta).0;
+                let f = fresnel_dielectric(wi.z, eta).reflectance;
                 let eta_ti = if wi.z > 0.0 { 1.0 / eta } else { eta };
                 let expect = if f == 1.0 {
                     1.0
@@ -394,7 +399,7 @@ mod tests {
         let lambdas = [420.0f32, 500.0, 580.0, 660.0];
         let f: Vec<f32> = lambdas
             .iter()
-            .map(|&l| fresnel_dielectric(wi.z, d.int_ior.eval(l)).0)
+            .map(|&l| fresnel_dielectric(wi.z, d.int_ior.eval(l)).reflectance)
             .collect();
         // Stratified u1: the mean reflected weight per wavelength must be F(λᵢ).
         let n = 100_000;
