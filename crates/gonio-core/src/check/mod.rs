@@ -27,8 +27,11 @@
 //!   they are compared with a relative tolerance [`CheckConfig::rel_tol`] that only absorbs `f32`
 //!   rounding (1e-4 = ~1000 ulps).
 //!
-//! Deliberately broken models, kept to prove that each row can fail, are in [`broken`].
+//! Deliberately broken models, kept to prove that each row can fail, are in `broken`, compiled
+//! only with the `test-support` feature (the crate's tests enable it through a dev-dependency
+//! on the crate itself).
 
+#[cfg(feature = "test-support")]
 pub mod broken;
 pub mod chi2;
 pub mod consistency;
