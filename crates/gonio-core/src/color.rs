@@ -67,6 +67,16 @@ pub fn xyz_from_linear_srgb(rgb: Vec3) -> Vec3 {
     XYZ_FROM_LINEAR_SRGB * rgb
 }
 
+/// Luminance Y of a linear sRGB colour: the Y row of [`XYZ_FROM_LINEAR_SRGB`],
+/// Y = 0.212671 R + 0.715160 G + 0.072169 B (Rec. 709 primaries, D65 white; IEC 61966-2-1).
+/// The one luminance of gonio (env-map sampling, blend weights from bitmaps), consistent with the
+/// colour conversions here, so an RGB colour and its XYZ agree on Y.
+#[inline]
+#[allow(clippy::excessive_precision)]
+pub fn luminance(rgb: [f32; 3]) -> f32 {
+    0.212671 * rgb[0] + 0.715160 * rgb[1] + 0.072169 * rgb[2]
+}
+
 /// Linear interpolation in a table sampled every `step` nm from `start`; 0 outside.
 #[inline]
 fn lerp_table(table: &[f32], start: f32, step: f32, lambda: f32) -> f32 {
@@ -226,6 +236,20 @@ pub fn srgb_decode(x: f32) -> f32 {
 mod tests {
     use super::*;
     use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN};
+
+    #[test]
+    fn luminance_is_the_y_of_the_xyz_conversion() {
+        for rgb in [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.3, 0.5, 0.9]] {
+            let y = xyz_from_linear_srgb(Vec3::from(rgb)).y;
+            assert!(
+                (luminance(rgb) - y).abs() < 1e-7,
+                "{rgb:?}: {} vs {y}",
+                luminance(rgb)
+            );
+        }
+        // D65 white has unit luminance.
+        assert!((luminance([1.0; 3]) - 1.0).abs() < 1e-6);
+    }
 
     #[test]
     fn cie_table_sums_match_the_y_integral() {

@@ -38,16 +38,30 @@ use crate::quadrature::gauss_legendre;
 use crate::spectrum::SampledSpectrum;
 use glam::Vec3;
 
+/// What [`fresnel_dielectric`] finds at a smooth dielectric interface (the four values of
+/// Mitsuba's `fresnel(cos_theta_i, eta)`, named).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FresnelDielectric {
+    /// Unpolarized reflectance F ∈ [0, 1]; the transmittance is 1 − F.
+    pub reflectance: f32,
+    /// Cosine of the refracted direction, signed and **opposite** to `cos_theta_i` (the refracted
+    /// ray leaves on the other side); 0 under total internal reflection.
+    pub cos_theta_t: f32,
+    /// Relative index η_it = n_t/n_i seen from the incident side.
+    pub eta_it: f32,
+    /// Its reciprocal η_ti = n_i/n_t (scales the tangential part of the refracted direction).
+    pub eta_ti: f32,
+}
+
 /// Unpolarized Fresnel reflectance of a smooth dielectric interface, exactly as Mitsuba's
 /// `fresnel(cos_theta_i, eta)`.
 ///
 /// `cos_theta_i` is signed: positive when the incident direction lies on the exterior side (the
-/// side the normal points to). `eta` = n_int/n_ext. Returns `(F, cos_theta_t, eta_it, eta_ti)`:
-/// the reflectance, the cosine of the refracted direction (signed, **opposite** to
-/// `cos_theta_i`; 0 under total internal reflection), and the relative indices η_it = n_t/n_i and
-/// η_ti = n_i/n_t seen from the incident side. η = 1 gives F = 0; grazing incidence gives F = 1.
+/// side the normal points to). `eta` = n_int/n_ext. Returns the reflectance, the cosine of the
+/// refracted direction and the relative indices seen from the incident side
+/// ([`FresnelDielectric`]). η = 1 gives F = 0; grazing incidence gives F = 1.
 #[inline]
-pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> (f32, f32, f32, f32) {
+pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> FresnelDielectric {
     let outside = cos_theta_i >= 0.0;
     let rcp_eta = 1.0 / eta;
     let (eta_it, eta_ti) = if outside { (eta, rcp_eta) } else { (rcp_eta, eta) };
@@ -65,7 +79,12 @@ pub fn fresnel_dielectric(cos_theta_i: f32, eta: f32) -> (f32, f32, f32, f32) {
         0.5 * (a_s * a_s + a_p * a_p)
     };
     let cos_theta_t = if cos_theta_i >= 0.0 { -ct } else { ct };
-    (r, cos_theta_t, eta_it, eta_ti)
+    FresnelDielectric {
+        reflectance: r,
+        cos_theta_t,
+        eta_it,
+        eta_ti,
+    }
 }
 
 /// The s (perpendicular) and p (parallel) amplitude reflection coefficients of a dielectric
@@ -99,7 +118,7 @@ pub fn fresnel_dielectric_amplitudes(cos_theta_i: f32, eta: f32) -> (f32, f32) {
 /// amplitudes of a dispersive interface; never use it to pick a refraction direction).
 #[inline]
 pub fn fresnel_dielectric_spectrum(cos_theta_i: f32, eta: SampledSpectrum) -> SampledSpectrum {
-    SampledSpectrum::from_fn(|i| fresnel_dielectric(cos_theta_i, eta[i]).0)
+    SampledSpectrum::from_fn(|i| fresnel_dielectric(cos_theta_i, eta[i]).reflectance)
 }
 
 /// s- and p-polarized reflectances `(R_s, R_p)` of a conductor with complex relative index
@@ -311,17 +330,39 @@ mod tests {
     fn dielectric_matches_reference_table() {
         // Values computed in f64 from the Fresnel equations (Born & Wolf, Principles of Optics,
         // §1.5.2), as (F, cos θt, η_it, η_ti) like Mitsuba 3's fresnel() in render/fresnel.h.
-        let (f, ct, eit, eti) = fresnel_dielectric(1.0, 1.5);
+        let FresnelDielectric {
+            reflectance: f,
+            cos_theta_t: ct,
+            eta_it: eit,
+            eta_ti: eti,
+        } = fresnel_dielectric(1.0, 1.5);
         assert!(close(f, 0.04, 1e-7) && ct == -1.0 && eit == 1.5 && close(eti, 1.0 / 1.5, 1e-7));
-        let (f, ct, eit, eti) = fresnel_dielectric(-1.0, 1.5);
+        let FresnelDielectric {
+            reflectance: f,
+            cos_theta_t: ct,
+            eta_it: eit,
+            eta_ti: eti,
+        } = fresnel_dielectric(-1.0, 1.5);
         assert!(close(f, 0.04, 1e-7) && ct == 1.0 && close(eit, 1.0 / 1.5, 1e-7) && eti == 1.5);
-        let (f, ct, _, _) = fresnel_dielectric(0.0, 1.5);
+        let FresnelDielectric {
+            reflectance: f,
+            cos_theta_t: ct,
+            ..
+        } = fresnel_dielectric(0.0, 1.5);
         assert!(f == 1.0 && close(ct, -(1.0f32 - 1.0 / 2.25).sqrt(), 1e-7));
-        let (f, ct, _, _) = fresnel_dielectric(0.0, 1.0 / 1.5);
+        let FresnelDielectric {
+            reflectance: f,
+            cos_theta_t: ct,
+            ..
+        } = fresnel_dielectric(0.0, 1.0 / 1.5);
         assert!(f == 1.0 && ct == 0.0);
 
         let c45 = 45f32.to_radians().cos();
-        let (f, ct, _, _) = fresnel_dielectric(c45, 1.5);
+        let FresnelDielectric {
+            reflectance: f,
+            cos_theta_t: ct,
+            ..
+        } = fresnel_dielectric(c45, 1.5);
         let expect = 0.5 * (0.09201336304552442f64.powi(2) + 0.3033370452904235f64.powi(2));
         assert!(close(f, expect as f32, 1e-7), "{f}");
         assert!(close(ct, -28.1255057f32.to_radians().cos(), 1e-6) && close(ct, -0.881917, 1e-6));
@@ -330,20 +371,32 @@ mod tests {
         assert!(close(a_s.abs(), 0.30333705, 1e-7) && close(a_p.abs(), 0.09201336, 1e-7));
 
         let c10 = 10f32.to_radians().cos();
-        let (f, ct, _, _) = fresnel_dielectric(c10, 1.0 / 1.5);
+        let FresnelDielectric {
+            reflectance: f,
+            cos_theta_t: ct,
+            ..
+        } = fresnel_dielectric(c10, 1.0 / 1.5);
         let expect = 0.5 * (0.19046797197779405f64.powi(2) + 0.20949431963852014f64.powi(2));
         assert!(close(f, expect as f32, 1e-6) && close(f, 0.0400830, 1e-6), "{f}");
         assert!(close(ct, -15.098086605f32.to_radians().cos(), 1e-6));
 
-        let (f, ct, _, _) = fresnel_dielectric(c45, 1.0 / 1.5);
+        let FresnelDielectric {
+            reflectance: f,
+            cos_theta_t: ct,
+            ..
+        } = fresnel_dielectric(c45, 1.0 / 1.5);
         assert!(f == 1.0 && ct == 0.0, "TIR");
 
-        let (f, ct, _, _) = fresnel_dielectric(80f32.to_radians().cos(), 1.5);
+        let FresnelDielectric {
+            reflectance: f,
+            cos_theta_t: ct,
+            ..
+        } = fresnel_dielectric(80f32.to_radians().cos(), 1.5);
         assert!(close(f, 0.387704354691473, 1e-6), "{f}");
         assert!(close(ct.abs().acos().to_degrees(), 41.03641052520335, 1e-4));
 
         for c in [1.0, 0.7, 0.1, -0.5] {
-            assert_eq!(fresnel_dielectric(c, 1.0).0, 0.0, "index matched");
+            assert_eq!(fresnel_dielectric(c, 1.0).reflectance, 0.0, "index matched");
         }
     }
 
@@ -358,21 +411,21 @@ mod tests {
             (60.0, 0.089880),
             (80.0, 0.388403),
         ] {
-            let got = fresnel_dielectric(deg.to_radians().cos(), eta).0;
+            let got = fresnel_dielectric(deg.to_radians().cos(), eta).reflectance;
             assert!(close(got, f, 2e-6), "{deg}: {got}");
         }
         let eta = 1.49f32 / 1.000277;
-        assert!(close(fresnel_dielectric(1.0, eta).0, 0.038673, 2e-6));
-        assert!(close(fresnel_dielectric(0.5, eta).0, 0.087453, 2e-6));
+        assert!(close(fresnel_dielectric(1.0, eta).reflectance, 0.038673, 2e-6));
+        assert!(close(fresnel_dielectric(0.5, eta).reflectance, 0.087453, 2e-6));
     }
 
     #[test]
     fn normal_incidence_is_f0_and_symmetric_from_both_sides() {
         for eta in [1.1f32, 1.33, 1.5, 2.0, 2.419] {
             let f0 = ((eta - 1.0) / (eta + 1.0)).powi(2);
-            assert!(close(fresnel_dielectric(1.0, eta).0, f0, 1e-7));
-            assert!(close(fresnel_dielectric(-1.0, eta).0, f0, 1e-7));
-            assert!(close(fresnel_dielectric(1.0, 1.0 / eta).0, f0, 1e-7));
+            assert!(close(fresnel_dielectric(1.0, eta).reflectance, f0, 1e-7));
+            assert!(close(fresnel_dielectric(-1.0, eta).reflectance, f0, 1e-7));
+            assert!(close(fresnel_dielectric(1.0, 1.0 / eta).reflectance, f0, 1e-7));
         }
     }
 
@@ -391,7 +444,7 @@ mod tests {
             let c = 0.37;
             let (a_s, a_p) = fresnel_dielectric_amplitudes(c, eta);
             assert!(close(
-                fresnel_dielectric(c, eta).0,
+                fresnel_dielectric(c, eta).reflectance,
                 0.5 * (a_s * a_s + a_p * a_p),
                 1e-7
             ));
@@ -404,9 +457,17 @@ mod tests {
         let theta_c = (1.0 / eta).asin();
         assert!(close(theta_c.to_degrees(), 41.81031, 1e-4));
         let eps = 1e-3;
-        let (f_below, ct_below, _, _) = fresnel_dielectric(-(theta_c - eps).cos(), eta);
+        let FresnelDielectric {
+            reflectance: f_below,
+            cos_theta_t: ct_below,
+            ..
+        } = fresnel_dielectric(-(theta_c - eps).cos(), eta);
         assert!(f_below < 1.0 && ct_below > 0.0);
-        let (f_above, ct_above, _, _) = fresnel_dielectric(-(theta_c + eps).cos(), eta);
+        let FresnelDielectric {
+            reflectance: f_above,
+            cos_theta_t: ct_above,
+            ..
+        } = fresnel_dielectric(-(theta_c + eps).cos(), eta);
         assert!(f_above == 1.0 && ct_above == 0.0);
         // bk7/air: 41.67°.
         let theta_c = (1.000277f32 / 1.5046).asin().to_degrees();
@@ -418,7 +479,12 @@ mod tests {
         for (deg, eta) in [(30.0f32, 1.5f32), (60.0, 1.5), (20.0, 1.0 / 1.5), (75.0, 2.4)] {
             let t = deg.to_radians();
             let wi = Vec3::new(t.sin() * 0.6, t.sin() * 0.8, t.cos());
-            let (f, ct, _, eta_ti) = fresnel_dielectric(wi.z, eta);
+            let FresnelDielectric {
+                reflectance: f,
+                cos_theta_t: ct,
+                eta_ti,
+                ..
+            } = fresnel_dielectric(wi.z, eta);
             if f == 1.0 {
                 continue;
             }
@@ -431,7 +497,11 @@ mod tests {
             let (wt2, etap) = refract_about(wi, Vec3::Z, eta).unwrap();
             assert!((wt - wt2).length() < 1e-6 && close(etap, eta, 1e-7));
             // And back: the reversed path arrives from wt and leaves towards wi.
-            let (_, ct2, _, eta_ti2) = fresnel_dielectric(wt.z, eta);
+            let FresnelDielectric {
+                cos_theta_t: ct2,
+                eta_ti: eta_ti2,
+                ..
+            } = fresnel_dielectric(wt.z, eta);
             let back = refract(wt, ct2, eta_ti2);
             assert!((back - wi).length() < 1e-6);
         }
@@ -516,7 +586,7 @@ mod tests {
             for deg in [0.0f32, 10.0, 30.0, 45.0, 60.0, 80.0, 89.0] {
                 let c = deg.to_radians().cos();
                 let fc = fresnel_conductor(c, SampledSpectrum::splat(eta), SampledSpectrum::ZERO)[0];
-                let fd = fresnel_dielectric(c, eta).0;
+                let fd = fresnel_dielectric(c, eta).reflectance;
                 assert!(close(fc, fd, 2e-6), "η {eta} θ {deg}: {fc} vs {fd}");
             }
         }
@@ -673,7 +743,7 @@ mod tests {
         let eta = SampledSpectrum::new([1.53, 1.52, 1.51, 1.0]);
         let f = fresnel_dielectric_spectrum(0.6, eta);
         for i in 0..4 {
-            assert_eq!(f[i], fresnel_dielectric(0.6, eta[i]).0);
+            assert_eq!(f[i], fresnel_dielectric(0.6, eta[i]).reflectance);
         }
         assert_eq!(f[3], 0.0);
     }

@@ -40,6 +40,7 @@
 //! `include_bytes!`; no file is read at run time.
 
 use crate::color::{LINEAR_SRGB_FROM_XYZ, XYZ_FROM_LINEAR_SRGB, cie_xyz, d65};
+use crate::math::find_interval;
 use std::sync::LazyLock;
 
 /// Resolution of the shipped sRGB table along each axis.
@@ -234,7 +235,7 @@ impl RgbToSpectrumTable {
         let xi = (x as usize).min(res - 2);
         let yi = (y as usize).min(res - 2);
         // Largest k with z_nodes[k] <= z, kept inside [0, res − 2].
-        let zi = self.z_nodes.partition_point(|&n| n <= z).clamp(1, res - 1) - 1;
+        let zi = find_interval(&self.z_nodes, z);
         let dx = x - xi as f32;
         let dy = y - yi as f32;
         let dz = (z - self.z_nodes[zi]) / (self.z_nodes[zi + 1] - self.z_nodes[zi]);

@@ -21,6 +21,7 @@
 //! * Cauchy: n(λ) = A + B/λ², λ in µm, B in µm².
 
 use crate::color::d65_normalized;
+use crate::math::find_interval;
 use crate::rgb2spec::{RgbSigmoid, srgb_to_sigmoid_refined};
 use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN, SampledSpectrum, SampledWavelengths};
 use std::sync::Arc;
@@ -179,7 +180,7 @@ impl PiecewiseLinear {
             return v[0];
         }
         // Index of the last sample ≤ lambda, kept inside [0, n − 2].
-        let i = l.partition_point(|&x| x <= lambda).clamp(1, n - 1) - 1;
+        let i = find_interval(l, lambda);
         let t = (lambda - l[i]) / (l[i + 1] - l[i]);
         v[i] + t * (v[i + 1] - v[i])
     }

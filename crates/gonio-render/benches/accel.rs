@@ -10,6 +10,7 @@
 //! Throughput is printed by divan as items (rays) per second, single thread.
 
 use glam::{Affine3A, Vec3};
+use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
 use gonio_render::accel::{Accel, Intersect};
 use gonio_render::geometry::{Ray, WorldShape};
 use gonio_render::scene::{Geometry, Shape, TriangleMesh};
@@ -137,11 +138,8 @@ fn accel() -> &'static Accel {
 struct Rng(u64);
 impl Rng {
     fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+        self.0 = self.0.wrapping_add(GOLDEN_GAMMA);
+        unit_f32(mix64(self.0))
     }
     fn dir(&mut self) -> Vec3 {
         let z = 1.0 - 2.0 * self.next();

@@ -41,7 +41,7 @@ use crate::geometry::WorldShape;
 use crate::image::RgbImage;
 use crate::integrator::caustics::LightSubpath;
 use crate::integrator::{PathSampler, PathTracer, bounding_sphere};
-use crate::sampler::{Pattern, Pcg32, Sampler};
+use crate::sampler::{Pattern, Pcg32, Sampler, sample_key};
 use crate::scene::{Emitter, Scene};
 use glam::{UVec2, Vec2, Vec3};
 use gonio_core::SampledWavelengths;
@@ -386,18 +386,6 @@ impl PathSampler for Dims<'_> {
 
 /// Mixed into a sample's key to seed its light path's random numbers.
 const LIGHT_PATH_KEY: u64 = 0x6c69_6768_745f_7061;
-
-/// A 64-bit key of one sample: (seed, pixel, sample index), well mixed.
-#[inline]
-fn sample_key(seed: u64, px: u32, py: u32, s: u32) -> u64 {
-    let mut x =
-        seed ^ ((px as u64) << 40) ^ ((py as u64) << 20) ^ (s as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15);
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xff51_afd7_ed55_8ccd);
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-    x ^ (x >> 33)
-}
 
 /// Renders the scene. `progress(done, total)` counts samples; `cancel` stops early.
 pub fn render(

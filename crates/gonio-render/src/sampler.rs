@@ -16,10 +16,11 @@
 //! low-discrepancy choice: it is stratified at every power of two up to the sample count, in
 //! every 2D pair, which gives the lowest error at equal spp of the four (see `tests/sampler.rs`).
 //!
-//! PCG32 is written here (the same XSH-RR generator as Mitsuba); it does not depend on
-//! `gonio_core::rng` so that this module stands alone.
+//! PCG32 (the same XSH-RR generator as Mitsuba) and the 64-bit key mixer come from
+//! `gonio_core::rng` and `gonio_core::hash`.
 
 use glam::{UVec2, Vec2};
+use gonio_core::hash::{GOLDEN_GAMMA, mix64};
 
 /// The sample pattern.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -66,14 +67,11 @@ pub struct Sampler {
     rng: Pcg32,
 }
 
-/// MurmurHash3's 64-bit finalizer: a bijective mixer.
+/// A 64-bit key of one sample: (seed, pixel, sample index), well mixed by the core's
+/// [`mix64`]. Seeds a sample's light subpath in the render loop.
 #[inline]
-fn mix64(mut x: u64) -> u64 {
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xff51_afd7_ed55_8ccd);
-    x ^= x >> 33;
-    x = x.wrapping_mul(0xc4ce_b9fe_1a85_ec53);
-    x ^ (x >> 33)
+pub(crate) fn sample_key(seed: u64, px: u32, py: u32, s: u32) -> u64 {
+    mix64(seed ^ ((px as u64) << 40) ^ ((py as u64) << 20) ^ (s as u64).wrapping_mul(GOLDEN_GAMMA))
 }
 
 #[inline]
@@ -135,8 +133,9 @@ fn randfloat(mut i: u32, p: u32) -> f32 {
     u32_to_f32(i)
 }
 
-/// The Laine–Karras-style hash of Burley 2020 (constants from Vegdahl's improvement): an Owen
-/// scramble in reversed-bit order.
+/// The Laine–Karras-style hash of Burley 2020 ("Practical Hash-based Owen Scrambling", JCGT
+/// 9(4): its `laine_karras_permutation`, seed added first, then four xor-multiplies with Burley's
+/// constants): an Owen scramble in reversed-bit order.
 #[inline]
 fn lk_permute(mut x: u32, seed: u32) -> u32 {
     x = x.wrapping_add(seed);
@@ -251,7 +250,7 @@ impl Sampler {
     /// The key of dimension `dim` of the current pixel.
     #[inline]
     fn key(&self, dim: u32) -> u32 {
-        mix64(self.pixel_key ^ (dim as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)) as u32
+        mix64(self.pixel_key ^ (dim as u64).wrapping_mul(GOLDEN_GAMMA)) as u32
     }
 
     /// The next sample dimension.

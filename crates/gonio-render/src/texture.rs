@@ -14,6 +14,7 @@
 
 use glam::{Affine2, Vec2};
 use gonio_core::Spectrum;
+use gonio_core::color::luminance;
 use gonio_core::rgb2spec::srgb_to_sigmoid;
 use gonio_core::spectra::{RgbKind, RgbSpectrum};
 use std::sync::Arc;
@@ -232,11 +233,6 @@ pub fn uplift(rgb: [f32; 3], kind: RgbKind) -> Spectrum {
         RgbKind::Unbounded => Spectrum::rgb_unbounded(rgb),
         RgbKind::Illuminant => Spectrum::rgb_illuminant(rgb),
     }
-}
-
-/// Linear-RGB luminance (Rec. 709 weights).
-fn luminance(c: [f32; 3]) -> f32 {
-    0.212671 * c[0] + 0.715160 * c[1] + 0.072169 * c[2]
 }
 
 impl Texture {

@@ -1,6 +1,7 @@
 //! The obvhs-backed `Accel` against the brute-force oracle on random mixed scenes.
 
 use glam::{Affine3A, Quat, Vec3};
+use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
 use gonio_render::accel::{Accel, BruteForce, Intersect};
 use gonio_render::geometry::{Ray, WorldShape};
 use gonio_render::scene::{Geometry, Shape, TriangleMesh};
@@ -9,11 +10,8 @@ use std::sync::Arc;
 struct Rng(u64);
 impl Rng {
     fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+        self.0 = self.0.wrapping_add(GOLDEN_GAMMA);
+        unit_f32(mix64(self.0))
     }
     fn range(&mut self, a: f32, b: f32) -> f32 {
         a + (b - a) * self.next()

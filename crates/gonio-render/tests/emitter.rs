@@ -2,8 +2,8 @@
 //! map), radiance values, power values, light selection and the MIS heuristic.
 
 use glam::{Affine3A, Vec2, Vec3};
+use gonio_core::color::luminance;
 use gonio_core::{SampledWavelengths, Spectrum};
-use gonio_render::emitter::infinite::luminance;
 use gonio_render::emitter::*;
 use gonio_render::integrator::mis_power;
 use std::f32::consts::PI;

@@ -1,6 +1,7 @@
 //! Shapes: intersections, normals, uv against analytic answers; self-intersection; sampling pdfs.
 
 use glam::{Affine3A, Quat, Vec2, Vec3};
+use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
 use gonio_render::accel::{BruteForce, Intersect};
 use gonio_render::geometry::sampling::{pdf_solid_angle, sample_area, sample_solid_angle};
 use gonio_render::geometry::{Ray, SurfaceInteraction, WorldShape};
@@ -8,15 +9,12 @@ use gonio_render::scene::{Geometry, Shape, TriangleMesh};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
-/// SplitMix64: a tiny fixed-seed generator for the tests.
+/// A tiny fixed-seed generator for the tests: a Weyl sequence hashed by the core's mixer.
 struct Rng(u64);
 impl Rng {
     fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+        self.0 = self.0.wrapping_add(GOLDEN_GAMMA);
+        unit_f32(mix64(self.0))
     }
     fn v2(&mut self) -> Vec2 {
         Vec2::new(self.next(), self.next())

@@ -184,17 +184,10 @@ mod tests {
         Vec3::new(t.sin(), 0.0, t.cos())
     }
 
-    /// Splitmix64 uniforms in [0, 1), fixed seed.
+    /// Fixed-seed uniforms in [0, 1) (the core's Weyl sequence hashed by `mix64`).
     fn uniforms(seed: u64) -> impl FnMut() -> f32 {
-        let mut s = seed;
-        move || {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 40) as f32 / (1u64 << 24) as f32
-        }
+        let mut r = crate::hash::WeylHash(seed);
+        move || r.next_f32()
     }
 
     /// Mean and standard error of the sample weight at 550 nm.

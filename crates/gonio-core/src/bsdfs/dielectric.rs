@@ -35,7 +35,7 @@
 //! gonio additionally accepts a spectrum (Sellmeier, table) for either index.
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode, choose_delta_lobe, reflect};
-use crate::fresnel::{fresnel_dielectric, fresnel_dielectric_spectrum, refract};
+use crate::fresnel::{FresnelDielectric, fresnel_dielectric, fresnel_dielectric_spectrum, refract};
 use crate::ior::{Ior, IorValue, SampledIor, relative_eta, relative_hero_eta};
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -116,7 +116,7 @@ impl<S: SpectralValue, I: IorValue> Bsdf for Dielectric<S, I> {
         let dispersive = self.int_ior.is_dispersive() || self.ext_ior.is_dispersive();
         // Per-wavelength η for amplitudes; [0] is the hero's.
         let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
-        let f_hero = fresnel_dielectric(wi.z, eta[0]).0;
+        let f_hero = fresnel_dielectric(wi.z, eta[0]).reflectance;
         // Total internal reflection with the reflection masked: no transmission (probability 0).
         let (reflect_chosen, pdf) = choose_delta_lobe(ctx, u1, f_hero)?;
         if !reflect_chosen && f_hero >= 1.0 {
@@ -142,7 +142,12 @@ impl<S: SpectralValue, I: IorValue> Bsdf for Dielectric<S, I> {
         let base = (1.0 - f_hero) / pdf;
         // The one scalar η the direction needs; terminates the secondaries if dispersive.
         let eta_hero = relative_hero_eta(&self.int_ior, &self.ext_ior, wl);
-        let (_, cos_theta_t, eta_it, eta_ti) = fresnel_dielectric(wi.z, eta_hero);
+        let FresnelDielectric {
+            cos_theta_t,
+            eta_it,
+            eta_ti,
+            ..
+        } = fresnel_dielectric(wi.z, eta_hero);
         let mut weight = self.specular_transmittance.sample(wl) * base;
         if ctx.mode == TransportMode::Radiance {
             weight *= eta_ti * eta_ti;
@@ -172,17 +177,10 @@ mod tests {
         (a - b).abs() <= tol
     }
 
-    /// Splitmix64 uniforms in [0, 1), fixed seed.
+    /// Fixed-seed uniforms in [0, 1) (the core's Weyl sequence hashed by `mix64`).
     fn uniforms(seed: u64) -> impl FnMut() -> f32 {
-        let mut s = seed;
-        move || {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 40) as f32 / (1u64 << 24) as f32
-        }
+        let mut r = crate::hash::WeylHash(seed);
+        move || r.next_f32()
     }
 
     /// The exact directional albedo of a delta BSDF: Σ over its (at most two) outcomes of
@@ -340,7 +338,7 @@ mod tests {
         let n = 200_000;
         let mut u = uniforms(7);
         for wi in [dir(0.0), dir(60.0), dir(80.0), -dir(30.0)] {
-            let f = fresnel_dielectric(wi.z, eta).0 as f64;
+            let f = fresnel_dielectric(wi.z, eta).reflectance as f64;
             let mut hits = 0usize;
             for _ in 0..n {
                 let mut wl = SampledWavelengths::fixed(550.0);
@@ -366,7 +364,7 @@ mod tests {
         for deg in [0.0f32, 20.0, 45.0, 60.0, 80.0, 89.0] {
             for wi in [dir(deg), -dir(deg)] {
                 assert!(close(exact_albedo(&d, &imp, wi), 1.0, 1e-6), "importance θ {deg}");
-                let f = fresnel_dielectric(wi.z, eta).0;
+                let f = fresnel_dielectric(wi.z, eta).reflectance;
                 let eta_ti = if wi.z > 0.0 { 1.0 / eta } else { eta };
                 let expect = if f == 1.0 {
                     1.0
@@ -414,7 +412,7 @@ mod tests {
         let lambdas = [420.0f32, 500.0, 580.0, 660.0];
         let f: Vec<f32> = lambdas
             .iter()
-            .map(|&l| fresnel_dielectric(wi.z, d.int_ior.eval(l)).0)
+            .map(|&l| fresnel_dielectric(wi.z, d.int_ior.eval(l)).reflectance)
             .collect();
         // Stratified u1: the mean reflected weight per wavelength must be F(λᵢ).
         let n = 100_000;

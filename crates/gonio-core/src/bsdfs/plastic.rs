@@ -183,8 +183,8 @@ impl<S: SpectralValue> Bsdf for Plastic<S> {
         if !ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION) || wi.z <= 0.0 || wo.z <= 0.0 {
             return SampledSpectrum::ZERO;
         }
-        let f_i = fresnel_dielectric(wi.z, self.eta).0;
-        let f_o = fresnel_dielectric(wo.z, self.eta).0;
+        let f_i = fresnel_dielectric(wi.z, self.eta).reflectance;
+        let f_o = fresnel_dielectric(wo.z, self.eta).reflectance;
         self.diffuse_factor(wl) * ((1.0 - f_i) * (1.0 - f_o) * FRAC_1_PI)
     }
 
@@ -193,7 +193,7 @@ impl<S: SpectralValue> Bsdf for Plastic<S> {
             return 0.0;
         }
         let prob_diffuse = if ctx.is_enabled(BsdfFlags::DELTA_REFLECTION) {
-            1.0 - self.prob_specular(fresnel_dielectric(wi.z, self.eta).0)
+            1.0 - self.prob_specular(fresnel_dielectric(wi.z, self.eta).reflectance)
         } else {
             1.0
         };
@@ -213,7 +213,7 @@ impl<S: SpectralValue> Bsdf for Plastic<S> {
         if (!has_spec && !has_diff) || wi.z <= 0.0 {
             return None;
         }
-        let f_i = fresnel_dielectric(wi.z, self.eta).0;
+        let f_i = fresnel_dielectric(wi.z, self.eta).reflectance;
         let p_spec = match (has_spec, has_diff) {
             (true, true) => self.prob_specular(f_i),
             (true, false) => 1.0,
@@ -235,7 +235,7 @@ impl<S: SpectralValue> Bsdf for Plastic<S> {
         if pdf <= 0.0 {
             return None;
         }
-        let f_o = fresnel_dielectric(wo.z, self.eta).0;
+        let f_o = fresnel_dielectric(wo.z, self.eta).reflectance;
         // eval·cos θo/pdf: the cos θo/π cancels.
         let weight = self.diffuse_factor(wl) * ((1.0 - f_i) * (1.0 - f_o) / p_diff);
         // Returned even when black (a black base in a mixture): see `Bsdf::sample`.
@@ -275,7 +275,8 @@ mod tests {
             let wo = Vec3::new((1.0 - mu * mu).sqrt() as f32, 0.0, mu as f32);
             diffuse += p.eval(&ctx, wi, wo, &wl)[0] as f64 * mu / n as f64;
         }
-        let spec = fresnel_dielectric(wi.z, p.eta()).0 as f64 * p.specular_reflectance.eval(550.0) as f64;
+        let spec =
+            fresnel_dielectric(wi.z, p.eta()).reflectance as f64 * p.specular_reflectance.eval(550.0) as f64;
         spec + 2.0 * std::f64::consts::PI * diffuse
     }
 
@@ -412,7 +413,7 @@ mod tests {
                 let wi = dir(deg);
                 let a = albedo_by_quadrature(&p, wi);
                 assert!(a <= 1.0 + 1e-6 && a >= 1.0 - 1e-6, "θ {deg}: {a}");
-                let f = fresnel_dielectric(wi.z, p.eta()).0 as f64;
+                let f = fresnel_dielectric(wi.z, p.eta()).reflectance as f64;
                 let with_fit = f
                     + (1.0 - f) * (1.0 - p.fdr_int() as f64)
                         / (1.0 - fresnel_diffuse_reflectance_fit(1.0 / p.eta()) as f64);
@@ -443,17 +444,10 @@ mod tests {
         }
     }
 
-    /// Splitmix64 uniforms in [0, 1), fixed seed.
+    /// Fixed-seed uniforms in [0, 1) (the core's Weyl sequence hashed by `mix64`).
     fn uniforms(seed: u64) -> impl FnMut() -> f32 {
-        let mut s = seed;
-        move || {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 40) as f32 / (1u64 << 24) as f32
-        }
+        let mut r = crate::hash::WeylHash(seed);
+        move || r.next_f32()
     }
 
     #[test]
@@ -514,7 +508,7 @@ mod tests {
                 &mut wl,
             )
             .unwrap();
-        assert!(s.pdf == 1.0 && rel(s.weight[0], fresnel_dielectric(a.z, 1.6).0) < 1e-6);
+        assert!(s.pdf == 1.0 && rel(s.weight[0], fresnel_dielectric(a.z, 1.6).reflectance) < 1e-6);
         assert_eq!(
             p.eval(&ctx.with_lobes(BsdfFlags::DELTA_REFLECTION), a, b, &wl),
             SampledSpectrum::ZERO

@@ -24,6 +24,8 @@
 //! | `filename` | string | —       | the table (read by the scene loader)     |
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
+use crate::math::find_interval;
+use crate::sampling::Distribution2D;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
@@ -122,7 +124,7 @@ fn locate(axis: &[f32], x: f32) -> (usize, f32) {
     if x >= axis[n - 1] {
         return (n - 2, 1.0);
     }
-    let k = axis.partition_point(|&a| a <= x).clamp(1, n - 1) - 1;
+    let k = find_interval(axis, x);
     (k, (x - axis[k]) / (axis[k + 1] - axis[k]))
 }
 
@@ -138,12 +140,8 @@ pub struct Tabulated {
     ti: Vec<f32>,
     to: Vec<f32>,
     pd: Vec<f32>,
-    /// Per θi node: cell probabilities' CDF over θ rows (SAMPLE_THETA + 1 entries each).
-    row_cdf: Vec<f32>,
-    /// Per θi node and θ row: conditional CDF over φ cells (SAMPLE_PHI + 1 entries each).
-    col_cdf: Vec<f32>,
-    /// Per θi node: probability of each cell.
-    cell_p: Vec<f32>,
+    /// Per θi node: the piecewise-constant distribution over (φ column, θ row) cells.
+    node_dist: Vec<Distribution2D>,
 }
 
 impl Tabulated {
@@ -163,9 +161,7 @@ impl Tabulated {
             ti,
             to,
             pd,
-            row_cdf: vec![],
-            col_cdf: vec![],
-            cell_p: vec![],
+            node_dist: vec![],
         };
         t.build_sampling();
         t
@@ -181,7 +177,7 @@ impl Tabulated {
         let nl = self.data.wavelengths_nm.len();
         for node in 0..self.ti.len() {
             let theta_i = self.ti[node];
-            let mut cells = vec![0.0f64; nt * np];
+            let mut cells = vec![0.0f32; nt * np];
             for r in 0..nt {
                 let (t0, t1) = (
                     r as f32 * FRAC_PI_2 / nt as f32,
@@ -195,37 +191,15 @@ impl Tabulated {
                     for l in 0..nl {
                         f += self.lookup_sym(theta_i, tc, pc, l);
                     }
-                    cells[r * np + c] = (f / nl as f32 * tc.cos() * solid).max(0.0) as f64;
+                    cells[r * np + c] = (f / nl as f32 * tc.cos() * solid).max(0.0);
                 }
             }
-            let total: f64 = cells.iter().sum();
-            if total <= 0.0 {
+            if cells.iter().all(|&c| c <= 0.0) {
                 // Black row: sample uniformly over cells (only the defensive part matters).
                 cells.iter_mut().for_each(|c| *c = 1.0);
             }
-            let total: f64 = cells.iter().sum();
-            let mut row_cdf = vec![0.0f32; nt + 1];
-            let mut acc = 0.0f64;
-            for r in 0..nt {
-                let row: f64 = cells[r * np..(r + 1) * np].iter().sum();
-                let mut cacc = 0.0f64;
-                let mut col = vec![0.0f32; np + 1];
-                for c in 0..np {
-                    cacc += cells[r * np + c];
-                    col[c + 1] = if row > 0.0 {
-                        (cacc / row) as f32
-                    } else {
-                        (c + 1) as f32 / np as f32
-                    };
-                }
-                col[np] = 1.0;
-                self.col_cdf.extend(col);
-                acc += row;
-                row_cdf[r + 1] = (acc / total) as f32;
-            }
-            row_cdf[nt] = 1.0;
-            self.row_cdf.extend(row_cdf);
-            self.cell_p.extend(cells.iter().map(|c| (c / total) as f32));
+            // Rows of the grid are θ rows, columns φ cells.
+            self.node_dist.push(Distribution2D::new(&cells, np, nt));
         }
     }
 
@@ -290,7 +264,7 @@ impl Tabulated {
     fn node_pdf(&self, node: usize, tb: f32, phi: f32) -> f32 {
         let r = ((tb / FRAC_PI_2 * SAMPLE_THETA as f32) as usize).min(SAMPLE_THETA - 1);
         let c = ((phi / PI * SAMPLE_PHI as f32) as usize).min(SAMPLE_PHI - 1);
-        let p = self.cell_p[node * SAMPLE_THETA * SAMPLE_PHI + r * SAMPLE_PHI + c];
+        let p = self.node_dist[node].pmf(c, r);
         let (t0, t1) = (
             r as f32 * FRAC_PI_2 / SAMPLE_THETA as f32,
             (r + 1) as f32 * FRAC_PI_2 / SAMPLE_THETA as f32,
@@ -298,25 +272,6 @@ impl Tabulated {
         let solid = (t0.cos() - t1.cos()) * (PI / SAMPLE_PHI as f32);
         0.5 * p / solid
     }
-}
-
-/// Index k with cdf[k] ≤ u < cdf[k+1], and u's position inside that interval.
-#[inline]
-fn sample_cdf(cdf: &[f32], u: f32) -> (usize, f32) {
-    let n = cdf.len() - 1;
-    let k = (cdf.partition_point(|&c| c <= u).max(1) - 1).min(n - 1);
-    // Skip empty intervals (zero probability).
-    let mut k = k;
-    while k + 1 < n && cdf[k + 1] <= cdf[k] {
-        k += 1;
-    }
-    let w = cdf[k + 1] - cdf[k];
-    let t = if w > 0.0 {
-        ((u - cdf[k]) / w).clamp(0.0, 1.0 - f32::EPSILON)
-    } else {
-        0.5
-    };
-    (k, t)
 }
 
 impl Bsdf for Tabulated {
@@ -370,10 +325,9 @@ impl Bsdf for Tabulated {
                 i + 1
             };
             let sign = if u < 0.5 { 1.0 } else { -1.0 };
-            let rows = &self.row_cdf[node * (SAMPLE_THETA + 1)..(node + 1) * (SAMPLE_THETA + 1)];
-            let (r, tr) = sample_cdf(rows, u2.x);
-            let base = (node * SAMPLE_THETA + r) * (SAMPLE_PHI + 1);
-            let (c, tc) = sample_cdf(&self.col_cdf[base..base + SAMPLE_PHI + 1], u2.y);
+            // u2.x picks the θ row (the marginal), u2.y the φ cell within it.
+            let ((c, r), _, t) = self.node_dist[node].sample_discrete(Vec2::new(u2.y, u2.x));
+            let (tc, tr) = (t.x, t.y);
             // Uniform in solid angle inside the cell: linear in cos θ and in φ.
             let (t0, t1) = (
                 r as f32 * FRAC_PI_2 / SAMPLE_THETA as f32,

@@ -91,7 +91,7 @@ impl<S: SpectralValue, I: IorValue> ThinDielectric<S, I> {
     ) -> (SampledSpectrum, SampledSpectrum) {
         let c = cos_theta.abs();
         let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
-        let r = SampledSpectrum::from_fn(|i| fresnel_dielectric(c, eta[i]).0);
+        let r = SampledSpectrum::from_fn(|i| fresnel_dielectric(c, eta[i]).reflectance);
         (r.map(thin_slab_reflectance), r.map(thin_slab_transmittance))
     }
 }

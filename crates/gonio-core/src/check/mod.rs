@@ -27,8 +27,11 @@
 //!   they are compared with a relative tolerance [`CheckConfig::rel_tol`] that only absorbs `f32`
 //!   rounding (1e-4 = ~1000 ulps).
 //!
-//! Deliberately broken models, kept to prove that each row can fail, are in [`broken`].
+//! Deliberately broken models, kept to prove that each row can fail, are in `broken`, compiled
+//! only with the `test-support` feature (the crate's tests enable it through a dev-dependency
+//! on the crate itself).
 
+#[cfg(feature = "test-support")]
 pub mod broken;
 pub mod chi2;
 pub mod consistency;
@@ -41,10 +44,12 @@ use crate::bsdf::Bsdf;
 use crate::rng::Pcg32;
 use crate::spectrum::SampledWavelengths;
 use glam::Vec3;
+use serde::{Serialize, Serializer};
 use std::fmt;
 
-/// How a row's figure is compared with its threshold.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How a row's figure is compared with its threshold (serialized as `"at_most"`, `"at_least"`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Bound {
     /// Passes when `figure <= threshold` (errors, asymmetries, albedos, counts).
     AtMost,
@@ -52,14 +57,18 @@ pub enum Bound {
     AtLeast,
 }
 
-/// One row of a check report: a measured figure, its threshold and the verdict.
-#[derive(Clone, Debug, PartialEq)]
+/// One row of a check report: a measured figure, its threshold and the verdict. Serializes (for
+/// `gonio check --json`) to `{"name", "figure", "threshold", "bound", "passed", "detail"}`,
+/// non-finite figures as strings ("NaN", "inf"), since JSON has no such numbers.
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CheckResult {
     /// Which check (`chi2`, `energy`, ...; see the module table).
     pub name: &'static str,
     /// The measured figure (p-value, max relative error, max albedo, number of bad values).
+    #[serde(serialize_with = "number_or_string")]
     pub figure: f64,
     /// The threshold the figure is compared with.
+    #[serde(serialize_with = "number_or_string")]
     pub threshold: f64,
     /// Direction of the comparison.
     pub bound: Bound,
@@ -108,44 +117,19 @@ impl CheckResult {
     }
 }
 
+/// A finite number as a JSON number, NaN and ±∞ as the strings "NaN", "inf", "-inf".
+fn number_or_string<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+    if x.is_finite() {
+        s.serialize_f64(*x)
+    } else {
+        s.serialize_str(&x.to_string())
+    }
+}
+
 impl CheckResult {
-    /// One JSON object `{"name", "figure", "threshold", "bound", "passed", "detail"}` (for
-    /// `gonio check --json`); non-finite figures are written as strings ("NaN", "inf").
+    /// The row as one compact JSON object (see [`CheckResult`] for the fields).
     pub fn to_json(&self) -> String {
-        fn num(x: f64) -> String {
-            if x.is_finite() {
-                format!("{x:e}")
-            } else {
-                format!("\"{x}\"")
-            }
-        }
-        fn string(s: &str) -> String {
-            let mut o = String::with_capacity(s.len() + 2);
-            o.push('"');
-            for c in s.chars() {
-                match c {
-                    '"' => o.push_str("\\\""),
-                    '\\' => o.push_str("\\\\"),
-                    '\n' => o.push_str("\\n"),
-                    c if (c as u32) < 0x20 => o.push_str(&format!("\\u{:04x}", c as u32)),
-                    c => o.push(c),
-                }
-            }
-            o.push('"');
-            o
-        }
-        format!(
-            "{{\"name\":{},\"figure\":{},\"threshold\":{},\"bound\":{},\"passed\":{},\"detail\":{}}}",
-            string(self.name),
-            num(self.figure),
-            num(self.threshold),
-            string(match self.bound {
-                Bound::AtMost => "at_most",
-                Bound::AtLeast => "at_least",
-            }),
-            self.passed,
-            string(&self.detail)
-        )
+        serde_json::to_string(self).expect("a check row always serializes (string keys only)")
     }
 }
 
@@ -435,7 +419,7 @@ mod tests {
         let r = CheckResult::compare("chi2", 0.25, Bound::AtLeast, 0.01, "a \"q\" \\ b\nc".into());
         assert_eq!(
             r.to_json(),
-            r#"{"name":"chi2","figure":2.5e-1,"threshold":1e-2,"bound":"at_least","passed":true,"detail":"a \"q\" \\ b\nc"}"#
+            r#"{"name":"chi2","figure":0.25,"threshold":0.01,"bound":"at_least","passed":true,"detail":"a \"q\" \\ b\nc"}"#
         );
         let r = CheckResult::compare("x", f64::NAN, Bound::AtMost, 0.0, String::new());
         assert!(r.to_json().contains(r#""figure":"NaN""#) && r.to_json().contains(r#""passed":false"#));

@@ -39,7 +39,7 @@ pub fn dielectric_vs_angle(eta: f32, samples: usize) -> AngleCurves {
         let (a_s, a_p) = fresnel_dielectric_amplitudes(c, eta);
         rs.push(a_s * a_s);
         rp.push(a_p * a_p);
-        r.push(fresnel_dielectric(c, eta).0);
+        r.push(fresnel_dielectric(c, eta).reflectance);
     }
     AngleCurves {
         angles_deg,
@@ -111,7 +111,7 @@ pub fn dielectric_vs_wavelength(
     wavelengths(lo, hi, samples)
         .map(|l| {
             let n = ior.eval(l);
-            (l, n, fresnel_dielectric(c, n / ext).0)
+            (l, n, fresnel_dielectric(c, n / ext).reflectance)
         })
         .collect()
 }
@@ -140,7 +140,7 @@ pub fn thin_slab_vs_angle(eta: f32, samples: usize) -> ThinSlabCurves {
     let angles_deg = angles(samples);
     let single: Vec<f32> = angles_deg
         .iter()
-        .map(|a| fresnel_dielectric(a.to_radians().cos().max(0.0), eta).0)
+        .map(|a| fresnel_dielectric(a.to_radians().cos().max(0.0), eta).reflectance)
         .collect();
     let slab_r = single.iter().map(|&r| thin_slab_reflectance(r)).collect();
     let slab_t = single.iter().map(|&r| thin_slab_transmittance(r)).collect();

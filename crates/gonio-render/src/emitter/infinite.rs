@@ -22,8 +22,9 @@
 //! distribution), so the solid-angle density is p(u, v)/(2π² sin θ).
 
 use super::LightRef;
-use super::distribution::Distribution2D;
 use glam::{Affine3A, Vec2, Vec3};
+use gonio_core::color::luminance;
+use gonio_core::sampling::Distribution2D;
 use gonio_core::warp;
 use gonio_core::{Frame, SampledSpectrum, SampledWavelengths, Spectrum};
 use std::f32::consts::{PI, TAU};
@@ -92,11 +93,6 @@ impl std::fmt::Debug for EnvMapLight {
             .field("scale", &self.scale)
             .finish()
     }
-}
-
-/// Rec. 709 luminance of a linear RGB triple.
-pub fn luminance(c: [f32; 3]) -> f32 {
-    0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 }
 
 impl EnvMapLight {

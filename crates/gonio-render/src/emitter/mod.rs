@@ -26,12 +26,11 @@
 
 pub mod area;
 pub mod delta;
-pub mod distribution;
 pub mod infinite;
 
 pub use area::AreaLight;
 pub use delta::{DirectionalLight, PointLight, SpotLight};
-pub use distribution::{Distribution1D, Distribution2D};
+pub use gonio_core::sampling::{Distribution1D, Distribution2D};
 pub use infinite::{ConstantLight, EnvMapLight};
 
 use glam::{Vec2, Vec3};

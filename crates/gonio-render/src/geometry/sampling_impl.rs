@@ -65,11 +65,8 @@ pub fn sample_area(shape: &WorldShape, u: Vec2) -> ShapeSample {
             finish(shape, shape.planar_point(d.x, d.y), pdf)
         }
         ShapeKind::Mesh(m) => {
-            // Choose the triangle by area (binary search of the cdf) and reuse u.x.
-            let n = m.cdf.len();
-            let i = m.cdf.partition_point(|&c| c <= u.x).min(n - 1);
-            let lo = if i == 0 { 0.0 } else { m.cdf[i - 1] };
-            let ux = ((u.x - lo) / (m.cdf[i] - lo)).clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+            // Choose the triangle by area and reuse u.x, rescaled inside its cell.
+            let (i, _, ux) = m.triangles.sample_discrete(u.x);
             let su = ux.sqrt();
             let (b1, b2) = (u.y * su, 1.0 - su);
             // b0 = 1 − b1 − b2 = su·(1 − u.y): uniform on the triangle.

@@ -4,6 +4,7 @@ use super::{Ray, SurfaceInteraction};
 use crate::scene::{Geometry, Shape, TriangleMesh};
 use glam::{Affine3A, DVec3, Mat3, Vec2, Vec3, Vec3A};
 use gonio_core::Frame;
+use gonio_core::sampling::Distribution1D;
 use std::f32::consts::{PI, TAU};
 use std::sync::Arc;
 
@@ -32,7 +33,7 @@ pub enum GeometryError {
     },
 }
 
-/// A triangle mesh in world space, with the cumulative area table for area sampling.
+/// A triangle mesh in world space, with the distribution of its triangles by area.
 #[derive(Clone, Debug)]
 pub struct WorldMesh {
     /// Vertex positions (world).
@@ -43,8 +44,8 @@ pub struct WorldMesh {
     pub uvs: Vec<Vec2>,
     /// Triangles.
     pub indices: Vec<[u32; 3]>,
-    /// Cumulative triangle areas divided by the total; `cdf[i]` is the end of triangle `i`.
-    pub cdf: Vec<f32>,
+    /// Triangles with probability ∝ area (for area sampling).
+    pub triangles: Distribution1D,
     /// Total area.
     pub area: f32,
 }
@@ -574,23 +575,22 @@ impl WorldMesh {
             .iter()
             .map(|&n| (normal_m * n).normalize_or_zero())
             .collect();
-        let mut cdf = Vec::with_capacity(mesh.indices.len());
-        let mut total = 0.0f64;
-        for t in &mesh.indices {
-            let [a, b, c] = t.map(|i| positions[i as usize]);
-            total += 0.5 * (b - a).cross(c - a).length() as f64;
-            cdf.push(total);
-        }
-        let cdf = cdf
-            .into_iter()
-            .map(|c| if total > 0.0 { (c / total) as f32 } else { 0.0 })
+        let areas: Vec<f32> = mesh
+            .indices
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| positions[i as usize]);
+                0.5 * (b - a).cross(c - a).length()
+            })
             .collect();
+        let total: f64 = areas.iter().map(|&a| a as f64).sum();
+        let triangles = Distribution1D::new(&areas);
         Ok(Self {
             positions,
             normals,
             uvs: mesh.uvs.clone(),
             indices: mesh.indices.clone(),
-            cdf,
+            triangles,
             area: total as f32,
         })
     }

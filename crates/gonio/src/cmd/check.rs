@@ -7,7 +7,8 @@
 
 use crate::cmd::plot::{bsdf_label, load};
 use clap::Args as ClapArgs;
-use gonio_core::check::{Bound, CheckConfig, CheckResult, all_passed, battery};
+use gonio_core::check::{CheckConfig, CheckResult, all_passed, battery};
+use serde::Serialize;
 use std::io::Write;
 use std::process::ExitCode;
 
@@ -62,54 +63,17 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     Ok(if ok { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
-fn json_str(s: &str) -> String {
-    let mut o = String::with_capacity(s.len() + 2);
-    o.push('"');
-    for c in s.chars() {
-        match c {
-            '"' => o.push_str("\\\""),
-            '\\' => o.push_str("\\\\"),
-            '\n' => o.push_str("\\n"),
-            '\t' => o.push_str("\\t"),
-            c if (c as u32) < 0x20 => o.push_str(&format!("\\u{:04x}", c as u32)),
-            c => o.push(c),
-        }
-    }
-    o.push('"');
-    o
+/// The whole report, as `gonio check --json` prints it.
+#[derive(Serialize)]
+struct Report<'a> {
+    bsdf: &'a str,
+    passed: bool,
+    rows: &'a [CheckResult],
 }
 
-fn json_num(x: f64) -> String {
-    if x.is_finite() {
-        format!("{x:e}")
-    } else {
-        json_str(&x.to_string())
-    }
-}
-
-/// The report as JSON: `{"bsdf": ..., "passed": bool, "rows": [{"name", "figure", "bound",
-/// "threshold", "passed", "detail"}, ...]}`; a non-finite figure is a string ("NaN", "inf").
+/// The report as JSON: `{"bsdf": ..., "passed": bool, "rows": [{"name", "figure", "threshold",
+/// "bound", "passed", "detail"}, ...]}`; a non-finite figure is a string ("NaN", "inf").
 pub fn to_json(bsdf: &str, rows: &[CheckResult], passed: bool) -> String {
-    let rows: Vec<String> = rows
-        .iter()
-        .map(|r| {
-            format!(
-                r#"{{"name": {}, "figure": {}, "bound": {}, "threshold": {}, "passed": {}, "detail": {}}}"#,
-                json_str(r.name),
-                json_num(r.figure),
-                json_str(match r.bound {
-                    Bound::AtMost => "at_most",
-                    Bound::AtLeast => "at_least",
-                }),
-                json_num(r.threshold),
-                r.passed,
-                json_str(&r.detail)
-            )
-        })
-        .collect();
-    format!(
-        "{{\"bsdf\": {}, \"passed\": {passed}, \"rows\": [\n  {}\n]}}",
-        json_str(bsdf),
-        rows.join(",\n  ")
-    )
+    serde_json::to_string_pretty(&Report { bsdf, passed, rows })
+        .expect("a check report always serializes (string keys only)")
 }

@@ -1,12 +1,20 @@
 //! Piecewise-constant distributions for importance sampling: a 1D discrete/continuous
-//! distribution (light selection, rows of an environment map) and a 2D one built from a marginal
-//! over rows and conditionals per row (environment maps, pbrt's `PiecewiseConstant2D`).
+//! distribution (light selection, triangles of a mesh by area, rows of an environment map) and a
+//! 2D one built from a marginal over rows and conditionals per row (environment maps, the
+//! sampling tables of `tabulated`).
+//!
+//! These are pbrt-v4's `PiecewiseConstant1D` and `PiecewiseConstant2D` (Pharr, Jakob and
+//! Humphreys, *Physically Based Rendering*, 4th ed., §A.1 and §A.5, `util/sampling.h`) under the
+//! names this crate has always used: the CDF is searched with [`find_interval`], the cell's
+//! probability is the difference of its two CDF entries (so [`Distribution1D::pmf`] is exactly
+//! the probability with which sampling returns the cell), and zero-valued cells are never drawn.
 
+use crate::math::find_interval;
 use glam::Vec2;
 
 /// A piecewise-constant density on [0, 1) with `n` equal cells, from non-negative cell values.
 /// Also a discrete distribution over the cells (probability ∝ value).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Distribution1D {
     func: Vec<f32>,
     /// cdf[i] = P(cell < i); cdf[n] = 1.
@@ -66,11 +74,9 @@ impl Distribution1D {
 
     /// The cell containing `u`: largest i with cdf[i] ≤ u, skipping empty cells.
     fn find(&self, u: f32) -> usize {
-        let n = self.func.len();
-        // partition_point gives the first index with cdf > u; cells of zero probability have
-        // cdf[i] == cdf[i+1] and are never returned.
-        let i = self.cdf.partition_point(|&c| c <= u);
-        i.clamp(1, n) - 1
+        // Cells of zero probability have cdf[i] == cdf[i+1] and are never returned: the largest
+        // i with cdf[i] ≤ u is past them.
+        find_interval(&self.cdf, u)
     }
 
     /// Discrete probability of cell `i`.
@@ -113,7 +119,7 @@ impl Distribution1D {
 
 /// A piecewise-constant density on [0, 1)² over a `width` × `height` grid (row-major values,
 /// row = v, column = u): a marginal over rows and one conditional per row.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Distribution2D {
     rows: Vec<Distribution1D>,
     marginal: Distribution1D,
@@ -141,6 +147,23 @@ impl Distribution2D {
         let (v, pdf_v, row) = self.marginal.sample_continuous(u.y);
         let (x, pdf_u, _) = self.rows[row].sample_continuous(u.x);
         (Vec2::new(x, v), pdf_v * pdf_u)
+    }
+
+    /// Draws a cell with probability ∝ its value: ((column, row), probability, `u` rescaled to
+    /// [0, 1)² inside the cell). `u.y` chooses the row and `u.x` the column, as in
+    /// [`Self::sample`].
+    pub fn sample_discrete(&self, u: Vec2) -> ((usize, usize), f32, Vec2) {
+        let (row, p_row, v) = self.marginal.sample_discrete(u.y);
+        let (col, p_col, x) = self.rows[row].sample_discrete(u.x);
+        ((col, row), p_row * p_col, Vec2::new(x, v))
+    }
+
+    /// Discrete probability of cell (`col`, `row`) under [`Self::sample_discrete`].
+    pub fn pmf(&self, col: usize, row: usize) -> f32 {
+        match self.rows.get(row) {
+            Some(r) => self.marginal.pmf(row) * r.pmf(col),
+            None => 0.0,
+        }
     }
 
     /// Density of [`Self::sample`] at `uv`.
@@ -213,5 +236,28 @@ mod tests {
             assert!(pdf > 0.0);
             assert!((pdf - d.pdf(uv)).abs() / pdf < 1e-3);
         }
+    }
+
+    #[test]
+    fn two_d_discrete_cells_follow_values() {
+        // 2 × 2 grid, row-major: row 0 = (1, 0), row 1 = (1, 2).
+        let d = Distribution2D::new(&[1.0, 0.0, 1.0, 2.0], 2, 2);
+        assert!((d.pmf(0, 0) - 0.25).abs() < 1e-6);
+        assert_eq!(d.pmf(1, 0), 0.0);
+        assert!((d.pmf(0, 1) - 0.25).abs() < 1e-6);
+        assert!((d.pmf(1, 1) - 0.5).abs() < 1e-6);
+        assert_eq!(d.pmf(0, 2), 0.0);
+        let mut counts = [0usize; 4];
+        let n = 12;
+        for j in 0..n {
+            for i in 0..n {
+                let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                let ((c, r), p, ur) = d.sample_discrete(u);
+                assert_eq!(p, d.pmf(c, r));
+                assert!((0.0..1.0).contains(&ur.x) && (0.0..1.0).contains(&ur.y));
+                counts[r * 2 + c] += 1;
+            }
+        }
+        assert_eq!(counts, [36, 0, 36, 72]);
     }
 }
