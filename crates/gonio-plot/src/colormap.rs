@@ -54,7 +54,7 @@ mod tests {
     fn viridis_ends_and_lightness_increase() {
         assert_eq!(colormap(0.0), [68, 1, 84]);
         assert_eq!(colormap(1.0), [253, 231, 37]);
-        let lum = |c: [f32; 3]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+        let lum = gonio_core::color::luminance;
         for k in 0..100 {
             assert!(lum(viridis((k + 1) as f32 / 100.0)) > lum(viridis(k as f32 / 100.0)));
         }
