@@ -33,9 +33,9 @@
 //!    light's solid-angle density from the previous vertex). `hide_emitters` drops what the
 //!    camera sees directly.
 //! 2. **Next-event estimation**, only when the BSDF has a smooth (diffuse or glossy) lobe: pick a
-//!    light ([`Lights::select_at`]), draw a direction on it (solid angle for spheres, and for
-//!    rectangles that subtend more than [`SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE`]; area otherwise), add β·f·|cos|·Lᵢ·T/(p_sel·p_dir)·w, with w the power heuristic against the
-//!    BSDF density (w = 1 for delta lights). T is the visibility: 0 or 1, or, with
+//!    light and draw a direction on it ([`Lights::sample_li`]; each light kind has its own
+//!    policy, e.g. [`crate::emitter::area`]), add β·f·|cos|·Lᵢ·T/(p_sel·p_dir)·w, with w the
+//!    power heuristic against the BSDF density (w = 1 for delta lights). T is the visibility: 0 or 1, or, with
 //!    `thin_shadows`, the product of the straight-through transmittances
 //!    ([`gonio_core::Bsdf::null_transmission`]) of the `thindielectric` sheets crossed.
 //! 3. **BSDF sampling**: β ← β·weight, η_path ← η_path·η (the relative index crossed). A
