@@ -73,7 +73,7 @@
 //! `β · f_z(ω_cam, ω_in) · |ω_in·n_s|/|ω_in·n_g| · |ω_cam·n_g| / d² · 1/(cos³θ·A_pix) · V · w`,
 //!
 //! with `f` evaluated exactly as the path tracer would (radiance mode, `wi` towards the camera),
-//! `1/(cos³θ·A_pix)` the pinhole's importance ([`Camera::connect`]), `V` the visibility (or sheet
+//! `1/(cos³θ·A_pix)` the pinhole's importance ([`Camera::connect`](crate::camera::Camera::connect)), `V` the visibility (or sheet
 //! transmittance) and `w` the MIS weight; the render divides the splatted sums by the number of
 //! light subpaths. A camera-path vertex `x` joins each kept `z` with
 //!
