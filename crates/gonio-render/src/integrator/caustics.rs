@@ -122,7 +122,7 @@ impl EmissionSampler {
     ) -> Option<Self> {
         let delta: Vec<bool> = materials
             .iter()
-            .map(|m| m.with_bsdf(Vec2::ZERO, |b: &dyn Bsdf| b.flags().is_delta()))
+            .map(|m| super::with_bsdf(m, Vec2::ZERO, |b: &dyn Bsdf| b.flags().is_delta()))
             .collect();
         let any_delta = shape_material
             .iter()

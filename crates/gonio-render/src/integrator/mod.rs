@@ -291,11 +291,10 @@ impl<'a> PathTracer<'a> {
     }
 
     /// Calls `f` with the BSDF of shape `shape`'s material at texture coordinates `uv` (`None`
-    /// when the shape has no material): the one place the integrators build a BSDF at a hit.
+    /// when the shape has no material).
     #[inline]
     fn bsdf_at<R>(&self, shape: u32, uv: Vec2, f: impl FnOnce(&dyn Bsdf) -> R) -> Option<R> {
-        let material = self.material_of(shape)?;
-        Some(material.with_bsdf(uv, f))
+        Some(with_bsdf(self.material_of(shape)?, uv, f))
     }
 
     fn is_thin(&self, shape: u32) -> bool {
@@ -648,6 +647,13 @@ impl Integrator for PathTracer<'_> {
         let l = self.li(sample.ray, &mut sample.sampler, &mut sample.wavelengths, &light);
         value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
     }
+}
+
+/// Calls `f` with `material`'s BSDF at texture coordinates `uv`: the one place the integrators
+/// build a BSDF.
+#[inline]
+fn with_bsdf<R>(material: &Material, uv: Vec2, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
+    material.with_bsdf(uv, f)
 }
 
 /// True when a material can pass light straight through (a `thindielectric`, possibly inside
