@@ -326,9 +326,97 @@ impl SampledWavelengths {
     }
 }
 
+/// Hero-wavelength sampling from the visible pdf through a table: the inverse CDF of
+/// [`sample_visible_wavelength`] (Radziszewski's sech² fit, as in pbrt and Mitsuba) tabulated at
+/// 4096 points and interpolated linearly. Linear interpolation of the inverse CDF samples the
+/// piecewise-constant density p = (1/N)/(λᵢ₊₁ − λᵢ) on each interval, which is returned with each
+/// wavelength, so the estimator stays exactly unbiased; the density differs from the sech² curve
+/// by less than 1 % (at the far tails, where few samples land). It replaces four `f64` atanh and
+/// cosh per camera sample (a fifth of a render's time) by table lookups. The four wavelengths are
+/// the hero and its rotations by ¼, ½ and ¾ in sample space, as in
+/// [`SampledWavelengths::sample_visible`]. The table is computed once per process
+/// ([`VisibleWavelengthTable::get`]).
+#[derive(Clone, Debug)]
+pub struct VisibleWavelengthTable {
+    lambda: Vec<f32>,
+}
+
+impl VisibleWavelengthTable {
+    const N: usize = 4096;
+
+    fn new() -> Self {
+        let lambda = (0..=Self::N)
+            .map(|i| sample_visible_wavelength(i as f32 / Self::N as f32))
+            .collect();
+        Self { lambda }
+    }
+
+    /// The table (built on first use).
+    pub fn get() -> &'static Self {
+        static TABLE: std::sync::OnceLock<VisibleWavelengthTable> = std::sync::OnceLock::new();
+        TABLE.get_or_init(Self::new)
+    }
+
+    /// One wavelength for `u` ∈ [0, 1) and the table's density there: (λ, p(λ)).
+    #[inline]
+    pub fn one(&self, u: f32) -> (f32, f32) {
+        let x = (u * Self::N as f32).clamp(0.0, Self::N as f32 - 1e-3);
+        let i = (x as usize).min(Self::N - 1);
+        let (a, b) = (self.lambda[i], self.lambda[i + 1]);
+        let t = x - i as f32;
+        (a + t * (b - a), 1.0 / (Self::N as f32 * (b - a)))
+    }
+
+    /// The hero wavelength for `u` and its three rotations, with their densities.
+    #[inline]
+    pub fn sample(&self, u: f32) -> SampledWavelengths {
+        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
+        let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
+        for k in 0..N_SPECTRUM_SAMPLES {
+            let mut uk = u + k as f32 * 0.25;
+            if uk >= 1.0 {
+                uk -= 1.0;
+            }
+            (lambda[k], pdf[k]) = self.one(uk);
+        }
+        SampledWavelengths::from_parts(lambda, pdf)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn wavelength_table_density_is_exact_and_close_to_the_visible_pdf() {
+        let t = VisibleWavelengthTable::get();
+        let n = 100_000;
+        // The returned density integrates to one over [360, 830] (Σ p·Δλ per interval = 1/N).
+        let mut worst = 0.0f32;
+        let mut y_est = 0.0f64;
+        for k in 0..n {
+            let u = (k as f32 + 0.5) / n as f32;
+            let (l, p) = t.one(u);
+            assert!((360.0..=830.0).contains(&l));
+            worst = worst.max((p / visible_wavelength_pdf(l) - 1.0).abs());
+            y_est += (crate::color::cie_y(l) / p) as f64;
+        }
+        assert!(
+            worst < 1e-2,
+            "table density departs from the sech² pdf by {worst}"
+        );
+        // Unbiased: the estimate of ∫ȳ dλ with the table's density matches CIE_Y_INTEGRAL.
+        let y = y_est / n as f64;
+        assert!(
+            (y / crate::color::CIE_Y_INTEGRAL as f64 - 1.0).abs() < 2e-4,
+            "∫ȳ = {y}"
+        );
+        // The four wavelengths are the hero and its rotations by ¼ in sample space.
+        let wl = t.sample(0.1);
+        for k in 0..4 {
+            assert!((wl.lambda(k) - t.one(0.1 + 0.25 * k as f32).0).abs() < 1e-3);
+        }
+    }
 
     #[test]
     fn visible_pdf_integrates_to_one() {

@@ -1,6 +1,14 @@
 //! Mitsuba's `perspective` sensor, exactly (Mitsuba 3 `src/sensors/perspective.cpp`,
 //! `src/render/sensor.cpp`).
 //!
+//! It is the one implementation ([`PerspectiveCamera`]) of the [`Camera`] trait the render loop
+//! and the integrators use. A camera answers the questions of both directions of transport:
+//! [`Camera::generate_ray`] for paths traced from the camera, [`Camera::connect`] (and
+//! [`Camera::project`]) for light tracing, which joins a point to the camera and needs the
+//! camera's importance and the density with which a camera sample would have produced the
+//! direction. Mitsuba's `thinlens` and `orthographic` sensors fit the same trait (a thin lens
+//! samples its aperture in `connect`).
+//!
 //! Camera space: +z forward, +y up, **+x left** (Mitsuba's `lookat` builds the columns
 //! `[left, up, dir, origin]`). A camera-space point (x, y, z) lands at film coordinates
 //! `s = (1 − x/(z·T))/2`, `t = (1 − aspect·y/(z·T))/2` with `T = tan(fov_x/2)` and
@@ -11,9 +19,36 @@ use crate::geometry::Ray;
 use crate::scene::Sensor;
 use glam::{Affine3A, Vec2, Vec3};
 
-/// A pinhole perspective camera.
+/// A camera: rays for film positions, and the connection of world points to the film.
+///
+/// Film positions are in pixels: x ∈ [0, width) to the right, y ∈ [0, height) downwards; pixel
+/// (i, j) covers [i, i+1) × [j, j+1).
+pub trait Camera: std::fmt::Debug + Send + Sync {
+    /// The camera ray through film position `film`; `d` is unit length in world space and `tmax`
+    /// ends the ray where the camera stops seeing (the far clip plane).
+    fn generate_ray(&self, film: Vec2) -> Ray;
+
+    /// Where a world point appears on the film (pixels), or `None` when the camera cannot see it
+    /// (behind it).
+    fn project(&self, p: Vec3) -> Option<Vec2>;
+
+    /// Camera position (world): the pinhole, or the centre of a lens.
+    fn position(&self) -> Vec3;
+
+    /// The camera's side of a light-tracing connection from world point `p` ([`CameraConnection`]:
+    /// film position, importance, density), or `None` when `p` cannot be seen (behind the camera,
+    /// outside the clip range, off the film).
+    fn connect(&self, p: Vec3) -> Option<CameraConnection>;
+}
+
+/// The camera of a scene's sensor (today always [`PerspectiveCamera`]).
+pub fn from_sensor(sensor: &Sensor) -> Box<dyn Camera> {
+    Box::new(PerspectiveCamera::new(sensor))
+}
+
+/// A pinhole perspective camera (Mitsuba's `perspective`).
 #[derive(Clone, Debug)]
-pub struct Camera {
+pub struct PerspectiveCamera {
     to_world: Affine3A,
     to_camera: Affine3A,
     /// tan(fov_x / 2).
@@ -25,7 +60,7 @@ pub struct Camera {
     far: f32,
 }
 
-impl Camera {
+impl PerspectiveCamera {
     /// The camera of a scene sensor (fov already converted to the horizontal axis).
     pub fn new(sensor: &Sensor) -> Self {
         Self::from_parts(
@@ -59,11 +94,13 @@ impl Camera {
             far,
         }
     }
+}
 
+impl Camera for PerspectiveCamera {
     /// The camera ray through film position `film` (in pixels: x ∈ [0, width) to the right,
     /// y ∈ [0, height) downwards; pixel (i, j) covers [i, i+1) × [j, j+1)). The ray starts on the
     /// near plane; `tmax` reaches the far plane; `d` is unit length in world space.
-    pub fn generate_ray(&self, film: Vec2) -> Ray {
+    fn generate_ray(&self, film: Vec2) -> Ray {
         let s = film.x / self.width;
         let t = film.y / self.height;
         let dc = Vec3::new(
@@ -88,7 +125,7 @@ impl Camera {
     }
 
     /// Where a world point appears on the film (pixels), or `None` behind the camera.
-    pub fn project(&self, p: Vec3) -> Option<Vec2> {
+    fn project(&self, p: Vec3) -> Option<Vec2> {
         let c = self.to_camera.transform_point3(p);
         if c.z <= 0.0 {
             return None;
@@ -99,7 +136,7 @@ impl Camera {
     }
 
     /// Camera position (world).
-    pub fn position(&self) -> Vec3 {
+    fn position(&self) -> Vec3 {
         self.to_world.transform_point3(Vec3::ZERO)
     }
 
@@ -113,7 +150,7 @@ impl Camera {
     /// `∫_pixel L du / A_pix = ∫ L·|cos θ_p| / (d²·cos³θ·A_pix) dA`. The factor
     /// [`CameraConnection::importance`] is `1/(cos³θ·A_pix)`; the caller multiplies by
     /// `|cos θ_p|/d²` and by its path throughput.
-    pub fn connect(&self, p: Vec3) -> Option<CameraConnection> {
+    fn connect(&self, p: Vec3) -> Option<CameraConnection> {
         let c = self.to_camera.transform_point3(p);
         if !(c.z >= self.near && c.z <= self.far) {
             return None;

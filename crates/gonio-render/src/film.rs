@@ -15,11 +15,17 @@
 //! order tiles are merged: merging in a fixed order (e.g. tile index) gives the same image
 //! whatever the number of threads.
 //!
-//! The film holds three linear colour channels; the caller converts spectral samples first (XYZ,
-//! then linear sRGB, with `gonio_core::color`). The filter is linear, so converting before or
-//! after filtering gives the same pixel.
+//! # Channels
+//!
+//! The film accumulates named channels ([`Channels`]), each filtered like the others with the
+//! same weights: today the integrators write `R`, `G`, `B` (linear sRGB; the caller converts
+//! spectral samples first, with `gonio_core::color`: the filter is linear, so converting before
+//! or after filtering gives the same pixel); an AOV, moment or Stokes integrator adds layers with
+//! the EXR naming `layer.channel` (`albedo.R`, `m2.R`, `S1.G`), and [`Film::to_channels`]
+//! writes them all to EXR under those names. With three channels a pixel is exactly what the
+//! RGB film was: four sums (three channels and the weight).
 
-use crate::image::RgbImage;
+use crate::image::{ChannelImage, RgbImage};
 use crate::scene::Filter;
 use glam::{UVec2, Vec2};
 
@@ -71,14 +77,62 @@ impl Kernel {
     }
 }
 
+/// The names of a film's channels, in the order samples give their values.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Channels {
+    names: Vec<String>,
+}
+
+impl Channels {
+    /// `R`, `G`, `B`: linear sRGB radiance.
+    pub fn rgb() -> Self {
+        Self::new(["R", "G", "B"])
+    }
+
+    /// Channels with these names (EXR naming: `R`, or `layer.R` for a layer).
+    pub fn new<S: Into<String>>(names: impl IntoIterator<Item = S>) -> Self {
+        Self {
+            names: names.into_iter().map(Into::into).collect(),
+        }
+    }
+
+    /// Adds the channels of a layer: `layer.c` for each `c` of `channels` (`R`, `G`, `B` for a
+    /// colour layer).
+    pub fn with_layer(mut self, layer: &str, channels: &[&str]) -> Self {
+        self.names.extend(channels.iter().map(|c| format!("{layer}.{c}")));
+        self
+    }
+
+    /// Number of channels.
+    pub fn len(&self) -> usize {
+        self.names.len()
+    }
+
+    /// True when there is no channel.
+    pub fn is_empty(&self) -> bool {
+        self.names.is_empty()
+    }
+
+    /// The names.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// Index of the channel called `name`.
+    pub fn index(&self, name: &str) -> Option<usize> {
+        self.names.iter().position(|n| n == name)
+    }
+}
+
 /// The whole image being accumulated.
 #[derive(Clone, Debug)]
 pub struct Film {
     width: u32,
     height: u32,
     kernel: Kernel,
-    /// Per pixel: weighted colour sum and weight sum.
-    pixels: Vec<[f64; 4]>,
+    channels: Channels,
+    /// Per pixel: weighted channel sums, then the weight sum (stride `channels.len() + 1`).
+    pixels: Vec<f64>,
 }
 
 /// A rectangular part of the film that one thread accumulates into.
@@ -91,19 +145,34 @@ pub struct FilmTile {
     min: UVec2,
     max: UVec2,
     kernel: Kernel,
-    data: Vec<[f32; 4]>,
+    /// Per stored pixel: weighted channel sums, then the weight sum.
+    data: Vec<f32>,
+    /// Values per stored pixel (channels + 1).
+    stride: usize,
     invalid: u64,
 }
 
 impl Film {
-    /// An empty film.
+    /// An empty film with the channels `R`, `G`, `B`.
     pub fn new(width: u32, height: u32, filter: Filter) -> Self {
+        Self::with_channels(width, height, filter, Channels::rgb())
+    }
+
+    /// An empty film with these channels.
+    pub fn with_channels(width: u32, height: u32, filter: Filter, channels: Channels) -> Self {
+        let stride = channels.len() + 1;
         Self {
             width,
             height,
             kernel: Kernel::new(filter),
-            pixels: vec![[0.0; 4]; (width * height) as usize],
+            channels,
+            pixels: vec![0.0; (width * height) as usize * stride],
         }
+    }
+
+    /// The channels.
+    pub fn channels(&self) -> &Channels {
+        &self.channels
     }
 
     /// Film size in pixels.
@@ -120,13 +189,15 @@ impl Film {
         let lo = block_min.saturating_sub(m);
         let hi = (block_max + m).min(size);
         let n = ((hi.x - lo.x) * (hi.y - lo.y)) as usize;
+        let stride = self.channels.len() + 1;
         FilmTile {
             block_min,
             block_max,
             min: lo,
             max: hi,
             kernel: self.kernel,
-            data: vec![[0.0; 4]; n],
+            data: vec![0.0; n * stride],
+            stride,
             invalid: 0,
         }
     }
@@ -147,32 +218,48 @@ impl Film {
     /// Adds a tile's sums into the film.
     pub fn merge(&mut self, tile: &FilmTile) {
         let tw = tile.max.x - tile.min.x;
+        let stride = tile.stride;
+        debug_assert_eq!(stride, self.channels.len() + 1, "a tile of another film");
         for y in tile.min.y..tile.max.y {
             for x in tile.min.x..tile.max.x {
-                let s = tile.data[((y - tile.min.y) * tw + (x - tile.min.x)) as usize];
-                let d = &mut self.pixels[(y * self.width + x) as usize];
-                for c in 0..4 {
+                let i = ((y - tile.min.y) * tw + (x - tile.min.x)) as usize * stride;
+                let s = &tile.data[i..i + stride];
+                let j = (y * self.width + x) as usize * stride;
+                let d = &mut self.pixels[j..j + stride];
+                for c in 0..stride {
                     d[c] += s[c] as f64;
                 }
             }
         }
     }
 
-    /// The image: per pixel the filter-weighted mean of its samples (black where none landed).
+    /// Every channel: per pixel the filter-weighted mean of its samples (zero where none landed).
+    pub fn to_channels(&self) -> ChannelImage {
+        let stride = self.channels.len() + 1;
+        let n = self.channels.len();
+        let mut data = Vec::with_capacity(self.pixels.len() / stride * n);
+        for p in self.pixels.chunks_exact(stride) {
+            let w = p[n];
+            data.extend(p[..n].iter().map(|&v| if w > 0.0 { (v / w) as f32 } else { 0.0 }));
+        }
+        ChannelImage {
+            width: self.width as usize,
+            height: self.height as usize,
+            names: self.channels.names().to_vec(),
+            data,
+        }
+    }
+
+    /// The image of the channels `R`, `G`, `B`: per pixel the filter-weighted mean of its
+    /// samples (black where none landed, or where the film has no such channel).
     pub fn to_image(&self) -> RgbImage {
-        RgbImage::from_fn(self.width as usize, self.height as usize, |x, y| {
-            let p = self.pixels[y * self.width as usize + x];
-            if p[3] > 0.0 {
-                [(p[0] / p[3]) as f32, (p[1] / p[3]) as f32, (p[2] / p[3]) as f32]
-            } else {
-                [0.0; 3]
-            }
-        })
+        self.to_channels().rgb()
     }
 
     /// The accumulated weight of a pixel (for tests and progress displays).
     pub fn weight(&self, x: u32, y: u32) -> f64 {
-        self.pixels[(y * self.width + x) as usize][3]
+        let stride = self.channels.len() + 1;
+        self.pixels[(y * self.width + x) as usize * stride + stride - 1]
     }
 }
 
@@ -187,10 +274,14 @@ impl FilmTile {
         self.invalid
     }
 
-    /// Adds a sample of colour `c` at film position `p` (pixels). Samples outside the tile's block
-    /// are accepted; only pixels the tile stores receive them.
-    pub fn add_sample(&mut self, p: Vec2, c: [f32; 3]) {
-        if !(c[0].is_finite() && c[1].is_finite() && c[2].is_finite()) {
+    /// Adds a sample of channel values `c` (one per channel of the film, e.g. `[r, g, b]`) at
+    /// film position `p` (pixels). Samples outside the tile's block are accepted; only pixels the
+    /// tile stores receive them.
+    #[inline]
+    pub fn add_sample(&mut self, p: Vec2, c: impl AsRef<[f32]>) {
+        let c = c.as_ref();
+        debug_assert_eq!(c.len() + 1, self.stride, "one value per channel");
+        if !c.iter().all(|v| v.is_finite()) {
             self.invalid += 1;
             return;
         }
@@ -204,6 +295,8 @@ impl FilmTile {
             return;
         }
         let tw = (self.max.x - self.min.x) as i64;
+        let stride = self.stride;
+        let n = stride - 1;
         let nx = (x1 - x0 + 1) as usize;
         let mut stack = [0.0f32; 16];
         let mut heap;
@@ -227,11 +320,12 @@ impl FilmTile {
                 if w == 0.0 {
                     continue;
                 }
-                let d = &mut self.data[(row + x0 + i as i64 - self.min.x as i64) as usize];
-                d[0] += w * c[0];
-                d[1] += w * c[1];
-                d[2] += w * c[2];
-                d[3] += w;
+                let at = (row + x0 + i as i64 - self.min.x as i64) as usize * stride;
+                let d = &mut self.data[at..at + stride];
+                for (dk, &ck) in d[..n].iter_mut().zip(c) {
+                    *dk += w * ck;
+                }
+                d[n] += w;
             }
         }
     }
@@ -258,6 +352,8 @@ pub struct SplatFilm {
     /// Per column and per row: ∫ of the 1-D filter centred on the pixel over the film.
     norm_x: Vec<f32>,
     norm_y: Vec<f32>,
+    /// Values per pixel.
+    channels: usize,
     sums: Vec<std::sync::atomic::AtomicI64>,
     dropped: std::sync::atomic::AtomicU64,
 }
@@ -266,8 +362,13 @@ pub struct SplatFilm {
 const SPLAT_SCALE: f64 = (1u64 << 40) as f64;
 
 impl SplatFilm {
-    /// An empty splat image of the film's size and filter.
+    /// An empty splat image of the film's size and filter, with three channels (`R`, `G`, `B`).
     pub fn new(width: u32, height: u32, filter: Filter) -> Self {
+        Self::with_channels(width, height, filter, 3)
+    }
+
+    /// An empty splat image with `channels` values per pixel (those of the film it adds to).
+    pub fn with_channels(width: u32, height: u32, filter: Filter, channels: usize) -> Self {
         let kernel = Kernel::new(filter);
         let norm = |n: u32| -> Vec<f32> {
             (0..n)
@@ -293,16 +394,20 @@ impl SplatFilm {
             norm_x: norm(width),
             norm_y: norm(height),
             kernel,
-            sums: (0..3 * width as usize * height as usize)
+            channels,
+            sums: (0..channels * width as usize * height as usize)
                 .map(|_| std::sync::atomic::AtomicI64::new(0))
                 .collect(),
             dropped: std::sync::atomic::AtomicU64::new(0),
         }
     }
 
-    /// Adds colour `c` at film position `p` (pixels), spread by the filter.
-    pub fn splat(&self, p: Vec2, c: [f32; 3]) {
+    /// Adds channel values `c` (e.g. a colour `[r, g, b]`) at film position `p` (pixels), spread
+    /// by the filter.
+    pub fn splat(&self, p: Vec2, c: impl AsRef<[f32]>) {
         use std::sync::atomic::Ordering::Relaxed;
+        let c = c.as_ref();
+        debug_assert_eq!(c.len(), self.channels, "one value per channel");
         let limit = (i64::MAX / 4) as f64 / SPLAT_SCALE;
         if !c.iter().all(|v| v.is_finite() && (*v as f64).abs() < limit) {
             self.dropped.fetch_add(1, Relaxed);
@@ -323,7 +428,7 @@ impl SplatFilm {
                 if !(w > 0.0) {
                     continue;
                 }
-                let i = 3 * (y as usize * self.width as usize + x as usize);
+                let i = self.channels * (y as usize * self.width as usize + x as usize);
                 for (k, &v) in c.iter().enumerate() {
                     let q = (w as f64 * v as f64 * SPLAT_SCALE).round() as i64;
                     if q != 0 {
@@ -339,14 +444,25 @@ impl SplatFilm {
         self.dropped.load(std::sync::atomic::Ordering::Relaxed)
     }
 
-    /// Adds `scale` × the splat sums to `image` (of the same size).
+    /// Adds `scale` × the splat sums to `image` (of the same size; a splat image of three
+    /// channels).
     pub fn add_to(&self, image: &mut RgbImage, scale: f64) {
+        debug_assert_eq!(self.channels, 3, "an RGB splat image");
+        let data = image.data.as_flattened_mut();
+        self.add_to_values(data, scale);
+    }
+
+    /// Adds `scale` × the splat sums to the channels of `image` (of the same size and channels).
+    pub fn add_to_channels(&self, image: &mut ChannelImage, scale: f64) {
+        debug_assert_eq!(self.channels, image.names.len(), "the film's channels");
+        self.add_to_values(&mut image.data, scale);
+    }
+
+    fn add_to_values(&self, data: &mut [f32], scale: f64) {
         use std::sync::atomic::Ordering::Relaxed;
-        for (i, px) in image.data.iter_mut().enumerate().take(self.sums.len() / 3) {
-            for (k, v) in px.iter_mut().enumerate() {
-                let s = self.sums[3 * i + k].load(Relaxed) as f64 / SPLAT_SCALE;
-                *v = (*v as f64 + s * scale) as f32;
-            }
+        for (v, s) in data.iter_mut().zip(&self.sums) {
+            let s = s.load(Relaxed) as f64 / SPLAT_SCALE;
+            *v = (*v as f64 + s * scale) as f32;
         }
     }
 }

@@ -297,6 +297,74 @@ fn decode_exr(bytes: &[u8], path: &Path) -> Result<RgbImage, ImageError> {
     Ok(RgbImage { width, height, data })
 }
 
+/// An image of named float channels (a film's layers: `R`, `G`, `B`, `albedo.R`, `S1.G`, ...),
+/// row-major, top row first, the channels of a pixel contiguous.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChannelImage {
+    /// Width in pixels.
+    pub width: usize,
+    /// Height in pixels.
+    pub height: usize,
+    /// Channel names, as written to EXR.
+    pub names: Vec<String>,
+    /// `width * height * names.len()` values.
+    pub data: Vec<f32>,
+}
+
+impl ChannelImage {
+    /// The channels `R`, `G`, `B` as an RGB image (zero for a missing channel).
+    pub fn rgb(&self) -> RgbImage {
+        let n = self.names.len();
+        let find = |c: &str| self.names.iter().position(|name| name == c);
+        let idx = [find("R"), find("G"), find("B")];
+        let data = (0..self.width * self.height)
+            .map(|i| idx.map(|k| k.map_or(0.0, |k| self.data[i * n + k])))
+            .collect();
+        RgbImage {
+            width: self.width,
+            height: self.height,
+            data,
+        }
+    }
+
+    /// Writes a float-32 OpenEXR file with one channel per name (linear values), atomically.
+    pub fn write_exr(&self, path: impl AsRef<Path>) -> Result<(), ImageError> {
+        let path = path.as_ref();
+        let bytes = self.encode_exr().map_err(|message| ImageError::Encode {
+            path: path.to_owned(),
+            message,
+        })?;
+        write_atomically(path, &bytes)
+    }
+
+    fn encode_exr(&self) -> Result<Vec<u8>, String> {
+        use exr::prelude::*;
+        if self.width == 0 || self.height == 0 || self.names.is_empty() {
+            return Err("an EXR image cannot be empty".into());
+        }
+        let n = self.names.len();
+        let mut list = SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
+        for (k, name) in self.names.iter().enumerate() {
+            let name =
+                Text::new_or_none(name.as_str()).ok_or_else(|| format!("bad channel name {name:?}"))?;
+            let plane: Vec<f32> = self.data.iter().skip(k).step_by(n).copied().collect();
+            list.push(AnyChannel::new(name, FlatSamples::F32(plane)));
+        }
+        let layer = Layer::new(
+            (self.width, self.height),
+            LayerAttributes::default(),
+            exr::image::Encoding::FAST_LOSSLESS,
+            AnyChannels::sort(list),
+        );
+        let mut cursor = Cursor::new(Vec::new());
+        Image::from_layer(layer)
+            .write()
+            .to_buffered(&mut cursor)
+            .map_err(|e| e.to_string())?;
+        Ok(cursor.into_inner())
+    }
+}
+
 /// Writes `bytes` through the one atomic writer ([`crate::output::write_atomically`]).
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
     crate::output::write_atomically(path, bytes).map_err(|e| ImageError::Io {

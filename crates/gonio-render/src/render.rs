@@ -1,5 +1,6 @@
 //! The render loop: a [`Scene`] prepared once ([`PreparedScene`]: world shapes, BVH, lights,
-//! camera), then rendered in passes over 16 × 16 tiles in parallel with rayon.
+//! camera), then rendered in passes over 16 × 16 tiles in parallel with rayon by any
+//! [`Integrator`] ([`render_with`]; [`render`] uses the scene's own, the `path` integrator).
 //!
 //! # Determinism
 //!
@@ -19,33 +20,30 @@
 //!
 //! # Film
 //!
-//! Mitsuba's `hdrfilm` ([`crate::film`]): each sample is splatted with the reconstruction filter's
-//! weight to every pixel whose centre lies within the filter radius, and a pixel is Σ w·rgb / Σ w.
-//! The radiance estimate becomes linear sRGB through
-//! [`gonio_core::color::linear_srgb_from_sampled`], the estimator that divides by the wavelength
-//! pdfs (terminated wavelengths count for nothing).
+//! Mitsuba's `hdrfilm` ([`crate::film`]) with the integrator's channels
+//! ([`Integrator::channels`]): each sample is splatted with the reconstruction filter's weight to
+//! every pixel whose centre lies within the filter radius, and a pixel is Σ w·value / Σ w.
+//! Integrators splat what lands elsewhere (light tracing) into a [`SplatFilm`] with the same
+//! channels, divided by the number of camera samples.
 //!
 //! # Sampling
 //!
 //! Dimensions 0–1 place the sample in its pixel, dimension 2 draws the hero wavelength (visible
-//! pdf, through [`VisibleWavelengthTable`]), the path takes the rest; see [`STRUCTURED_DIMS`]
-//! for where the structured pattern hands over to independent numbers.
+//! pdf, through [`gonio_core::spectrum::VisibleWavelengthTable`]), the integrator takes the rest
+//! ([`Sampler::padded`]; see [`crate::sampler::STRUCTURED_DIMS`] for where the structured
+//! pattern hands over to independent numbers).
 
 use crate::accel::Accel;
 use crate::camera::Camera;
-use crate::emitter::{
-    AreaLight, ConstantLight, DirectionalLight, EnvMapLight, Light, Lights, PointLight, SpotLight,
-};
+use crate::emitter::Lights;
 use crate::film::{Film, FilmTile, SplatFilm};
 use crate::geometry::WorldShape;
-use crate::image::RgbImage;
-use crate::integrator::caustics::LightSubpath;
-use crate::integrator::{PathSampler, PathTracer, bounding_sphere};
-use crate::sampler::{Pattern, Pcg32, Sampler, sample_key};
-use crate::scene::{Emitter, Scene};
-use glam::{UVec2, Vec2, Vec3};
-use gonio_core::SampledWavelengths;
-use gonio_core::color::linear_srgb_from_sampled;
+use crate::image::{ChannelImage, RgbImage};
+use crate::integrator::{CameraSample, Integrator, PathTracer};
+use crate::sampler::{Pattern, Sampler};
+use crate::scene::Scene;
+use glam::{UVec2, Vec2};
+use gonio_core::spectrum::VisibleWavelengthTable;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
@@ -105,7 +103,7 @@ pub struct PreparedScene {
     accel: Accel,
     lights: Lights,
     shape_material: Vec<usize>,
-    camera: Camera,
+    camera: Box<dyn Camera>,
 }
 
 impl std::fmt::Debug for PreparedScene {
@@ -145,105 +143,11 @@ impl PreparedScene {
             world.push(w);
             shape_material.push(shape.material);
         }
-        let scene_area: f32 = world.iter().map(|s| s.area()).filter(|a| a.is_finite()).sum();
-        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for s in &world {
-            for prim in 0..s.prim_count() {
-                let (a, b) = s.prim_bounds(prim);
-                lo = lo.min(a);
-                hi = hi.max(b);
-            }
-        }
-        let bounds = bounding_sphere(lo, hi);
-
-        let mut lights = Vec::new();
-        for (index, shape) in scene.shapes.iter().enumerate() {
-            if let Some(em) = &shape.emitter {
-                let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-                for prim in 0..world[index].prim_count() {
-                    let (a, b) = world[index].prim_bounds(prim);
-                    lo = lo.min(a);
-                    hi = hi.max(b);
-                }
-                let sphere = bounding_sphere(lo, hi);
-                lights.push(Light::Area(AreaLight {
-                    shape: index,
-                    radiance: em.radiance.clone(),
-                    area: world[index].area(),
-                    mean_radiance: em.radiance.mean(),
-                    center: sphere.center,
-                    radius: sphere.radius,
-                }));
-            }
-        }
-        for (index, e) in scene.emitters.iter().enumerate() {
-            let light = match e {
-                Emitter::Point { position, intensity } => Light::Point(PointLight {
-                    position: *position,
-                    intensity: intensity.clone(),
-                }),
-                Emitter::Spot {
-                    to_world,
-                    intensity,
-                    cutoff_angle_deg,
-                    beam_width_deg,
-                } => {
-                    if to_world.matrix3.determinant() == 0.0 {
-                        return Err(RenderError::Emitter {
-                            index,
-                            message: "singular to_world".into(),
-                        });
-                    }
-                    Light::Spot(SpotLight::new(
-                        *to_world,
-                        intensity.clone(),
-                        *cutoff_angle_deg,
-                        *beam_width_deg,
-                    ))
-                }
-                Emitter::Directional {
-                    direction,
-                    irradiance,
-                } => {
-                    let d = direction.normalize_or_zero();
-                    if d == Vec3::ZERO {
-                        return Err(RenderError::Emitter {
-                            index,
-                            message: "zero direction".into(),
-                        });
-                    }
-                    Light::Directional(DirectionalLight {
-                        direction: d,
-                        irradiance: irradiance.clone(),
-                    })
-                }
-                Emitter::Constant { radiance } => Light::Constant(ConstantLight {
-                    radiance: radiance.clone(),
-                }),
-                Emitter::EnvMap {
-                    image,
-                    scale,
-                    to_world,
-                } => {
-                    let env = EnvMapLight::new(
-                        image.width,
-                        image.height,
-                        image.data.clone(),
-                        *scale,
-                        *to_world,
-                        gonio_core::Spectrum::rgb_illuminant,
-                    )
-                    .ok_or_else(|| RenderError::Emitter {
-                        index,
-                        message: "empty environment image or singular to_world".into(),
-                    })?;
-                    Light::EnvMap(env)
-                }
-            };
-            lights.push(light);
-        }
-        let lights = Lights::new(lights, world.len(), scene_area, bounds);
-        let camera = Camera::new(&scene.sensor);
+        let lights = Lights::from_scene(&scene, &world).map_err(|e| RenderError::Emitter {
+            index: e.index,
+            message: e.message,
+        })?;
+        let camera = crate::camera::from_sensor(&scene.sensor);
         let accel = Accel::new(world);
         Ok(Self {
             scene,
@@ -264,9 +168,37 @@ impl PreparedScene {
         &self.accel
     }
 
+    /// The camera.
+    pub fn camera(&self) -> &dyn Camera {
+        self.camera.as_ref()
+    }
+
     /// Film size (width, height).
     pub fn size(&self) -> (u32, u32) {
         (self.scene.sensor.film.width, self.scene.sensor.film.height)
+    }
+
+    /// The scene's integrator (`path`, with its settings), over this scene.
+    pub fn integrator(&self) -> PathTracer<'_> {
+        PathTracer::new(
+            &self.scene.integrator,
+            &self.accel,
+            &self.lights,
+            &self.scene.materials,
+            &self.shape_material,
+        )
+        .with_camera(self.camera.as_ref())
+    }
+
+    /// An empty film of the sensor's size and filter with an integrator's channels.
+    pub fn film(&self, integrator: &(impl Integrator + ?Sized)) -> Film {
+        let (width, height) = self.size();
+        Film::with_channels(
+            width,
+            height,
+            self.scene.sensor.film.filter,
+            integrator.channels(),
+        )
     }
 }
 
@@ -312,114 +244,53 @@ impl RenderOptions {
 /// The result of [`render`].
 #[derive(Clone, Debug)]
 pub struct RenderOutput {
-    /// Linear sRGB image.
+    /// Linear sRGB image (the channels `R`, `G`, `B`).
     pub image: RgbImage,
+    /// Every channel the integrator wrote, by name (the same `R`, `G`, `B` values as `image`).
+    pub channels: ChannelImage,
     /// Samples per pixel every pixel received (the requested count unless cancelled).
     pub complete_spp: u32,
     /// True when the cancellation flag stopped the render early.
     pub cancelled: bool,
 }
 
-/// Dimensions drawn from the structured pattern before switching to independent numbers: the
-/// camera (3) and two vertices with a smooth lobe (6 each: light choice, light point, lobe,
-/// direction; a purely delta vertex takes one, its lobe choice, and roulette numbers start at
-/// `rr_depth`). Stratification matters most for the first bounces; beyond them a scrambled Sobol
-/// point costs more than it gains, so deeper dimensions come from a PCG32 stream keyed by
-/// (seed, pixel, sample index) — still a pure function of the sample, as determinism requires.
-const STRUCTURED_DIMS: u32 = 3 + 2 * 6;
-
-/// Adapter from the render sampler to the integrator's interface (with the padding above).
-struct Dims<'s> {
-    sampler: &'s mut Sampler,
-    used: u32,
-    limit: u32,
-    key: u64,
-    rng: Option<Pcg32>,
-}
-
-impl<'s> Dims<'s> {
-    fn new(sampler: &'s mut Sampler, used: u32, pattern: Pattern, key: u64) -> Self {
-        let limit = if pattern == Pattern::Independent {
-            u32::MAX
-        } else {
-            STRUCTURED_DIMS
-        };
-        Self {
-            sampler,
-            used,
-            limit,
-            key,
-            rng: None,
-        }
-    }
-
-    #[inline]
-    fn rng(&mut self) -> &mut Pcg32 {
-        let key = self.key;
-        self.rng
-            .get_or_insert_with(|| Pcg32::new(key, key.rotate_left(17) ^ 0x9e37_79b9_7f4a_7c15))
-    }
-}
-
-impl PathSampler for Dims<'_> {
-    #[inline]
-    fn next_1d(&mut self) -> f32 {
-        if self.used < self.limit {
-            self.used += 1;
-            self.sampler.next_1d()
-        } else {
-            self.rng().next_f32()
-        }
-    }
-    #[inline]
-    fn next_2d(&mut self) -> Vec2 {
-        if self.used + 1 < self.limit {
-            self.used += 2;
-            self.sampler.next_2d()
-        } else {
-            let r = self.rng();
-            let x = r.next_f32();
-            Vec2::new(x, r.next_f32())
-        }
-    }
-}
-
-/// Mixed into a sample's key to seed its light path's random numbers.
-const LIGHT_PATH_KEY: u64 = 0x6c69_6768_745f_7061;
-
-/// Renders the scene. `progress(done, total)` counts samples; `cancel` stops early.
+/// Renders the scene with its own integrator (`path`). `progress(done, total)` counts samples;
+/// `cancel` stops early.
 pub fn render(
     prepared: &PreparedScene,
     options: &RenderOptions,
     progress: &(dyn Fn(u64, u64) + Sync),
     cancel: &AtomicBool,
 ) -> RenderOutput {
-    let scene = &prepared.scene;
+    render_with(prepared, &prepared.integrator(), options, progress, cancel)
+}
+
+/// Renders the scene with `integrator`. `progress(done, total)` counts samples; `cancel` stops
+/// early.
+pub fn render_with<I: Integrator + ?Sized>(
+    prepared: &PreparedScene,
+    integrator: &I,
+    options: &RenderOptions,
+    progress: &(dyn Fn(u64, u64) + Sync),
+    cancel: &AtomicBool,
+) -> RenderOutput {
     let (width, height) = prepared.size();
-    let tracer = PathTracer::new(
-        &scene.integrator,
-        &prepared.accel,
-        &prepared.lights,
-        &scene.materials,
-        &prepared.shape_material,
-    )
-    .with_camera(&prepared.camera);
     let spp = options.spp.max(1);
-    let mut film = Film::new(width, height, scene.sensor.film.filter);
-    // Light tracing of the caustics seen directly (`integrator::caustics`): one light path per
-    // camera sample, splatted anywhere on the film.
-    let splats = tracer
-        .traces_caustics()
-        .then(|| SplatFilm::new(width, height, scene.sensor.film.filter));
-    // One light-subpath slot per camera sample; splats arrive divided by their total (the
-    // light tracer estimates the image with N = spp·pixels subpaths).
+    let mut film = prepared.film(integrator);
+    let n_channels = film.channels().len();
+    // What the integrator splats anywhere on the film (light tracing), one slot per camera
+    // sample: splats arrive divided by their total (the light tracer estimates the image with
+    // N = spp·pixels subpaths).
+    let splats = integrator
+        .splats()
+        .then(|| SplatFilm::with_channels(width, height, prepared.scene.sensor.film.filter, n_channels));
     let light_paths = AtomicU64::new(0);
     let blocks: Vec<(UVec2, UVec2)> = film.tiles(TILE).iter().map(|t| t.block()).collect();
     let total = width as u64 * height as u64 * spp as u64;
     let inv_light_paths = 1.0 / total as f32;
     let done = AtomicU64::new(0);
     let mut complete_spp = 0;
-    let wavelengths = VisibleWavelengthTable::new();
+    let wavelengths = VisibleWavelengthTable::get();
     let mut cancelled = false;
 
     let mut start = 0;
@@ -433,28 +304,31 @@ pub fn render(
                 }
                 let mut tile = film.tile(lo, hi);
                 let mut sampler = Sampler::new(options.pattern, spp, options.seed);
-                let mut light = LightSubpath::EMPTY;
+                let mut value = vec![0.0f32; n_channels];
+                let mut scaled = vec![0.0f32; n_channels];
+                let mut splat = |p: Vec2, v: &[f32]| {
+                    if let Some(splats) = &splats {
+                        for (s, &x) in scaled.iter_mut().zip(v) {
+                            *s = x * inv_light_paths;
+                        }
+                        splats.splat(p, &scaled);
+                    }
+                };
                 for py in lo.y..hi.y {
                     for px in lo.x..hi.x {
                         for s in start..start + count {
                             sampler.start_pixel_sample(UVec2::new(px, py), s);
-                            let pos = Vec2::new(px as f32, py as f32) + sampler.next_2d();
-                            let mut wl = wavelengths.sample(sampler.next_1d());
-                            let ray = prepared.camera.generate_ray(pos);
-                            let key = sample_key(options.seed, px, py, s);
-                            // The light subpath first: it shares the wavelengths (and may
-                            // terminate the secondary ones).
-                            if let Some(splats) = &splats {
-                                let mut rng = Pcg32::new(key ^ LIGHT_PATH_KEY, key.rotate_left(29));
-                                let mut splat = |p, value, wl: &SampledWavelengths| {
-                                    let rgb = linear_srgb_from_sampled(value, wl) * inv_light_paths;
-                                    splats.splat(p, rgb.to_array())
-                                };
-                                tracer.trace_light_path(&mut rng, &mut wl, &mut splat, &mut light);
-                            }
-                            let mut dims = Dims::new(&mut sampler, 3, options.pattern, key);
-                            let l = tracer.li(ray, &mut dims, &mut wl, &light);
-                            tile.add_sample(pos, linear_srgb_from_sampled(l, &wl).to_array());
+                            let film_pos = Vec2::new(px as f32, py as f32) + sampler.next_2d();
+                            let wl = wavelengths.sample(sampler.next_1d());
+                            let ray = prepared.camera.generate_ray(film_pos);
+                            let mut sample = CameraSample {
+                                film: film_pos,
+                                ray,
+                                wavelengths: wl,
+                                sampler: sampler.padded(),
+                            };
+                            integrator.sample(&mut sample, &mut value, &mut splat);
+                            tile.add_sample(film_pos, &value);
                         }
                     }
                 }
@@ -484,100 +358,18 @@ pub fn render(
         }
     }
 
-    let mut image = film.to_image();
+    let mut channels = film.to_channels();
     let traced = light_paths.load(Ordering::Relaxed);
     if let Some(splats) = &splats
         && traced > 0
     {
         // A cancelled render traced fewer.
-        splats.add_to(&mut image, total as f64 / traced as f64);
+        splats.add_to_channels(&mut channels, total as f64 / traced as f64);
     }
     RenderOutput {
-        image,
+        image: channels.rgb(),
+        channels,
         complete_spp,
         cancelled,
-    }
-}
-
-/// Hero-wavelength sampling from the visible pdf through a table: the inverse CDF of
-/// [`gonio_core::spectrum::sample_visible_wavelength`] (Radziszewski's sech² fit, as in pbrt and
-/// Mitsuba) tabulated at 4096 points and interpolated linearly. Linear interpolation of the inverse
-/// CDF samples the piecewise-constant density p = (1/N)/(λᵢ₊₁ − λᵢ) on each interval, which is
-/// returned with each wavelength, so the estimator stays exactly unbiased; the density differs
-/// from the sech² curve by less than 1 % (at the far tails, where few samples land). It replaces four `f64` atanh and cosh per camera
-/// sample (a fifth of the render time) by table lookups. The four wavelengths are the hero and
-/// its rotations by ¼, ½ and ¾ in sample space, as in `SampledWavelengths::sample_visible`.
-struct VisibleWavelengthTable {
-    lambda: Vec<f32>,
-}
-
-impl VisibleWavelengthTable {
-    const N: usize = 4096;
-
-    fn new() -> Self {
-        let lambda = (0..=Self::N)
-            .map(|i| gonio_core::spectrum::sample_visible_wavelength(i as f32 / Self::N as f32))
-            .collect();
-        Self { lambda }
-    }
-
-    #[inline]
-    fn one(&self, u: f32) -> (f32, f32) {
-        let x = (u * Self::N as f32).clamp(0.0, Self::N as f32 - 1e-3);
-        let i = (x as usize).min(Self::N - 1);
-        let (a, b) = (self.lambda[i], self.lambda[i + 1]);
-        let t = x - i as f32;
-        (a + t * (b - a), 1.0 / (Self::N as f32 * (b - a)))
-    }
-
-    #[inline]
-    fn sample(&self, u: f32) -> SampledWavelengths {
-        let mut lambda = [0.0; 4];
-        let mut pdf = [0.0; 4];
-        for k in 0..4 {
-            let mut uk = u + k as f32 * 0.25;
-            if uk >= 1.0 {
-                uk -= 1.0;
-            }
-            (lambda[k], pdf[k]) = self.one(uk);
-        }
-        SampledWavelengths::from_parts(lambda, pdf)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use gonio_core::spectrum::visible_wavelength_pdf;
-
-    #[test]
-    fn wavelength_table_density_is_exact_and_close_to_the_visible_pdf() {
-        let t = VisibleWavelengthTable::new();
-        let n = 100_000;
-        // The returned density integrates to one over [360, 830] (Σ p·Δλ per interval = 1/N).
-        let mut worst = 0.0f32;
-        let mut y_est = 0.0f64;
-        for k in 0..n {
-            let u = (k as f32 + 0.5) / n as f32;
-            let (l, p) = t.one(u);
-            assert!((360.0..=830.0).contains(&l));
-            worst = worst.max((p / visible_wavelength_pdf(l) - 1.0).abs());
-            y_est += (gonio_core::color::cie_y(l) / p) as f64;
-        }
-        assert!(
-            worst < 1e-2,
-            "table density departs from the sech² pdf by {worst}"
-        );
-        // Unbiased: the estimate of ∫ȳ dλ with the table's density matches CIE_Y_INTEGRAL.
-        let y = y_est / n as f64;
-        assert!(
-            (y / gonio_core::color::CIE_Y_INTEGRAL as f64 - 1.0).abs() < 2e-4,
-            "∫ȳ = {y}"
-        );
-        // The four wavelengths are the hero and its rotations by ¼ in sample space.
-        let wl = t.sample(0.1);
-        for k in 0..4 {
-            assert!((wl.lambda(k) - t.one(0.1 + 0.25 * k as f32).0).abs() < 1e-3);
-        }
     }
 }

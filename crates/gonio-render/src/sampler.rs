@@ -62,16 +62,10 @@ pub struct Sampler {
     spp: u32,
     seed: u64,
     pixel_key: u64,
+    pixel: UVec2,
     index: u32,
     dim: u32,
     rng: Pcg32,
-}
-
-/// A 64-bit key of one sample: (seed, pixel, sample index), well mixed by the core's
-/// [`mix64`]. Seeds a sample's light subpath in the render loop.
-#[inline]
-pub(crate) fn sample_key(seed: u64, px: u32, py: u32, s: u32) -> u64 {
-    mix64(seed ^ ((px as u64) << 40) ^ ((py as u64) << 20) ^ (s as u64).wrapping_mul(GOLDEN_GAMMA))
 }
 
 #[inline]
@@ -212,6 +206,7 @@ impl Sampler {
             spp: spp.max(1),
             seed,
             pixel_key: 0,
+            pixel: UVec2::ZERO,
             index: 0,
             dim: 0,
             rng: Pcg32::new(0, 0),
@@ -238,6 +233,7 @@ impl Sampler {
     /// Starts sample `index` (in `0..spp`, larger values continue the sequences) of `pixel`.
     pub fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
         self.pixel_key = mix64(self.seed ^ mix64(((pixel.y as u64) << 32) | pixel.x as u64));
+        self.pixel = pixel;
         self.index = index;
         self.dim = 0;
         if self.pattern == Pattern::Independent
@@ -340,6 +336,111 @@ impl Sampler {
 }
 
 const ONE_MINUS_EPS: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// The random numbers a path consumes, in a fixed order (so stratified and low-discrepancy
+/// samplers keep their dimensions aligned).
+pub trait PathSampler {
+    /// One number in [0, 1).
+    fn next_1d(&mut self) -> f32;
+    /// Two numbers in [0, 1)².
+    fn next_2d(&mut self) -> Vec2;
+}
+
+/// Independent numbers from a PCG32 stream (light paths, tests).
+impl PathSampler for Pcg32 {
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        self.next_f32()
+    }
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        self.next_vec2()
+    }
+}
+
+/// Dimensions drawn from the structured pattern before switching to independent numbers: the
+/// camera (3) and two vertices with a smooth lobe (6 each: light choice, light point, lobe,
+/// direction; a purely delta vertex takes one, its lobe choice, and roulette numbers start at
+/// `rr_depth`). Stratification matters most for the first bounces; beyond them a scrambled Sobol
+/// point costs more than it gains, so deeper dimensions come from a PCG32 stream keyed by
+/// [`Sampler::sample_key`] — still a pure function of the sample, as determinism requires.
+pub const STRUCTURED_DIMS: u32 = 3 + 2 * 6;
+
+impl Sampler {
+    /// A 64-bit key of the current sample: (seed, pixel, sample index), well mixed. It seeds the
+    /// independent streams of the sample ([`PaddedSampler`], light subpaths).
+    #[inline]
+    pub fn sample_key(&self) -> u64 {
+        let (px, py, s) = (self.pixel.x as u64, self.pixel.y as u64, self.index as u64);
+        mix64(self.seed ^ (px << 40) ^ (py << 20) ^ s.wrapping_mul(GOLDEN_GAMMA))
+    }
+
+    /// The rest of the current sample's dimensions for a path: the pattern's up to
+    /// [`STRUCTURED_DIMS`] (all of them for [`Pattern::Independent`]), then a PCG32 stream keyed
+    /// by [`Self::sample_key`].
+    pub fn padded(&mut self) -> PaddedSampler<'_> {
+        let limit = if self.pattern == Pattern::Independent {
+            u32::MAX
+        } else {
+            STRUCTURED_DIMS
+        };
+        PaddedSampler {
+            used: self.dim,
+            key: self.sample_key(),
+            sampler: self,
+            limit,
+            rng: None,
+        }
+    }
+}
+
+/// A [`Sampler`]'s current sample seen as a [`PathSampler`], padded with independent numbers
+/// beyond [`STRUCTURED_DIMS`] (see [`Sampler::padded`]).
+#[derive(Debug)]
+pub struct PaddedSampler<'s> {
+    sampler: &'s mut Sampler,
+    used: u32,
+    limit: u32,
+    key: u64,
+    rng: Option<Pcg32>,
+}
+
+impl PaddedSampler<'_> {
+    /// The key of the sample ([`Sampler::sample_key`]).
+    pub fn key(&self) -> u64 {
+        self.key
+    }
+
+    #[inline]
+    fn rng(&mut self) -> &mut Pcg32 {
+        let key = self.key;
+        self.rng
+            .get_or_insert_with(|| Pcg32::new(key, key.rotate_left(17) ^ GOLDEN_GAMMA))
+    }
+}
+
+impl PathSampler for PaddedSampler<'_> {
+    #[inline]
+    fn next_1d(&mut self) -> f32 {
+        if self.used < self.limit {
+            self.used += 1;
+            self.sampler.next_1d()
+        } else {
+            self.rng().next_f32()
+        }
+    }
+    #[inline]
+    fn next_2d(&mut self) -> Vec2 {
+        if self.used + 1 < self.limit {
+            self.used += 2;
+            self.sampler.next_2d()
+        } else {
+            let r = self.rng();
+            let x = r.next_f32();
+            Vec2::new(x, r.next_f32())
+        }
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -1,11 +1,11 @@
 //! Mitsuba's perspective camera: look-at convention, field of view, clipping.
 
 use glam::{Vec2, Vec3};
-use gonio_render::camera::{Camera, look_at};
+use gonio_render::camera::{Camera, PerspectiveCamera, look_at};
 
-fn cam(fov: f32, w: u32, h: u32) -> Camera {
+fn cam(fov: f32, w: u32, h: u32) -> PerspectiveCamera {
     // Mitsuba's usual setup: at +z looking at the origin, +y up.
-    Camera::from_parts(
+    PerspectiveCamera::from_parts(
         look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y),
         fov,
         w,
@@ -52,7 +52,7 @@ fn horizontal_fov_spans_the_width_and_aspect_the_height() {
 
 #[test]
 fn generate_ray_inverts_project_and_clips() {
-    let c = Camera::from_parts(
+    let c = PerspectiveCamera::from_parts(
         look_at(
             Vec3::new(1.0, 2.0, 3.0),
             Vec3::new(-0.5, 0.2, 0.1),
@@ -87,7 +87,7 @@ fn mirrored_to_world_flips_the_image() {
     // Mitsuba allows a mirror (scale x by −1) in a camera's to_world: the image flips.
     let m = look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y)
         * glam::Affine3A::from_scale(Vec3::new(-1.0, 1.0, 1.0));
-    let c = Camera::from_parts(m, 40.0, 100, 100, 0.01, 100.0);
+    let c = PerspectiveCamera::from_parts(m, 40.0, 100, 100, 0.01, 100.0);
     assert!(c.project(Vec3::X).unwrap().x < 50.0);
     let r = c.generate_ray(Vec2::new(90.0, 50.0));
     assert!(r.d.x < 0.0 && (r.d.length() - 1.0).abs() < 1e-6);

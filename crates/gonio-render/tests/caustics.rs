@@ -16,7 +16,7 @@
 //! tests for the closed form.
 
 use glam::Vec2;
-use gonio_render::camera::Camera;
+use gonio_render::camera::{Camera, PerspectiveCamera};
 use gonio_render::image::RgbImage;
 use gonio_render::render::{PreparedScene, RenderOptions, render};
 use std::sync::atomic::AtomicBool;
@@ -87,7 +87,7 @@ fn mirror_image_of_a_light_matches_the_closed_form_with_and_without_light_subpat
     let off = prepare(&mirror_scene(false));
     // The closed form at every pixel centre (the irradiance is smooth: the pixel mean differs
     // from the centre value by far less than the tolerance).
-    let camera = Camera::new(&on.scene.sensor);
+    let camera = PerspectiveCamera::new(&on.scene.sensor);
     let (w, h) = on.size();
     let mut exact = Vec::with_capacity((w * h) as usize);
     for y in 0..h {

@@ -184,3 +184,85 @@ fn splats_are_normalized_and_order_independent() {
     forward.splat(Vec2::new(1.0, 1.0), [f32::NAN, 0.0, 0.0]);
     assert_eq!(forward.dropped(), 1);
 }
+
+/// A film with named layers filters every channel with the same weights as the RGB film does
+/// its three, keeps the names in order, and writes them to EXR under those names.
+#[test]
+fn named_channels_filter_like_rgb_and_reach_the_exr() {
+    use gonio_render::film::Channels;
+    let filter = Filter::Tent { radius: 1.5 };
+    let channels = Channels::rgb()
+        .with_layer("albedo", &["R", "G", "B"])
+        .with_layer("depth", &["Z"]);
+    assert_eq!(channels.len(), 7);
+    assert_eq!(channels.index("albedo.G"), Some(4));
+    assert_eq!(channels.index("depth.Z"), Some(6));
+    let mut rgb = Film::new(6, 5, filter);
+    let mut layered = Film::with_channels(6, 5, filter, channels.clone());
+    let (mut t_rgb, mut t_layered) = (
+        rgb.tile(UVec2::ZERO, UVec2::new(6, 5)),
+        layered.tile(UVec2::ZERO, UVec2::new(6, 5)),
+    );
+    for k in 0..40 {
+        let p = Vec2::new(0.37 * k as f32 % 6.0, 0.61 * k as f32 % 5.0);
+        let c = [k as f32, 1.0, 0.5 * k as f32];
+        t_rgb.add_sample(p, c);
+        t_layered.add_sample(p, [c[0], c[1], c[2], 0.25, 0.5, 0.75, 2.0 + k as f32]);
+    }
+    rgb.merge(&t_rgb);
+    layered.merge(&t_layered);
+    let all = layered.to_channels();
+    assert_eq!(all.names, channels.names());
+    // The colour channels are bit for bit those of the RGB film.
+    assert_eq!(all.rgb(), rgb.to_image());
+    assert_eq!(layered.to_image(), rgb.to_image());
+    for i in 0..30 {
+        let px = &all.data[7 * i..7 * i + 7];
+        if layered.weight(i as u32 % 6, i as u32 / 6) > 0.0 {
+            // A constant channel stays constant through the weighted mean.
+            assert!(
+                (px[3] - 0.25).abs() < 1e-6 && (px[5] - 0.75).abs() < 1e-6,
+                "{px:?}"
+            );
+            assert!(px[6] >= 2.0 && px[6] <= 41.0);
+        }
+    }
+
+    // Splats with the same channels add to them.
+    let splats = SplatFilm::with_channels(6, 5, Filter::Box { radius: 0.5 }, 7);
+    splats.splat(Vec2::new(1.5, 2.5), [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.0]);
+    let mut with_splats = all.clone();
+    splats.add_to_channels(&mut with_splats, 0.5);
+    let at = 7 * (2 * 6 + 1);
+    assert!((with_splats.data[at] - all.data[at] - 0.5).abs() < 1e-5);
+    assert!((with_splats.data[at + 6] - all.data[at + 6] - 2.0).abs() < 1e-5);
+    assert_eq!(with_splats.data[..at], all.data[..at]);
+
+    // EXR: one channel per name, the values of the film.
+    let dir = std::env::temp_dir().join(format!("gonio-film-channels-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("layers.exr");
+    all.write_exr(&path).unwrap();
+    let image = exr::prelude::read_all_flat_layers_from_file(&path).unwrap();
+    // The RGB reader finds the colour among the layers.
+    let colour = gonio_render::image::RgbImage::read(&path).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(colour, all.rgb());
+    let layer = &image.layer_data[0];
+    let mut names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    names.sort();
+    let mut want = channels.names().to_vec();
+    want.sort();
+    assert_eq!(names, want);
+    for c in &layer.channel_data.list {
+        let k = channels.index(&c.name.to_string()).unwrap();
+        for i in 0..30 {
+            assert_eq!(c.sample_data.value_by_flat_index(i).to_f32(), all.data[7 * i + k]);
+        }
+    }
+}

@@ -156,3 +156,61 @@ fn a_scene_without_pixels_is_an_error() {
     let err = PreparedScene::new(scene).unwrap_err();
     assert!(err.to_string().contains("no pixels"), "{err}");
 }
+
+/// The render loop drives any integrator: a test integrator that writes the sample's film
+/// position in named channels and splats a constant gets, per pixel, the mean position of its
+/// samples (inside the pixel, box filter) plus the splat's share: N splats of c, divided by
+/// the N camera samples, spread over the pixels.
+#[test]
+fn render_with_drives_any_integrator_with_named_channels_and_splats() {
+    use gonio_render::film::Channels;
+    use gonio_render::integrator::{CameraSample, Integrator};
+    use gonio_render::render::render_with;
+
+    struct Positions;
+    impl Integrator for Positions {
+        fn channels(&self) -> Channels {
+            Channels::new(["pos.X", "pos.Y", "splat.A"])
+        }
+        fn splats(&self) -> bool {
+            true
+        }
+        fn sample(
+            &self,
+            sample: &mut CameraSample<'_>,
+            value: &mut [f32],
+            splat: &mut dyn FnMut(glam::Vec2, &[f32]),
+        ) {
+            assert!(sample.ray.d.is_normalized());
+            value.copy_from_slice(&[sample.film.x, sample.film.y, 0.0]);
+            splat(sample.film, &[0.0, 0.0, 6.0]);
+        }
+    }
+    let mut p = cornell(12, 10);
+    p.scene.sensor.film.filter = gonio_render::scene::Filter::Box { radius: 0.5 };
+    let options = RenderOptions {
+        spp: 4,
+        seed: 3,
+        pattern: Pattern::Sobol,
+    };
+    let out = render_with(&p, &Positions, &options, &|_, _| {}, &AtomicBool::new(false));
+    assert_eq!(out.channels.names, ["pos.X", "pos.Y", "splat.A"]);
+    assert_eq!(out.complete_spp, 4);
+    for y in 0..10 {
+        for x in 0..12 {
+            let i = 3 * (y * 12 + x);
+            let px = &out.channels.data[i..i + 3];
+            assert!(
+                px[0] > x as f32 && px[0] < x as f32 + 1.0,
+                "pixel ({x}, {y}): {px:?}"
+            );
+            assert!(
+                px[1] > y as f32 && px[1] < y as f32 + 1.0,
+                "pixel ({x}, {y}): {px:?}"
+            );
+            assert!((px[2] - 6.0 / 120.0).abs() < 1e-6, "pixel ({x}, {y}): {px:?}");
+        }
+    }
+    // No R, G, B channels: the colour image is black.
+    assert!(out.image.data.iter().all(|c| *c == [0.0; 3]));
+}

@@ -184,3 +184,45 @@ fn stratified_and_sobol_integrate_with_lower_error_than_independent() {
         assert!(sobol * factor < ind, "sobol {sobol} vs independent {ind}");
     }
 }
+
+/// The padded sampler hands out the pattern's own dimensions up to `STRUCTURED_DIMS`, then a
+/// PCG32 stream keyed by the sample (a pure function of seed, pixel and index); with the
+/// independent pattern it never switches.
+#[test]
+fn padded_sampler_switches_to_a_keyed_stream_after_the_structured_dimensions() {
+    use gonio_render::sampler::{PathSampler, STRUCTURED_DIMS};
+    let (pixel, index) = (UVec2::new(5, 9), 3);
+    for pattern in [Pattern::Sobol, Pattern::MultiJitter { jitter: true }] {
+        let mut plain = Sampler::new(pattern, 16, 11);
+        plain.start_pixel_sample(pixel, index);
+        let mut reference: Vec<f32> = (0..STRUCTURED_DIMS).map(|_| plain.next_1d()).collect();
+        let mut s = Sampler::new(pattern, 16, 11);
+        s.start_pixel_sample(pixel, index);
+        let head = [s.next_1d(), s.next_1d(), s.next_1d()];
+        assert_eq!(head[..], reference[..3]);
+        let mut p = s.padded();
+        let key = p.key();
+        let got: Vec<f32> = (3..STRUCTURED_DIMS).map(|_| p.next_1d()).collect();
+        assert_eq!(got[..], reference[3..]);
+        // Beyond: the keyed stream, not the pattern.
+        let mut rng = gonio_render::sampler::Pcg32::new(key, key.rotate_left(17) ^ 0x9e37_79b9_7f4a_7c15);
+        let tail: Vec<f32> = (0..8).map(|_| p.next_1d()).collect();
+        let want: Vec<f32> = (0..8).map(|_| rng.next_f32()).collect();
+        assert_eq!(tail, want);
+        reference.push(plain.next_1d());
+        assert_ne!(tail[0], reference[STRUCTURED_DIMS as usize]);
+        // The key depends on the sample.
+        let mut other = Sampler::new(pattern, 16, 11);
+        other.start_pixel_sample(pixel, index + 1);
+        assert_ne!(other.sample_key(), key);
+        other.start_pixel_sample(pixel, index);
+        assert_eq!(other.sample_key(), key);
+    }
+    let mut ind = Sampler::new(Pattern::Independent, 4, 2);
+    ind.start_pixel_sample(UVec2::new(1, 1), 0);
+    let mut plain = ind.clone();
+    let mut p = ind.padded();
+    for _ in 0..40 {
+        assert_eq!(p.next_1d(), plain.next_1d());
+    }
+}

@@ -4,8 +4,12 @@
 //! Every light answers the same questions (see [`Light`]): draw a direction towards it from a
 //! reference point ([`LightSample`]: unit direction, distance, arriving radiance, solid-angle
 //! density), give the density of that strategy for a direction found by BSDF sampling (for MIS),
-//! and give a scalar power for light selection. Parameters and defaults of each Mitsuba plugin
-//! are documented in the submodules.
+//! and give a scalar power for light selection. [`Lights`] adds the choice of a light: the
+//! integrators ask it for a light sample from a reference point ([`Lights::sample_li`]) and for
+//! the density of a light found by BSDF sampling ([`Lights::pdf_li_hit`],
+//! [`Lights::pdf_li_escaped`]), selection included; the sampling policy of each light kind
+//! (solid angle, area, spherical rectangle) lives with the light. Parameters and defaults of
+//! each Mitsuba plugin are documented in the submodules.
 //!
 //! # Light selection
 //!
@@ -26,13 +30,16 @@
 
 pub mod area;
 pub mod delta;
+mod from_scene;
 pub mod infinite;
 
-pub use area::AreaLight;
+pub use area::{AreaLight, SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE};
 pub use delta::{DirectionalLight, PointLight, SpotLight};
+pub use from_scene::EmitterError;
 pub use gonio_core::sampling::{Distribution1D, Distribution2D};
 pub use infinite::{ConstantLight, EnvMapLight};
 
+use crate::geometry::{SurfaceInteraction, WorldShape};
 use glam::{Vec2, Vec3};
 use gonio_core::{SampledSpectrum, SampledWavelengths};
 
@@ -110,6 +117,22 @@ impl Light {
             Light::Constant(c) => c.le(wl),
             Light::EnvMap(e) => e.le(dir, wl),
             _ => SampledSpectrum::ZERO,
+        }
+    }
+
+    /// Draws a direction towards the light from `r` (solid-angle density, selection not
+    /// included); `shapes` are the scene's shapes in the world, which area lights sample.
+    #[inline]
+    pub fn sample_li(
+        &self,
+        shapes: &[WorldShape],
+        r: &LightRef,
+        u: Vec2,
+        wl: &SampledWavelengths,
+    ) -> Option<LightSample> {
+        match self {
+            Light::Area(area) => area.sample_li(shapes.get(area.shape)?, r, u, wl),
+            light => light.sample_li_nonarea(r, u, wl),
         }
     }
 
@@ -403,6 +426,54 @@ impl Lights {
             return self.pmf(i);
         }
         p.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// Next-event estimation from `r`: picks a light ([`Self::select_at`] with `u_sel`) and draws
+    /// a direction towards it with `u`. The sample's `pdf` includes the selection probability.
+    /// `shapes` are the scene's shapes in the world (area lights sample them).
+    #[inline]
+    pub fn sample_li(
+        &self,
+        shapes: &[WorldShape],
+        r: &LightRef,
+        u_sel: f32,
+        u: Vec2,
+        wl: &SampledWavelengths,
+    ) -> Option<LightSample> {
+        let (li, p_sel) = self.select_at(r, u_sel)?;
+        let ls = self.lights[li].sample_li(shapes, r, u, wl)?;
+        Some(LightSample {
+            pdf: p_sel * ls.pdf,
+            ..ls
+        })
+    }
+
+    /// The density with which [`Self::sample_li`] from `r` produces the point of `hit` on area
+    /// light `li` (selection × solid angle), for the MIS weight of a light found by BSDF
+    /// sampling; 0 when `li` is not an area light.
+    #[inline]
+    pub fn pdf_li_hit(
+        &self,
+        shapes: &[WorldShape],
+        r: &LightRef,
+        li: usize,
+        hit: &SurfaceInteraction,
+    ) -> f32 {
+        let Some(Light::Area(area)) = self.lights.get(li) else {
+            return 0.0;
+        };
+        let Some(shape) = shapes.get(hit.shape as usize) else {
+            return 0.0;
+        };
+        let dir_pdf = area.pdf_li(shape, r.p, hit);
+        self.pmf_at(r, li) * dir_pdf
+    }
+
+    /// The density with which [`Self::sample_li`] from `r` produces direction `dir` towards the
+    /// light at infinity `li` (selection × solid angle).
+    #[inline]
+    pub fn pdf_li_escaped(&self, r: &LightRef, li: usize, dir: Vec3) -> f32 {
+        self.pmf_at(r, li) * self.lights[li].pdf_li_infinite(r, dir)
     }
 
     /// The area light on shape `shape`, if it emits.

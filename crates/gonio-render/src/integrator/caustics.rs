@@ -73,7 +73,7 @@
 //! `β · f_z(ω_cam, ω_in) · |ω_in·n_s|/|ω_in·n_g| · |ω_cam·n_g| / d² · 1/(cos³θ·A_pix) · V · w`,
 //!
 //! with `f` evaluated exactly as the path tracer would (radiance mode, `wi` towards the camera),
-//! `1/(cos³θ·A_pix)` the pinhole's importance ([`Camera::connect`]), `V` the visibility (or sheet
+//! `1/(cos³θ·A_pix)` the pinhole's importance ([`Camera::connect`](crate::camera::Camera::connect)), `V` the visibility (or sheet
 //! transmittance) and `w` the MIS weight; the render divides the splatted sums by the number of
 //! light subpaths. A camera-path vertex `x` joins each kept `z` with
 //!
@@ -82,16 +82,15 @@
 //! The light subpath uses the camera sample's wavelengths; a dispersive refraction in it leaves
 //! only the hero wavelength alive for the whole sample.
 
-use super::{MAX_NULL_CROSSINGS, PathSampler, PathTracer};
-use crate::accel::Intersect;
-use crate::camera::Camera;
-use crate::emitter::{AreaLight, Distribution1D, Light, Lights};
-use crate::geometry::sampling::sample_area;
-use crate::geometry::{Ray, ShapeKind, SurfaceInteraction, WorldShape, offset_ray_origin, spawn_ray_between};
+mod trace;
+
+use super::PathTracer;
+use crate::emitter::{AreaLight, BoundingSphere, Distribution1D, Light, Lights};
+use crate::geometry::{ShapeKind, SurfaceInteraction, WorldShape, spawn_ray_between};
 use crate::material::Material;
 use glam::{Vec2, Vec3};
 use gonio_core::frame::Frame;
-use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths, warp};
+use gonio_core::{Bsdf, BsdfContext, BsdfSample, SampledSpectrum, SampledWavelengths, warp};
 
 /// Most delta vertices a light subpath crosses (longer ones are the path tracer's alone).
 pub const MAX_CHAIN: u32 = 8;
@@ -216,13 +215,7 @@ impl DeltaTargets {
             let sphere = match &shape.kind {
                 ShapeKind::Sphere { center, radius, .. } => (*center, radius.abs()),
                 _ => {
-                    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-                    for prim in 0..shape.prim_count() {
-                        let (a, b) = shape.prim_bounds(prim);
-                        lo = lo.min(a);
-                        hi = hi.max(b);
-                    }
-                    let b = super::bounding_sphere(lo, hi);
+                    let b = BoundingSphere::of_shapes([shape]);
                     // A little margin: the surface may touch the box.
                     (b.center, b.radius * 1.001)
                 }
@@ -588,12 +581,12 @@ impl PathTracer<'_> {
             if f_x.is_black() {
                 continue;
             }
-            let Some(material) = self.material_of(y.shape) else {
+            let wi_y = y.shading.to_local(-dir);
+            let Some((f_y, pdf_y)) = self.bsdf_at(y.shape, y.uv, &{ *wl }, |b: &dyn Bsdf| {
+                b.eval_pdf(&radiance, wi_y, y.wi, wl)
+            }) else {
                 continue;
             };
-            let wi_y = y.shading.to_local(-dir);
-            let (f_y, pdf_y) =
-                material.with_bsdf_at(y.uv, *wl, |b: &dyn Bsdf| b.eval_pdf(&radiance, wi_y, y.wi, wl));
             if f_y.is_black() {
                 continue;
             }
@@ -613,210 +606,6 @@ impl PathTracer<'_> {
             }
         }
         sum
-    }
-
-    /// Traces one light subpath with the camera sample's wavelengths `wl`: keeps its vertices in
-    /// `out` (cleared first) for [`PathTracer::li`] and hands each connection to the camera to `splat` as (film position,
-    /// unnormalized pixel estimate, wavelengths); the caller sums those into an image and divides
-    /// by the number of light subpaths. Does nothing unless [`PathTracer::traces_caustics`].
-    pub fn trace_light_path(
-        &self,
-        sampler: &mut impl PathSampler,
-        wl: &mut SampledWavelengths,
-        splat: &mut impl FnMut(Vec2, SampledSpectrum, &SampledWavelengths),
-        out: &mut LightSubpath,
-    ) {
-        out.clear();
-        let (Some(emission), Some(camera)) = (&self.caustics, self.camera) else {
-            return;
-        };
-        let u_sel = sampler.next_1d();
-        let u_pos = sampler.next_2d();
-        let u_dir = sampler.next_2d();
-        // The shortest such path has three segments: light, delta vertex, y, and one more to x.
-        if self.max_depth < 3 {
-            return;
-        }
-        // A light subpath for a fraction `rate` of the camera samples: the rate acts as part of
-        // the light's selection probability.
-        if !(u_sel < emission.rate) {
-            return;
-        }
-        let (k, p_sel, u_pick) = emission.selection.sample_discrete(u_sel / emission.rate);
-        let p_sel = p_sel * emission.rate;
-        let li = emission.lights[k];
-        let Light::Area(area) = &self.lights.lights()[li] else {
-            return;
-        };
-        let Some(shape) = self.accel.shapes().get(area.shape) else {
-            return;
-        };
-        let s = sample_area(shape, u_pos);
-        let Some((dir, dir_pdf)) = emission.targets.sample(s.p, s.n, u_pick, u_dir) else {
-            return;
-        };
-        let cos_l = s.n.dot(dir);
-        let le = area.le(s.n, s.uv, dir, wl);
-        if le.is_black() || !(s.pdf > 0.0 && p_sel > 0.0 && cos_l > 0.0) {
-            return;
-        }
-        let mut light_density = p_sel * s.pdf * dir_pdf / cos_l;
-        let mut beta = le * (cos_l / (p_sel * s.pdf * dir_pdf));
-        let mut throughput = SampledSpectrum::ONE;
-        let mut eta = 1.0f32;
-        let mut ray = Ray::new(offset_ray_origin(s.p, s.n, dir), dir);
-        let importance = BsdfContext::importance();
-        let radiance = BsdfContext::radiance();
-        let mut deltas = 0u32;
-        let mut segments = 1u32;
-        // The light itself counts as a smooth vertex: the next one must be a delta.
-        let mut after_smooth = true;
-        let mut null_crossings = 0u32;
-
-        loop {
-            let Some(si) = self.accel.intersect(&ray) else {
-                break;
-            };
-            let Some(&m) = self.shape_material.get(si.shape as usize) else {
-                break;
-            };
-            if after_smooth && !emission.delta.get(m).copied().unwrap_or(false) {
-                // Two smooth vertices in a row (or light reaching a smooth surface directly):
-                // the path tracer's alone. Decided before the BSDF is built: most light
-                // subpaths end here.
-                break;
-            }
-            let Some(material) = self.materials.get(m) else {
-                break;
-            };
-            let u_lobe = sampler.next_1d();
-            let u_bsdf = sampler.next_2d();
-            let u_rr = sampler.next_1d();
-            let wi_world = -ray.d;
-            let wi = si.shading.to_local(wi_world);
-            let cos_in_g = si.n.dot(wi_world).abs();
-
-            let sample = material.with_bsdf_at(si.uv, *wl, |bsdf: &dyn Bsdf| {
-                let flags = bsdf.flags();
-                if after_smooth && !flags.is_delta() {
-                    // Two smooth vertices in a row (or light reaching a smooth surface directly):
-                    // the path tracer's alone.
-                    return None;
-                }
-                if !after_smooth && flags.has_smooth() && cos_in_g > 0.0 {
-                    let vertex = LightVertex {
-                        p: si.p,
-                        n: si.n,
-                        shading: si.shading,
-                        uv: si.uv,
-                        shape: si.shape,
-                        wi,
-                        cos_chain: cos_in_g,
-                        beta,
-                        light_density,
-                        eta2: 1.0 / (eta * eta),
-                        segments,
-                    };
-                    out.push(vertex);
-                    self.splat_to_camera(camera, bsdf, &vertex, &radiance, wl, splat);
-                }
-                let bs = bsdf.sample(&importance, wi, u_lobe, u_bsdf, wl)?;
-                // For a smooth bounce, the path tracer's density of the reverse direction.
-                let forward = if bs.flags.is_delta() {
-                    0.0
-                } else {
-                    bsdf.pdf(&radiance, bs.wo, wi, wl)
-                };
-                Some((bs, forward))
-            });
-            let Some((bs, eye_pdf)) = sample else { break };
-            let smooth = !bs.flags.is_delta();
-            if smooth && after_smooth {
-                break;
-            }
-            let wo_world = si.shading.to_world(bs.wo);
-            let cos_out_g = si.n.dot(wo_world).abs();
-            let denom = cos_in_g * bs.wo.z.abs();
-            let correction = if denom > 0.0 {
-                wi.z.abs() * cos_out_g / denom
-            } else {
-                0.0
-            };
-            let weight = bs.weight * correction;
-            if !weight.is_finite() || weight.is_black() {
-                break;
-            }
-            beta *= weight;
-            throughput *= weight;
-            ray = si.spawn_ray(wo_world);
-
-            if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
-                null_crossings += 1;
-                if null_crossings > MAX_NULL_CROSSINGS {
-                    break;
-                }
-                continue;
-            }
-            segments += 1;
-            if smooth {
-                let d = eye_pdf * cos_out_g;
-                if !(d > 0.0) {
-                    break;
-                }
-                light_density *= bs.pdf * cos_in_g / d;
-                after_smooth = true;
-            } else {
-                eta *= bs.eta;
-                deltas += 1;
-                after_smooth = false;
-            }
-            // A connection adds at least one more segment (from the next vertex to the camera).
-            if deltas > MAX_CHAIN || segments.saturating_add(1) > self.max_depth {
-                break;
-            }
-            if segments > self.rr_depth {
-                let q = throughput.max_component().min(0.95);
-                if !(u_rr < q) {
-                    break;
-                }
-                beta /= q;
-                throughput /= q;
-            }
-        }
-    }
-
-    /// The connection of light vertex `y` (BSDF `bsdf`) to the camera.
-    fn splat_to_camera(
-        &self,
-        camera: &Camera,
-        bsdf: &dyn Bsdf,
-        y: &LightVertex,
-        radiance: &BsdfContext,
-        wl: &SampledWavelengths,
-        splat: &mut impl FnMut(Vec2, SampledSpectrum, &SampledWavelengths),
-    ) {
-        let Some(c) = camera.connect(y.p) else {
-            return;
-        };
-        let wo_cam = y.shading.to_local(c.dir);
-        let (f, pdf_y) = bsdf.eval_pdf(radiance, wo_cam, y.wi, wl);
-        if f.is_black() {
-            return;
-        }
-        let cos_cam = y.n.dot(c.dir).abs();
-        let g = y.wi.z.abs() / y.cos_chain * cos_cam / c.dist2;
-        let value = y.beta * f * (g * c.importance);
-        if value.is_black() || !value.is_finite() {
-            return;
-        }
-        let w = y.connection_weight(c.film_pdf * cos_cam / c.dist2, pdf_y);
-        if !(w > 0.0) {
-            return;
-        }
-        let v = self.visibility(spawn_ray_between(y.p, y.n, c.near_point, None), wl);
-        if !v.is_black() {
-            splat(c.film, value * v * w, wl);
-        }
     }
 }
 

@@ -1,7 +1,29 @@
-//! The `path` integrator: a unidirectional spectral path tracer with next-event estimation and
-//! multiple importance sampling, after Mitsuba 3's `path` (`src/integrators/path.cpp`).
+//! Integrators: the [`Integrator`] trait the render loop calls once per camera sample, and the
+//! `path` integrator ([`PathTracer`]): a unidirectional spectral path tracer with next-event
+//! estimation and multiple importance sampling, after Mitsuba 3's `path`
+//! (`src/integrators/path.cpp`).
 //!
-//! # Algorithm
+//! # The `Integrator` trait
+//!
+//! The render loop ([`crate::render`]) places a sample on the film, draws its wavelengths and
+//! generates the camera ray; the integrator gets that [`CameraSample`] with the rest of the
+//! sample's random numbers and writes the sample's value, one number per film channel
+//! ([`Integrator::channels`]), and may splat contributions anywhere on the film
+//! ([`Integrator::splats`]). What future integrators need of it:
+//!
+//! * `direct` (Mitsuba's direct-illumination integrator): the same as `path` with one bounce;
+//!   channels `R`, `G`, `B`.
+//! * `aov` (depth, normals, positions, albedo): no spectra at all; channels such as `depth.Z`,
+//!   `nn.X`, `albedo.R` written straight from the first hit.
+//! * `moment`: an inner integrator's value and its square, `R, G, B, m2.R, m2.G, m2.B`, so the
+//!   film gives the per-pixel variance.
+//! * `ptracer` (light tracing): splats every light-path vertex's connection to the camera
+//!   ([`crate::camera::Camera::connect`]) and writes nothing in place; the loop divides splats by
+//!   the number of camera samples, which is the number of light paths.
+//! * `stokes` (polarization): four spectral values S0..S3, each turned into colour by the same
+//!   wavelength estimator, in channels `S0.R` … `S3.B`.
+//!
+//! # The `path` integrator
 //!
 //! For a camera ray carrying four wavelengths (hero + three rotated, [`SampledWavelengths`]):
 //!
@@ -11,9 +33,9 @@
 //!    light's solid-angle density from the previous vertex). `hide_emitters` drops what the
 //!    camera sees directly.
 //! 2. **Next-event estimation**, only when the BSDF has a smooth (diffuse or glossy) lobe: pick a
-//!    light ([`Lights::select_at`]), draw a direction on it (solid angle for spheres, and for
-//!    rectangles that subtend more than [`SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE`]; area otherwise), add β·f·|cos|·Lᵢ·T/(p_sel·p_dir)·w, with w the power heuristic against the
-//!    BSDF density (w = 1 for delta lights). T is the visibility: 0 or 1, or, with
+//!    light and draw a direction on it ([`Lights::sample_li`]; each light kind has its own
+//!    policy, e.g. [`crate::emitter::area`]), add β·f·|cos|·Lᵢ·T/(p_sel·p_dir)·w, with w the
+//!    power heuristic against the BSDF density (w = 1 for delta lights). T is the visibility: 0 or 1, or, with
 //!    `thin_shadows`, the product of the straight-through transmittances
 //!    ([`gonio_core::Bsdf::null_transmission`]) of the `thindielectric` sheets crossed.
 //! 3. **BSDF sampling**: β ← β·weight, η_path ← η_path·η (the relative index crossed). A
@@ -52,35 +74,52 @@
 pub mod caustics;
 
 use crate::accel::{Accel, Intersect};
-use crate::emitter::AreaLight;
-use crate::emitter::{BoundingSphere, Light, LightRef, LightSample, Lights};
-use crate::geometry::sampling::{pdf_solid_angle, sample_area, sample_solid_angle};
+use crate::camera::Camera;
+use crate::emitter::{Light, LightRef, LightSample, Lights};
+use crate::film::Channels;
 use crate::geometry::{Ray, SurfaceInteraction};
-use crate::geometry::{ShapeKind, WorldShape};
 use crate::material::Material;
+pub use crate::sampler::PathSampler;
+use crate::sampler::{PaddedSampler, Pcg32};
 use crate::scene::Integrator as IntegratorSettings;
 use glam::{Vec2, Vec3};
+use gonio_core::color::linear_srgb_from_sampled;
 use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
 
-/// The random numbers a path consumes, in a fixed order (so stratified and low-discrepancy
-/// samplers keep their dimensions aligned).
-pub trait PathSampler {
-    /// One number in [0, 1).
-    fn next_1d(&mut self) -> f32;
-    /// Two numbers in [0, 1)².
-    fn next_2d(&mut self) -> Vec2;
+/// One camera sample, as the render loop hands it to an [`Integrator`].
+#[derive(Debug)]
+pub struct CameraSample<'s> {
+    /// Film position (pixels).
+    pub film: Vec2,
+    /// The camera ray through `film`.
+    pub ray: Ray,
+    /// The sample's wavelengths (a dispersive refraction may terminate the secondary ones).
+    pub wavelengths: SampledWavelengths,
+    /// The rest of the sample's random numbers (its key, [`PaddedSampler::key`], seeds any
+    /// independent stream the integrator needs, such as a light path's).
+    pub sampler: PaddedSampler<'s>,
 }
 
-/// Independent numbers from a PCG32 stream (light paths, tests).
-impl PathSampler for gonio_core::rng::Pcg32 {
-    #[inline]
-    fn next_1d(&mut self) -> f32 {
-        self.next_f32()
+/// A light-transport algorithm, called by the render loop once per camera sample (see the
+/// module documentation for what each planned integrator needs of it).
+///
+/// Every sample must be a pure function of the [`CameraSample`] (its random numbers included):
+/// the loop relies on that for images that do not depend on the thread count.
+pub trait Integrator: Sync {
+    /// The film channels a sample writes, in order (EXR names: `R`, `G`, `B`, `layer.R`...).
+    fn channels(&self) -> Channels;
+
+    /// True when [`Integrator::sample`] splats (light tracing): the loop then keeps a splat film
+    /// with the same channels.
+    fn splats(&self) -> bool {
+        false
     }
-    #[inline]
-    fn next_2d(&mut self) -> Vec2 {
-        self.next_vec2()
-    }
+
+    /// Evaluates one camera sample: writes its value, one number per channel, into `value`, and
+    /// hands contributions that land elsewhere on the film to `splat` as (film position, one
+    /// number per channel); the loop sums splats and divides them by the number of camera
+    /// samples.
+    fn sample(&self, sample: &mut CameraSample<'_>, value: &mut [f32], splat: &mut dyn FnMut(Vec2, &[f32]));
 }
 
 /// Power heuristic with exponent 2 for two strategies with densities `a` (the one used) and `b`.
@@ -100,6 +139,9 @@ pub fn mis_power(a: f32, b: f32) -> f32 {
 /// stacks of coincident sheets; never reached in sensible scenes).
 const MAX_NULL_CROSSINGS: u32 = 64;
 
+/// Mixed into a sample's key to seed its light path's random numbers.
+const LIGHT_PATH_KEY: u64 = 0x6c69_6768_745f_7061;
+
 /// Everything the path tracer reads: the scene's materials, the accelerator and the lights.
 pub struct PathTracer<'a> {
     accel: &'a Accel,
@@ -117,11 +159,74 @@ pub struct PathTracer<'a> {
     /// Light tracing of the caustics, when enabled and useful.
     caustics: Option<caustics::EmissionSampler>,
     /// The camera light paths connect to (light tracing needs it).
-    camera: Option<&'a crate::camera::Camera>,
+    camera: Option<&'a dyn Camera>,
+}
+
+/// The last real scattering vertex of a camera path, for the MIS weight of a light that the
+/// direction sampled there finds.
+#[derive(Clone, Copy, Debug)]
+struct PrevVertex {
+    /// Where a light would have been sampled from.
+    light_ref: LightRef,
+    /// BSDF density of the direction taken.
+    bsdf_pdf: f32,
+    /// True when that direction came from a delta lobe.
+    delta: bool,
+}
+
+/// The state a camera path carries from one vertex to the next.
+#[derive(Clone, Copy, Debug)]
+struct PathState {
+    /// Throughput β.
+    beta: SampledSpectrum,
+    /// Product of the relative indices of refraction crossed (for Russian roulette).
+    eta: f32,
+    /// Real scattering events so far (straight passes through sheets do not count).
+    depth: u32,
+    /// Straight passes through sheets so far.
+    null_crossings: u32,
+    /// The last real scattering vertex; `None` at the camera.
+    prev: Option<PrevVertex>,
+    /// The last smooth vertex and the delta chain after it, for the MIS weight against the
+    /// light-path connections ([`caustics`]).
+    chain: Option<caustics::ChainState>,
+}
+
+impl PathState {
+    const CAMERA: Self = Self {
+        beta: SampledSpectrum::ONE,
+        eta: 1.0,
+        depth: 0,
+        null_crossings: 0,
+        prev: None,
+        chain: None,
+    };
+
+    /// The previous vertex when it sampled a smooth lobe: a light found from there is weighted
+    /// against light sampling.
+    #[inline]
+    fn smooth_prev(&self) -> Option<&PrevVertex> {
+        self.prev.as_ref().filter(|p| !p.delta)
+    }
+
+    /// True right after a delta lobe.
+    #[inline]
+    fn after_delta(&self) -> bool {
+        matches!(self.prev, Some(PrevVertex { delta: true, .. }))
+    }
+}
+
+/// A camera-path vertex while its BSDF exists.
+struct Vertex<'v> {
+    bsdf: &'v dyn Bsdf,
+    si: &'v SurfaceInteraction,
+    /// Direction back along the path, in the shading frame.
+    wi: Vec3,
 }
 
 /// What happened at one surface vertex (computed while the per-hit BSDF exists).
 struct VertexOutcome {
+    /// Next-event estimation and light-subpath connections, throughput included.
     nee: SampledSpectrum,
     sample: Option<BsdfSample>,
     light_ref: LightRef,
@@ -168,7 +273,7 @@ impl<'a> PathTracer<'a> {
 
     /// The camera, which enables light tracing of caustics (when the settings ask for it and the
     /// scene has an area light and a delta lobe).
-    pub fn with_camera(mut self, camera: &'a crate::camera::Camera) -> Self {
+    pub fn with_camera(mut self, camera: &'a dyn Camera) -> Self {
         self.camera = Some(camera);
         self
     }
@@ -183,6 +288,19 @@ impl<'a> PathTracer<'a> {
         self.shape_material
             .get(shape as usize)
             .and_then(|&m| self.materials.get(m))
+    }
+
+    /// Calls `f` with the BSDF of shape `shape`'s material at texture coordinates `uv` (`None`
+    /// when the shape has no material).
+    #[inline]
+    fn bsdf_at<R>(
+        &self,
+        shape: u32,
+        uv: Vec2,
+        wl: &SampledWavelengths,
+        f: impl FnOnce(&dyn Bsdf) -> R,
+    ) -> Option<R> {
+        Some(with_bsdf(self.material_of(shape)?, uv, wl, f))
     }
 
     fn is_thin(&self, shape: u32) -> bool {
@@ -208,108 +326,61 @@ impl<'a> PathTracer<'a> {
             // Mitsuba: max_depth 0 renders nothing, not even emitters.
             return SampledSpectrum::ZERO;
         }
-        let ctx = BsdfContext::radiance();
         let mut l = SampledSpectrum::ZERO;
-        let mut beta = SampledSpectrum::ONE;
-        let mut eta_path = 1.0f32;
-        let mut depth = 0u32;
-        // The last real scattering vertex: where a light would have been sampled from, the BSDF
-        // density of the direction taken, and whether that lobe was a delta. None = the camera.
-        let mut prev: Option<(LightRef, f32, bool)> = None;
-        let mut null_crossings = 0u32;
-        // The last smooth vertex and the delta chain after it, for the MIS weight against the
-        // light-path connections ([`caustics`]).
-        let mut chain: Option<caustics::ChainState> = None;
-
+        let mut state = PathState::CAMERA;
         loop {
             let hit = self.accel.intersect(&ray);
-            let show = !(self.hide_emitters && depth == 0);
+            let show = !(self.hide_emitters && state.depth == 0);
             let Some(si) = hit else {
                 if show {
-                    for &i in self.lights.infinite() {
-                        let light = &self.lights.lights()[i as usize];
-                        let le = light.le_infinite(ray.d, wl);
-                        if le.is_black() {
-                            continue;
-                        }
-                        let w = match prev {
-                            Some((r, bsdf_pdf, false)) => mis_power(
-                                bsdf_pdf,
-                                self.lights.pmf_at(&r, i as usize) * light.pdf_li_infinite(&r, ray.d),
-                            ),
-                            _ => 1.0,
-                        };
-                        l += beta * le * w;
-                    }
+                    self.add_escaped(&mut l, &state, ray.d, wl);
                 }
                 break;
             };
-
-            // Emission of an area light hit from its front side.
-            if show && let Some(li) = self.lights.shape_light(si.shape as usize) {
-                if let Light::Area(area) = &self.lights.lights()[li] {
-                    let le = area.le(si.n, si.uv, -ray.d, wl);
-                    if !le.is_black() {
-                        let w = match prev {
-                            Some((r, bsdf_pdf, false)) => {
-                                let shape = &self.accel.shapes()[si.shape as usize];
-                                let dir_pdf = if by_area(area, shape, r.p) {
-                                    area_pdf_to_solid_angle(1.0 / area.area, r.p, si.p, si.n)
-                                } else {
-                                    pdf_solid_angle(shape, r.p, &si)
-                                };
-                                let light_pdf = self.lights.pmf_at(&r, li) * dir_pdf;
-                                mis_power(bsdf_pdf, light_pdf)
-                            }
-                            // After a delta lobe: light paths may have found this path too.
-                            _ => self.caustic_path_weight(chain.as_ref(), li, area, si.p, si.n, -ray.d),
-                        };
-                        l += beta * le * w;
-                    }
-                }
+            if show {
+                self.add_emitted(&mut l, &state, &si, ray.d, wl);
             }
-
-            if depth.saturating_add(1) >= self.max_depth {
+            if state.depth.saturating_add(1) >= self.max_depth {
                 break;
             }
-            let Some(material) = self.material_of(si.shape) else {
-                break;
-            };
 
             let wi_world = -ray.d;
-            let wi = si.shading.to_local(wi_world);
             // How this point was reached, for the MIS weight against light-subpath connections.
             let arrival = Self::arrival(
-                prev.as_ref().map(|(r, pdf, delta)| (r.p, *pdf, *delta)),
+                state.prev.as_ref().map(|p| (p.light_ref.p, p.bsdf_pdf, p.delta)),
                 &si,
                 ray.d,
             );
-            // After a delta lobe, a smooth sample here needs the light tracer's density of the
-            // reverse direction for the MIS ratio.
-            let want_reverse = self.traces_caustics() && matches!(prev, Some((_, _, true)));
-            let outcome = material.with_bsdf_at(si.uv, *wl, |bsdf: &dyn Bsdf| {
-                self.scatter(bsdf, &ctx, &si, wi, beta, depth, light, want_reverse, sampler, wl)
-            });
+            let Some(outcome) = self.bsdf_at(si.shape, si.uv, &{ *wl }, |bsdf: &dyn Bsdf| {
+                let v = Vertex {
+                    bsdf,
+                    si: &si,
+                    wi: si.shading.to_local(wi_world),
+                };
+                self.scatter(&v, &state, light, sampler, wl)
+            }) else {
+                break;
+            };
             l += outcome.nee;
 
             let Some(bs) = outcome.sample else { break };
-            beta *= bs.weight;
+            state.beta *= bs.weight;
             let dir = si.shading.to_world(bs.wo);
             ray = si.spawn_ray(dir);
 
             if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
                 // Straight through a sheet: keep the previous vertex's MIS state and depth.
-                null_crossings += 1;
-                if null_crossings > MAX_NULL_CROSSINGS || beta.is_black() {
+                state.null_crossings += 1;
+                if state.null_crossings > MAX_NULL_CROSSINGS || state.beta.is_black() {
                     break;
                 }
                 continue;
             }
 
-            eta_path *= bs.eta;
+            state.eta *= bs.eta;
             if self.traces_caustics() {
-                chain = caustics::ChainState::after_sample(
-                    chain,
+                state.chain = caustics::ChainState::after_sample(
+                    state.chain,
                     &bs,
                     arrival,
                     si.n.dot(wi_world).abs(),
@@ -317,46 +388,103 @@ impl<'a> PathTracer<'a> {
                     outcome.reverse_pdf,
                 );
             }
-            prev = Some((outcome.light_ref, bs.pdf, bs.flags.is_delta()));
-            depth += 1;
-
-            // Russian roulette, from `rr_depth` on (its number is drawn only there: a function of
-            // the depth, so the dimensions of paths of the same shape stay aligned).
-            let beta_max = beta.max_component();
-            if depth >= self.rr_depth {
-                let u_rr = sampler.next_1d();
-                let q = (beta_max * eta_path * eta_path).min(0.95);
-                if !(u_rr < q) {
-                    break;
-                }
-                beta /= q;
-            }
-            if !(beta_max > 0.0) || !beta.is_finite() {
+            state.prev = Some(PrevVertex {
+                light_ref: outcome.light_ref,
+                bsdf_pdf: bs.pdf,
+                delta: bs.flags.is_delta(),
+            });
+            state.depth += 1;
+            if !self.russian_roulette(&mut state, sampler) {
                 break;
             }
         }
         if l.is_finite() { l } else { SampledSpectrum::ZERO }
     }
 
-    /// Next-event estimation and BSDF sampling at one vertex, while the BSDF exists.
-    #[allow(clippy::too_many_arguments)]
+    /// Russian roulette, from `rr_depth` on (its number is drawn only there: a function of the
+    /// depth, so the dimensions of paths of the same shape stay aligned): false when the path
+    /// ends.
+    #[inline]
+    fn russian_roulette(&self, state: &mut PathState, sampler: &mut impl PathSampler) -> bool {
+        let beta_max = state.beta.max_component();
+        if state.depth >= self.rr_depth {
+            let u_rr = sampler.next_1d();
+            let q = (beta_max * state.eta * state.eta).min(0.95);
+            if !(u_rr < q) {
+                return false;
+            }
+            state.beta /= q;
+        }
+        beta_max > 0.0 && state.beta.is_finite()
+    }
+
+    /// Adds the lights at infinity seen along `d` by a ray that left the scene.
+    fn add_escaped(&self, l: &mut SampledSpectrum, state: &PathState, d: Vec3, wl: &SampledWavelengths) {
+        for &i in self.lights.infinite() {
+            let light = &self.lights.lights()[i as usize];
+            let le = light.le_infinite(d, wl);
+            if le.is_black() {
+                continue;
+            }
+            let w = match state.smooth_prev() {
+                Some(p) => mis_power(
+                    p.bsdf_pdf,
+                    self.lights.pdf_li_escaped(&p.light_ref, i as usize, d),
+                ),
+                None => 1.0,
+            };
+            *l += state.beta * le * w;
+        }
+    }
+
+    /// Adds the emission of an area light hit at `si` (along `d`) from its front side.
+    fn add_emitted(
+        &self,
+        l: &mut SampledSpectrum,
+        state: &PathState,
+        si: &SurfaceInteraction,
+        d: Vec3,
+        wl: &SampledWavelengths,
+    ) {
+        let Some(li) = self.lights.shape_light(si.shape as usize) else {
+            return;
+        };
+        let Light::Area(area) = &self.lights.lights()[li] else {
+            return;
+        };
+        let le = area.le(si.n, si.uv, -d, wl);
+        if le.is_black() {
+            return;
+        }
+        let w = match state.smooth_prev() {
+            Some(p) => mis_power(
+                p.bsdf_pdf,
+                self.lights.pdf_li_hit(self.accel.shapes(), &p.light_ref, li, si),
+            ),
+            // From the camera or after a delta lobe: light paths may have found this path too.
+            None => self.caustic_path_weight(state.chain.as_ref(), li, area, si.p, si.n, -d),
+        };
+        *l += state.beta * le * w;
+    }
+
+    /// Next-event estimation, light-subpath connections and BSDF sampling at one vertex, while
+    /// the BSDF exists.
     fn scatter(
         &self,
-        bsdf: &dyn Bsdf,
-        ctx: &BsdfContext,
-        si: &SurfaceInteraction,
-        wi: Vec3,
-        beta: SampledSpectrum,
-        depth: u32,
+        v: &Vertex,
+        state: &PathState,
         light: &caustics::LightSubpath,
-        want_reverse: bool,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
     ) -> VertexOutcome {
-        let flags = bsdf.flags();
-        let n_side = if wi.z >= 0.0 { si.shading.n } else { -si.shading.n };
+        let flags = v.bsdf.flags();
+        let n_side = if v.wi.z >= 0.0 {
+            v.si.shading.n
+        } else {
+            -v.si.shading.n
+        };
         let light_ref = LightRef {
-            p: si.p,
+            p: v.si.p,
             n: n_side,
             hemisphere: !flags.is_transmission(),
         };
@@ -366,34 +494,14 @@ impl<'a> PathTracer<'a> {
         // needs no direction), so the sampler's structured dimensions reach the smooth vertices
         // behind glass and mirrors. The count is a function of the path, as it must be.
         let smooth = flags.has_smooth();
-        let (u_sel, u_light) = if smooth {
-            (sampler.next_1d(), sampler.next_2d())
-        } else {
-            (0.5, Vec2::splat(0.5))
-        };
         let mut nee = SampledSpectrum::ZERO;
-        if flags.has_smooth()
-            && let Some((li, p_sel)) = self.lights.select_at(&light_ref, u_sel)
-            && let Some(ls) = self.sample_light(li, &light_ref, u_light, wl)
-        {
-            let wo = si.shading.to_local(ls.wi);
-            let (f, bsdf_pdf) = bsdf.eval_pdf(ctx, wi, wo, wl);
-            if !f.is_black() {
-                let t = self.transmittance(si, &ls, wl);
-                if !t.is_black() {
-                    let light_pdf = p_sel * ls.pdf;
-                    let w = if ls.delta {
-                        1.0
-                    } else {
-                        mis_power(light_pdf, bsdf_pdf)
-                    };
-                    nee = beta * f * ls.li * t * (wo.z.abs() * w / light_pdf);
-                }
+        if smooth {
+            let u_sel = sampler.next_1d();
+            let u_light = sampler.next_2d();
+            nee = self.next_event(v, &light_ref, state.beta, u_sel, u_light, wl);
+            if !light.is_empty() {
+                nee += state.beta * self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
             }
-        }
-
-        if flags.has_smooth() && !light.is_empty() {
-            nee += beta * self.connect_light_vertices(bsdf, si, wi, depth, light, wl);
         }
 
         let u_lobe = sampler.next_1d();
@@ -402,12 +510,16 @@ impl<'a> PathTracer<'a> {
         } else {
             Vec2::splat(0.5)
         };
-        let sample = bsdf.sample(ctx, wi, u_lobe, u_dir, wl).filter(|bs| {
+        let ctx = BsdfContext::radiance();
+        let sample = v.bsdf.sample(&ctx, v.wi, u_lobe, u_dir, wl).filter(|bs| {
             bs.weight.is_finite() && !bs.weight.is_black() && (bs.flags.is_delta() || bs.pdf > 0.0)
         });
+        // After a delta lobe, a smooth sample here needs the light tracer's density of the
+        // reverse direction for the MIS ratio.
+        let want_reverse = self.traces_caustics() && state.after_delta();
         let reverse_pdf = match &sample {
             Some(bs) if want_reverse && !bs.flags.is_delta() => {
-                bsdf.pdf(&BsdfContext::importance(), bs.wo, wi, wl)
+                v.bsdf.pdf(&BsdfContext::importance(), bs.wo, v.wi, wl)
             }
             _ => 0.0,
         };
@@ -419,21 +531,35 @@ impl<'a> PathTracer<'a> {
         }
     }
 
-    fn sample_light(&self, li: usize, r: &LightRef, u: Vec2, wl: &SampledWavelengths) -> Option<LightSample> {
-        match &self.lights.lights()[li] {
-            Light::Area(area) => {
-                let shape = self.accel.shapes().get(area.shape)?;
-                if by_area(area, shape, r.p) {
-                    let s = sample_area(shape, u);
-                    let pdf = area_pdf_to_solid_angle(s.pdf, r.p, s.p, s.n);
-                    area.sample_from_point(r.p, s.p, s.n, s.uv, pdf, wl)
-                } else {
-                    let s = sample_solid_angle(shape, r.p, u)?;
-                    area.sample_from_point(r.p, s.p, s.n, s.uv, s.pdf, wl)
-                }
-            }
-            light => light.sample_li_nonarea(r, u, wl),
+    /// Next-event estimation from `v`: β·f·|cos|·Lᵢ·T/p·w for one light sample (`u_sel` picks
+    /// the light, `u` the point), w the power heuristic against the BSDF density.
+    fn next_event(
+        &self,
+        v: &Vertex,
+        r: &LightRef,
+        beta: SampledSpectrum,
+        u_sel: f32,
+        u: Vec2,
+        wl: &SampledWavelengths,
+    ) -> SampledSpectrum {
+        let Some(ls) = self.lights.sample_li(self.accel.shapes(), r, u_sel, u, wl) else {
+            return SampledSpectrum::ZERO;
+        };
+        let wo = v.si.shading.to_local(ls.wi);
+        let (f, bsdf_pdf) = v.bsdf.eval_pdf(&BsdfContext::radiance(), v.wi, wo, wl);
+        if f.is_black() {
+            return SampledSpectrum::ZERO;
         }
+        let t = self.transmittance(v.si, &ls, wl);
+        if t.is_black() {
+            return SampledSpectrum::ZERO;
+        }
+        let w = if ls.delta {
+            1.0
+        } else {
+            mis_power(ls.pdf, bsdf_pdf)
+        };
+        beta * f * ls.li * t * (wo.z.abs() * w / ls.pdf)
     }
 
     /// Visibility of a light sample from `si`: 0/1, or with thin shadows the transmittance of the
@@ -471,12 +597,11 @@ impl<'a> PathTracer<'a> {
             if !self.is_thin(h.shape) {
                 return SampledSpectrum::ZERO;
             }
-            let Some(material) = self.material_of(h.shape) else {
-                return SampledSpectrum::ZERO;
-            };
             let wi = h.shading.to_local(-ray.d);
-            let t = material.with_bsdf_at(h.uv, *wl, |bsdf: &dyn Bsdf| bsdf.null_transmission(wi, wl));
-            match t {
+            let t = self.bsdf_at(h.shape, h.uv, wl, |bsdf: &dyn Bsdf| {
+                bsdf.null_transmission(wi, wl)
+            });
+            match t.flatten() {
                 Some(t) => tr *= t,
                 None => return SampledSpectrum::ZERO,
             }
@@ -503,47 +628,38 @@ impl<'a> PathTracer<'a> {
     }
 }
 
-/// Below this solid angle (estimated as A/d² from the light's bounding-sphere centre) a rectangle
-/// light is sampled uniformly by area: spherical-rectangle sampling (Ureña et al. 2013) costs a
-/// dozen transcendental functions and gains little when the light subtends a small angle, where
-/// the area density is nearly proportional to solid angle anyway. Measured (`bench/RESULTS.md`):
-/// 0.5 sr saves 28 % of thin-vs-thick's time at equal error and costs materials 8 % more error at
-/// equal time.
-pub const SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE: f32 = 0.5;
+/// The `path` integrator: channels `R`, `G`, `B` (linear sRGB through the wavelength estimator
+/// [`linear_srgb_from_sampled`]); with caustic light paths it splats their connections to the
+/// camera.
+impl Integrator for PathTracer<'_> {
+    fn channels(&self) -> Channels {
+        Channels::rgb()
+    }
 
-/// True when the area light is sampled by area from `p` (rectangles subtending a small angle).
-/// A function of the light and the point only, so light sampling and the MIS density agree.
-#[inline]
-fn by_area(light: &AreaLight, shape: &WorldShape, p: Vec3) -> bool {
-    matches!(shape.kind, ShapeKind::Rectangle { .. })
-        && light.area < SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE * (light.center - p).length_squared()
-}
+    fn splats(&self) -> bool {
+        self.traces_caustics()
+    }
 
-/// An area density at `p` (normal `n`) seen from `r`, per unit solid angle: p_A·d²/|cos|.
-#[inline]
-fn area_pdf_to_solid_angle(pdf_area: f32, r: Vec3, p: Vec3, n: Vec3) -> f32 {
-    let v = p - r;
-    let d2 = v.length_squared();
-    let cos = (n.dot(v) / d2.sqrt()).abs();
-    if cos > 0.0 && d2 > 0.0 {
-        pdf_area * d2 / cos
-    } else {
-        0.0
+    fn sample(&self, sample: &mut CameraSample<'_>, value: &mut [f32], splat: &mut dyn FnMut(Vec2, &[f32])) {
+        let mut light = caustics::LightSubpath::EMPTY;
+        if self.traces_caustics() {
+            // The light subpath first: it shares the wavelengths (and may terminate the
+            // secondary ones). Its random numbers are an independent stream keyed by the sample.
+            let key = sample.sampler.key();
+            let mut rng = Pcg32::new(key ^ LIGHT_PATH_KEY, key.rotate_left(29));
+            let mut to_film = |p: Vec2, v: SampledSpectrum, wl: &SampledWavelengths| {
+                splat(p, &linear_srgb_from_sampled(v, wl).to_array())
+            };
+            self.trace_light_path(&mut rng, &mut sample.wavelengths, &mut to_film, &mut light);
+        }
+        let l = self.li(sample.ray, &mut sample.sampler, &mut sample.wavelengths, &light);
+        value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
     }
 }
 
-/// The bounding sphere of a set of points' axis-aligned box (a unit sphere at the origin when
-/// empty).
-pub fn bounding_sphere(min: Vec3, max: Vec3) -> BoundingSphere {
-    if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() {
-        return BoundingSphere {
-            center: Vec3::ZERO,
-            radius: 1.0,
-        };
-    }
-    let center = 0.5 * (min + max);
-    BoundingSphere {
-        center,
-        radius: (0.5 * (max - min).length()).max(1e-3),
-    }
+/// Calls `f` with `material`'s BSDF at texture coordinates `uv`: the one place the integrators
+/// build a BSDF.
+#[inline]
+fn with_bsdf<R>(material: &Material, uv: Vec2, wl: &SampledWavelengths, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
+    f(&material.bsdf_at(uv, wl))
 }

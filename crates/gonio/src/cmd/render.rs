@@ -15,7 +15,7 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use gonio_render::image::RgbImage;
+use gonio_render::image::{ChannelImage, RgbImage};
 use gonio_render::render::{PreparedScene, RenderOptions, render};
 use gonio_render::sampler::Pattern;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -66,12 +66,19 @@ fn parse_defines(defs: &[String]) -> Result<Vec<(String, String)>> {
         .collect()
 }
 
-fn write_image(image: &RgbImage, path: &Path) -> Result<()> {
+/// Writes the render: an EXR gets every channel the integrator wrote, by name (a film of only
+/// `R`, `G`, `B` is written as an RGB image), a PNG the colour.
+fn write_image(image: &RgbImage, channels: &ChannelImage, path: &Path) -> Result<()> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase());
+    let only_rgb =
+        channels.names.len() == 3 && channels.names.iter().zip(["R", "G", "B"]).all(|(a, b)| a == b);
     match ext.as_deref() {
+        Some("exr") if !only_rgb => channels
+            .write_exr(path)
+            .with_context(|| format!("writing {}", path.display())),
         Some("exr") | Some("png") => image
             .write(path)
             .with_context(|| format!("writing {}", path.display())),
@@ -183,7 +190,7 @@ pub fn run(args: RenderArgs) -> Result<ExitCode> {
     bar.finish_and_clear();
 
     for path in &outputs {
-        write_image(&out.image, path)?;
+        write_image(&out.image, &out.channels, path)?;
     }
     if !args.quiet {
         let names: Vec<String> = outputs.iter().map(|p| p.display().to_string()).collect();

@@ -1,0 +1,137 @@
+//! The lights of a scene: area lights on emitting shapes (in shape order), then the scene's other
+//! emitters (in file order), checked and converted once when a scene is prepared.
+
+use super::{
+    AreaLight, BoundingSphere, ConstantLight, DirectionalLight, EnvMapLight, Light, Lights, PointLight,
+    SpotLight,
+};
+use crate::geometry::WorldShape;
+use crate::scene::{Emitter, Scene};
+use glam::Vec3;
+
+/// An emitter whose parameters cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("emitter {index}: {message}")]
+pub struct EmitterError {
+    /// Index of the emitter among the scene's emitters.
+    pub index: usize,
+    /// What went wrong.
+    pub message: String,
+}
+
+impl BoundingSphere {
+    /// The bounding sphere of an axis-aligned box (a unit sphere at the origin when the box is
+    /// empty or not finite).
+    pub fn from_box(min: Vec3, max: Vec3) -> Self {
+        if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() {
+            return Self {
+                center: Vec3::ZERO,
+                radius: 1.0,
+            };
+        }
+        let center = 0.5 * (min + max);
+        Self {
+            center,
+            radius: (0.5 * (max - min).length()).max(1e-3),
+        }
+    }
+
+    /// The bounding sphere of the bounding box of shapes' primitives.
+    pub fn of_shapes<'a>(shapes: impl IntoIterator<Item = &'a WorldShape>) -> Self {
+        let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        for s in shapes {
+            for prim in 0..s.prim_count() {
+                let (a, b) = s.prim_bounds(prim);
+                lo = lo.min(a);
+                hi = hi.max(b);
+            }
+        }
+        Self::from_box(lo, hi)
+    }
+}
+
+impl Light {
+    /// The light of one of the scene's emitters (not area lights, which live on shapes).
+    pub fn from_emitter(e: &Emitter) -> Result<Self, String> {
+        Ok(match e {
+            Emitter::Point { position, intensity } => Light::Point(PointLight {
+                position: *position,
+                intensity: intensity.clone(),
+            }),
+            Emitter::Spot {
+                to_world,
+                intensity,
+                cutoff_angle_deg,
+                beam_width_deg,
+            } => {
+                if to_world.matrix3.determinant() == 0.0 {
+                    return Err("singular to_world".into());
+                }
+                Light::Spot(SpotLight::new(
+                    *to_world,
+                    intensity.clone(),
+                    *cutoff_angle_deg,
+                    *beam_width_deg,
+                ))
+            }
+            Emitter::Directional {
+                direction,
+                irradiance,
+            } => {
+                let d = direction.normalize_or_zero();
+                if d == Vec3::ZERO {
+                    return Err("zero direction".into());
+                }
+                Light::Directional(DirectionalLight {
+                    direction: d,
+                    irradiance: irradiance.clone(),
+                })
+            }
+            Emitter::Constant { radiance } => Light::Constant(ConstantLight {
+                radiance: radiance.clone(),
+            }),
+            Emitter::EnvMap {
+                image,
+                scale,
+                to_world,
+            } => {
+                let env = EnvMapLight::new(
+                    image.width,
+                    image.height,
+                    image.data.clone(),
+                    *scale,
+                    *to_world,
+                    gonio_core::Spectrum::rgb_illuminant,
+                )
+                .ok_or_else(|| "empty environment image or singular to_world".to_string())?;
+                Light::EnvMap(env)
+            }
+        })
+    }
+}
+
+impl Lights {
+    /// The lights of `scene`, whose shapes placed in the world are `world` (same order).
+    pub fn from_scene(scene: &Scene, world: &[WorldShape]) -> Result<Self, EmitterError> {
+        let scene_area: f32 = world.iter().map(|s| s.area()).filter(|a| a.is_finite()).sum();
+        let bounds = BoundingSphere::of_shapes(world);
+        let mut lights = Vec::new();
+        for (index, (shape, w)) in scene.shapes.iter().zip(world).enumerate() {
+            if let Some(em) = &shape.emitter {
+                let sphere = BoundingSphere::of_shapes([w]);
+                lights.push(Light::Area(AreaLight {
+                    shape: index,
+                    radiance: em.radiance.clone(),
+                    area: w.area(),
+                    mean_radiance: em.radiance.mean(),
+                    center: sphere.center,
+                    radius: sphere.radius,
+                }));
+            }
+        }
+        for (index, e) in scene.emitters.iter().enumerate() {
+            lights.push(Light::from_emitter(e).map_err(|message| EmitterError { index, message })?);
+        }
+        Ok(Lights::new(lights, world.len(), scene_area, bounds))
+    }
+}
