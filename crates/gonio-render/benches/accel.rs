@@ -13,7 +13,7 @@ use glam::{Affine3A, Vec3};
 use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
 use gonio_render::accel::{Accel, Intersect};
 use gonio_render::geometry::{Ray, WorldShape};
-use gonio_render::scene::{Geometry, Shape, TriangleMesh};
+use gonio_render::scene::{Geometry, ShapeDesc, TriangleMesh};
 use std::collections::HashMap;
 use std::sync::{Arc, OnceLock};
 
@@ -92,7 +92,7 @@ fn shapes() -> &'static Vec<WorldShape> {
     static S: OnceLock<Vec<WorldShape>> = OnceLock::new();
     S.get_or_init(|| {
         let mesh = icosphere(8);
-        let mk = |geometry, to_world| Shape {
+        let mk = |geometry, to_world| ShapeDesc {
             geometry,
             to_world,
             flip_normals: false,
@@ -212,7 +212,7 @@ fn cornell() -> &'static Vec<WorldShape> {
     static S: OnceLock<Vec<WorldShape>> = OnceLock::new();
     S.get_or_init(|| {
         use std::f32::consts::FRAC_PI_2;
-        let mk = |geometry, to_world| Shape {
+        let mk = |geometry, to_world| ShapeDesc {
             geometry,
             to_world,
             flip_normals: false,

@@ -16,7 +16,7 @@
 //! and image y grows downwards. Rays start on the near plane and end on the far plane.
 
 use crate::geometry::Ray;
-use crate::scene::Sensor;
+use crate::scene::SensorDesc;
 use glam::{Affine3A, Vec2, Vec3};
 
 /// A camera: rays for film positions, and the connection of world points to the film.
@@ -42,7 +42,7 @@ pub trait Camera: std::fmt::Debug + Send + Sync {
 }
 
 /// The camera of a scene's sensor (today always [`PerspectiveCamera`]).
-pub fn from_sensor(sensor: &Sensor) -> Box<dyn Camera> {
+pub fn from_sensor(sensor: &SensorDesc) -> Box<dyn Camera> {
     Box::new(PerspectiveCamera::new(sensor))
 }
 
@@ -62,7 +62,7 @@ pub struct PerspectiveCamera {
 
 impl PerspectiveCamera {
     /// The camera of a scene sensor (fov already converted to the horizontal axis).
-    pub fn new(sensor: &Sensor) -> Self {
+    pub fn new(sensor: &SensorDesc) -> Self {
         Self::from_parts(
             sensor.to_world,
             sensor.fov_x_deg,

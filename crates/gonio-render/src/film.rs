@@ -26,23 +26,23 @@
 //! RGB film was: four sums (three channels and the weight).
 
 use crate::image::{ChannelImage, RgbImage};
-use crate::scene::Filter;
+use crate::scene::FilterDesc;
 use glam::{UVec2, Vec2};
 
 /// A filter with its support radius precomputed.
 #[derive(Clone, Copy, Debug)]
 struct Kernel {
-    filter: Filter,
+    filter: FilterDesc,
     radius: f32,
     gauss_alpha: f32,
     gauss_bias: f32,
 }
 
 impl Kernel {
-    fn new(filter: Filter) -> Self {
+    fn new(filter: FilterDesc) -> Self {
         let radius = filter.radius();
         let (gauss_alpha, gauss_bias) = match filter {
-            Filter::Gaussian { stddev } => {
+            FilterDesc::Gaussian { stddev } => {
                 let a = -1.0 / (2.0 * stddev * stddev);
                 (a, (a * radius * radius).exp())
             }
@@ -59,15 +59,15 @@ impl Kernel {
     #[inline]
     fn eval(&self, x: f32) -> f32 {
         match self.filter {
-            Filter::Box { radius } => {
+            FilterDesc::Box { radius } => {
                 if -radius <= x && x < radius {
                     1.0
                 } else {
                     0.0
                 }
             }
-            Filter::Tent { radius } => (1.0 - x.abs() / radius).max(0.0),
-            Filter::Gaussian { .. } => ((self.gauss_alpha * x * x).exp() - self.gauss_bias).max(0.0),
+            FilterDesc::Tent { radius } => (1.0 - x.abs() / radius).max(0.0),
+            FilterDesc::Gaussian { .. } => ((self.gauss_alpha * x * x).exp() - self.gauss_bias).max(0.0),
         }
     }
 
@@ -154,12 +154,12 @@ pub struct FilmTile {
 
 impl Film {
     /// An empty film with the channels `R`, `G`, `B`.
-    pub fn new(width: u32, height: u32, filter: Filter) -> Self {
+    pub fn new(width: u32, height: u32, filter: FilterDesc) -> Self {
         Self::with_channels(width, height, filter, Channels::rgb())
     }
 
     /// An empty film with these channels.
-    pub fn with_channels(width: u32, height: u32, filter: Filter, channels: Channels) -> Self {
+    pub fn with_channels(width: u32, height: u32, filter: FilterDesc, channels: Channels) -> Self {
         let stride = channels.len() + 1;
         Self {
             width,
@@ -363,12 +363,12 @@ const SPLAT_SCALE: f64 = (1u64 << 40) as f64;
 
 impl SplatFilm {
     /// An empty splat image of the film's size and filter, with three channels (`R`, `G`, `B`).
-    pub fn new(width: u32, height: u32, filter: Filter) -> Self {
+    pub fn new(width: u32, height: u32, filter: FilterDesc) -> Self {
         Self::with_channels(width, height, filter, 3)
     }
 
     /// An empty splat image with `channels` values per pixel (those of the film it adds to).
-    pub fn with_channels(width: u32, height: u32, filter: Filter, channels: usize) -> Self {
+    pub fn with_channels(width: u32, height: u32, filter: FilterDesc, channels: usize) -> Self {
         let kernel = Kernel::new(filter);
         let norm = |n: u32| -> Vec<f32> {
             (0..n)

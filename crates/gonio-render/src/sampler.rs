@@ -216,7 +216,7 @@ impl Sampler {
     }
 
     /// The sampler a scene asks for (Mitsuba's plugins map one to one).
-    pub fn from_scene(s: &crate::scene::Sampler) -> Self {
+    pub fn from_scene(s: &crate::scene::SamplerDesc) -> Self {
         Self::new(s.kind.into(), s.sample_count, s.seed)
     }
 

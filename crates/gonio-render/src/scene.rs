@@ -1,10 +1,11 @@
 //! The scene description: what the Mitsuba 3 XML reader ([`crate::xml`]) produces and the
-//! renderer consumes. Plain data, no behaviour beyond small helpers; geometry is in object space
+//! renderer consumes. Its types are named `*Desc` where a runtime type of the same plugin exists
+//! (the film description [`FilmDesc`] and the film [`crate::film::Film`], ...). Plain data, no behaviour beyond small helpers; geometry is in object space
 //! and each shape carries its `to_world`.
 //!
 //! Conventions follow Mitsuba 3 (`look_at` in `include/mitsuba/core/transform.h`,
 //! `src/sensors/perspective.cpp`): camera space is +z forward, +y up,
-//! +x left; `Sensor::fov_x_deg` is the horizontal field of view after the `fov_axis` /
+//! +x left; `SensorDesc::fov_x_deg` is the horizontal field of view after the `fov_axis` /
 //! `focal_length` conversion.
 
 use glam::{Affine3A, Vec2, Vec3};
@@ -19,20 +20,20 @@ pub use crate::texture::Texture;
 #[derive(Clone, Debug)]
 pub struct Scene {
     /// The integrator settings.
-    pub integrator: Integrator,
+    pub integrator: IntegratorDesc,
     /// The camera.
-    pub sensor: Sensor,
+    pub sensor: SensorDesc,
     /// All shapes, in document order.
-    pub shapes: Vec<Shape>,
+    pub shapes: Vec<ShapeDesc>,
     /// Emitters that are not attached to a shape (point, spot, directional, constant, envmap).
-    pub emitters: Vec<Emitter>,
-    /// Materials; [`Shape::material`] indexes this list.
+    pub emitters: Vec<EmitterDesc>,
+    /// Materials; [`ShapeDesc::material`] indexes this list.
     pub materials: Vec<Material>,
 }
 
-/// Integrator `path` settings.
+/// Description of the `<integrator>` (the `path` settings), as the scene file gives it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Integrator {
+pub struct IntegratorDesc {
     /// Longest path, in segments; −1 = unbounded (Mitsuba `max_depth`, default −1).
     pub max_depth: i32,
     /// Depth at which Russian roulette starts (Mitsuba `rr_depth`, default 5).
@@ -47,7 +48,7 @@ pub struct Integrator {
     pub caustic_paths: bool,
 }
 
-impl Default for Integrator {
+impl Default for IntegratorDesc {
     /// Mitsuba's `path` defaults plus `thin_shadows = true` and `caustic_paths = true`.
     fn default() -> Self {
         Self {
@@ -60,9 +61,9 @@ impl Default for Integrator {
     }
 }
 
-/// A perspective camera.
+/// Description of the `<sensor>` (a perspective camera), as the scene file gives it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Sensor {
+pub struct SensorDesc {
     /// Camera to world (camera space: +z forward, +y up, +x left).
     pub to_world: Affine3A,
     /// Horizontal field of view, degrees, after the `fov_axis` conversion.
@@ -72,35 +73,35 @@ pub struct Sensor {
     /// Far clipping distance (default 10000).
     pub far_clip: f32,
     /// The film.
-    pub film: Film,
+    pub film: FilmDesc,
     /// The sampler.
-    pub sampler: Sampler,
+    pub sampler: SamplerDesc,
 }
 
-/// Film `hdrfilm`.
+/// Description of the `<film>` (`hdrfilm`), as the scene file gives it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Film {
+pub struct FilmDesc {
     /// Width in pixels (default 768).
     pub width: u32,
     /// Height in pixels (default 576).
     pub height: u32,
     /// Reconstruction filter (default gaussian, stddev 0.5).
-    pub filter: Filter,
+    pub filter: FilterDesc,
 }
 
-impl Default for Film {
+impl Default for FilmDesc {
     fn default() -> Self {
         Self {
             width: 768,
             height: 576,
-            filter: Filter::default(),
+            filter: FilterDesc::default(),
         }
     }
 }
 
-/// Reconstruction filters (`rfilter`).
+/// Description of the reconstruction filter (`<rfilter>`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Filter {
+pub enum FilterDesc {
     /// `box`, radius default 0.5.
     Box {
         /// Half width, pixels.
@@ -118,25 +119,25 @@ pub enum Filter {
     },
 }
 
-impl Default for Filter {
+impl Default for FilterDesc {
     fn default() -> Self {
-        Filter::Gaussian { stddev: 0.5 }
+        FilterDesc::Gaussian { stddev: 0.5 }
     }
 }
 
-impl Filter {
+impl FilterDesc {
     /// Support radius in pixels (gaussian: 4σ).
     pub fn radius(&self) -> f32 {
         match *self {
-            Filter::Box { radius } | Filter::Tent { radius } => radius,
-            Filter::Gaussian { stddev } => 4.0 * stddev,
+            FilterDesc::Box { radius } | FilterDesc::Tent { radius } => radius,
+            FilterDesc::Gaussian { stddev } => 4.0 * stddev,
         }
     }
 }
 
-/// Sampler settings.
+/// Description of the `<sampler>`, as the scene file gives it.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Sampler {
+pub struct SamplerDesc {
     /// Which sample pattern.
     pub kind: SamplerKind,
     /// Samples per pixel (default 4).
@@ -145,7 +146,7 @@ pub struct Sampler {
     pub seed: u64,
 }
 
-impl Default for Sampler {
+impl Default for SamplerDesc {
     fn default() -> Self {
         Self {
             kind: SamplerKind::Independent,
@@ -172,9 +173,10 @@ pub enum SamplerKind {
     },
 }
 
-/// A shape: object-space geometry, its placement, its material and an optional area light.
+/// Description of a `<shape>`: object-space geometry, its placement, its material and an
+/// optional area light.
 #[derive(Clone, Debug)]
-pub struct Shape {
+pub struct ShapeDesc {
     /// Object-space geometry.
     pub geometry: Geometry,
     /// Object to world.
@@ -186,12 +188,12 @@ pub struct Shape {
     /// Index into [`Scene::materials`].
     pub material: usize,
     /// Area emitter attached to this shape.
-    pub emitter: Option<AreaEmitter>,
+    pub emitter: Option<AreaEmitterDesc>,
     /// The `id` attribute, if any.
     pub id: Option<String>,
 }
 
-/// Object-space geometry of a [`Shape`].
+/// Object-space geometry of a [`ShapeDesc`].
 #[derive(Clone, Debug)]
 pub enum Geometry {
     /// `sphere`: centre and radius (object space; `to_world` applies on top).
@@ -222,16 +224,16 @@ pub struct TriangleMesh {
     pub indices: Vec<[u32; 3]>,
 }
 
-/// `area` emitter: one-sided, on the side the (possibly flipped) normal points to.
+/// Description of an `area` emitter: one-sided, on the side the (possibly flipped) normal points to.
 #[derive(Clone, Debug)]
-pub struct AreaEmitter {
+pub struct AreaEmitterDesc {
     /// Emitted radiance (`radiance`, default 1 × D65 in spectral mode).
     pub radiance: Texture,
 }
 
-/// Emitters not attached to a shape.
+/// Description of an `<emitter>` not attached to a shape.
 #[derive(Clone, Debug)]
-pub enum Emitter {
+pub enum EmitterDesc {
     /// `point`: isotropic intensity, W/sr.
     Point {
         /// World position.

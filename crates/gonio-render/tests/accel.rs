@@ -4,7 +4,7 @@ use glam::{Affine3A, Quat, Vec3};
 use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
 use gonio_render::accel::{Accel, BruteForce, Intersect};
 use gonio_render::geometry::{Ray, WorldShape};
-use gonio_render::scene::{Geometry, Shape, TriangleMesh};
+use gonio_render::scene::{Geometry, ShapeDesc, TriangleMesh};
 use std::sync::Arc;
 
 struct Rng(u64);
@@ -27,8 +27,8 @@ impl Rng {
     }
 }
 
-fn shape(geometry: Geometry, to_world: Affine3A) -> Shape {
-    Shape {
+fn shape(geometry: Geometry, to_world: Affine3A) -> ShapeDesc {
+    ShapeDesc {
         geometry,
         to_world,
         flip_normals: false,

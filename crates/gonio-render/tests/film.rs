@@ -2,11 +2,11 @@
 
 use glam::{UVec2, Vec2};
 use gonio_render::film::{Film, SplatFilm};
-use gonio_render::scene::Filter;
+use gonio_render::scene::FilterDesc;
 
 #[test]
 fn box_filter_averages_the_samples_of_each_pixel() {
-    let mut film = Film::new(4, 3, Filter::Box { radius: 0.5 });
+    let mut film = Film::new(4, 3, FilterDesc::Box { radius: 0.5 });
     let mut tile = film.tile(UVec2::ZERO, UVec2::new(4, 3));
     tile.add_sample(Vec2::new(1.2, 2.7), [1.0, 2.0, 3.0]);
     tile.add_sample(Vec2::new(1.9, 2.1), [3.0, 0.0, 1.0]);
@@ -27,11 +27,11 @@ fn tent_and_gaussian_weights_follow_mitsuba() {
     let dx = 0.3f32;
     for (filter, f) in [
         (
-            Filter::Tent { radius: 1.0 },
+            FilterDesc::Tent { radius: 1.0 },
             Box::new(|x: f32| (1.0 - x.abs()).max(0.0)) as Box<dyn Fn(f32) -> f32>,
         ),
         (
-            Filter::Gaussian { stddev: 0.5 },
+            FilterDesc::Gaussian { stddev: 0.5 },
             Box::new(|x: f32| ((-x * x / 0.5).exp() - (-2.0f32 * 2.0 / 0.5).exp()).max(0.0)),
         ),
     ] {
@@ -56,10 +56,10 @@ fn constant_input_reconstructs_exactly_with_any_filter() {
     // Weighted mean: a constant signal stays constant wherever the pixel has weight, including
     // the image border where the filter is cut off.
     for filter in [
-        Filter::Box { radius: 0.5 },
-        Filter::Tent { radius: 1.0 },
-        Filter::Gaussian { stddev: 0.5 },
-        Filter::Box { radius: 1.5 },
+        FilterDesc::Box { radius: 0.5 },
+        FilterDesc::Tent { radius: 1.0 },
+        FilterDesc::Gaussian { stddev: 0.5 },
+        FilterDesc::Box { radius: 1.5 },
     ] {
         let mut film = Film::new(9, 7, filter);
         let mut tiles = film.tiles(4);
@@ -90,7 +90,7 @@ fn constant_input_reconstructs_exactly_with_any_filter() {
 
 #[test]
 fn tiles_cover_the_margin_and_merging_is_deterministic() {
-    let filter = Filter::Gaussian { stddev: 0.5 }; // radius 2: margin 2 pixels
+    let filter = FilterDesc::Gaussian { stddev: 0.5 }; // radius 2: margin 2 pixels
     let render = |order: &[usize]| {
         let mut film = Film::new(10, 10, filter);
         let mut tiles = film.tiles(5);
@@ -121,7 +121,7 @@ fn tiles_cover_the_margin_and_merging_is_deterministic() {
 
 #[test]
 fn non_finite_samples_are_dropped_and_counted() {
-    let film = Film::new(2, 2, Filter::Box { radius: 0.5 });
+    let film = Film::new(2, 2, FilterDesc::Box { radius: 0.5 });
     let mut t = film.tile(UVec2::ZERO, UVec2::new(2, 2));
     t.add_sample(Vec2::new(0.5, 0.5), [f32::NAN, 0.0, 0.0]);
     t.add_sample(Vec2::new(0.5, 0.5), [f32::INFINITY, 0.0, 0.0]);
@@ -143,7 +143,7 @@ fn splats_are_normalized_and_order_independent() {
         s.add_to(&mut img, 1.0);
         img
     };
-    let b = SplatFilm::new(8, 6, Filter::Box { radius: 0.5 });
+    let b = SplatFilm::new(8, 6, FilterDesc::Box { radius: 0.5 });
     b.splat(Vec2::new(2.3, 1.7), [1.0, 2.0, 3.0]);
     let img = to_image(&b, 8, 6);
     for (i, c) in img.data.iter().enumerate() {
@@ -154,7 +154,7 @@ fn splats_are_normalized_and_order_independent() {
         );
     }
 
-    let t = SplatFilm::new(16, 16, Filter::Tent { radius: 1.5 });
+    let t = SplatFilm::new(16, 16, FilterDesc::Tent { radius: 1.5 });
     let k = 64;
     for i in 0..k {
         for j in 0..k {
@@ -175,8 +175,8 @@ fn splats_are_normalized_and_order_independent() {
             (Vec2::new(x, y), [k as f32 * 1e-3, 1.0 / (1.0 + k as f32), 7.5])
         })
         .collect();
-    let forward = SplatFilm::new(16, 16, Filter::Gaussian { stddev: 0.5 });
-    let backward = SplatFilm::new(16, 16, Filter::Gaussian { stddev: 0.5 });
+    let forward = SplatFilm::new(16, 16, FilterDesc::Gaussian { stddev: 0.5 });
+    let backward = SplatFilm::new(16, 16, FilterDesc::Gaussian { stddev: 0.5 });
     splats.iter().for_each(|(p, c)| forward.splat(*p, *c));
     splats.iter().rev().for_each(|(p, c)| backward.splat(*p, *c));
     assert!(to_image(&forward, 16, 16).data == to_image(&backward, 16, 16).data);
@@ -190,7 +190,7 @@ fn splats_are_normalized_and_order_independent() {
 #[test]
 fn named_channels_filter_like_rgb_and_reach_the_exr() {
     use gonio_render::film::Channels;
-    let filter = Filter::Tent { radius: 1.5 };
+    let filter = FilterDesc::Tent { radius: 1.5 };
     let channels = Channels::rgb()
         .with_layer("albedo", &["R", "G", "B"])
         .with_layer("depth", &["Z"]);
@@ -229,7 +229,7 @@ fn named_channels_filter_like_rgb_and_reach_the_exr() {
     }
 
     // Splats with the same channels add to them.
-    let splats = SplatFilm::with_channels(6, 5, Filter::Box { radius: 0.5 }, 7);
+    let splats = SplatFilm::with_channels(6, 5, FilterDesc::Box { radius: 0.5 }, 7);
     splats.splat(Vec2::new(1.5, 2.5), [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 4.0]);
     let mut with_splats = all.clone();
     splats.add_to_channels(&mut with_splats, 0.5);

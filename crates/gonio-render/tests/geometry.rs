@@ -5,7 +5,7 @@ use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
 use gonio_render::accel::{BruteForce, Intersect};
 use gonio_render::geometry::sampling::{pdf_solid_angle, sample_area, sample_solid_angle};
 use gonio_render::geometry::{Ray, SurfaceInteraction, WorldShape};
-use gonio_render::scene::{Geometry, Shape, TriangleMesh};
+use gonio_render::scene::{Geometry, ShapeDesc, TriangleMesh};
 use std::f32::consts::PI;
 use std::sync::Arc;
 
@@ -27,8 +27,8 @@ impl Rng {
     }
 }
 
-fn shape(geometry: Geometry, to_world: Affine3A) -> Shape {
-    Shape {
+fn shape(geometry: Geometry, to_world: Affine3A) -> ShapeDesc {
+    ShapeDesc {
         geometry,
         to_world,
         flip_normals: false,
@@ -39,7 +39,7 @@ fn shape(geometry: Geometry, to_world: Affine3A) -> Shape {
     }
 }
 
-fn world(s: &Shape) -> WorldShape {
+fn world(s: &ShapeDesc) -> WorldShape {
     WorldShape::from_scene(s, "test").unwrap()
 }
 

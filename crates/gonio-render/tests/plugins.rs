@@ -4,7 +4,7 @@
 //! `docs/plugins.md` is generated from them.
 
 use gonio_render::plugins::{DefaultValue, KindTable, ParamSpec, ParamType, all_kinds, plugins_markdown};
-use gonio_render::scene::{Film, Filter, Integrator, Sampler};
+use gonio_render::scene::{FilmDesc, FilterDesc, IntegratorDesc, SamplerDesc};
 use gonio_render::xml::{ErrorKind, SceneError, load_scene_str, load_scene_str_with_warnings};
 use std::path::PathBuf;
 
@@ -183,10 +183,10 @@ fn absent_objects_are_their_plugins_with_every_default() {
          <rfilter type=\"gaussian\"/></film><sampler type=\"independent\"/></sensor>",
     )
     .unwrap();
-    assert_eq!(explicit.integrator, Integrator::default());
-    assert_eq!(explicit.sensor.film, Film::default());
-    assert_eq!(explicit.sensor.film.filter, Filter::default());
-    assert_eq!(explicit.sensor.sampler, Sampler::default());
+    assert_eq!(explicit.integrator, IntegratorDesc::default());
+    assert_eq!(explicit.sensor.film, FilmDesc::default());
+    assert_eq!(explicit.sensor.film.filter, FilterDesc::default());
+    assert_eq!(explicit.sensor.sampler, SamplerDesc::default());
     let implicit = load_scene_str_with_warnings("<scene version=\"3.0.0\"/>", data(), &[]).unwrap();
     assert_eq!(implicit.warnings.len(), 2, "{:?}", implicit.warnings);
     assert_eq!(explicit.sensor, implicit.scene.sensor);

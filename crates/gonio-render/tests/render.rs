@@ -58,7 +58,7 @@ fn same_seed_same_image_whatever_the_thread_count() {
 fn filters_other_than_box_are_deterministic_too() {
     // A tent filter splats across tile borders: the merge order must still be fixed.
     let mut p = cornell(40, 36);
-    p.scene.sensor.film.filter = gonio_render::scene::Filter::Tent { radius: 1.5 };
+    p.scene.sensor.film.filter = gonio_render::scene::FilterDesc::Tent { radius: 1.5 };
     let options = RenderOptions {
         spp: 8,
         seed: 3,
@@ -187,7 +187,7 @@ fn render_with_drives_any_integrator_with_named_channels_and_splats() {
         }
     }
     let mut p = cornell(12, 10);
-    p.scene.sensor.film.filter = gonio_render::scene::Filter::Box { radius: 0.5 };
+    p.scene.sensor.film.filter = gonio_render::scene::FilterDesc::Box { radius: 0.5 };
     let options = RenderOptions {
         spp: 4,
         seed: 3,

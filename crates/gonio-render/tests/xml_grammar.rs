@@ -3,7 +3,7 @@
 use glam::{Affine3A, Vec2, Vec3};
 use gonio_core::Spectrum;
 use gonio_render::material::{ConductorMaterial, DiffuseMaterial};
-use gonio_render::scene::{Emitter, Geometry, Scene};
+use gonio_render::scene::{EmitterDesc, Geometry, Scene};
 use gonio_render::texture::Texture;
 use gonio_render::xml::{load_scene_file, load_scene_str};
 use std::path::PathBuf;
@@ -293,11 +293,11 @@ fn rgb_roles() {
     // Unbounded: values above 1 survive (k ≈ 3.9 in the red).
     assert!(model.k.eval(640.0) > 3.0, "{}", model.k.eval(640.0));
     assert!(model.eta.eval(450.0) > 0.8);
-    let Emitter::Constant { radiance } = &s.emitters[0] else {
+    let EmitterDesc::Constant { radiance } = &s.emitters[0] else {
         panic!()
     };
     assert!((radiance.eval(560.0) - 0.5 * Spectrum::d65().eval(560.0)).abs() < 1e-3);
-    let Emitter::Point { position, intensity } = &s.emitters[1] else {
+    let EmitterDesc::Point { position, intensity } = &s.emitters[1] else {
         panic!()
     };
     assert_eq!(*position, Vec3::new(1.0, 2.0, 3.0));

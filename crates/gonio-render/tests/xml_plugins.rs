@@ -8,7 +8,7 @@ use gonio_render::material::{
     BlendMaterial, ConductorMaterial, DielectricMaterial, DiffuseMaterial, Material, PlasticMaterial,
     ThinDielectricMaterial,
 };
-use gonio_render::scene::{Emitter, Filter, Geometry, SamplerKind, Scene};
+use gonio_render::scene::{EmitterDesc, FilterDesc, Geometry, SamplerKind, Scene};
 use gonio_render::texture::Texture;
 use gonio_render::xml::{load_bsdf_str, load_scene_str};
 use std::f32::consts::FRAC_1_PI;
@@ -63,7 +63,7 @@ fn integrator_path() {
 fn sensor_defaults_and_fov_axes() {
     let s = sensor("");
     assert_eq!((s.sensor.film.width, s.sensor.film.height), (768, 576));
-    assert_eq!(s.sensor.film.filter, Filter::Gaussian { stddev: 0.5 });
+    assert_eq!(s.sensor.film.filter, FilterDesc::Gaussian { stddev: 0.5 });
     assert_eq!(s.sensor.sampler.kind, SamplerKind::Independent);
     assert_eq!((s.sensor.sampler.sample_count, s.sensor.sampler.seed), (4, 0));
     // focal_length 50mm at 768×576 → 38.1848° (Mitsuba 3 src/render/sensor.cpp).
@@ -111,15 +111,15 @@ fn sensor_defaults_and_fov_axes() {
     );
     assert_eq!(s.sensor.sampler.kind, SamplerKind::Stratified { jitter: false });
     assert_eq!((s.sensor.sampler.sample_count, s.sensor.sampler.seed), (16, 7));
-    assert_eq!(s.sensor.film.filter, Filter::Tent { radius: 1.5 });
+    assert_eq!(s.sensor.film.filter, FilterDesc::Tent { radius: 1.5 });
     let s = sensor(
         "<sampler type=\"multijitter\"/><film type=\"hdrfilm\"><rfilter type=\"gaussian\"><float name=\"stddev\" value=\"0.25\"/></rfilter></film>",
     );
     assert_eq!(s.sensor.sampler.kind, SamplerKind::MultiJitter { jitter: true });
-    assert_eq!(s.sensor.film.filter, Filter::Gaussian { stddev: 0.25 });
+    assert_eq!(s.sensor.film.filter, FilterDesc::Gaussian { stddev: 0.25 });
     assert_eq!(s.sensor.film.filter.radius(), 1.0);
     let s = sensor("<film type=\"hdrfilm\"><rfilter type=\"box\"/></film>");
-    assert_eq!(s.sensor.film.filter, Filter::Box { radius: 0.5 });
+    assert_eq!(s.sensor.film.filter, FilterDesc::Box { radius: 0.5 });
 }
 
 #[test]
@@ -197,12 +197,12 @@ fn emitters() {
 <shape type="rectangle"><emitter type="area"/></shape>"#,
     );
     assert_eq!(s.emitters.len(), 6);
-    let Emitter::Point { position, intensity } = &s.emitters[0] else {
+    let EmitterDesc::Point { position, intensity } = &s.emitters[0] else {
         panic!()
     };
     assert_eq!(*position, Vec3::new(1.0, 2.0, 3.0));
     assert_eq!(intensity, &Spectrum::d65());
-    let Emitter::Spot {
+    let EmitterDesc::Spot {
         to_world,
         cutoff_angle_deg,
         beam_width_deg,
@@ -213,7 +213,7 @@ fn emitters() {
     };
     assert_eq!((*cutoff_angle_deg, *beam_width_deg), (30.0, 22.5));
     assert!((to_world.transform_vector3(Vec3::Z) - Vec3::NEG_Y).length() < 1e-6);
-    let Emitter::Directional {
+    let EmitterDesc::Directional {
         direction,
         irradiance,
     } = &s.emitters[2]
@@ -222,15 +222,15 @@ fn emitters() {
     };
     assert_eq!(*direction, Vec3::NEG_Y);
     assert!((irradiance.eval(550.0) - 3.0 * Spectrum::d65().eval(550.0)).abs() < 1e-4);
-    let Emitter::Directional { direction, .. } = &s.emitters[3] else {
+    let EmitterDesc::Directional { direction, .. } = &s.emitters[3] else {
         panic!()
     };
     assert!((*direction - Vec3::NEG_Y).length() < 1e-6, "{direction}");
-    let Emitter::Constant { radiance } = &s.emitters[4] else {
+    let EmitterDesc::Constant { radiance } = &s.emitters[4] else {
         panic!()
     };
     assert_eq!(radiance, &Spectrum::d65());
-    let Emitter::EnvMap { image, scale, .. } = &s.emitters[5] else {
+    let EmitterDesc::EnvMap { image, scale, .. } = &s.emitters[5] else {
         panic!()
     };
     assert_eq!((image.width, image.height, *scale), (2, 2, 2.0));

@@ -5,7 +5,7 @@ use gonio_core::{Ior, Spectrum};
 use gonio_render::material::{
     ConductorMaterial, DielectricMaterial, DiffuseMaterial, PlasticMaterial, ThinDielectricMaterial,
 };
-use gonio_render::scene::{Emitter, Filter, Geometry, SamplerKind, Scene};
+use gonio_render::scene::{EmitterDesc, FilterDesc, Geometry, SamplerKind, Scene};
 use gonio_render::texture::Texture;
 use gonio_render::xml::{load_scene_file, load_scene_file_with_warnings};
 use std::path::PathBuf;
@@ -40,7 +40,7 @@ fn materials_scene() {
     assert!(!s.integrator.hide_emitters);
     assert!(s.integrator.thin_shadows);
     assert_eq!((s.sensor.film.width, s.sensor.film.height), (480, 200));
-    assert_eq!(s.sensor.film.filter, Filter::Box { radius: 0.5 });
+    assert_eq!(s.sensor.film.filter, FilterDesc::Box { radius: 0.5 });
     assert_eq!(s.sensor.sampler.sample_count, 64);
     assert_eq!(s.sensor.sampler.kind, SamplerKind::Independent);
     assert_eq!(s.sensor.fov_x_deg, 32.0);
@@ -63,7 +63,7 @@ fn materials_scene() {
     );
     assert_eq!(s.shapes.iter().filter(|x| x.emitter.is_some()).count(), 1);
     assert_eq!(s.emitters.len(), 1);
-    assert!(matches!(s.emitters[0], Emitter::Constant { .. }));
+    assert!(matches!(s.emitters[0], EmitterDesc::Constant { .. }));
 
     let mat = |i: usize| &s.materials[s.shapes[i].material];
     let Geometry::Sphere { center, radius } = s.shapes[0].geometry else {
@@ -155,7 +155,7 @@ fn furnace_scene() {
             .get::<ThinDielectricMaterial>()
             .is_some()
     );
-    let Emitter::Constant { radiance } = &s.emitters[0] else {
+    let EmitterDesc::Constant { radiance } = &s.emitters[0] else {
         panic!()
     };
     assert_eq!(radiance, &Spectrum::d65());

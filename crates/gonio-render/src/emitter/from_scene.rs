@@ -6,7 +6,7 @@ use super::{
     SpotLight,
 };
 use crate::geometry::WorldShape;
-use crate::scene::{Emitter, Scene};
+use crate::scene::{EmitterDesc, Scene};
 use glam::Vec3;
 
 /// An emitter whose parameters cannot be used.
@@ -52,13 +52,13 @@ impl BoundingSphere {
 
 impl Light {
     /// The light of one of the scene's emitters (not area lights, which live on shapes).
-    pub fn from_emitter(e: &Emitter) -> Result<Self, String> {
+    pub fn from_emitter(e: &EmitterDesc) -> Result<Self, String> {
         Ok(match e {
-            Emitter::Point { position, intensity } => Light::Point(PointLight {
+            EmitterDesc::Point { position, intensity } => Light::Point(PointLight {
                 position: *position,
                 intensity: intensity.clone(),
             }),
-            Emitter::Spot {
+            EmitterDesc::Spot {
                 to_world,
                 intensity,
                 cutoff_angle_deg,
@@ -74,7 +74,7 @@ impl Light {
                     *beam_width_deg,
                 ))
             }
-            Emitter::Directional {
+            EmitterDesc::Directional {
                 direction,
                 irradiance,
             } => {
@@ -87,10 +87,10 @@ impl Light {
                     irradiance: irradiance.clone(),
                 })
             }
-            Emitter::Constant { radiance } => Light::Constant(ConstantLight {
+            EmitterDesc::Constant { radiance } => Light::Constant(ConstantLight {
                 radiance: radiance.clone(),
             }),
-            Emitter::EnvMap {
+            EmitterDesc::EnvMap {
                 image,
                 scale,
                 to_world,

@@ -2,7 +2,7 @@
 //!
 //! * [`Ray`]: origin, unit direction and a far limit `tmax` (the near limit is 0; origins are
 //!   offset off surfaces with [`offset_ray_origin`] instead of using a `tmin` epsilon).
-//! * [`WorldShape`]: a scene [`crate::scene::Shape`] placed in world space, ready for intersection
+//! * [`WorldShape`]: a scene [`crate::scene::ShapeDesc`] placed in world space, ready for intersection
 //!   and sampling: analytic spheres, rectangles and disks, and triangle meshes.
 //! * [`SurfaceInteraction`]: everything the integrator needs at a hit.
 //! * [`sampling`]: points on shapes for area lights, by solid angle where that lowers variance

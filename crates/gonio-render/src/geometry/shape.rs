@@ -1,7 +1,7 @@
 //! World-space shapes: construction from the scene, bounds, intersection, hit records.
 
 use super::{Ray, SurfaceInteraction};
-use crate::scene::{Geometry, Shape, TriangleMesh};
+use crate::scene::{Geometry, ShapeDesc, TriangleMesh};
 use glam::{Affine3A, DVec3, Mat3, Vec2, Vec3, Vec3A};
 use gonio_core::Frame;
 use gonio_core::sampling::Distribution1D;
@@ -257,7 +257,7 @@ fn plane_normal(m: &Affine3A) -> Vec3 {
 
 impl WorldShape {
     /// Places a scene shape in world space. `name` identifies it in errors.
-    pub fn from_scene(shape: &Shape, name: &str) -> Result<Self, GeometryError> {
+    pub fn from_scene(shape: &ShapeDesc, name: &str) -> Result<Self, GeometryError> {
         let m = shape.to_world;
         check_affine(&m, name)?;
         let kind = match &shape.geometry {

@@ -81,7 +81,7 @@ use crate::geometry::{Ray, SurfaceInteraction};
 use crate::material::Material;
 pub use crate::sampler::PathSampler;
 use crate::sampler::{PaddedSampler, Pcg32};
-use crate::scene::Integrator as IntegratorSettings;
+use crate::scene::IntegratorDesc;
 use glam::{Vec2, Vec3};
 use gonio_core::color::linear_srgb_from_sampled;
 use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
@@ -238,7 +238,7 @@ impl<'a> PathTracer<'a> {
     /// A path tracer over prepared scene data. `shape_material[i]` is the material of shape `i`
     /// of the accelerator.
     pub fn new(
-        settings: &IntegratorSettings,
+        settings: &IntegratorDesc,
         accel: &'a Accel,
         lights: &'a Lights,
         materials: &'a [Material],

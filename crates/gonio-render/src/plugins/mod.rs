@@ -22,34 +22,36 @@ pub mod texture;
 pub use crate::material::BSDF_PLUGINS;
 pub use crate::xml::{DefaultValue, ParamSpec, ParamType, Plugin};
 
-use crate::scene::{AreaEmitter, Emitter, Film, Filter, Integrator, Sampler, Sensor, Shape};
+use crate::scene::{
+    AreaEmitterDesc, EmitterDesc, FilmDesc, FilterDesc, IntegratorDesc, SamplerDesc, SensorDesc, ShapeDesc,
+};
 use crate::texture::Texture;
 
 /// `<integrator>` plugins.
-pub static INTEGRATOR_PLUGINS: &[&Plugin<Integrator>] = &[&integrator::path::PLUGIN];
+pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[&integrator::path::PLUGIN];
 
 /// `<sensor>` plugins.
-pub static SENSOR_PLUGINS: &[&Plugin<Sensor>] = &[&sensor::perspective::PLUGIN];
+pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[&sensor::perspective::PLUGIN];
 
 /// `<film>` plugins (nested in a sensor).
-pub static FILM_PLUGINS: &[&Plugin<Film>] = &[&film::hdrfilm::PLUGIN];
+pub static FILM_PLUGINS: &[&Plugin<FilmDesc>] = &[&film::hdrfilm::PLUGIN];
 
 /// `<rfilter>` plugins (nested in a film).
-pub static RFILTER_PLUGINS: &[&Plugin<Filter>] = &[
+pub static RFILTER_PLUGINS: &[&Plugin<FilterDesc>] = &[
     &rfilter::r#box::PLUGIN,
     &rfilter::tent::PLUGIN,
     &rfilter::gaussian::PLUGIN,
 ];
 
 /// `<sampler>` plugins (nested in a sensor).
-pub static SAMPLER_PLUGINS: &[&Plugin<Sampler>] = &[
+pub static SAMPLER_PLUGINS: &[&Plugin<SamplerDesc>] = &[
     &sampler::independent::PLUGIN,
     &sampler::stratified::PLUGIN,
     &sampler::multijitter::PLUGIN,
 ];
 
 /// `<shape>` plugins.
-pub static SHAPE_PLUGINS: &[&Plugin<Shape>] = &[
+pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
     &shape::sphere::PLUGIN,
     &shape::rectangle::PLUGIN,
     &shape::disk::PLUGIN,
@@ -59,10 +61,10 @@ pub static SHAPE_PLUGINS: &[&Plugin<Shape>] = &[
 ];
 
 /// `<emitter>` plugins attached to a shape (nested in a `<shape>`).
-pub static AREA_EMITTER_PLUGINS: &[&Plugin<AreaEmitter>] = &[&emitter::area::PLUGIN];
+pub static AREA_EMITTER_PLUGINS: &[&Plugin<AreaEmitterDesc>] = &[&emitter::area::PLUGIN];
 
 /// `<emitter>` plugins standing on their own in the scene.
-pub static EMITTER_PLUGINS: &[&Plugin<Emitter>] = &[
+pub static EMITTER_PLUGINS: &[&Plugin<EmitterDesc>] = &[
     &emitter::point::PLUGIN,
     &emitter::spot::PLUGIN,
     &emitter::directional::PLUGIN,

@@ -11,7 +11,7 @@ use super::parse::{Doc, Obj, Tag, Value};
 use super::values::SpecValue;
 use crate::material::Material;
 use crate::plugins::{INTEGRATOR_PLUGINS, SENSOR_PLUGINS, SHAPE_PLUGINS, SPECTRUM_PLUGINS, TEXTURE_PLUGINS};
-use crate::scene::{Integrator, Scene, Sensor, TriangleMesh};
+use crate::scene::{IntegratorDesc, Scene, SensorDesc, TriangleMesh};
 use crate::texture::Texture;
 use gonio_core::Ior;
 use gonio_core::bsdfs::surface::MAX_NODES;
@@ -105,8 +105,8 @@ impl<'d> Builder<'d> {
     pub(crate) fn scene(mut self) -> Result<(Scene, Vec<String>)> {
         let doc = self.doc;
         let root = &doc.objs[doc.root];
-        let mut integrator: Option<Integrator> = None;
-        let mut sensor: Option<Sensor> = None;
+        let mut integrator: Option<IntegratorDesc> = None;
+        let mut sensor: Option<SensorDesc> = None;
         let mut shapes = Vec::new();
         let mut emitters = Vec::new();
         let referenced: std::collections::HashSet<usize> = doc
@@ -185,7 +185,7 @@ impl<'d> Builder<'d> {
                 "{}: no <integrator>; using path with default parameters",
                 root.loc
             ));
-            Integrator::default()
+            IntegratorDesc::default()
         });
         let sensor = match sensor {
             Some(s) => s,

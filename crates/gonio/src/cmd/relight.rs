@@ -26,7 +26,7 @@ use gonio_core::Spectrum;
 use gonio_render::compare::relmse;
 use gonio_render::image::RgbImage;
 use gonio_render::render::{PreparedScene, RenderOptions, render};
-use gonio_render::scene::{Emitter, Scene};
+use gonio_render::scene::{EmitterDesc, Scene};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -107,7 +107,11 @@ pub fn light_weights(env: &RgbImage, dirs: &[Vec3]) -> Vec<[f64; 3]> {
     w
 }
 
-fn render_with(scene: &Scene, emitters: Vec<Emitter>, options: &RenderOptions) -> anyhow::Result<RgbImage> {
+fn render_with(
+    scene: &Scene,
+    emitters: Vec<EmitterDesc>,
+    options: &RenderOptions,
+) -> anyhow::Result<RgbImage> {
     let mut s = scene.clone();
     s.emitters = emitters;
     // The stage photographs the object, not the lights: the environment seen directly (the
@@ -133,7 +137,7 @@ fn relight(scene: &Scene, env: &RgbImage, n: usize, options: &RenderOptions) -> 
         if wk.iter().all(|&x| x == 0.0) {
             continue; // a black part of the environment: its basis image does not contribute
         }
-        let light = Emitter::Directional {
+        let light = EmitterDesc::Directional {
             direction: -*d,
             irradiance: Spectrum::d65(),
         };
@@ -174,7 +178,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         options.spp = spp;
     }
     let t = Instant::now();
-    let env_emitter = Emitter::EnvMap {
+    let env_emitter = EmitterDesc::EnvMap {
         image: Arc::new(env.clone()),
         scale: 1.0,
         to_world: Affine3A::IDENTITY,

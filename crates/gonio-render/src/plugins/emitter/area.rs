@@ -1,7 +1,7 @@
 //! `area`: a shape's surface emitting on its front side (Mitsuba 3 `src/emitters/area.cpp`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::AreaEmitter;
+use crate::scene::AreaEmitterDesc;
 use crate::xml::{Builder, Params, SceneError};
 use gonio_core::spectra::RgbKind;
 
@@ -13,14 +13,14 @@ const RADIANCE: ParamSpec = ParamSpec::new(
 );
 
 /// The `area` plugin.
-pub static PLUGIN: Plugin<AreaEmitter> = Plugin {
+pub static PLUGIN: Plugin<AreaEmitterDesc> = Plugin {
     name: "area",
     summary: "Area light: the shape it is nested in emits `radiance` on the side its normal points to.",
     params: &[RADIANCE],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<AreaEmitter, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<AreaEmitterDesc, SceneError> {
     let radiance = b.texture(p, &RADIANCE, RgbKind::Illuminant)?;
-    Ok(AreaEmitter { radiance })
+    Ok(AreaEmitterDesc { radiance })
 }

@@ -2,7 +2,7 @@
 //! `src/emitters/constant.cpp`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Emitter;
+use crate::scene::EmitterDesc;
 use crate::xml::{Builder, Params, SceneError};
 use gonio_core::spectra::RgbKind;
 
@@ -14,14 +14,14 @@ const RADIANCE: ParamSpec = ParamSpec::new(
 );
 
 /// The `constant` plugin.
-pub static PLUGIN: Plugin<Emitter> = Plugin {
+pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "constant",
     summary: "Constant environment: uniform radiance from the sphere of directions.",
     params: &[RADIANCE],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, SceneError> {
     let radiance = b.spectrum(p, &RADIANCE, RgbKind::Illuminant)?;
-    Ok(Emitter::Constant { radiance })
+    Ok(EmitterDesc::Constant { radiance })
 }

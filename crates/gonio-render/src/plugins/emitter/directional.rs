@@ -2,7 +2,7 @@
 //! `src/emitters/directional.cpp`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Emitter;
+use crate::scene::EmitterDesc;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err, to_affine};
 use glam::Vec3;
 use gonio_core::spectra::RgbKind;
@@ -27,14 +27,14 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 );
 
 /// The `directional` plugin.
-pub static PLUGIN: Plugin<Emitter> = Plugin {
+pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "directional",
     summary: "Directional light: parallel rays along `direction`.",
     params: &[IRRADIANCE, DIRECTION, TO_WORLD],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, SceneError> {
     let irradiance = b.spectrum(p, &IRRADIANCE, RgbKind::Illuminant)?;
     let dir = p.point_opt(DIRECTION.name)?;
     let tw = p.transform_opt(TO_WORLD.name)?;
@@ -57,7 +57,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneEr
             format!("invalid direction {d} (must be non-zero)"),
         ));
     }
-    Ok(Emitter::Directional {
+    Ok(EmitterDesc::Directional {
         direction: d.normalize(),
         irradiance,
     })

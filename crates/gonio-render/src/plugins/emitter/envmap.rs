@@ -3,7 +3,7 @@
 
 use crate::image::RgbImage;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Emitter;
+use crate::scene::EmitterDesc;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err, image_error};
 use std::sync::Arc;
 
@@ -33,14 +33,14 @@ const MIS_COMPENSATION: ParamSpec = ParamSpec::new(
 );
 
 /// The `envmap` plugin.
-pub static PLUGIN: Plugin<Emitter> = Plugin {
+pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "envmap",
     summary: "Environment map: radiance from every direction read from an equirectangular image.",
     params: &[FILENAME, SCALE, TO_WORLD, MIS_COMPENSATION],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, SceneError> {
     let Some((name, loc)) = p.string_opt(FILENAME.name)? else {
         return Err(err(
             &p.obj.loc,
@@ -58,7 +58,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneEr
     )? as f32;
     let to_world = p.affine(TO_WORLD.name)?;
     p.bool(MIS_COMPENSATION.name, MIS_COMPENSATION.default.bool())?;
-    Ok(Emitter::EnvMap {
+    Ok(EmitterDesc::EnvMap {
         image: Arc::new(image),
         scale,
         to_world,

@@ -10,11 +10,11 @@ pub mod point;
 pub mod spot;
 
 use crate::plugins::{AREA_EMITTER_PLUGINS, EMITTER_PLUGINS, Plugin};
-use crate::scene::{AreaEmitter, Emitter};
+use crate::scene::{AreaEmitterDesc, EmitterDesc};
 use crate::xml::{Builder, ErrorKind, Location, SceneError, err, unknown_plugin};
 
 /// Builds the `<emitter>` object `idx` standing in the scene.
-pub(crate) fn build(b: &mut Builder<'_>, idx: usize) -> Result<Emitter, SceneError> {
+pub(crate) fn build(b: &mut Builder<'_>, idx: usize) -> Result<EmitterDesc, SceneError> {
     let obj = &b.doc.objs[idx];
     if Plugin::find(AREA_EMITTER_PLUGINS, &obj.ty).is_some() {
         return Err(err(
@@ -32,7 +32,7 @@ pub(crate) fn build(b: &mut Builder<'_>, idx: usize) -> Result<Emitter, SceneErr
 }
 
 /// Builds the emitter object `idx` nested in a shape (at `loc`).
-pub(crate) fn area(b: &mut Builder<'_>, idx: usize, loc: &Location) -> Result<AreaEmitter, SceneError> {
+pub(crate) fn area(b: &mut Builder<'_>, idx: usize, loc: &Location) -> Result<AreaEmitterDesc, SceneError> {
     let obj = &b.doc.objs[idx];
     let Some(plugin) = Plugin::find(AREA_EMITTER_PLUGINS, &obj.ty) else {
         return Err(err(

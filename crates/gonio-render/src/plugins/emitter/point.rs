@@ -1,7 +1,7 @@
 //! `point`: an isotropic point light (Mitsuba 3 `src/emitters/point.cpp`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Emitter;
+use crate::scene::EmitterDesc;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err, to_affine};
 use glam::Vec3;
 use gonio_core::spectra::RgbKind;
@@ -26,14 +26,14 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 );
 
 /// The `point` plugin.
-pub static PLUGIN: Plugin<Emitter> = Plugin {
+pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "point",
     summary: "Point light radiating the same intensity in every direction.",
     params: &[INTENSITY, POSITION, TO_WORLD],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, SceneError> {
     let intensity = b.spectrum(p, &INTENSITY, RgbKind::Illuminant)?;
     let pos = p.point_opt(POSITION.name)?;
     let tw = p.transform_opt(TO_WORLD.name)?;
@@ -49,5 +49,5 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneEr
         (None, Some((m, loc))) => to_affine(m, loc, TO_WORLD.name)?.transform_point3(Vec3::ZERO),
         (None, None) => Vec3::ZERO,
     };
-    Ok(Emitter::Point { position, intensity })
+    Ok(EmitterDesc::Point { position, intensity })
 }

@@ -2,7 +2,7 @@
 //! `src/emitters/spot.cpp`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Emitter;
+use crate::scene::EmitterDesc;
 use crate::xml::{Builder, Params, SceneError};
 use gonio_core::spectra::RgbKind;
 
@@ -32,14 +32,14 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 );
 
 /// The `spot` plugin.
-pub static PLUGIN: Plugin<Emitter> = Plugin {
+pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "spot",
     summary: "Spot light along +z of `to_world`: full intensity within `beam_width`, then linear in angle down to 0 at `cutoff_angle`.",
     params: &[INTENSITY, CUTOFF_ANGLE, BEAM_WIDTH, TO_WORLD],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, SceneError> {
     let intensity = b.spectrum(p, &INTENSITY, RgbKind::Illuminant)?;
     let cutoff = p.float_checked(
         CUTOFF_ANGLE.name,
@@ -54,7 +54,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Emitter, SceneEr
         "must be in (0, cutoff_angle]",
     )?;
     let to_world = p.affine(TO_WORLD.name)?;
-    Ok(Emitter::Spot {
+    Ok(EmitterDesc::Spot {
         to_world,
         intensity,
         cutoff_angle_deg: cutoff as f32,

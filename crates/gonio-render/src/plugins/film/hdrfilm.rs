@@ -3,7 +3,7 @@
 //! file name asks for, so Mitsuba's output settings are accepted and ignored.
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin, RFILTER_PLUGINS};
-use crate::scene::Film;
+use crate::scene::FilmDesc;
 use crate::xml::{Builder, Params, SceneError, Tag};
 
 const WIDTH: ParamSpec = ParamSpec::new(
@@ -80,7 +80,7 @@ const RFILTER: ParamSpec = ParamSpec::new(
 );
 
 /// The `hdrfilm` plugin.
-pub static PLUGIN: Plugin<Film> = Plugin {
+pub static PLUGIN: Plugin<FilmDesc> = Plugin {
     name: "hdrfilm",
     summary: "High-dynamic-range film: the image size and the reconstruction filter.",
     params: &[
@@ -100,7 +100,7 @@ pub static PLUGIN: Plugin<Film> = Plugin {
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Film, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneError> {
     let width = p.int_in(WIDTH.name, WIDTH.default.int(), 1, 1 << 16)? as u32;
     let height = p.int_in(HEIGHT.name, HEIGHT.default.int(), 1, 1 << 16)? as u32;
     let filter = b
@@ -128,7 +128,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Film, SceneError
     let (w, h) = (width as i64, height as i64);
     p.int_in(CROP_WIDTH.name, w, w, w)?;
     p.int_in(CROP_HEIGHT.name, h, h, h)?;
-    Ok(Film {
+    Ok(FilmDesc {
         width,
         height,
         filter,

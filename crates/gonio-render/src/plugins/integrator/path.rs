@@ -3,7 +3,7 @@
 //! caustics (`crate::integrator`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Integrator;
+use crate::scene::IntegratorDesc;
 use crate::xml::{Builder, Params, SceneError};
 
 const MAX_DEPTH: ParamSpec = ParamSpec::new(
@@ -50,7 +50,7 @@ const TIMEOUT: ParamSpec = ParamSpec::new(
 );
 
 /// The `path` plugin.
-pub static PLUGIN: Plugin<Integrator> = Plugin {
+pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
     name: "path",
     summary: "Path tracer: emission and next-event estimation combined by MIS (power heuristic), BSDF sampling, Russian roulette.",
     params: &[
@@ -65,7 +65,7 @@ pub static PLUGIN: Plugin<Integrator> = Plugin {
     build,
 };
 
-fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrator, SceneError> {
+fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
     let max_depth = p.int_in(MAX_DEPTH.name, MAX_DEPTH.default.int(), -1, i32::MAX as i64)? as i32;
     let rr_depth = p.int_in(RR_DEPTH.name, RR_DEPTH.default.int(), 1, u32::MAX as i64)? as u32;
     let hide_emitters = p.bool(HIDE_EMITTERS.name, HIDE_EMITTERS.default.bool())?;
@@ -78,7 +78,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrator, Scen
         i64::MAX,
     )?;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
-    Ok(Integrator {
+    Ok(IntegratorDesc {
         max_depth,
         rr_depth,
         hide_emitters,

@@ -2,7 +2,7 @@
 
 use super::positive;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Filter;
+use crate::scene::FilterDesc;
 use crate::xml::{Builder, Params, SceneError};
 
 const RADIUS: ParamSpec = ParamSpec::new(
@@ -13,15 +13,15 @@ const RADIUS: ParamSpec = ParamSpec::new(
 );
 
 /// The `box` plugin.
-pub static PLUGIN: Plugin<Filter> = Plugin {
+pub static PLUGIN: Plugin<FilterDesc> = Plugin {
     name: "box",
     summary: "Box filter: every sample within `radius` weighs the same (Mitsuba 3 `src/rfilters/box.cpp`).",
     params: &[RADIUS],
     build,
 };
 
-fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Filter, SceneError> {
-    Ok(Filter::Box {
+fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilterDesc, SceneError> {
+    Ok(FilterDesc::Box {
         radius: positive(p, &RADIUS)?,
     })
 }

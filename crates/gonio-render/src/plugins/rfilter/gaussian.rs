@@ -2,7 +2,7 @@
 
 use super::positive;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Filter;
+use crate::scene::FilterDesc;
 use crate::xml::{Builder, Params, SceneError};
 
 const STDDEV: ParamSpec = ParamSpec::new(
@@ -13,15 +13,15 @@ const STDDEV: ParamSpec = ParamSpec::new(
 );
 
 /// The `gaussian` plugin.
-pub static PLUGIN: Plugin<Filter> = Plugin {
+pub static PLUGIN: Plugin<FilterDesc> = Plugin {
     name: "gaussian",
     summary: "Gaussian filter truncated at 4 standard deviations (Mitsuba 3 `src/rfilters/gaussian.cpp`).",
     params: &[STDDEV],
     build,
 };
 
-fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Filter, SceneError> {
-    Ok(Filter::Gaussian {
+fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilterDesc, SceneError> {
+    Ok(FilterDesc::Gaussian {
         stddev: positive(p, &STDDEV)?,
     })
 }

@@ -2,7 +2,7 @@
 
 use super::positive;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::Filter;
+use crate::scene::FilterDesc;
 use crate::xml::{Builder, Params, SceneError};
 
 const RADIUS: ParamSpec = ParamSpec::new(
@@ -13,15 +13,15 @@ const RADIUS: ParamSpec = ParamSpec::new(
 );
 
 /// The `tent` plugin.
-pub static PLUGIN: Plugin<Filter> = Plugin {
+pub static PLUGIN: Plugin<FilterDesc> = Plugin {
     name: "tent",
     summary: "Tent filter: weight falling linearly to 0 at `radius` (Mitsuba 3 `src/rfilters/tent.cpp`).",
     params: &[RADIUS],
     build,
 };
 
-fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Filter, SceneError> {
-    Ok(Filter::Tent {
+fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilterDesc, SceneError> {
+    Ok(FilterDesc::Tent {
         radius: positive(p, &RADIUS)?,
     })
 }

@@ -7,7 +7,7 @@ pub mod multijitter;
 pub mod stratified;
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType};
-use crate::scene::{Sampler, SamplerKind};
+use crate::scene::{SamplerDesc, SamplerKind};
 use crate::xml::{Params, SceneError};
 
 /// `sample_count`, shared by every sampler.
@@ -38,10 +38,10 @@ fn jitter(p: &mut Params<'_>) -> Result<bool, SceneError> {
 }
 
 /// A sampler of `kind` with the shared parameters read from `p`.
-fn with_common(p: &mut Params<'_>, kind: SamplerKind) -> Result<Sampler, SceneError> {
+fn with_common(p: &mut Params<'_>, kind: SamplerKind) -> Result<SamplerDesc, SceneError> {
     let sample_count = p.int_in(SAMPLE_COUNT.name, SAMPLE_COUNT.default.int(), 1, u32::MAX as i64)? as u32;
     let seed = p.int_in(SEED.name, SEED.default.int(), 0, i64::MAX)? as u64;
-    Ok(Sampler {
+    Ok(SamplerDesc {
         kind,
         sample_count,
         seed,

@@ -2,7 +2,7 @@
 //! film and sampler; the runtime camera is [`crate::camera`].
 
 use crate::plugins::{DefaultValue, FILM_PLUGINS, ParamSpec, ParamType, Plugin, SAMPLER_PLUGINS};
-use crate::scene::{Film, Sampler, Sensor};
+use crate::scene::{FilmDesc, SamplerDesc, SensorDesc};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
 use glam::Affine3A;
 
@@ -80,7 +80,7 @@ const SAMPLER: ParamSpec = ParamSpec::new(
 );
 
 /// The `perspective` plugin.
-pub static PLUGIN: Plugin<Sensor> = Plugin {
+pub static PLUGIN: Plugin<SensorDesc> = Plugin {
     name: "perspective",
     summary: "Perspective pinhole camera looking down +z of `to_world`, with its film and sampler.",
     params: &[
@@ -100,7 +100,7 @@ pub static PLUGIN: Plugin<Sensor> = Plugin {
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Sensor, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, SceneError> {
     let obj = p.obj;
     let film = b
         .nested_one(p, Tag::Film, FILM_PLUGINS, "sensor")?
@@ -205,7 +205,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Sensor, SceneErr
     }
     p.float(SHUTTER_OPEN.name, SHUTTER_OPEN.default.float())?;
     p.float(SHUTTER_CLOSE.name, SHUTTER_CLOSE.default.float())?;
-    Ok(Sensor {
+    Ok(SensorDesc {
         to_world,
         fov_x_deg: fov_x as f32,
         near_clip: near_clip as f32,
@@ -234,17 +234,17 @@ fn fov_x_of_focal_length(mm: f64, aspect: f64) -> f64 {
 
 /// Mitsuba's sensor for a scene without one: this plugin with every default and the default
 /// film and sampler.
-pub(crate) fn default_sensor() -> Sensor {
-    let film = Film::default();
+pub(crate) fn default_sensor() -> SensorDesc {
+    let film = FilmDesc::default();
     let aspect = film.width as f64 / film.height as f64;
     let mm = focal_length_mm(FOCAL_LENGTH.default.str()).expect("the default focal length parses");
-    Sensor {
+    SensorDesc {
         to_world: Affine3A::IDENTITY,
         fov_x_deg: fov_x_of_focal_length(mm, aspect) as f32,
         near_clip: NEAR_CLIP.default.float() as f32,
         far_clip: FAR_CLIP.default.float() as f32,
         film,
-        sampler: Sampler::default(),
+        sampler: SamplerDesc::default(),
     }
 }
 

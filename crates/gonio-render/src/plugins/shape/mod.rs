@@ -15,7 +15,7 @@ pub mod sphere;
 
 use crate::mesh as meshes;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType};
-use crate::scene::{Geometry, Shape, TriangleMesh};
+use crate::scene::{Geometry, ShapeDesc, TriangleMesh};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
 use glam::Affine3A;
 use std::sync::Arc;
@@ -89,7 +89,7 @@ pub(crate) fn assemble<'d>(
     common: Common,
     geometry: Geometry,
     face_normals: bool,
-) -> Result<Shape> {
+) -> Result<ShapeDesc> {
     let bsdfs = p.objects(Tag::Bsdf)?;
     let emitters = p.objects(Tag::Emitter)?;
     p.finish()?;
@@ -116,7 +116,7 @@ pub(crate) fn assemble<'d>(
         }
     };
     let material = b.shape_material(bsdf, emitter.is_some())?;
-    Ok(Shape {
+    Ok(ShapeDesc {
         geometry,
         to_world: common.to_world,
         flip_normals: common.flip_normals,

@@ -2,7 +2,7 @@
 
 use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, assemble, common, mesh};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::{Geometry, Shape};
+use crate::scene::{Geometry, ShapeDesc};
 use crate::xml::{Builder, Params, SceneError};
 
 const FILENAME: ParamSpec = ParamSpec::new(
@@ -19,7 +19,7 @@ const FLIP_TEX_COORDS: ParamSpec = ParamSpec::new(
 );
 
 /// The `obj` plugin.
-pub static PLUGIN: Plugin<Shape> = Plugin {
+pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "obj",
     summary: "Wavefront OBJ triangle mesh; vertex normals are computed when the file has none (unless `face_normals`).",
     params: &[
@@ -34,7 +34,7 @@ pub static PLUGIN: Plugin<Shape> = Plugin {
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Shape, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, SceneError> {
     let c = common(p)?;
     let face_normals = p.bool(FACE_NORMALS.name, FACE_NORMALS.default.bool())?;
     let flip = p.bool(FLIP_TEX_COORDS.name, FLIP_TEX_COORDS.default.bool())?;

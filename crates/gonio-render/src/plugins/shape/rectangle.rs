@@ -3,18 +3,18 @@
 
 use super::{BSDF, EMITTER, FLIP_NORMALS, TO_WORLD, assemble, common};
 use crate::plugins::Plugin;
-use crate::scene::{Geometry, Shape};
+use crate::scene::{Geometry, ShapeDesc};
 use crate::xml::{Builder, Params, SceneError};
 
 /// The `rectangle` plugin.
-pub static PLUGIN: Plugin<Shape> = Plugin {
+pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "rectangle",
     summary: "Rectangle [−1, 1]² in z = 0 with normal +z, placed by `to_world`.",
     params: &[TO_WORLD, FLIP_NORMALS, BSDF, EMITTER],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Shape, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, SceneError> {
     let c = common(p)?;
     assemble(b, p, c, Geometry::Rectangle, false)
 }

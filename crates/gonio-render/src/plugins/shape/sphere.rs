@@ -3,7 +3,7 @@
 
 use super::{BSDF, EMITTER, FLIP_NORMALS, TO_WORLD, assemble, check_similarity, common};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::{Geometry, Shape};
+use crate::scene::{Geometry, ShapeDesc};
 use crate::xml::{Builder, Params, SceneError};
 use glam::DVec3;
 
@@ -21,14 +21,14 @@ const RADIUS: ParamSpec = ParamSpec::new(
 );
 
 /// The `sphere` plugin.
-pub static PLUGIN: Plugin<Shape> = Plugin {
+pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "sphere",
     summary: "Sphere of the given centre and radius.",
     params: &[TO_WORLD, FLIP_NORMALS, CENTER, RADIUS, BSDF, EMITTER],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Shape, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, SceneError> {
     let c = common(p)?;
     let center = p.point_opt(CENTER.name)?.map_or(DVec3::ZERO, |(c, _)| c);
     let radius = p.float_checked(
