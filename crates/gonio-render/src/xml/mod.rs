@@ -11,10 +11,12 @@
 //!
 //! Every error is a [`SceneError`] naming the file, line and column, and the offending value.
 
+mod doc;
 mod error;
 mod params;
 mod parse;
 pub(crate) mod plugins;
+mod property;
 mod values;
 
 pub use error::{ErrorKind, Location, SceneError};

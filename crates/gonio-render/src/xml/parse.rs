@@ -7,176 +7,24 @@
 //! plugin takes, defaults, the unused-parameter check) happens afterwards in `plugins.rs`, so
 //! forward references work.
 
+use super::doc::resolve_path;
+pub(crate) use super::doc::{Doc, Obj, Prop, Tag, Value};
 use super::error::{ErrorKind, Location, SceneError};
-use super::values::{self, SpecValue};
 use glam::{DMat4, DVec3};
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-/// Object kinds (XML tag names of objects).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub(crate) enum Tag {
-    Scene,
-    Bsdf,
-    Emitter,
-    Film,
-    Integrator,
-    Rfilter,
-    Sampler,
-    Sensor,
-    Shape,
-    Texture,
-    /// `<spectrum type="…">`: a spectrum object (d65, blackbody, …).
-    Spectrum,
-}
-
-impl Tag {
-    pub(crate) fn name(self) -> &'static str {
-        match self {
-            Tag::Scene => "scene",
-            Tag::Bsdf => "bsdf",
-            Tag::Emitter => "emitter",
-            Tag::Film => "film",
-            Tag::Integrator => "integrator",
-            Tag::Rfilter => "rfilter",
-            Tag::Sampler => "sampler",
-            Tag::Sensor => "sensor",
-            Tag::Shape => "shape",
-            Tag::Texture => "texture",
-            Tag::Spectrum => "spectrum",
-        }
-    }
-
-    fn from_name(s: &str) -> Option<Self> {
-        Some(match s {
-            "bsdf" => Tag::Bsdf,
-            "emitter" => Tag::Emitter,
-            "film" => Tag::Film,
-            "integrator" => Tag::Integrator,
-            "rfilter" => Tag::Rfilter,
-            "sampler" => Tag::Sampler,
-            "sensor" => Tag::Sensor,
-            "shape" => Tag::Shape,
-            "texture" => Tag::Texture,
-            _ => return None,
-        })
-    }
-}
-
-/// A property value as written in the file (role-dependent conversion happens in the plugins).
-#[derive(Clone, Debug)]
-pub(crate) enum Value {
-    Int(i64),
-    Float(f64),
-    Bool(bool),
-    Str(String),
-    Point(DVec3),
-    Vector(DVec3),
-    Rgb([f64; 3]),
-    Spectrum(SpecValue),
-    Transform(DMat4),
-    /// A nested object (index into [`Doc::objs`]).
-    Object(usize),
-    /// `<ref id>`: resolved at instantiation.
-    Ref(String),
-}
-
-impl Value {
-    /// The type as the user would write it, for error messages.
-    pub(crate) fn describe(&self, doc: &Doc) -> String {
-        match self {
-            Value::Int(v) => format!("integer {v}"),
-            Value::Float(v) => format!("float {v}"),
-            Value::Bool(v) => format!("boolean {v}"),
-            Value::Str(s) => format!("string \"{s}\""),
-            Value::Point(p) => format!("point ({}, {}, {})", p.x, p.y, p.z),
-            Value::Vector(p) => format!("vector ({}, {}, {})", p.x, p.y, p.z),
-            Value::Rgb(c) => format!("rgb ({}, {}, {})", c[0], c[1], c[2]),
-            Value::Spectrum(_) => "spectrum".into(),
-            Value::Transform(_) => "transform".into(),
-            Value::Object(i) => {
-                let o = &doc.objs[*i];
-                format!("<{} type=\"{}\">", o.tag.name(), o.ty)
-            }
-            Value::Ref(id) => format!("reference to \"{id}\""),
-        }
-    }
-}
-
-/// One property of an object.
-#[derive(Clone, Debug)]
-pub(crate) struct Prop {
-    /// Property name (`_arg_N` for unnamed nested objects and references).
-    pub name: String,
-    pub value: Value,
-    /// Where the property element starts.
-    pub loc: Location,
-    /// Where its value attribute starts (the element when there is none).
-    pub value_loc: Location,
-}
-
-/// An object: plugin kind, plugin name, id and properties in document order.
-#[derive(Clone, Debug)]
-pub(crate) struct Obj {
-    pub tag: Tag,
-    pub ty: String,
-    pub id: Option<String>,
-    pub loc: Location,
-    /// Where the `type` attribute value is (for "unknown plugin" errors).
-    pub ty_loc: Location,
-    pub props: Vec<Prop>,
-    /// Folder for relative file names (the folder of the file this object was written in).
-    pub base_dir: PathBuf,
-}
-
-/// The parsed document.
-#[derive(Debug, Default)]
-pub(crate) struct Doc {
-    pub objs: Vec<Obj>,
-    pub ids: HashMap<String, usize>,
-    /// The root object (the `<scene>`, or the lone `<bsdf>` of [`super::load_bsdf_str`]).
-    pub root: usize,
-    /// Extra search folders from `<path value>`.
-    pub search_paths: Vec<PathBuf>,
-}
-
-impl Doc {
-    /// Resolves a file name written in an object: relative names against the object's folder,
-    /// then against the `<path>` folders.
-    pub(crate) fn resolve(&self, obj: &Obj, name: &str) -> PathBuf {
-        resolve_path(&obj.base_dir, &self.search_paths, name)
-    }
-}
-
-fn resolve_path(base: &Path, search: &[PathBuf], name: &str) -> PathBuf {
-    let p = Path::new(name);
-    if p.is_absolute() {
-        return p.to_owned();
-    }
-    let first = base.join(p);
-    if first.exists() {
-        return first;
-    }
-    for s in search {
-        let c = s.join(p);
-        if c.exists() {
-            return c;
-        }
-    }
-    first
-}
-
 /// One XML file being parsed.
-struct FileCtx<'a, 'i> {
-    doc: &'a roxmltree::Document<'i>,
-    name: Arc<str>,
-    dir: PathBuf,
-    legacy: bool,
+pub(super) struct FileCtx<'a, 'i> {
+    pub(super) doc: &'a roxmltree::Document<'i>,
+    pub(super) name: Arc<str>,
+    pub(super) dir: PathBuf,
+    pub(super) legacy: bool,
 }
 
 impl FileCtx<'_, '_> {
-    fn loc_at(&self, pos: usize) -> Location {
+    pub(super) fn loc_at(&self, pos: usize) -> Location {
         let p = self.doc.text_pos_at(pos);
         Location {
             file: self.name.clone(),
@@ -184,28 +32,28 @@ impl FileCtx<'_, '_> {
             column: p.col,
         }
     }
-    fn loc(&self, node: roxmltree::Node) -> Location {
+    pub(super) fn loc(&self, node: roxmltree::Node) -> Location {
         self.loc_at(node.range().start)
     }
 }
 
 /// Attribute values of one element after `$` substitution, with their positions.
-struct Attrs {
-    list: Vec<(String, String, Location)>,
-    elem: Location,
+pub(super) struct Attrs {
+    pub(super) list: Vec<(String, String, Location)>,
+    pub(super) elem: Location,
 }
 
 impl Attrs {
-    fn get(&self, name: &str) -> Option<(&str, &Location)> {
+    pub(super) fn get(&self, name: &str) -> Option<(&str, &Location)> {
         self.list
             .iter()
             .find(|(k, _, _)| k == name)
             .map(|(_, v, l)| (v.as_str(), l))
     }
-    fn has(&self, name: &str) -> bool {
+    pub(super) fn has(&self, name: &str) -> bool {
         self.get(name).is_some()
     }
-    fn required(&self, name: &str, tag: &str) -> Result<(&str, &Location), SceneError> {
+    pub(super) fn required(&self, name: &str, tag: &str) -> Result<(&str, &Location), SceneError> {
         self.get(name).ok_or_else(|| {
             SceneError::new(
                 self.elem.clone(),
@@ -330,13 +178,18 @@ impl Parser {
         Ok(())
     }
 
-    fn push_obj(&mut self, o: Obj) -> usize {
+    pub(super) fn push_obj(&mut self, o: Obj) -> usize {
         self.doc.objs.push(o);
         self.doc.objs.len() - 1
     }
 
     /// Reads the attributes of `node`, rejecting any not in `allowed`, substituting `$name`.
-    fn attrs(&mut self, ctx: &FileCtx, node: roxmltree::Node, allowed: &[&str]) -> Result<Attrs, SceneError> {
+    pub(super) fn attrs(
+        &mut self,
+        ctx: &FileCtx,
+        node: roxmltree::Node,
+        allowed: &[&str],
+    ) -> Result<Attrs, SceneError> {
         let elem = ctx.loc(node);
         let mut list = Vec::new();
         for a in node.attributes() {
@@ -360,7 +213,7 @@ impl Parser {
     }
 
     /// Replaces each `$name` by its value, matching the longest defined name first.
-    fn substitute(&mut self, s: &str, loc: &Location) -> Result<String, SceneError> {
+    pub(super) fn substitute(&mut self, s: &str, loc: &Location) -> Result<String, SceneError> {
         if !s.contains('$') {
             return Ok(s.to_owned());
         }
@@ -411,7 +264,12 @@ impl Parser {
         Ok(out)
     }
 
-    fn children(&mut self, ctx: &FileCtx, node: roxmltree::Node, parent: usize) -> Result<(), SceneError> {
+    pub(super) fn children(
+        &mut self,
+        ctx: &FileCtx,
+        node: roxmltree::Node,
+        parent: usize,
+    ) -> Result<(), SceneError> {
         for child in node.children() {
             if child.is_element() {
                 self.element(ctx, child, parent)?;
@@ -429,7 +287,7 @@ impl Parser {
         Ok(())
     }
 
-    fn add_prop(&mut self, parent: usize, prop: Prop) -> Result<(), SceneError> {
+    pub(super) fn add_prop(&mut self, parent: usize, prop: Prop) -> Result<(), SceneError> {
         let props = &self.doc.objs[parent].props;
         if let Some(prev) = props.iter().find(|p| p.name == prop.name) {
             return Err(SceneError::new(
@@ -442,7 +300,7 @@ impl Parser {
         Ok(())
     }
 
-    fn positional_name(&self, parent: usize) -> String {
+    pub(super) fn positional_name(&self, parent: usize) -> String {
         let n = self.doc.objs[parent]
             .props
             .iter()
@@ -451,7 +309,7 @@ impl Parser {
         format!("_arg_{n}")
     }
 
-    fn prop_name(&self, ctx: &FileCtx, raw: &str) -> String {
+    pub(super) fn prop_name(&self, ctx: &FileCtx, raw: &str) -> String {
         if ctx.legacy {
             camel_to_snake(raw)
         } else {
@@ -459,7 +317,12 @@ impl Parser {
         }
     }
 
-    fn element(&mut self, ctx: &FileCtx, node: roxmltree::Node, parent: usize) -> Result<(), SceneError> {
+    pub(super) fn element(
+        &mut self,
+        ctx: &FileCtx,
+        node: roxmltree::Node,
+        parent: usize,
+    ) -> Result<(), SceneError> {
         let tag = node.tag_name().name();
         let loc = ctx.loc(node);
         let is_root = parent == self.doc.root && self.doc.objs[parent].tag == Tag::Scene;
@@ -589,7 +452,7 @@ impl Parser {
     }
 
     /// Version < 2: `diffuse.diffuse_reflectance` → `reflectance`.
-    fn legacy_rename(&self, ctx: &FileCtx, parent: usize, name: String) -> String {
+    pub(super) fn legacy_rename(&self, ctx: &FileCtx, parent: usize, name: String) -> String {
         let p = &self.doc.objs[parent];
         if ctx.legacy && p.tag == Tag::Bsdf && p.ty == "diffuse" && name == "diffuse_reflectance" {
             "reflectance".into()
@@ -598,7 +461,7 @@ impl Parser {
         }
     }
 
-    fn object(
+    pub(super) fn object(
         &mut self,
         ctx: &FileCtx,
         node: roxmltree::Node,
@@ -636,7 +499,7 @@ impl Parser {
         Ok(idx)
     }
 
-    fn include(
+    pub(super) fn include(
         &mut self,
         path: &Path,
         written: &str,
@@ -698,211 +561,6 @@ impl Parser {
         self.include_stack.pop();
         Ok(())
     }
-
-    fn property(&mut self, ctx: &FileCtx, node: roxmltree::Node, tag: &str) -> Result<Prop, SceneError> {
-        let loc = ctx.loc(node);
-        let allowed: &[&str] = match tag {
-            "point" | "vector" => &["name", "value", "x", "y", "z"],
-            "spectrum" => &["name", "value", "filename"],
-            "transform" => &["name"],
-            _ => &["name", "value"],
-        };
-        let attrs = self.attrs(ctx, node, allowed)?;
-        let (raw_name, _) = attrs.required("name", tag)?;
-        let name = self.prop_name(ctx, raw_name);
-        if tag != "transform" {
-            if let Some(c) = node.children().find(|c| c.is_element()) {
-                return Err(SceneError::new(
-                    ctx.loc(c),
-                    ErrorKind::Grammar,
-                    format!("<{tag}> cannot contain <{}>", c.tag_name().name()),
-                ));
-            }
-        }
-        let (value, value_loc) = match tag {
-            "integer" => {
-                let (v, l) = attrs.required("value", tag)?;
-                (Value::Int(values::parse_int(v, l)?), l.clone())
-            }
-            "float" => {
-                let (v, l) = attrs.required("value", tag)?;
-                (Value::Float(values::parse_float(v, l)?), l.clone())
-            }
-            "boolean" => {
-                let (v, l) = attrs.required("value", tag)?;
-                let b = match v.trim().to_ascii_lowercase().as_str() {
-                    "true" => true,
-                    "false" => false,
-                    _ => {
-                        return Err(SceneError::new(
-                            l.clone(),
-                            ErrorKind::BadValue,
-                            format!("invalid boolean \"{v}\" (expected true or false)"),
-                        ));
-                    }
-                };
-                (Value::Bool(b), l.clone())
-            }
-            "string" => {
-                let (v, l) = attrs.required("value", tag)?;
-                (Value::Str(v.to_owned()), l.clone())
-            }
-            "point" | "vector" => {
-                let (p, l) = xyz_or_value(&attrs, tag, 0.0)?;
-                (
-                    if tag == "point" {
-                        Value::Point(p)
-                    } else {
-                        Value::Vector(p)
-                    },
-                    l,
-                )
-            }
-            "rgb" => {
-                let (v, l) = attrs.required("value", tag)?;
-                let n = values::parse_list(v, l)?;
-                let c = match n.as_slice() {
-                    [x] => [*x; 3],
-                    [r, g, b] => [*r, *g, *b],
-                    _ => {
-                        return Err(SceneError::new(
-                            l.clone(),
-                            ErrorKind::BadValue,
-                            format!("<rgb> needs 1 or 3 numbers, found \"{v}\""),
-                        ));
-                    }
-                };
-                (Value::Rgb(c), l.clone())
-            }
-            "spectrum" => match (attrs.get("value"), attrs.get("filename")) {
-                (Some((v, l)), None) => (Value::Spectrum(values::parse_spectrum_value(v, l)?), l.clone()),
-                (None, Some((f, l))) => {
-                    let path = resolve_path(&ctx.dir, &self.doc.search_paths, f);
-                    (Value::Spectrum(values::read_spd(&path, f, l)?), l.clone())
-                }
-                _ => {
-                    return Err(SceneError::new(
-                        loc,
-                        ErrorKind::Grammar,
-                        "<spectrum> needs exactly one of \"value\" and \"filename\"",
-                    ));
-                }
-            },
-            "transform" => (Value::Transform(self.transform(ctx, node)?), loc.clone()),
-            _ => unreachable!("property tags are matched by the caller"),
-        };
-        Ok(Prop {
-            name,
-            value,
-            loc,
-            value_loc,
-        })
-    }
-
-    /// `<transform>`: each operation left-multiplies, so operations apply in document order.
-    fn transform(&mut self, ctx: &FileCtx, node: roxmltree::Node) -> Result<DMat4, SceneError> {
-        let mut m = DMat4::IDENTITY;
-        for c in node.children() {
-            if c.is_text() {
-                if c.text().is_some_and(|t| !t.trim().is_empty()) {
-                    return Err(SceneError::new(
-                        ctx.loc(c),
-                        ErrorKind::Grammar,
-                        "unexpected text in <transform>",
-                    ));
-                }
-                continue;
-            }
-            if !c.is_element() {
-                continue;
-            }
-            let tag = c.tag_name().name();
-            let op = match tag {
-                "translate" => {
-                    let attrs = self.attrs(ctx, c, &["value", "x", "y", "z"])?;
-                    let (t, _) = xyz_or_value(&attrs, tag, 0.0)?;
-                    DMat4::from_translation(t)
-                }
-                "scale" => {
-                    let attrs = self.attrs(ctx, c, &["value", "x", "y", "z"])?;
-                    let (s, _) = xyz_or_value(&attrs, tag, 1.0)?;
-                    DMat4::from_scale(s)
-                }
-                "rotate" => {
-                    let attrs = self.attrs(ctx, c, &["value", "x", "y", "z", "angle"])?;
-                    let (axis, aloc) = xyz_or_value(&attrs, tag, 0.0)?;
-                    let (a, l) = attrs.required("angle", tag)?;
-                    let angle = values::parse_float(a, l)?;
-                    if axis.length_squared() == 0.0 {
-                        return Err(SceneError::new(
-                            aloc,
-                            ErrorKind::BadValue,
-                            "<rotate> axis is zero (give value=\"x, y, z\" or x/y/z attributes)",
-                        ));
-                    }
-                    DMat4::from_axis_angle(axis.normalize(), angle.to_radians())
-                }
-                "matrix" => {
-                    let attrs = self.attrs(ctx, c, &["value"])?;
-                    let (v, l) = attrs.required("value", tag)?;
-                    let n = values::parse_list(v, l)?;
-                    match n.len() {
-                        16 => DMat4::from_cols_array(&[
-                            n[0], n[4], n[8], n[12], n[1], n[5], n[9], n[13], n[2], n[6], n[10], n[14], n[3],
-                            n[7], n[11], n[15],
-                        ]),
-                        9 => DMat4::from_cols_array(&[
-                            n[0], n[3], n[6], 0.0, n[1], n[4], n[7], 0.0, n[2], n[5], n[8], 0.0, 0.0, 0.0,
-                            0.0, 1.0,
-                        ]),
-                        k => {
-                            return Err(SceneError::new(
-                                l.clone(),
-                                ErrorKind::BadValue,
-                                format!("<matrix> needs 16 (or 9) numbers, found {k} in \"{v}\""),
-                            ));
-                        }
-                    }
-                }
-                "lookat" => {
-                    let attrs = self.attrs(ctx, c, &["origin", "target", "up"])?;
-                    let (o, ol) = attrs.required("origin", tag)?;
-                    let origin = values::parse_vec3(o, ol)?;
-                    let (t, tl) = attrs.required("target", tag)?;
-                    let target = values::parse_vec3(t, tl)?;
-                    let up = match attrs.get("up") {
-                        Some((u, ul)) => Some((values::parse_vec3(u, ul)?, ul.clone())),
-                        None => None,
-                    };
-                    values::look_at(origin, target, up.as_ref().map(|(u, _)| *u)).map_err(|msg| {
-                        let l = match &up {
-                            Some((_, ul)) if msg.contains("up") => ul.clone(),
-                            _ => tl.clone(),
-                        };
-                        SceneError::new(l, ErrorKind::BadValue, msg)
-                    })?
-                }
-                _ => {
-                    return Err(SceneError::new(
-                        ctx.loc(c),
-                        ErrorKind::Grammar,
-                        format!(
-                            "unknown transform operation <{tag}> (expected translate, rotate, scale, matrix, lookat)"
-                        ),
-                    ));
-                }
-            };
-            if let Some(x) = c.children().find(|x| x.is_element()) {
-                return Err(SceneError::new(
-                    ctx.loc(x),
-                    ErrorKind::Grammar,
-                    format!("<{tag}> cannot contain <{}>", x.tag_name().name()),
-                ));
-            }
-            m = op * m;
-        }
-        Ok(m)
-    }
 }
 
 fn parse_xml<'i>(text: &'i str, name: &Arc<str>) -> Result<roxmltree::Document<'i>, SceneError> {
@@ -937,39 +595,6 @@ fn parse_version(v: &str, loc: &Location) -> Result<(u32, u32, u32), SceneError>
         n[i] = p.parse().map_err(|_| bad())?;
     }
     Ok((n[0], n[1], n[2]))
-}
-
-/// `value="x, y, z"` (1 number is replicated) or x/y/z attributes (missing ones = `missing`).
-fn xyz_or_value(attrs: &Attrs, tag: &str, missing: f64) -> Result<(DVec3, Location), SceneError> {
-    let has_xyz = attrs.has("x") || attrs.has("y") || attrs.has("z");
-    match attrs.get("value") {
-        Some((v, l)) => {
-            if has_xyz {
-                return Err(SceneError::new(
-                    l.clone(),
-                    ErrorKind::Grammar,
-                    format!("<{tag}> has both \"value\" and x/y/z attributes"),
-                ));
-            }
-            Ok((values::parse_vec3(v, l)?, l.clone()))
-        }
-        None => {
-            if !has_xyz && tag != "translate" && tag != "scale" && tag != "rotate" {
-                return Err(SceneError::new(
-                    attrs.elem.clone(),
-                    ErrorKind::Grammar,
-                    format!("<{tag}> needs \"value\" or x/y/z attributes"),
-                ));
-            }
-            let mut p = [missing; 3];
-            for (i, k) in ["x", "y", "z"].iter().enumerate() {
-                if let Some((v, l)) = attrs.get(k) {
-                    p[i] = values::parse_float(v, l)?;
-                }
-            }
-            Ok((DVec3::from_array(p), attrs.elem.clone()))
-        }
-    }
 }
 
 /// camelCase → snake_case (version < 2 scenes): `maxDepth` → `max_depth`, `toWorld` → `to_world`.
