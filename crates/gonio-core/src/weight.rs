@@ -17,7 +17,7 @@ use crate::bsdf::{Bsdf, BsdfContext, BsdfSample};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 use std::fmt::Debug;
-use std::ops::{Add, AddAssign, Div, Mul, MulAssign};
+use std::ops::{Add, AddAssign, Div, DivAssign, Mul, MulAssign};
 
 /// A path throughput or BSDF weight at the path's wavelengths.
 pub trait Weight:
@@ -32,6 +32,7 @@ pub trait Weight:
     + Mul<f32, Output = Self>
     + MulAssign<f32>
     + Div<f32, Output = Self>
+    + DivAssign<f32>
     + Add<Output = Self>
     + AddAssign
 {

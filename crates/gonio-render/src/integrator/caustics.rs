@@ -89,6 +89,7 @@ use crate::emitter::{AreaLight, BoundingSphere, Distribution1D, Light, Lights};
 use crate::geometry::{ShapeKind, SurfaceInteraction, WorldShape, spawn_ray_between};
 use crate::material::Material;
 use glam::{Vec2, Vec3};
+use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::frame::Frame;
 use gonio_core::{Bsdf, BsdfContext, BsdfSample, SampledSpectrum, SampledWavelengths, warp};
 
@@ -447,9 +448,9 @@ pub enum Arrival {
 impl ChainState {
     /// The state after a real scattering event at a vertex reached by `arrival`, `cos_in`/`cos_out` = |ω·n_g| of the incoming and the sampled
     /// direction, `reverse_pdf` the light tracer's density of the reverse of a smooth sample.
-    pub fn after_sample(
+    pub fn after_sample<W>(
         state: Option<Self>,
-        bs: &BsdfSample,
+        bs: &BsdfSample<W>,
         arrival: Arrival,
         cos_in: f32,
         cos_out: f32,
@@ -582,7 +583,7 @@ impl PathTracer<'_> {
                 continue;
             }
             let wi_y = y.shading.to_local(-dir);
-            let Some((f_y, pdf_y)) = self.bsdf_at(y.shape, y.uv, &{ *wl }, |b: &dyn Bsdf| {
+            let Some((f_y, pdf_y)) = self.bsdf_at(y.shape, y.uv, &{ *wl }, |b: &SurfaceBsdf<'_>| {
                 b.eval_pdf(&radiance, wi_y, y.wi, wl)
             }) else {
                 continue;

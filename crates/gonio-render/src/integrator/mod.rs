@@ -83,7 +83,9 @@ pub use crate::sampler::PathSampler;
 use crate::sampler::{PaddedSampler, Pcg32};
 use crate::scene::IntegratorDesc;
 use glam::{Vec2, Vec3};
+use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::color::linear_srgb_from_sampled;
+use gonio_core::weight::{BsdfWeight, Weight};
 use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
 
 /// One camera sample, as the render loop hands it to an [`Integrator`].
@@ -175,10 +177,14 @@ struct PrevVertex {
 }
 
 /// The state a camera path carries from one vertex to the next.
+///
+/// Generic over what the path carries ([`Weight`]): a spectrum today, a Mueller matrix for a
+/// polarized renderer (Mitsuba 3's design: throughput and radiance are the same type, emitters
+/// depolarized; the film observes [`Weight::intensity`]).
 #[derive(Clone, Copy, Debug)]
-struct PathState {
+struct PathState<W: Weight = SampledSpectrum> {
     /// Throughput β.
-    beta: SampledSpectrum,
+    beta: W,
     /// Product of the relative indices of refraction crossed (for Russian roulette).
     eta: f32,
     /// Real scattering events so far (straight passes through sheets do not count).
@@ -192,9 +198,9 @@ struct PathState {
     chain: Option<caustics::ChainState>,
 }
 
-impl PathState {
+impl<W: Weight> PathState<W> {
     const CAMERA: Self = Self {
-        beta: SampledSpectrum::ONE,
+        beta: W::ONE,
         eta: 1.0,
         depth: 0,
         null_crossings: 0,
@@ -218,17 +224,17 @@ impl PathState {
 
 /// A camera-path vertex while its BSDF exists.
 struct Vertex<'v> {
-    bsdf: &'v dyn Bsdf,
+    bsdf: &'v SurfaceBsdf<'v>,
     si: &'v SurfaceInteraction,
     /// Direction back along the path, in the shading frame.
     wi: Vec3,
 }
 
 /// What happened at one surface vertex (computed while the per-hit BSDF exists).
-struct VertexOutcome {
+struct VertexOutcome<W: Weight> {
     /// Next-event estimation and light-subpath connections, throughput included.
-    nee: SampledSpectrum,
-    sample: Option<BsdfSample>,
+    nee: W,
+    sample: Option<BsdfSample<W>>,
     light_ref: LightRef,
     /// Density of the light tracer sampling the reverse of a smooth sample (when asked for).
     reverse_pdf: f32,
@@ -298,7 +304,7 @@ impl<'a> PathTracer<'a> {
         shape: u32,
         uv: Vec2,
         wl: &SampledWavelengths,
-        f: impl FnOnce(&dyn Bsdf) -> R,
+        f: impl FnOnce(&SurfaceBsdf<'_>) -> R,
     ) -> Option<R> {
         Some(with_bsdf(self.material_of(shape)?, uv, wl, f))
     }
@@ -315,19 +321,25 @@ impl<'a> PathTracer<'a> {
     /// reduce to the hero wavelength). `light` is the light subpath traced for this camera sample
     /// by [`PathTracer::trace_light_path`] with the same wavelengths (empty when
     /// [`PathTracer::traces_caustics`] is false).
-    pub fn li(
+    ///
+    /// Generic over the [`Weight`] the path carries (`SampledSpectrum` for the spectral
+    /// renderer); the light subpaths stay spectral and enter depolarized.
+    pub fn li<W: Weight>(
         &self,
         mut ray: Ray,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
         light: &caustics::LightSubpath,
-    ) -> SampledSpectrum {
+    ) -> W
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
         if self.max_depth == 0 {
             // Mitsuba: max_depth 0 renders nothing, not even emitters.
-            return SampledSpectrum::ZERO;
+            return W::ZERO;
         }
-        let mut l = SampledSpectrum::ZERO;
-        let mut state = PathState::CAMERA;
+        let mut l = W::ZERO;
+        let mut state = PathState::<W>::CAMERA;
         loop {
             let hit = self.accel.intersect(&ray);
             let show = !(self.hide_emitters && state.depth == 0);
@@ -351,7 +363,7 @@ impl<'a> PathTracer<'a> {
                 &si,
                 ray.d,
             );
-            let Some(outcome) = self.bsdf_at(si.shape, si.uv, &{ *wl }, |bsdf: &dyn Bsdf| {
+            let Some(outcome) = self.bsdf_at(si.shape, si.uv, &{ *wl }, |bsdf: &SurfaceBsdf<'_>| {
                 let v = Vertex {
                     bsdf,
                     si: &si,
@@ -398,15 +410,15 @@ impl<'a> PathTracer<'a> {
                 break;
             }
         }
-        if l.is_finite() { l } else { SampledSpectrum::ZERO }
+        if l.intensity().is_finite() { l } else { W::ZERO }
     }
 
     /// Russian roulette, from `rr_depth` on (its number is drawn only there: a function of the
     /// depth, so the dimensions of paths of the same shape stay aligned): false when the path
     /// ends.
     #[inline]
-    fn russian_roulette(&self, state: &mut PathState, sampler: &mut impl PathSampler) -> bool {
-        let beta_max = state.beta.max_component();
+    fn russian_roulette<W: Weight>(&self, state: &mut PathState<W>, sampler: &mut impl PathSampler) -> bool {
+        let beta_max = state.beta.intensity().max_component();
         if state.depth >= self.rr_depth {
             let u_rr = sampler.next_1d();
             let q = (beta_max * state.eta * state.eta).min(0.95);
@@ -415,11 +427,11 @@ impl<'a> PathTracer<'a> {
             }
             state.beta /= q;
         }
-        beta_max > 0.0 && state.beta.is_finite()
+        beta_max > 0.0 && state.beta.intensity().is_finite()
     }
 
     /// Adds the lights at infinity seen along `d` by a ray that left the scene.
-    fn add_escaped(&self, l: &mut SampledSpectrum, state: &PathState, d: Vec3, wl: &SampledWavelengths) {
+    fn add_escaped<W: Weight>(&self, l: &mut W, state: &PathState<W>, d: Vec3, wl: &SampledWavelengths) {
         for &i in self.lights.infinite() {
             let light = &self.lights.lights()[i as usize];
             let le = light.le_infinite(d, wl);
@@ -433,15 +445,15 @@ impl<'a> PathTracer<'a> {
                 ),
                 None => 1.0,
             };
-            *l += state.beta * le * w;
+            *l += state.beta * W::from_spectrum(le) * w;
         }
     }
 
     /// Adds the emission of an area light hit at `si` (along `d`) from its front side.
-    fn add_emitted(
+    fn add_emitted<W: Weight>(
         &self,
-        l: &mut SampledSpectrum,
-        state: &PathState,
+        l: &mut W,
+        state: &PathState<W>,
         si: &SurfaceInteraction,
         d: Vec3,
         wl: &SampledWavelengths,
@@ -464,19 +476,22 @@ impl<'a> PathTracer<'a> {
             // From the camera or after a delta lobe: light paths may have found this path too.
             None => self.caustic_path_weight(state.chain.as_ref(), li, area, si.p, si.n, -d),
         };
-        *l += state.beta * le * w;
+        *l += state.beta * W::from_spectrum(le) * w;
     }
 
     /// Next-event estimation, light-subpath connections and BSDF sampling at one vertex, while
     /// the BSDF exists.
-    fn scatter(
+    fn scatter<W: Weight>(
         &self,
         v: &Vertex,
-        state: &PathState,
+        state: &PathState<W>,
         light: &caustics::LightSubpath,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
-    ) -> VertexOutcome {
+    ) -> VertexOutcome<W>
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
         let flags = v.bsdf.flags();
         let n_side = if v.wi.z >= 0.0 {
             v.si.shading.n
@@ -494,13 +509,14 @@ impl<'a> PathTracer<'a> {
         // needs no direction), so the sampler's structured dimensions reach the smooth vertices
         // behind glass and mirrors. The count is a function of the path, as it must be.
         let smooth = flags.has_smooth();
-        let mut nee = SampledSpectrum::ZERO;
+        let mut nee = W::ZERO;
         if smooth {
             let u_sel = sampler.next_1d();
             let u_light = sampler.next_2d();
             nee = self.next_event(v, &light_ref, state.beta, u_sel, u_light, wl);
             if !light.is_empty() {
-                nee += state.beta * self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
+                let c = self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
+                nee += state.beta * W::from_spectrum(c);
             }
         }
 
@@ -511,8 +527,10 @@ impl<'a> PathTracer<'a> {
             Vec2::splat(0.5)
         };
         let ctx = BsdfContext::radiance();
-        let sample = v.bsdf.sample(&ctx, v.wi, u_lobe, u_dir, wl).filter(|bs| {
-            bs.weight.is_finite() && !bs.weight.is_black() && (bs.flags.is_delta() || bs.pdf > 0.0)
+        let sample = v.bsdf.sample_weight(&ctx, v.wi, u_lobe, u_dir, wl).filter(|bs| {
+            bs.weight.intensity().is_finite()
+                && !bs.weight.is_black()
+                && (bs.flags.is_delta() || bs.pdf > 0.0)
         });
         // After a delta lobe, a smooth sample here needs the light tracer's density of the
         // reverse direction for the MIS ratio.
@@ -533,43 +551,53 @@ impl<'a> PathTracer<'a> {
 
     /// Next-event estimation from `v`: β·f·|cos|·Lᵢ·T/p·w for one light sample (`u_sel` picks
     /// the light, `u` the point), w the power heuristic against the BSDF density.
-    fn next_event(
+    fn next_event<W: Weight>(
         &self,
         v: &Vertex,
         r: &LightRef,
-        beta: SampledSpectrum,
+        beta: W,
         u_sel: f32,
         u: Vec2,
         wl: &SampledWavelengths,
-    ) -> SampledSpectrum {
+    ) -> W
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
         let Some(ls) = self.lights.sample_li(self.accel.shapes(), r, u_sel, u, wl) else {
-            return SampledSpectrum::ZERO;
+            return W::ZERO;
         };
         let wo = v.si.shading.to_local(ls.wi);
-        let (f, bsdf_pdf) = v.bsdf.eval_pdf(&BsdfContext::radiance(), v.wi, wo, wl);
+        let ctx = BsdfContext::radiance();
+        let (f, bsdf_pdf): (W, f32) = (
+            v.bsdf.eval_weight(&ctx, v.wi, wo, wl),
+            v.bsdf.pdf(&ctx, v.wi, wo, wl),
+        );
         if f.is_black() {
-            return SampledSpectrum::ZERO;
+            return W::ZERO;
         }
         let t = self.transmittance(v.si, &ls, wl);
         if t.is_black() {
-            return SampledSpectrum::ZERO;
+            return W::ZERO;
         }
         let w = if ls.delta {
             1.0
         } else {
             mis_power(ls.pdf, bsdf_pdf)
         };
-        beta * f * ls.li * t * (wo.z.abs() * w / ls.pdf)
+        beta * f * W::from_spectrum(ls.li) * t * (wo.z.abs() * w / ls.pdf)
     }
 
     /// Visibility of a light sample from `si`: 0/1, or with thin shadows the transmittance of the
     /// sheets crossed.
-    fn transmittance(
+    fn transmittance<W: Weight>(
         &self,
         si: &SurfaceInteraction,
         ls: &LightSample,
         wl: &SampledWavelengths,
-    ) -> SampledSpectrum {
+    ) -> W
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
         let ray = if ls.dist.is_finite() {
             si.spawn_ray_to(si.p + ls.wi * ls.dist, ls.normal)
         } else {
@@ -580,30 +608,33 @@ impl<'a> PathTracer<'a> {
 
     /// Visibility along a shadow ray: 0/1, or with thin shadows the transmittance of the sheets
     /// crossed.
-    fn visibility(&self, ray: Ray, wl: &SampledWavelengths) -> SampledSpectrum {
+    fn visibility<W: Weight>(&self, ray: Ray, wl: &SampledWavelengths) -> W
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
         if !(self.thin_shadows && self.any_thin) {
             return if self.accel.occluded(&ray) {
-                SampledSpectrum::ZERO
+                W::ZERO
             } else {
-                SampledSpectrum::ONE
+                W::ONE
             };
         }
         let mut ray = ray;
-        let mut tr = SampledSpectrum::ONE;
+        let mut tr = W::ONE;
         for _ in 0..MAX_NULL_CROSSINGS {
             let Some(h) = self.accel.intersect(&ray) else {
                 return tr;
             };
             if !self.is_thin(h.shape) {
-                return SampledSpectrum::ZERO;
+                return W::ZERO;
             }
             let wi = h.shading.to_local(-ray.d);
-            let t = self.bsdf_at(h.shape, h.uv, wl, |bsdf: &dyn Bsdf| {
-                bsdf.null_transmission(wi, wl)
+            let t = self.bsdf_at(h.shape, h.uv, wl, |bsdf: &SurfaceBsdf<'_>| {
+                bsdf.null_transmission_weight(wi, wl)
             });
             match t.flatten() {
                 Some(t) => tr *= t,
-                None => return SampledSpectrum::ZERO,
+                None => return W::ZERO,
             }
             if tr.is_black() {
                 return tr;
@@ -624,7 +655,7 @@ impl<'a> PathTracer<'a> {
                 tmax: remaining,
             };
         }
-        SampledSpectrum::ZERO
+        W::ZERO
     }
 }
 
@@ -652,7 +683,7 @@ impl Integrator for PathTracer<'_> {
             };
             self.trace_light_path(&mut rng, &mut sample.wavelengths, &mut to_film, &mut light);
         }
-        let l = self.li(sample.ray, &mut sample.sampler, &mut sample.wavelengths, &light);
+        let l: SampledSpectrum = self.li(sample.ray, &mut sample.sampler, &mut sample.wavelengths, &light);
         value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
     }
 }
@@ -660,6 +691,11 @@ impl Integrator for PathTracer<'_> {
 /// Calls `f` with `material`'s BSDF at texture coordinates `uv`: the one place the integrators
 /// build a BSDF.
 #[inline]
-fn with_bsdf<R>(material: &Material, uv: Vec2, wl: &SampledWavelengths, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
+fn with_bsdf<R>(
+    material: &Material,
+    uv: Vec2,
+    wl: &SampledWavelengths,
+    f: impl FnOnce(&SurfaceBsdf<'_>) -> R,
+) -> R {
     f(&material.bsdf_at(uv, wl))
 }

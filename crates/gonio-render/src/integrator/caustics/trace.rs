@@ -13,6 +13,7 @@ use crate::emitter::Light;
 use crate::geometry::sampling::sample_area;
 use crate::geometry::{Ray, SurfaceInteraction, offset_ray_origin, spawn_ray_between};
 use glam::{Vec2, Vec3};
+use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
 
 /// A light subpath being traced: where it goes and what it carries.
@@ -163,7 +164,7 @@ impl PathTracer<'_> {
             wi: si.shading.to_local(wi_world),
             cos_in_g: si.n.dot(wi_world).abs(),
         };
-        let sample = self.bsdf_at(si.shape, si.uv, &{ *wl }, |bsdf: &dyn Bsdf| {
+        let sample = self.bsdf_at(si.shape, si.uv, &{ *wl }, |bsdf: &SurfaceBsdf<'_>| {
             let flags = bsdf.flags();
             if walk.after_smooth && !flags.is_delta() {
                 // Two smooth vertices in a row (or light reaching a smooth surface directly):
