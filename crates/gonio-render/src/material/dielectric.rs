@@ -12,25 +12,25 @@ use gonio_core::bsdfs::{Dielectric, LeafBsdf, SurfaceBsdf};
 use gonio_core::spectra::RgbKind;
 use gonio_core::{Bsdf, BsdfFlags, Ior, SampledWavelengths};
 
-const INT_IOR: ParamSpec = ParamSpec::new(
+pub(super) const INT_IOR: ParamSpec = ParamSpec::new(
     "int_ior",
     ParamType::Ior,
     DefaultValue::Str("bk7"),
     "interior index: a number, a named material, or (ours) a dispersive glass (`SF11`, `N-BK7`, ...) or a spectrum",
 );
-const EXT_IOR: ParamSpec = ParamSpec::new(
+pub(super) const EXT_IOR: ParamSpec = ParamSpec::new(
     "ext_ior",
     ParamType::Ior,
     DefaultValue::Str("air"),
     "exterior index, as `int_ior`",
 );
-const SPECULAR_REFLECTANCE: ParamSpec = ParamSpec::new(
+pub(super) const SPECULAR_REFLECTANCE: ParamSpec = ParamSpec::new(
     "specular_reflectance",
     ParamType::Texture,
     DefaultValue::Float(1.0),
     "tint of the reflection (not physical)",
 );
-const SPECULAR_TRANSMITTANCE: ParamSpec = ParamSpec::new(
+pub(super) const SPECULAR_TRANSMITTANCE: ParamSpec = ParamSpec::new(
     "specular_transmittance",
     ParamType::Texture,
     DefaultValue::Float(1.0),
@@ -46,11 +46,21 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
-    let int_ior = b.ior(p, &INT_IOR)?;
-    let ext_ior = b.ior(p, &EXT_IOR)?;
-    let r = b.texture(p, &SPECULAR_REFLECTANCE, RgbKind::Albedo)?;
-    let t = b.texture(p, &SPECULAR_TRANSMITTANCE, RgbKind::Albedo)?;
+    let (int_ior, ext_ior, r, t) = interface(b, p)?;
     Ok(Material::new(DielectricMaterial::new(int_ior, ext_ior, r, t)))
+}
+
+/// The parameters `dielectric` and `thindielectric` share: interior and exterior indices, tints.
+pub(super) fn interface<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+) -> Result<(Ior, Ior, Texture, Texture), SceneError> {
+    Ok((
+        b.ior(p, &INT_IOR)?,
+        b.ior(p, &EXT_IOR)?,
+        b.texture(p, &SPECULAR_REFLECTANCE, RgbKind::Albedo)?,
+        b.texture(p, &SPECULAR_TRANSMITTANCE, RgbKind::Albedo)?,
+    ))
 }
 
 /// `dielectric` in a scene.

@@ -1,41 +1,13 @@
 //! `thindielectric`: a thin dielectric sheet, Stokes-summed delta reflection and straight-through transmission (core model [`gonio_core::bsdfs::ThinDielectric`]; Mitsuba 3 `src/bsdfs/thindielectric.cpp`).
 
-use super::{
-    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retinted,
-    texture_at,
-};
+use super::dielectric::{EXT_IOR, INT_IOR, SPECULAR_REFLECTANCE, SPECULAR_TRANSMITTANCE, interface};
+use super::{BsdfPlugin, Material, SurfaceMaterial, model_value, retinted, texture_at};
 use crate::texture::Texture;
 use crate::xml::{Builder, Params, SceneError};
 use glam::Vec2;
 use gonio_core::bsdfs::surface::TooManyNodes;
 use gonio_core::bsdfs::{LeafBsdf, SurfaceBsdf, ThinDielectric};
-use gonio_core::spectra::RgbKind;
 use gonio_core::{Bsdf, BsdfFlags, Ior, SampledWavelengths};
-
-const INT_IOR: ParamSpec = ParamSpec::new(
-    "int_ior",
-    ParamType::Ior,
-    DefaultValue::Str("bk7"),
-    "interior index: a number, a named material, or (ours) a dispersive glass (`SF11`, `N-BK7`, ...) or a spectrum",
-);
-const EXT_IOR: ParamSpec = ParamSpec::new(
-    "ext_ior",
-    ParamType::Ior,
-    DefaultValue::Str("air"),
-    "exterior index, as `int_ior`",
-);
-const SPECULAR_REFLECTANCE: ParamSpec = ParamSpec::new(
-    "specular_reflectance",
-    ParamType::Texture,
-    DefaultValue::Float(1.0),
-    "tint of the reflection (not physical)",
-);
-const SPECULAR_TRANSMITTANCE: ParamSpec = ParamSpec::new(
-    "specular_transmittance",
-    ParamType::Texture,
-    DefaultValue::Float(1.0),
-    "tint of the transmission (not physical)",
-);
 
 /// The `thindielectric` plugin.
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
@@ -46,10 +18,7 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
-    let int_ior = b.ior(p, &INT_IOR)?;
-    let ext_ior = b.ior(p, &EXT_IOR)?;
-    let r = b.texture(p, &SPECULAR_REFLECTANCE, RgbKind::Albedo)?;
-    let t = b.texture(p, &SPECULAR_TRANSMITTANCE, RgbKind::Albedo)?;
+    let (int_ior, ext_ior, r, t) = interface(b, p)?;
     Ok(Material::new(ThinDielectricMaterial::new(int_ior, ext_ior, r, t)))
 }
 

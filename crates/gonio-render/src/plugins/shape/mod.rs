@@ -195,3 +195,20 @@ pub(crate) fn mesh<'d>(
         Ok(m)
     })
 }
+
+/// The builder of a shape read from a mesh file (`obj`, `ply`): the common shape parameters,
+/// `face_normals`, the file named by `filename` and whether to flip v (`flip_tex_coords`, whose
+/// default differs between the formats, as in Mitsuba).
+pub(crate) fn mesh_file<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+    filename: &ParamSpec,
+    flip_tex_coords: &ParamSpec,
+    format: MeshFormat,
+) -> Result<ShapeDesc> {
+    let c = common(p)?;
+    let face_normals = p.bool(FACE_NORMALS.name, FACE_NORMALS.default.bool())?;
+    let flip = p.bool(flip_tex_coords.name, flip_tex_coords.default.bool())?;
+    let m = mesh(b, p, filename, format, flip, face_normals)?;
+    assemble(b, p, c, Geometry::Mesh(m), face_normals)
+}

@@ -1,8 +1,8 @@
 //! `obj`: a Wavefront OBJ triangle mesh (Mitsuba 3 `src/shapes/obj.cpp`; loader [`crate::mesh::load_obj`]).
 
-use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, assemble, common, mesh};
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, mesh_file};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::{Geometry, ShapeDesc};
+use crate::scene::ShapeDesc;
 use crate::xml::{Builder, Params, SceneError};
 
 const FILENAME: ParamSpec = ParamSpec::new(
@@ -35,9 +35,5 @@ pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, SceneError> {
-    let c = common(p)?;
-    let face_normals = p.bool(FACE_NORMALS.name, FACE_NORMALS.default.bool())?;
-    let flip = p.bool(FLIP_TEX_COORDS.name, FLIP_TEX_COORDS.default.bool())?;
-    let m = mesh(b, p, &FILENAME, MeshFormat::Obj, flip, face_normals)?;
-    assemble(b, p, c, Geometry::Mesh(m), face_normals)
+    mesh_file(b, p, &FILENAME, &FLIP_TEX_COORDS, MeshFormat::Obj)
 }

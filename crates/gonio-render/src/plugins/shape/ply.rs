@@ -1,8 +1,8 @@
 //! `ply`: a Stanford PLY triangle mesh, ASCII or binary (Mitsuba 3 `src/shapes/ply.cpp`; loader [`crate::mesh::load_ply`]).
 
-use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, assemble, common, mesh};
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, mesh_file};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::{Geometry, ShapeDesc};
+use crate::scene::ShapeDesc;
 use crate::xml::{Builder, Params, SceneError};
 
 const FILENAME: ParamSpec = ParamSpec::new(
@@ -35,9 +35,5 @@ pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, SceneError> {
-    let c = common(p)?;
-    let face_normals = p.bool(FACE_NORMALS.name, FACE_NORMALS.default.bool())?;
-    let flip = p.bool(FLIP_TEX_COORDS.name, FLIP_TEX_COORDS.default.bool())?;
-    let m = mesh(b, p, &FILENAME, MeshFormat::Ply, flip, face_normals)?;
-    assemble(b, p, c, Geometry::Mesh(m), face_normals)
+    mesh_file(b, p, &FILENAME, &FLIP_TEX_COORDS, MeshFormat::Ply)
 }
