@@ -146,7 +146,7 @@ impl Default for SurfaceBsdf<'_> {
 }
 
 impl<'a> SurfaceBsdf<'a> {
-    /// An empty tree (no root yet: push at least one leaf before evaluating).
+    /// An empty tree (black until a node is pushed).
     pub const fn new() -> Self {
         Self {
             nodes: [Node::Empty; MAX_NODES],
@@ -189,6 +189,12 @@ impl<'a> SurfaceBsdf<'a> {
         self.push(Node::TwoSided { front, back })
     }
 
+    /// Empties the tree (keeping its storage): the next push is the first node.
+    #[inline]
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+
     /// Number of nodes.
     pub fn len(&self) -> usize {
         self.len as usize
@@ -199,12 +205,12 @@ impl<'a> SurfaceBsdf<'a> {
         self.len == 0
     }
 
+    /// The root: the last node pushed (an empty tree is black).
     #[inline]
     fn root(&self) -> NodeRef<'_, 'a> {
-        debug_assert!(self.len > 0, "SurfaceBsdf evaluated before a node was pushed");
         NodeRef {
             tree: self,
-            i: self.len.saturating_sub(1),
+            i: self.len.wrapping_sub(1),
         }
     }
 }
@@ -222,6 +228,9 @@ impl NodeRef<'_, '_> {
     #[inline]
     fn with<R>(&self, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
         let at = |i: u8| NodeRef { tree: self.tree, i };
+        if self.i >= self.tree.len {
+            return f(&Empty);
+        }
         match &self.tree.nodes[self.i as usize] {
             Node::Leaf(l) => with_leaf!(l, b => f(b)),
             Node::Blend { weight, a, b } => f(&BlendBsdf::new(*weight, &at(*a), &at(*b))),
@@ -392,6 +401,25 @@ mod tests {
                     assert_eq!(wa, wb);
                 }
             }
+        }
+    }
+
+    #[test]
+    fn an_empty_or_cleared_tree_is_black() {
+        let wl = SampledWavelengths::fixed(550.0);
+        let mut tree = SurfaceBsdf::leaf(LeafBsdf::Diffuse(Diffuse::default().at(&wl)));
+        let (wi, wo) = (Vec3::Z, Vec3::new(0.6, 0.0, 0.8));
+        let ctx = BsdfContext::radiance();
+        assert!(!tree.eval(&ctx, wi, wo, &wl).is_black());
+        tree.clear();
+        for t in [tree, SurfaceBsdf::new()] {
+            assert_eq!(t.flags(), BsdfFlags::NONE);
+            assert!(t.eval(&ctx, wi, wo, &wl).is_black());
+            assert_eq!(t.pdf(&ctx, wi, wo, &wl), 0.0);
+            assert!(
+                t.sample(&ctx, wi, 0.5, Vec2::splat(0.5), &mut wl.clone())
+                    .is_none()
+            );
         }
     }
 

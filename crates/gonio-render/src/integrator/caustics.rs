@@ -88,6 +88,7 @@ use super::PathTracer;
 use crate::emitter::{AreaLight, BoundingSphere, Distribution1D, Light, Lights};
 use crate::geometry::{ShapeKind, SurfaceInteraction, WorldShape, spawn_ray_between};
 use crate::material::Material;
+use arrayvec::ArrayVec;
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::frame::Frame;
@@ -362,11 +363,11 @@ impl LightVertex {
 }
 
 /// The kept vertices of one light subpath (at most [`MAX_CHAIN`]: each follows its own delta
-/// vertex), on the stack.
-#[derive(Clone, Copy, Debug)]
+/// vertex), on the stack. An `ArrayVec`, so that making an empty one per camera sample costs
+/// nothing (no initialization of the unused slots).
+#[derive(Clone, Debug)]
 pub struct LightSubpath {
-    len: usize,
-    vertices: [Option<LightVertex>; MAX_CHAIN as usize],
+    vertices: ArrayVec<LightVertex, { MAX_CHAIN as usize }>,
 }
 
 impl Default for LightSubpath {
@@ -378,34 +379,31 @@ impl Default for LightSubpath {
 impl LightSubpath {
     /// No vertices.
     pub const EMPTY: Self = Self {
-        len: 0,
-        vertices: [None; MAX_CHAIN as usize],
+        vertices: ArrayVec::new_const(),
     };
 
     /// Number of kept vertices.
     pub fn len(&self) -> usize {
-        self.len
+        self.vertices.len()
     }
 
     /// True when the subpath left nothing to connect to.
     pub fn is_empty(&self) -> bool {
-        self.len == 0
+        self.vertices.is_empty()
     }
 
-    /// Forgets the vertices (keeps the storage: no per-sample initialization).
+    /// Forgets the vertices.
     pub fn clear(&mut self) {
-        self.len = 0;
+        self.vertices.clear();
     }
 
+    /// Keeps a vertex (beyond [`MAX_CHAIN`] vertices, drops it).
     fn push(&mut self, v: LightVertex) {
-        if self.len < self.vertices.len() {
-            self.vertices[self.len] = Some(v);
-            self.len += 1;
-        }
+        let _ = self.vertices.try_push(v);
     }
 
     fn iter(&self) -> impl Iterator<Item = &LightVertex> {
-        self.vertices[..self.len].iter().flatten()
+        self.vertices.iter()
     }
 }
 

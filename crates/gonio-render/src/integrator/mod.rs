@@ -340,6 +340,7 @@ impl<'a> PathTracer<'a> {
         }
         let mut l = W::ZERO;
         let mut state = PathState::<W>::CAMERA;
+        let mut bsdf = SurfaceBsdf::new();
         loop {
             let hit = self.accel.intersect(&ray);
             let show = !(self.hide_emitters && state.depth == 0);
@@ -363,16 +364,17 @@ impl<'a> PathTracer<'a> {
                 &si,
                 ray.d,
             );
-            let Some(outcome) = self.bsdf_at(si.shape, si.uv, &{ *wl }, |bsdf: &SurfaceBsdf<'_>| {
-                let v = Vertex {
-                    bsdf,
-                    si: &si,
-                    wi: si.shading.to_local(wi_world),
-                };
-                self.scatter(&v, &state, light, sampler, wl)
-            }) else {
+            // The path's one BSDF buffer, refilled at each vertex (no per-hit initialization).
+            let Some(material) = self.material_of(si.shape) else {
                 break;
             };
+            material.fill_bsdf(si.uv, wl, &mut bsdf);
+            let v = Vertex {
+                bsdf: &bsdf,
+                si: &si,
+                wi: si.shading.to_local(wi_world),
+            };
+            let outcome = self.scatter(&v, &state, light, sampler, wl);
             l += outcome.nee;
 
             let Some(bs) = outcome.sample else { break };

@@ -129,6 +129,14 @@ impl Material {
         tree
     }
 
+    /// [`Material::bsdf_at`] into an existing value (a path's buffer, reused from vertex to vertex).
+    #[inline]
+    pub fn fill_bsdf<'a>(&'a self, uv: Vec2, wl: &SampledWavelengths, tree: &mut SurfaceBsdf<'a>) {
+        tree.clear();
+        // Cannot fail: see `bsdf_at`.
+        let _ = self.0.push(uv, wl, tree);
+    }
+
     /// Builds the BSDF value at a hit ([`Material::bsdf_at`]) and hands it to `f`.
     #[inline]
     pub fn with_bsdf_at<R>(&self, uv: Vec2, wl: SampledWavelengths, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
