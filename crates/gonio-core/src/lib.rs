@@ -17,6 +17,7 @@ pub mod frame;
 pub mod fresnel;
 pub mod instruments;
 pub mod ior;
+pub mod microfacet;
 pub mod named;
 pub mod quadrature;
 pub mod rgb2spec;
