@@ -307,4 +307,58 @@ mod tests {
         let f = m.eval(&BsdfContext::radiance(), Vec3::Z, Vec3::Z, &wl)[0];
         assert!((f / expect - 1.0).abs() < 1e-5, "{f} vs {expect}");
     }
+
+    #[test]
+    fn zero_roughness_behaves_like_the_smooth_conductor() {
+        // α = 0 is clamped to 1e-4: every sample leaves in the mirror direction (to 1e-3 rad)
+        // with the smooth conductor's weight F(cos θi), never NaN, never black.
+        use crate::bsdfs::Conductor;
+        let (eta, k) = (Spectrum::Constant(0.2), Spectrum::Constant(3.9));
+        let smooth = Conductor::new(eta.clone(), k.clone());
+        let ctx = BsdfContext::radiance();
+        for kind in [Beckmann, Ggx] {
+            for visible in [true, false] {
+                let rough = RoughConductor::new(
+                    eta.clone(),
+                    k.clone(),
+                    MicrofacetDistribution::new(kind, 0.0, 0.0, visible),
+                );
+                for theta in [0.0f32, 30.0, 75.0, 89.0] {
+                    let wi = dir(theta, 40.0);
+                    let mut wl = SampledWavelengths::fixed(550.0);
+                    let s0 = smooth.sample(&ctx, wi, 0.5, Vec2::ZERO, &mut wl).unwrap();
+                    for u in [Vec2::new(0.1, 0.2), Vec2::new(0.5, 0.5), Vec2::new(0.93, 0.71)] {
+                        let s = rough.sample(&ctx, wi, 0.5, u, &mut wl).unwrap();
+                        assert!(
+                            s.wo.distance(s0.wo) < 1e-3,
+                            "{kind:?} θ={theta}: {} vs {}",
+                            s.wo,
+                            s0.wo
+                        );
+                        assert!(s.weight.is_finite() && s.pdf.is_finite());
+                        assert!(
+                            (s.weight[0] - s0.weight[0]).abs() < 1e-3,
+                            "{kind:?} θ={theta} visible={visible}: {} vs {}",
+                            s.weight[0],
+                            s0.weight[0]
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn anisotropy_follows_the_tangent() {
+        // α_u (along x) small, α_v (along y) large: moving ωo away from the mirror direction
+        // along y costs less than along x.
+        let d = MicrofacetDistribution::new(Ggx, 0.05, 0.3, true);
+        let m = RoughConductor::mirror(d);
+        let ctx = BsdfContext::radiance();
+        let wl = SampledWavelengths::fixed(550.0);
+        let wi = Vec3::Z;
+        let along_x = m.eval(&ctx, wi, dir(10.0, 0.0), &wl)[0];
+        let along_y = m.eval(&ctx, wi, dir(10.0, 90.0), &wl)[0];
+        assert!(along_y > 10.0 * along_x, "{along_y} vs {along_x}");
+    }
 }
