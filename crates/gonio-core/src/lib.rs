@@ -19,6 +19,7 @@ pub mod hash;
 pub mod instruments;
 pub mod ior;
 pub mod math;
+pub mod microfacet;
 pub mod named;
 pub mod quadrature;
 pub mod rgb2spec;

@@ -9,13 +9,14 @@
 
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::{
     Anisotropic, DiffuseTransmitter, EnergyGain, EvalPdfMismatch, MinimalGlass, MislabelledLobe,
     NanAtGrazing, NonReciprocal, PdfOffByFactor, WrongSampler, WrongWeight,
 };
 use gonio_core::check::{CheckConfig, CheckResult, all_passed, battery, failures, sidak};
+use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
 use gonio_core::{Bsdf, Ior};
@@ -135,6 +136,69 @@ fn conductor_under_water_tinted() {
     c.ext_ior = Ior::Constant(1.33);
     c.specular_reflectance = Spectrum::Constant(0.7);
     assert_passes("conductor Al-like in water, tint 0.7", &c);
+}
+
+// ---- roughconductor ---------------------------------------------------------------------------
+
+/// An anisotropic model passes every row but `isotropy`, which must report its anisotropy (f
+/// changes when both directions rotate about the normal).
+fn assert_passes_anisotropic(name: &str, bsdf: &dyn Bsdf) {
+    let rows = report(name, bsdf);
+    let (iso, rest): (Vec<CheckResult>, Vec<CheckResult>) =
+        rows.into_iter().partition(|r| r.name == "isotropy");
+    assert!(all_passed(&rest), "{name} failed:\n{}", failures(&rest));
+    assert!(
+        iso.len() == 1 && !iso[0].passed,
+        "{name}: anisotropy not seen: {iso:#?}"
+    );
+    let chi2 = rest.iter().filter(|r| r.name == "chi2").count();
+    assert!(chi2 >= 3, "{name}: only {chi2} chi2 rows");
+    for must in ["health", "energy", "albedo_estimators", "reciprocity", "adjoint"] {
+        assert!(rest.iter().any(|r| r.name == must), "{name}: no `{must}` row");
+    }
+}
+
+#[test]
+fn roughconductor_default() {
+    // Mitsuba's defaults: material none, Beckmann α = 0.1, visible normals.
+    assert_passes("roughconductor default", &RoughConductor::default());
+}
+
+#[test]
+fn roughconductor_ggx_gold_like() {
+    let eta = piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]);
+    let k = piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]);
+    let d = MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3);
+    assert_passes(
+        "roughconductor ggx α=0.3 Au-like",
+        &RoughConductor::new(eta, k, d),
+    );
+}
+
+#[test]
+fn roughconductor_ggx_very_rough_all_normals() {
+    let d = MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.8, 0.8, false);
+    let c = RoughConductor::new(Spectrum::Constant(0.2), Spectrum::Constant(3.9), d);
+    assert_passes("roughconductor ggx α=0.8 all normals", &c);
+}
+
+#[test]
+fn roughconductor_beckmann_anisotropic_all_normals_in_water() {
+    let d = MicrofacetDistribution::new(MicrofacetKind::Beckmann, 0.05, 0.3, false);
+    let mut c = RoughConductor::new(Spectrum::Constant(1.1), Spectrum::Constant(6.8), d);
+    c.ext_ior = Ior::Constant(1.33);
+    c.specular_reflectance = Spectrum::Constant(0.7);
+    assert_passes_anisotropic(
+        "roughconductor beckmann α=(0.05, 0.3) all normals, Al-like in water, tint 0.7",
+        &c,
+    );
+}
+
+#[test]
+fn roughconductor_ggx_anisotropic_visible() {
+    let d = MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.4, 0.1, true);
+    let c = RoughConductor::mirror(d);
+    assert_passes_anisotropic("roughconductor ggx α=(0.4, 0.1) visible, white", &c);
 }
 
 // ---- dielectric -------------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 //! 360–830 nm, and any valid parameter: reflectances in [0, 1], indices of refraction in
 //! [1.0001, 4] and their inverses, conductor η ∈ [0, 5] and k ∈ [0, 10] including the
 //! n = k = 0 corner (0/0 in the textbook formula), exterior indices, tints, both plastic modes,
+//! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers),
 //! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
@@ -13,10 +14,11 @@
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
+use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::ONE_MINUS_EPSILON;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
 use gonio_core::{Bsdf, BsdfContext, Ior, SampledWavelengths};
@@ -35,6 +37,16 @@ enum Spec {
         k: f32,
         ext: f32,
         tint: f32,
+    },
+    RoughConductor {
+        n: f32,
+        k: f32,
+        ext: f32,
+        tint: f32,
+        ggx: bool,
+        alpha_u: f32,
+        alpha_v: f32,
+        visible: bool,
     },
     Dielectric {
         int: f32,
@@ -95,6 +107,15 @@ fn unit() -> impl Strategy<Value = f32> {
     prop_oneof![Just(0.0f32), Just(1.0f32), 0.0f32..=1.0]
 }
 
+/// Microfacet roughness from 1e-4 to 1, log-uniform, with both ends exactly.
+fn roughness() -> impl Strategy<Value = f32> {
+    prop_oneof![
+        Just(1e-4f32),
+        Just(1.0f32),
+        (-4.0f32..=0.0).prop_map(|e| 10f32.powf(e))
+    ]
+}
+
 fn reflectance() -> impl Strategy<Value = SpecSpectrum> {
     prop_oneof![
         unit().prop_map(SpecSpectrum::Constant),
@@ -129,6 +150,27 @@ fn leaf() -> impl Strategy<Value = Spec> {
             unit()
         )
             .prop_map(|(n, k, ext, tint)| Spec::Conductor { n, k, ext, tint }),
+        (
+            (
+                prop_oneof![Just(0.0f32), 0.0f32..=5.0],
+                prop_oneof![Just(0.0f32), 0.0f32..=10.0],
+                prop_oneof![Just(1.0f32), 1.0f32..=2.0],
+                unit()
+            ),
+            (any::<bool>(), roughness(), roughness(), any::<bool>())
+        )
+            .prop_map(|((n, k, ext, tint), (ggx, alpha_u, alpha_v, visible))| {
+                Spec::RoughConductor {
+                    n,
+                    k,
+                    ext,
+                    tint,
+                    ggx,
+                    alpha_u,
+                    alpha_v,
+                    visible,
+                }
+            }),
         (ior_pair(), unit(), unit(), any::<bool>()).prop_map(|((int, ext), refl, trans, dispersive)| {
             Spec::Dielectric {
                 int,
@@ -184,6 +226,27 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
         Spec::Diffuse { rho } => f(&Diffuse::new(rho.build())),
         Spec::Conductor { n, k, ext, tint } => {
             let mut c = Conductor::new(Spectrum::Constant(*n), Spectrum::Constant(*k));
+            c.ext_ior = Ior::Constant(*ext);
+            c.specular_reflectance = Spectrum::Constant(*tint);
+            f(&c)
+        }
+        Spec::RoughConductor {
+            n,
+            k,
+            ext,
+            tint,
+            ggx,
+            alpha_u,
+            alpha_v,
+            visible,
+        } => {
+            let kind = if *ggx {
+                MicrofacetKind::Ggx
+            } else {
+                MicrofacetKind::Beckmann
+            };
+            let d = MicrofacetDistribution::new(kind, *alpha_u, *alpha_v, *visible);
+            let mut c = RoughConductor::new(Spectrum::Constant(*n), Spectrum::Constant(*k), d);
             c.ext_ior = Ior::Constant(*ext);
             c.specular_reflectance = Spectrum::Constant(*tint);
             f(&c)

@@ -18,7 +18,9 @@
 //!
 //! [`SpectralValue`]: crate::spectra::SpectralValue
 
-use super::{BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Tabulated, ThinDielectric, TwoSided};
+use super::{
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
+};
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::ior::SampledIor;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -41,6 +43,8 @@ pub enum LeafBsdf<'a> {
     ThinDielectric(ThinDielectric<SampledSpectrum, SampledIor>),
     /// `plastic`.
     Plastic(Plastic<SampledSpectrum>),
+    /// `roughconductor`.
+    RoughConductor(RoughConductor<SampledSpectrum, SampledIor>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
 }
@@ -55,6 +59,7 @@ macro_rules! with_leaf {
             LeafBsdf::Dielectric($b) => $body,
             LeafBsdf::ThinDielectric($b) => $body,
             LeafBsdf::Plastic($b) => $body,
+            LeafBsdf::RoughConductor($b) => $body,
             LeafBsdf::Tabulated($b) => {
                 let $b: &Tabulated = $b;
                 $body

@@ -14,31 +14,31 @@ use gonio_core::named;
 use gonio_core::spectra::RgbKind;
 use gonio_core::{Bsdf, BsdfFlags, Ior, SampledWavelengths, Spectrum};
 
-const MATERIAL: ParamSpec = ParamSpec::new(
+pub(crate) const MATERIAL: ParamSpec = ParamSpec::new(
     "material",
     ParamType::String,
     DefaultValue::Str("none"),
     "a measured metal (`Au`, `Ag`, `Cu`, `Al`, ...) giving η and k; `none` is the ideal mirror",
 );
-const ETA: ParamSpec = ParamSpec::new(
+pub(crate) const ETA: ParamSpec = ParamSpec::new(
     "eta",
     ParamType::Spectrum,
     DefaultValue::Float(0.0),
     "real part η of the complex index (instead of `material`)",
 );
-const K: ParamSpec = ParamSpec::new(
+pub(crate) const K: ParamSpec = ParamSpec::new(
     "k",
     ParamType::Spectrum,
     DefaultValue::Float(1.0),
     "imaginary part k, the extinction coefficient (instead of `material`)",
 );
-const SPECULAR_REFLECTANCE: ParamSpec = ParamSpec::new(
+pub(crate) const SPECULAR_REFLECTANCE: ParamSpec = ParamSpec::new(
     "specular_reflectance",
     ParamType::Texture,
     DefaultValue::Float(1.0),
     "tint multiplying the Fresnel term (not physical)",
 );
-const EXT_IOR: ParamSpec = ParamSpec::new(
+pub(crate) const EXT_IOR: ParamSpec = ParamSpec::new(
     "ext_ior",
     ParamType::Ior,
     DefaultValue::Str("vacuum"),
@@ -54,7 +54,19 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
-    let (eta, k) = match p.string_opt(MATERIAL.name)? {
+    let (eta, k) = complex_index(b, p)?;
+    let specular = b.texture(p, &SPECULAR_REFLECTANCE, RgbKind::Albedo)?;
+    let ext_ior = b.ior(p, &EXT_IOR)?;
+    Ok(Material::new(ConductorMaterial::new(eta, k, ext_ior, specular)))
+}
+
+/// η and k from `material` (a preset) or from `eta` and `k` (not both), as Mitsuba's
+/// `conductor` and `roughconductor` read them.
+pub(crate) fn complex_index<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+) -> Result<(Spectrum, Spectrum), SceneError> {
+    Ok(match p.string_opt(MATERIAL.name)? {
         Some((m, mloc)) if !m.eq_ignore_ascii_case("none") => {
             if p.has(ETA.name) || p.has(K.name) {
                 let which = if p.has(ETA.name) { ETA.name } else { K.name };
@@ -80,10 +92,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
             b.spectrum(p, &ETA, RgbKind::Unbounded)?,
             b.spectrum(p, &K, RgbKind::Unbounded)?,
         ),
-    };
-    let specular = b.texture(p, &SPECULAR_REFLECTANCE, RgbKind::Albedo)?;
-    let ext_ior = b.ior(p, &EXT_IOR)?;
-    Ok(Material::new(ConductorMaterial::new(eta, k, ext_ior, specular)))
+    })
 }
 
 /// `conductor` in a scene.

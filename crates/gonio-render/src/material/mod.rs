@@ -20,6 +20,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod plastic;
+pub mod roughconductor;
 pub mod tabulated;
 pub mod thindielectric;
 pub mod twosided;
@@ -30,6 +31,7 @@ pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
 pub use plastic::PlasticMaterial;
+pub use roughconductor::RoughConductorMaterial;
 pub use tabulated::TabulatedMaterial;
 pub use thindielectric::ThinDielectricMaterial;
 pub use twosided::TwoSidedMaterial;
@@ -50,6 +52,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &dielectric::PLUGIN,
     &thindielectric::PLUGIN,
     &plastic::PLUGIN,
+    &roughconductor::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
