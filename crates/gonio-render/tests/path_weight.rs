@@ -115,7 +115,7 @@ fn path_tracer_generic_weight_equals_the_spectral_one() {
             let wl = SampledWavelengths::sample_visible((k as f32 + 0.5) / 400.0);
             let (mut wa, mut wb) = (wl, wl);
             let (mut ra, mut rb) = (Pcg32::new(k as u64, 1), Pcg32::new(k as u64, 1));
-            let light = LightSubpath::EMPTY;
+            let light = LightSubpath::new();
             let a: SampledSpectrum = pt.li(ray, &mut ra, &mut wa, &light);
             let b: TwoComponent = pt.li(ray, &mut rb, &mut wb, &light);
             assert_eq!(a, b.0, "{name}: sample {k}");

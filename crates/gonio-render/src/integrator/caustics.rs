@@ -372,15 +372,19 @@ pub struct LightSubpath {
 
 impl Default for LightSubpath {
     fn default() -> Self {
-        Self::EMPTY
+        Self::new()
     }
 }
 
 impl LightSubpath {
-    /// No vertices.
-    pub const EMPTY: Self = Self {
-        vertices: ArrayVec::new_const(),
-    };
+    /// No vertices. A function, not a constant: a constant's unused slots are materialized as
+    /// zeros (a 1 KB memset per camera sample), a fresh `ArrayVec` writes nothing.
+    #[inline]
+    pub fn new() -> Self {
+        Self {
+            vertices: ArrayVec::new(),
+        }
+    }
 
     /// Number of kept vertices.
     pub fn len(&self) -> usize {

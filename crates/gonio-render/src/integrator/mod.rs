@@ -674,7 +674,7 @@ impl Integrator for PathTracer<'_> {
     }
 
     fn sample(&self, sample: &mut CameraSample<'_>, value: &mut [f32], splat: &mut dyn FnMut(Vec2, &[f32])) {
-        let mut light = caustics::LightSubpath::EMPTY;
+        let mut light = caustics::LightSubpath::new();
         if self.traces_caustics() {
             // The light subpath first: it shares the wavelengths (and may terminate the
             // secondary ones). Its random numbers are an independent stream keyed by the sample.
