@@ -6,7 +6,7 @@
 //! S(x) = ½ + x / (2√(1 + x²)) ∈ (0, 1) (S(±∞) = 1, 0). λ is in nm in the stored coefficients.
 //!
 //! **Lookup** (res = [`TABLE_RES`]): grey colours r = g = b use the closed form c₀ = c₁ = 0,
-//! c₂ = (r − ½)/√(r(1 − r)). Otherwise let c be the index of the largest component, z = rgb[c],
+//! c₂ = (r − ½)/√(r(1 − r)). Otherwise let c be the index of the largest component, z = rgb\[c\],
 //! x = rgb[c+1]·(res−1)/z, y = rgb[c+2]·(res−1)/z (indices mod 3); the coefficients are the
 //! trilinear interpolation of the table over (x, y) on a uniform grid and z on the grid
 //! zₖ = smoothstep(smoothstep(k/(res−1))), smoothstep(t) = t²(3 − 2t), dense near 0 and 1.
@@ -31,7 +31,7 @@
 //! interpolation of the res-64 table is off by up to 1.8e-3 in linear sRGB (median 2e-4, measured
 //! on 2000 random colours in [0.02, 0.98]³, worst near saturated near-whites where the coefficients
 //! diverge); up to six Newton steps on the linear sRGB residual with the analytic Jacobian
-//! Σᵢ tbl[k][i] S′(xᵢ) (tᵢ², tᵢ, 1), S′(x) = ½(1 + x²)^(−3/2), bring the round trip to ≈ 5e-6.
+//! Σᵢ tbl\[k\]\[i\] S′(xᵢ) (tᵢ², tᵢ, 1), S′(x) = ½(1 + x²)^(−3/2), bring the round trip to ≈ 5e-6.
 //!
 //! **Table file** (`data/rgb2spec_srgb.bin`, little endian, written by
 //! `cargo run -p gonio-core --release --example rgb2spec_opt`): the 8 bytes `GRGB2SP1`, `u32` res,

@@ -3,7 +3,7 @@
 //! As in pbrt-v4 (`Material::GetBSDF` returning a `BSDF` over a closed `BxDF` variant), a
 //! renderer turns its material into a [`SurfaceBsdf`] once per hit: textures looked up and every
 //! spectrum evaluated at the path's four wavelengths ([`SpectralValue`] for
-//! [`SampledSpectrum`](crate::SampledSpectrum), [`crate::ior::SampledIor`]). The value holds no
+//! [`crate::SampledSpectrum`], [`crate::ior::SampledIor`]). The value holds no
 //! `Arc`, allocates nothing, and can be kept (in a queue of a wavefront renderer, say) for as long
 //! as the scene it borrows from (a measured table is borrowed, not copied).
 //!
@@ -31,7 +31,7 @@ use std::mem::MaybeUninit;
 pub const MAX_NODES: usize = 8;
 
 /// One reflection model specialised at a hit. To add a model: a variant here and one arm in
-/// [`with_leaf!`]'s match.
+/// `with_leaf!`'s match.
 #[derive(Clone, Copy, Debug)]
 pub enum LeafBsdf<'a> {
     /// `diffuse`.

@@ -3,7 +3,7 @@
 //! lobes included), with the standard error of each estimate.
 //!
 //! With Mitsuba naming, R(θ) = ∫ f(wi, wo) |cos θo| dωo over wo on wi's side, T over the other
-//! side; E[weight] estimates it whatever the sampling strategy. In importance mode this is the
+//! side; E\[weight\] estimates it whatever the sampling strategy. In importance mode this is the
 //! fraction of incident *power* a photon from θ carries away (energy conservation: R + T ≤ 1);
 //! in radiance mode a refraction carries the η² factor of radiance.
 
