@@ -56,6 +56,10 @@ impl BsdfFlags {
     pub const NULL: Self = Self(32);
     /// The lobe is not reciprocal (refraction in radiance mode).
     pub const NON_SYMMETRIC: Self = Self(64);
+    /// The BSDF depends on the azimuths of wi and wo, not only on their difference (Mitsuba's
+    /// `Anisotropic`): a property of the BSDF, not a lobe kind; the isotropy check then asks for
+    /// the variation to be visible instead of absent.
+    pub const ANISOTROPIC: Self = Self(128);
 
     /// Lambertian reflection.
     pub const DIFFUSE_REFLECTION: Self = Self(1 | 4);
@@ -129,7 +133,7 @@ impl std::ops::BitAnd for BsdfFlags {
 impl std::fmt::Display for BsdfFlags {
     /// `reflection|delta`-style names, used by `gonio bsdf sample`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        const NAMES: [(BsdfFlags, &str); 7] = [
+        const NAMES: [(BsdfFlags, &str); 8] = [
             (BsdfFlags::REFLECTION, "reflection"),
             (BsdfFlags::TRANSMISSION, "transmission"),
             (BsdfFlags::DIFFUSE, "diffuse"),
@@ -137,6 +141,7 @@ impl std::fmt::Display for BsdfFlags {
             (BsdfFlags::DELTA, "delta"),
             (BsdfFlags::NULL, "null"),
             (BsdfFlags::NON_SYMMETRIC, "nonsymmetric"),
+            (BsdfFlags::ANISOTROPIC, "anisotropic"),
         ];
         let mut first = true;
         for (flag, name) in NAMES {

@@ -144,7 +144,12 @@ impl<S: SpectralValue, I: IorValue> RoughConductor<S, I> {
 
 impl<S: SpectralValue, I: IorValue> Bsdf for RoughConductor<S, I> {
     fn flags(&self) -> BsdfFlags {
-        BsdfFlags::GLOSSY_REFLECTION
+        let d = &self.distribution;
+        if d.alpha_u != d.alpha_v {
+            BsdfFlags::GLOSSY_REFLECTION | BsdfFlags::ANISOTROPIC
+        } else {
+            BsdfFlags::GLOSSY_REFLECTION
+        }
     }
 
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {

@@ -13,6 +13,7 @@
 //! | [`NanAtGrazing`] | f = ρ/π·(cos θo/cos θo): NaN at exactly grazing wo | `health` |
 //! | [`MinimalGlass`] with `scale_radiance = false` | smooth dielectric without the radiance-mode 1/η² | `delta_reciprocity` |
 //! | [`MislabelledLobe`] | reflected samples flagged as diffuse *transmission* | `lobe_flags` |
+//! | [`FalselyAnisotropic`] | a Lambertian whose flags claim anisotropy | `isotropy` |
 //! | [`EvalPdfMismatch`] | a fused `eval_pdf` that returns half the pdf | `eval_pdf` |
 //! | [`DiffuseTransmitter`] with `claimed_eta ≠ 1` | symmetric f across an interface it says changes the index | `eta2_law` |
 //!
@@ -422,6 +423,36 @@ impl Bsdf for MislabelledLobe {
         let mut s = diffuse_sample(wo, 0.5, pdf)?;
         s.flags = BsdfFlags::DIFFUSE_TRANSMISSION;
         Some(s)
+    }
+}
+
+/// A correct Lambertian (ρ = 0.5) whose flags say [`BsdfFlags::ANISOTROPIC`]: the isotropy row
+/// must see that the announced variation is not there.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct FalselyAnisotropic;
+
+impl Bsdf for FalselyAnisotropic {
+    fn flags(&self) -> BsdfFlags {
+        BsdfFlags::DIFFUSE_REFLECTION | BsdfFlags::ANISOTROPIC
+    }
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> SampledSpectrum {
+        if upper(ctx, wi, wo) {
+            SampledSpectrum::splat(0.5 * FRAC_1_PI)
+        } else {
+            SampledSpectrum::ZERO
+        }
+    }
+    lambert_pdf!();
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        _u1: f32,
+        u2: Vec2,
+        _wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        let (wo, pdf) = cosine_sample(ctx, wi, u2)?;
+        diffuse_sample(wo, 0.5, pdf)
     }
 }
 
