@@ -153,7 +153,7 @@ pub struct SurfaceBsdf<'a> {
 impl std::fmt::Debug for SurfaceBsdf<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_list()
-            .entries((0..self.len).map(|i| self.node(i)))
+            .entries((0..self.len).filter_map(|i| self.node(i)))
             .finish()
     }
 }
@@ -190,12 +190,11 @@ impl<'a> SurfaceBsdf<'a> {
         Ok(i as u8)
     }
 
-    /// Node `i`; `i < len`.
+    /// Node `i`, if the tree has it.
     #[inline]
-    fn node(&self, i: u8) -> &Node<'a> {
-        assert!(i < self.len, "node {i} of a tree of {}", self.len);
+    fn node(&self, i: u8) -> Option<&Node<'a>> {
         // SAFETY: slots below `len` were written by `push` (the struct's invariant).
-        unsafe { self.nodes[i as usize].assume_init_ref() }
+        (i < self.len).then(|| unsafe { self.nodes[i as usize].assume_init_ref() })
     }
 
     /// Adds a model; returns its node index.
@@ -254,13 +253,11 @@ impl NodeRef<'_, '_> {
     #[inline]
     fn with<R>(&self, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
         let at = |i: u8| NodeRef { tree: self.tree, i };
-        if self.i >= self.tree.len {
-            return f(&Empty);
-        }
         match self.tree.node(self.i) {
-            Node::Leaf(l) => with_leaf!(l, b => f(b)),
-            Node::Blend { weight, a, b } => f(&BlendBsdf::new(*weight, &at(*a), &at(*b))),
-            Node::TwoSided { front, back } => f(&TwoSided::with_back(&at(*front), &at(*back))),
+            None => f(&Empty),
+            Some(Node::Leaf(l)) => with_leaf!(l, b => f(b)),
+            Some(Node::Blend { weight, a, b }) => f(&BlendBsdf::new(*weight, &at(*a), &at(*b))),
+            Some(Node::TwoSided { front, back }) => f(&TwoSided::with_back(&at(*front), &at(*back))),
         }
     }
 }

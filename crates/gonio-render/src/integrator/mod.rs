@@ -306,7 +306,7 @@ impl<'a> PathTracer<'a> {
         wl: &SampledWavelengths,
         f: impl FnOnce(&SurfaceBsdf<'_>) -> R,
     ) -> Option<R> {
-        Some(with_bsdf(self.material_of(shape)?, uv, wl, f))
+        Some(f(&self.material_of(shape)?.bsdf_at(uv, wl)))
     }
 
     fn is_thin(&self, shape: u32) -> bool {
@@ -688,16 +688,4 @@ impl Integrator for PathTracer<'_> {
         let l: SampledSpectrum = self.li(sample.ray, &mut sample.sampler, &mut sample.wavelengths, &light);
         value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
     }
-}
-
-/// Calls `f` with `material`'s BSDF at texture coordinates `uv`: the one place the integrators
-/// build a BSDF.
-#[inline]
-fn with_bsdf<R>(
-    material: &Material,
-    uv: Vec2,
-    wl: &SampledWavelengths,
-    f: impl FnOnce(&SurfaceBsdf<'_>) -> R,
-) -> R {
-    f(&material.bsdf_at(uv, wl))
 }

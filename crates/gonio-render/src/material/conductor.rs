@@ -2,8 +2,8 @@
 //! (core model [`gonio_core::bsdfs::Conductor`]; Mitsuba 3 `src/bsdfs/conductor.cpp`).
 
 use super::{
-    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retinted,
-    texture_at,
+    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
+    retinted,
 };
 use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError};
@@ -134,7 +134,7 @@ impl SurfaceMaterial for ConductorMaterial {
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes> {
         let mut m = self.model.at(wl);
-        m.specular_reflectance = texture_at(&self.specular_reflectance, uv, wl);
+        retint_at(&mut m.specular_reflectance, &self.specular_reflectance, uv, wl);
         tree.push_leaf(LeafBsdf::Conductor(m))
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {

@@ -1,8 +1,8 @@
 //! `dielectric`: a smooth dielectric interface, Fresnel-weighted delta reflection and refraction (core model [`gonio_core::bsdfs::Dielectric`]; Mitsuba 3 `src/bsdfs/dielectric.cpp`).
 
 use super::{
-    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retinted,
-    texture_at,
+    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
+    retinted,
 };
 use crate::texture::Texture;
 use crate::xml::{Builder, Params, SceneError};
@@ -110,8 +110,13 @@ impl SurfaceMaterial for DielectricMaterial {
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes> {
         let mut m = self.model.at(wl);
-        m.specular_reflectance = texture_at(&self.specular_reflectance, uv, wl);
-        m.specular_transmittance = texture_at(&self.specular_transmittance, uv, wl);
+        retint_at(&mut m.specular_reflectance, &self.specular_reflectance, uv, wl);
+        retint_at(
+            &mut m.specular_transmittance,
+            &self.specular_transmittance,
+            uv,
+            wl,
+        );
         tree.push_leaf(LeafBsdf::Dielectric(m))
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {

@@ -2,7 +2,7 @@
 //! [`gonio_core::bsdfs::Diffuse`]; Mitsuba 3 `src/bsdfs/diffuse.cpp`).
 
 use super::{
-    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, texture_at,
+    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
 };
 use crate::texture::Texture;
 use crate::xml::{Builder, Params, SceneError};
@@ -65,9 +65,9 @@ impl SurfaceMaterial for DiffuseMaterial {
         wl: &SampledWavelengths,
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes> {
-        tree.push_leaf(LeafBsdf::Diffuse(Diffuse {
-            reflectance: texture_at(&self.reflectance, uv, wl),
-        }))
+        let mut m = self.model.at(wl);
+        retint_at(&mut m.reflectance, &self.reflectance, uv, wl);
+        tree.push_leaf(LeafBsdf::Diffuse(m))
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
         if self.reflectance.is_textured() {

@@ -126,9 +126,7 @@ impl Material {
     #[inline]
     pub fn bsdf_at(&self, uv: Vec2, wl: &SampledWavelengths) -> SurfaceBsdf<'_> {
         let mut tree = SurfaceBsdf::new();
-        // The reader refuses materials of more than MAX_NODES nodes (`check_node_count`), so this
-        // cannot fail; an empty tree would be black.
-        let _ = self.0.push(uv, wl, &mut tree);
+        self.fill_bsdf(uv, wl, &mut tree);
         tree
     }
 
@@ -136,14 +134,9 @@ impl Material {
     #[inline]
     pub fn fill_bsdf<'a>(&'a self, uv: Vec2, wl: &SampledWavelengths, tree: &mut SurfaceBsdf<'a>) {
         tree.clear();
-        // Cannot fail: see `bsdf_at`.
+        // The reader refuses materials of more than MAX_NODES nodes (`Builder::bsdf`), so this
+        // cannot fail; an empty tree would be black.
         let _ = self.0.push(uv, wl, tree);
-    }
-
-    /// Builds the BSDF value at a hit ([`Material::bsdf_at`]) and hands it to `f`.
-    #[inline]
-    pub fn with_bsdf_at<R>(&self, uv: Vec2, wl: SampledWavelengths, f: impl FnOnce(&dyn Bsdf) -> R) -> R {
-        f(&self.bsdf_at(uv, &wl))
     }
 
     /// Union of the lobe flags.
@@ -187,12 +180,18 @@ pub(crate) fn model_value(t: &Texture) -> Spectrum {
     }
 }
 
-/// A texture's value at a hit, at the path's wavelengths.
+/// Replaces `value`, a parameter of a model already evaluated at `wl` by its `at(wl)`, with the
+/// texture's value at `uv` when the parameter is textured. An untextured parameter is the model's
+/// own spectrum ([`model_value`]), so it is left as evaluated: one evaluation per hit.
 #[inline]
-pub(crate) fn texture_at(t: &Texture, uv: Vec2, wl: &SampledWavelengths) -> gonio_core::SampledSpectrum {
-    match t {
-        Texture::Spectrum(s) => s.sample(wl),
-        _ => t.eval(uv).sample(wl),
+pub(crate) fn retint_at(
+    value: &mut gonio_core::SampledSpectrum,
+    t: &Texture,
+    uv: Vec2,
+    wl: &SampledWavelengths,
+) {
+    if t.is_textured() {
+        *value = t.eval(uv).sample(wl);
     }
 }
 

@@ -2,8 +2,8 @@
 //! [`gonio_core::bsdfs::Plastic`]; Mitsuba 3 `src/bsdfs/plastic.cpp`).
 
 use super::{
-    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retinted,
-    texture_at,
+    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
+    retinted,
 };
 use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError};
@@ -138,8 +138,8 @@ impl SurfaceMaterial for PlasticMaterial {
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes> {
         let mut m = self.model.at(wl);
-        m.diffuse_reflectance = texture_at(&self.diffuse_reflectance, uv, wl);
-        m.specular_reflectance = texture_at(&self.specular_reflectance, uv, wl);
+        retint_at(&mut m.diffuse_reflectance, &self.diffuse_reflectance, uv, wl);
+        retint_at(&mut m.specular_reflectance, &self.specular_reflectance, uv, wl);
         tree.push_leaf(LeafBsdf::Plastic(m))
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {

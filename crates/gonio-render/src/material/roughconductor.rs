@@ -7,7 +7,7 @@
 
 use super::conductor::{ETA, EXT_IOR, K, MATERIAL, SPECULAR_REFLECTANCE, complex_index};
 use super::{
-    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, texture_at,
+    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
 };
 use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError};
@@ -210,7 +210,7 @@ impl SurfaceMaterial for RoughConductorMaterial {
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes> {
         let mut m = self.model.at(wl);
-        m.specular_reflectance = texture_at(&self.specular_reflectance, uv, wl);
+        retint_at(&mut m.specular_reflectance, &self.specular_reflectance, uv, wl);
         m.distribution = self.distribution_at(uv);
         tree.push_leaf(LeafBsdf::RoughConductor(m))
     }

@@ -1,7 +1,7 @@
 //! `thindielectric`: a thin dielectric sheet, Stokes-summed delta reflection and straight-through transmission (core model [`gonio_core::bsdfs::ThinDielectric`]; Mitsuba 3 `src/bsdfs/thindielectric.cpp`).
 
 use super::dielectric::{EXT_IOR, INT_IOR, SPECULAR_REFLECTANCE, SPECULAR_TRANSMITTANCE, interface};
-use super::{BsdfPlugin, Material, SurfaceMaterial, model_value, retinted, texture_at};
+use super::{BsdfPlugin, Material, SurfaceMaterial, model_value, retint_at, retinted};
 use crate::texture::Texture;
 use crate::xml::{Builder, Params, SceneError};
 use glam::Vec2;
@@ -69,8 +69,13 @@ impl SurfaceMaterial for ThinDielectricMaterial {
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes> {
         let mut m = self.model.at(wl);
-        m.specular_reflectance = texture_at(&self.specular_reflectance, uv, wl);
-        m.specular_transmittance = texture_at(&self.specular_transmittance, uv, wl);
+        retint_at(&mut m.specular_reflectance, &self.specular_reflectance, uv, wl);
+        retint_at(
+            &mut m.specular_transmittance,
+            &self.specular_transmittance,
+            uv,
+            wl,
+        );
         tree.push_leaf(LeafBsdf::ThinDielectric(m))
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
