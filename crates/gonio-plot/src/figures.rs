@@ -13,6 +13,7 @@ use gonio_core::instruments::fresnel::{
     brewster_angle_deg, conductor_vs_angle, conductor_vs_wavelength, critical_angle_deg, dielectric_vs_angle,
     dielectric_vs_wavelength, thin_slab_vs_angle,
 };
+use gonio_core::instruments::microfacet_albedo::RoughnessCurve;
 use gonio_core::instruments::polar::PolarLobe;
 use gonio_core::instruments::slice::{Fixed, Slice};
 
@@ -383,6 +384,38 @@ pub fn albedo_figure(curves: &[(String, Vec<AlbedoPoint>)], note: &str) -> Figur
     Figure::single(Panel::Line(p), (760, 520))
 }
 
+/// The lecture's point about single scattering: the directional albedo of a white (F = 1)
+/// rough conductor against its roughness α, one colour per incident angle, GGX dashed.
+pub fn microfacet_energy_figure(curves: &[RoughnessCurve]) -> Figure {
+    let mut p = LinePlot::new(
+        "Energy lost by single scattering: white rough conductor (F = 1)",
+        "roughness α  [–]",
+        "directional albedo E(θ)  [–]",
+    );
+    p.note = "Smith model, single scattering; 1 − E is the light that real mirror facets would still reflect after more bounces".into();
+    p.legend = LegendPosition::LowerLeft;
+    let mut thetas: Vec<f32> = vec![];
+    for c in curves {
+        if !thetas.contains(&c.theta_deg) {
+            thetas.push(c.theta_deg);
+        }
+        let k = thetas.iter().position(|&t| t == c.theta_deg).unwrap_or(0);
+        let s = Series::new(
+            format!("{}, θ = {}°", c.kind.name(), c.theta_deg),
+            c.points.iter().map(|&(a, e)| (a as f64, e)).collect(),
+        )
+        .color(k);
+        p.series
+            .push(if c.kind == gonio_core::microfacet::MicrofacetKind::Ggx {
+                s.dashed()
+            } else {
+                s
+            });
+    }
+    p.y_range = Some((0.0, 1.02));
+    Figure::single(Panel::Line(p), (760, 520))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -390,6 +423,27 @@ mod tests {
     use gonio_core::SampledWavelengths;
     use gonio_core::bsdfs::{Conductor, Diffuse};
     use gonio_core::instruments::slice::{SliceSettings, compute_slice};
+
+    #[test]
+    fn microfacet_energy_figure_draws_a_curve_per_distribution_and_angle() {
+        use gonio_core::instruments::microfacet_albedo::{albedo_vs_roughness, alpha_grid};
+        use gonio_core::microfacet::MicrofacetKind;
+        let curves = albedo_vs_roughness(
+            &[MicrofacetKind::Beckmann, MicrofacetKind::Ggx],
+            &[0.0, 80.0],
+            &alpha_grid(0.1, 1.0, 4),
+        );
+        let f = microfacet_energy_figure(&curves);
+        let svg = f.to_svg().unwrap();
+        for label in ["beckmann, θ = 0°", "ggx, θ = 80°", "roughness α  [–]"] {
+            assert!(svg.contains(label), "{label}");
+        }
+        let Panel::Line(p) = &f.panels[0] else {
+            panic!("a line plot")
+        };
+        assert_eq!(p.series.len(), 4);
+        assert!(p.series.iter().filter(|s| s.dashed).count() == 2, "GGX dashed");
+    }
 
     #[test]
     fn fresnel_figure_marks_brewster_and_critical_angles_and_renders() {

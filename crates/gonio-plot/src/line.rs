@@ -3,6 +3,7 @@
 
 use super::{PlotError, draw_err, font, series_color};
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 
 /// An axis range (low, high).
@@ -228,15 +229,10 @@ impl LinePlot {
                     .map_err(draw_err)?
             };
             let dashed = s.dashed;
+            // The legend sample is dashed like its curve (a solid one is a single 20 px dash).
+            let (dash, gap) = if dashed { (6, 4) } else { (20, 1) };
             anno.label(s.label.clone()).legend(move |(x, y)| {
-                if dashed {
-                    PathElement::new(
-                        vec![(x, y), (x + 8, y), (x + 12, y), (x + 20, y)],
-                        c.stroke_width(2),
-                    )
-                } else {
-                    PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                }
+                DashedPathElement::new(vec![(x, y), (x + 20, y)], dash, gap, c.stroke_width(2))
             });
             if let Some(err) = &s.error {
                 chart

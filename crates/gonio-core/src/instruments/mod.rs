@@ -11,6 +11,7 @@
 pub mod albedo;
 pub mod fresnel;
 pub mod gonioreflectometer;
+pub mod microfacet_albedo;
 pub mod polar;
 pub mod slice;
 

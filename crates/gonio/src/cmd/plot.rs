@@ -42,6 +42,25 @@ enum Kind {
     Polar(PolarArgs),
     /// Directional albedo R(θ) and T(θ) with standard errors, several BSDFs.
     Albedo(AlbedoArgs),
+    /// The energy single-scattering microfacets lose: albedo of a white rough conductor against
+    /// roughness, Beckmann and GGX, at several incident angles (deterministic quadrature).
+    MicrofacetAlbedo(MicrofacetAlbedoArgs),
+}
+
+#[derive(ClapArgs)]
+struct MicrofacetAlbedoArgs {
+    /// Incident angles, degrees (each within [0, 90)).
+    #[arg(long, value_delimiter = ',', default_value = "0,45,80")]
+    theta: Vec<f32>,
+    /// Number of roughness values over [0.01, 1].
+    #[arg(long, default_value_t = 25)]
+    steps: usize,
+    /// Also print the numbers (distribution θ α E) on stdout.
+    #[arg(long)]
+    print: bool,
+    /// Output file (.png, .svg, or no extension for both).
+    #[arg(short, long, default_value = "microfacet-albedo")]
+    output: PathBuf,
 }
 
 #[derive(ClapArgs)]
@@ -181,6 +200,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Kind::Slice(a) => slice(a),
         Kind::Polar(a) => polar(a),
         Kind::Albedo(a) => albedo(a),
+        Kind::MicrofacetAlbedo(a) => microfacet_albedo(a),
     }
 }
 
@@ -496,4 +516,29 @@ fn albedo(a: AlbedoArgs) -> anyhow::Result<ExitCode> {
         if a.back { ", light from below" } else { "" }
     );
     written(save(&figures::albedo_figure(&curves, &note), &a.output)?)
+}
+
+fn microfacet_albedo(a: MicrofacetAlbedoArgs) -> anyhow::Result<ExitCode> {
+    use gonio_core::instruments::microfacet_albedo::{albedo_vs_roughness, alpha_grid};
+    use gonio_core::microfacet::MicrofacetKind;
+    if let Some(t) = a.theta.iter().find(|t| !(0.0..90.0).contains(*t)) {
+        bail!("--theta {t}: each angle must be within [0, 90) degrees");
+    }
+    if !(2..=400).contains(&a.steps) {
+        bail!("--steps {}: must be within [2, 400]", a.steps);
+    }
+    let curves = albedo_vs_roughness(
+        &[MicrofacetKind::Beckmann, MicrofacetKind::Ggx],
+        &a.theta,
+        &alpha_grid(0.01, 1.0, a.steps),
+    );
+    if a.print {
+        println!("# distribution theta_deg alpha E");
+        for c in &curves {
+            for (alpha, e) in &c.points {
+                println!("{} {} {alpha:.4} {e:.6}", c.kind.name(), c.theta_deg);
+            }
+        }
+    }
+    written(save(&figures::microfacet_energy_figure(&curves), &a.output)?)
 }
