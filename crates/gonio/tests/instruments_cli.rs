@@ -278,5 +278,39 @@ fn measured_tables_match_the_analytic_bsdf_within_their_noise() {
             .description
             .contains("heightfield 4x4")
     );
+    // A Gaussian (Beckmann-slope) surface of mirrors; a bad α is refused by name.
+    let mirror = r#"<bsdf type="conductor"/>"#;
+    let gauss = d.join("gauss.txt");
+    let args = |alpha: &'static str| {
+        vec![
+            "measure",
+            mirror,
+            "-o",
+            gauss.to_str().unwrap(),
+            "--heightfield",
+            "64",
+            "--alpha",
+            alpha,
+            "--incident",
+            "2",
+            "--outgoing",
+            "2",
+            "--azimuths",
+            "3",
+            "--photons",
+            "20000",
+        ]
+    };
+    let o = gonio(&args("0.3"));
+    assert!(o.status.success(), "{:?}", text(&o));
+    assert!(
+        read_tabulated(&gauss)
+            .unwrap()
+            .description
+            .contains("heightfield 64x64")
+    );
+    let o = gonio(&args("0"));
+    assert!(!o.status.success());
+    assert!(text(&o).1.contains("--alpha 0"), "{:?}", text(&o));
     let _ = std::fs::remove_dir_all(d);
 }

@@ -85,6 +85,11 @@ impl Sample for BsdfSpecimen<'_> {
     }
 }
 
+/// Correlation length (standard deviation of the blur kernel, in cells) of
+/// [`HeightfieldSpecimen::gaussian`]: long enough that the flat triangles follow the smooth
+/// surface, short enough that a grid holds many independent patches.
+pub const GAUSSIAN_CORRELATION_CELLS: f64 = 4.0;
+
 /// A periodic heightfield of microfacets: an n × n grid of heights over the unit square, each
 /// cell split into two triangles, every facet made of the same BSDF, repeated without end in x
 /// and y. Photons arrive at a uniformly random point and bounce between facets (multiple
@@ -131,6 +136,82 @@ impl<'a> HeightfieldSpecimen<'a> {
     ) -> Option<Self> {
         let mut rng = Pcg32::new(seed, 0x6e17);
         let heights = (0..n * n).map(|_| amplitude * rng.next_f32()).collect();
+        Self::new(n, heights, facet, name)
+    }
+
+    /// A Gaussian random surface whose facet slopes follow Beckmann's distribution of roughness
+    /// `alpha`: the microsurface that Beckmann's D and Smith's masking describe (a Gaussian
+    /// process; Smith's uncorrelated-heights assumption is known to be accurate for it, Heitz
+    /// 2014, "Understanding the Masking-Shadowing Function", §6).
+    ///
+    /// White Gaussian noise on the n × n vertices is blurred by a periodic Gaussian kernel of
+    /// standard deviation [`GAUSSIAN_CORRELATION_CELLS`] cells (a stationary, isotropic Gaussian
+    /// process; every facet's slope, a difference of vertex heights, is then exactly Gaussian),
+    /// and the heights are scaled so that the mean square facet slope per axis is α²/2,
+    /// Beckmann's slope variance (D(m) ∝ exp(−tan²θm/α²)). The surface holds about
+    /// (n/4)² independent patches: give n ≥ 256 for the slopes to fill their distribution's
+    /// tails. `None` when n < 32 or α is not finite and positive.
+    pub fn gaussian(
+        n: usize,
+        alpha: f32,
+        seed: u64,
+        facet: Arc<dyn Bsdf + 'a>,
+        name: impl Into<String>,
+    ) -> Option<Self> {
+        if n < 32 || !(alpha > 0.0 && alpha.is_finite()) {
+            return None;
+        }
+        let mut rng = Pcg32::new(seed, 0x9a55);
+        // Box–Muller pairs.
+        let mut noise = Vec::with_capacity(n * n + 1);
+        while noise.len() < n * n {
+            let (u1, u2) = (1.0 - rng.next_f64(), rng.next_f64());
+            let r = (-2.0 * u1.ln()).sqrt();
+            let (s, c) = (std::f64::consts::TAU * u2).sin_cos();
+            noise.push(r * c);
+            noise.push(r * s);
+        }
+        noise.truncate(n * n);
+        // Separable periodic Gaussian blur.
+        let sigma = GAUSSIAN_CORRELATION_CELLS;
+        let radius = (4.0 * sigma).ceil() as i64;
+        let kernel: Vec<f64> = (-radius..=radius)
+            .map(|d| (-(d * d) as f64 / (2.0 * sigma * sigma)).exp())
+            .collect();
+        let ni = n as i64;
+        let wrap = |k: i64| k.rem_euclid(ni) as usize;
+        let mut rows = vec![0.0f64; n * n];
+        for j in 0..n {
+            for i in 0..n {
+                rows[j * n + i] = kernel
+                    .iter()
+                    .enumerate()
+                    .map(|(k, w)| w * noise[j * n + wrap(i as i64 + k as i64 - radius)])
+                    .sum();
+            }
+        }
+        let mut h = vec![0.0f64; n * n];
+        for j in 0..n {
+            for i in 0..n {
+                h[j * n + i] = kernel
+                    .iter()
+                    .enumerate()
+                    .map(|(k, w)| w * rows[wrap(j as i64 + k as i64 - radius) * n + i])
+                    .sum();
+            }
+        }
+        // Mean square slope per axis over both triangles of every cell (cell size 1/n).
+        let at = |i: usize, j: usize| h[(j % n) * n + (i % n)];
+        let mut ms = 0.0;
+        for j in 0..n {
+            for i in 0..n {
+                let (h00, h10, h01, h11) = (at(i, j), at(i + 1, j), at(i, j + 1), at(i + 1, j + 1));
+                ms += (h10 - h00).powi(2) + (h11 - h10).powi(2) + (h11 - h01).powi(2) + (h01 - h00).powi(2);
+            }
+        }
+        let ms = ms / (4 * n * n) as f64 * (n * n) as f64; // slopes = differences × n
+        let scale = ((alpha as f64).powi(2) / 2.0 / ms).sqrt();
+        let heights = h.iter().map(|v| (v * scale) as f32).collect();
         Self::new(n, heights, facet, name)
     }
 

@@ -5,7 +5,8 @@
 //! `gonio_render::tabulated_io`, `docs/instruments.md`) plays back as `<bsdf type="tabulated">`.
 //!
 //! The specimen is the BSDF itself, or with `--heightfield N` a periodic N × N heightfield of
-//! microfacets made of that BSDF (random heights up to `--amplitude`), traced by the
+//! microfacets made of that BSDF (random heights up to `--amplitude`, or with `--alpha` a
+//! Gaussian surface with Beckmann slope statistics), traced by the
 //! instrument's own small intersector: multiple scattering and shadowing included; or with
 //! `--spheres` a half-space sparsely filled with spheres whose surface is that BSDF.
 
@@ -61,9 +62,13 @@ pub struct Args {
     /// Measure an N × N periodic heightfield of facets made of the BSDF instead of the BSDF.
     #[arg(long)]
     heightfield: Option<usize>,
-    /// Height range of the heightfield, in units of its period.
-    #[arg(long, default_value_t = 0.25)]
+    /// Height range of the heightfield, in units of its period (uniform random heights).
+    #[arg(long, default_value_t = 0.25, conflicts_with = "alpha")]
     amplitude: f32,
+    /// Make the heightfield a Gaussian random surface whose facet slopes follow Beckmann's
+    /// distribution of roughness ALPHA: the surface `roughconductor` models (N ≥ 256 advised).
+    #[arg(long, requires = "heightfield")]
+    alpha: Option<f32>,
     /// Measure a half-space sparsely filled with spheres whose surface is the BSDF (d'Eon 2021).
     #[arg(long, conflicts_with = "heightfield")]
     spheres: bool,
@@ -108,10 +113,17 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
                     bail!("--amplitude {}: must be finite and ≥ 0", a.amplitude);
                 }
                 let facet: Arc<dyn Bsdf> = Arc::new(Borrowed(b));
-                Box::new(
-                    HeightfieldSpecimen::random(n, a.amplitude, a.seed, facet, label.clone())
+                Box::new(match a.alpha {
+                    Some(alpha) => {
+                        if n < 32 || !(alpha > 0.0 && alpha.is_finite()) {
+                            bail!("--alpha {alpha} with --heightfield {n}: need α > 0 and N ≥ 32");
+                        }
+                        HeightfieldSpecimen::gaussian(n, alpha, a.seed, facet, label.clone())
+                            .ok_or_else(|| anyhow!("invalid heightfield"))?
+                    }
+                    None => HeightfieldSpecimen::random(n, a.amplitude, a.seed, facet, label.clone())
                         .ok_or_else(|| anyhow!("invalid heightfield"))?,
-                )
+                })
             }
         };
         let readings: Vec<IncidentReadings> = (0..settings.incident)
