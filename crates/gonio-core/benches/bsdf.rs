@@ -13,7 +13,10 @@
 
 use divan::{Bencher, black_box};
 use glam::Vec3;
-use gonio_core::bsdfs::{BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, ThinDielectric, TwoSided};
+use gonio_core::bsdfs::{
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, ThinDielectric, TwoSided,
+};
+use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
 use gonio_core::warp::square_to_cosine_hemisphere;
@@ -35,6 +38,8 @@ const MODELS: &[&str] = &[
     "plastic",
     "twosided_diffuse",
     "blend_mirror_diffuse",
+    "roughconductor_beckmann",
+    "roughconductor_ggx_au",
 ];
 
 fn piecewise(pairs: &[f32]) -> Spectrum {
@@ -70,6 +75,13 @@ fn with_model(name: &str, f: impl FnOnce(&dyn Bsdf)) {
             let (m, d) = (Conductor::mirror(), Diffuse::default());
             f(&BlendBsdf::new(0.5, &m, &d))
         }
+        // Mitsuba's defaults (Beckmann, α = 0.1, ideal mirror), and gold with GGX α = 0.3.
+        "roughconductor_beckmann" => f(&RoughConductor::default()),
+        "roughconductor_ggx_au" => f(&RoughConductor::new(
+            piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
+            piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
+            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+        )),
         _ => unreachable!("unknown model {name}"),
     }
 }
