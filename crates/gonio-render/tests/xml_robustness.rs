@@ -67,3 +67,38 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn deeply_nested_elements_are_an_error_not_a_stack_overflow() {
+    // 100 000 nested wrappers once overflowed the reader's recursion (the process aborted).
+    let n = 100_000;
+    let text = format!(
+        r#"<scene version="3.0.0">{}<bsdf type="diffuse"/>{}</scene>"#,
+        r#"<bsdf type="twosided">"#.repeat(n),
+        "</bsdf>".repeat(n)
+    );
+    let e = load_scene_str(&text, data(), &[]).expect_err("refused");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("nested 129 elements deep") && msg.contains("at most 128"),
+        "{msg}"
+    );
+    assert_eq!(e.location.line, 1);
+    // The same for a lone <bsdf> document and for unknown elements.
+    let lone = format!("{}{}", "<bsdf type=\"twosided\">".repeat(n), "</bsdf>".repeat(n));
+    assert!(load_bsdf_str(&lone).is_err());
+    let junk = format!(
+        "<scene version=\"3.0.0\">{}{}</scene>",
+        "<a>".repeat(n),
+        "</a>".repeat(n)
+    );
+    assert!(load_scene_str(&junk, data(), &[]).is_err());
+    // A modest depth within the bound still reaches the material's own limit, with its message.
+    let nine = format!(
+        r#"<scene version="3.0.0"><shape type="sphere">{}<bsdf type="diffuse"/>{}</shape></scene>"#,
+        r#"<bsdf type="twosided">"#.repeat(9),
+        "</bsdf>".repeat(9)
+    );
+    let e = load_scene_str(&nine, data(), &[]).expect_err("too deep a material");
+    assert!(e.to_string().contains("at most 8 BSDFs"), "{e}");
+}

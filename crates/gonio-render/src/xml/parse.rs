@@ -563,8 +563,13 @@ impl Parser {
     }
 }
 
+/// The deepest element nesting a scene file may have. The reader walks the element tree
+/// recursively; Mitsuba's own scenes nest fewer than 10 levels, and this bound keeps a hostile
+/// file from overflowing the stack (checked before any recursion, in one iterative pass).
+pub(crate) const MAX_XML_DEPTH: usize = 128;
+
 fn parse_xml<'i>(text: &'i str, name: &Arc<str>) -> Result<roxmltree::Document<'i>, SceneError> {
-    roxmltree::Document::parse(text).map_err(|e| {
+    let doc = roxmltree::Document::parse(text).map_err(|e| {
         let p = e.pos();
         SceneError::new(
             Location {
@@ -575,7 +580,29 @@ fn parse_xml<'i>(text: &'i str, name: &Arc<str>) -> Result<roxmltree::Document<'
             ErrorKind::Syntax,
             format!("malformed XML: {e}"),
         )
-    })
+    })?;
+    // Element depth of every node, in document order (a parent comes before its children).
+    let mut depth = vec![0u32; doc.descendants().count()];
+    for n in doc.descendants().filter(|n| n.is_element()) {
+        let d = n.parent().map_or(0, |p| depth[p.id().get() as usize]) + 1;
+        depth[n.id().get() as usize] = d;
+        if d as usize > MAX_XML_DEPTH {
+            let p = doc.text_pos_at(n.range().start);
+            return Err(SceneError::new(
+                Location {
+                    file: name.clone(),
+                    line: p.row,
+                    column: p.col,
+                },
+                ErrorKind::Grammar,
+                format!(
+                    "<{}> is nested {d} elements deep; a scene file may nest at most {MAX_XML_DEPTH}",
+                    n.tag_name().name()
+                ),
+            ));
+        }
+    }
+    Ok(doc)
 }
 
 fn parse_version(v: &str, loc: &Location) -> Result<(u32, u32, u32), SceneError> {
