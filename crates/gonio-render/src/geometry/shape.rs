@@ -23,6 +23,14 @@ pub enum GeometryError {
         /// The shape's id, or its index.
         name: String,
     },
+    /// A sphere whose radius or world-space size is not a finite positive number.
+    #[error("shape {name}: {message}")]
+    BadSphere {
+        /// The shape's id, or its index.
+        name: String,
+        /// What is wrong, with the value.
+        message: String,
+    },
     /// A triangle refers to a vertex that does not exist, or attribute arrays have wrong lengths.
     #[error("shape {name}: {message}")]
     BadMesh {
@@ -247,6 +255,46 @@ fn check_affine(m: &Affine3A, name: &str) -> Result<(), GeometryError> {
     Ok(())
 }
 
+/// Checks a shape's transform; for a sphere also its radius and that the whole transform is a
+/// similarity, and returns that transform (object unit sphere → world).
+fn sphere_placement(shape: &ShapeDesc, name: &str) -> Result<Option<Affine3A>, GeometryError> {
+    let m = shape.to_world;
+    check_affine(&m, name)?;
+    let Geometry::Sphere { center, radius } = &shape.geometry else {
+        return Ok(None);
+    };
+    if !(center.is_finite() && radius.is_finite() && *radius > 0.0) {
+        return Err(GeometryError::BadSphere {
+            name: name.to_owned(),
+            message: format!(
+                "radius {radius} and center {center} must be finite (in single precision) and the radius positive"
+            ),
+        });
+    }
+    let full = m * Affine3A::from_translation(*center) * Affine3A::from_scale(Vec3::splat(*radius));
+    if check_affine(&full, name).is_err() {
+        return Err(GeometryError::BadSphere {
+            name: name.to_owned(),
+            message: format!("radius {radius} under to_world gives a degenerate or non-finite sphere"),
+        });
+    }
+    let l = Mat3::from(full.matrix3);
+    let (cx, cy, cz) = (l.x_axis, l.y_axis, l.z_axis);
+    let s = cx.length();
+    let tol = 1e-4 * s;
+    if (cy.length() - s).abs() > tol
+        || (cz.length() - s).abs() > tol
+        || cx.dot(cy).abs() > tol * s
+        || cx.dot(cz).abs() > tol * s
+        || cy.dot(cz).abs() > tol * s
+    {
+        return Err(GeometryError::NonUniformSphere {
+            name: name.to_owned(),
+        });
+    }
+    Ok(Some(full))
+}
+
 /// The unit normal of the object's +z under `m` (inverse transpose): `sign(det)·(ex × ey)`.
 fn plane_normal(m: &Affine3A) -> Vec3 {
     let ex = Vec3::from(m.matrix3.x_axis);
@@ -256,42 +304,29 @@ fn plane_normal(m: &Affine3A) -> Vec3 {
 }
 
 impl WorldShape {
+    /// Checks that a scene shape can be placed in world space (finite, non-degenerate
+    /// transform; a sphere's finite positive radius and similarity transform) without building
+    /// it: the scene reader calls it where it still knows the shape's file and line.
+    pub fn check_placement(shape: &ShapeDesc, name: &str) -> Result<(), GeometryError> {
+        sphere_placement(shape, name).map(|_| ())
+    }
+
     /// Places a scene shape in world space. `name` identifies it in errors.
     pub fn from_scene(shape: &ShapeDesc, name: &str) -> Result<Self, GeometryError> {
         let m = shape.to_world;
-        check_affine(&m, name)?;
-        let kind = match &shape.geometry {
-            Geometry::Sphere { center, radius } => {
-                if !(center.is_finite() && radius.is_finite() && *radius > 0.0) {
-                    return Err(GeometryError::Degenerate {
-                        name: name.to_owned(),
-                    });
-                }
-                let full =
-                    m * Affine3A::from_translation(*center) * Affine3A::from_scale(Vec3::splat(*radius));
-                check_affine(&full, name)?;
+        let sphere = sphere_placement(shape, name)?;
+        let kind = match (&shape.geometry, sphere) {
+            (Geometry::Sphere { .. }, Some(full)) => {
                 let l = Mat3::from(full.matrix3);
-                let (cx, cy, cz) = (l.x_axis, l.y_axis, l.z_axis);
-                let s = cx.length();
-                let tol = 1e-4 * s;
-                if (cy.length() - s).abs() > tol
-                    || (cz.length() - s).abs() > tol
-                    || cx.dot(cy).abs() > tol * s
-                    || cx.dot(cz).abs() > tol * s
-                    || cy.dot(cz).abs() > tol * s
-                {
-                    return Err(GeometryError::NonUniformSphere {
-                        name: name.to_owned(),
-                    });
-                }
                 ShapeKind::Sphere {
                     center: full.transform_point3(Vec3::ZERO),
-                    radius: s,
+                    radius: l.x_axis.length(),
                     to_object: full.inverse(),
                     to_world: l,
                 }
             }
-            Geometry::Rectangle => {
+            (Geometry::Sphere { .. }, None) => unreachable!("sphere_placement returns a sphere's transform"),
+            (Geometry::Rectangle, _) => {
                 let ex = Vec3::from(m.matrix3.x_axis);
                 let ey = Vec3::from(m.matrix3.y_axis);
                 ShapeKind::Rectangle {
@@ -302,7 +337,7 @@ impl WorldShape {
                     area: 4.0 * ex.cross(ey).length(),
                 }
             }
-            Geometry::Disk => {
+            (Geometry::Disk, _) => {
                 let ex = Vec3::from(m.matrix3.x_axis);
                 let ey = Vec3::from(m.matrix3.y_axis);
                 ShapeKind::Disk {
@@ -312,7 +347,7 @@ impl WorldShape {
                     area: PI * ex.cross(ey).length(),
                 }
             }
-            Geometry::Mesh(mesh) => ShapeKind::Mesh(Arc::new(WorldMesh::new(mesh, &m, name)?)),
+            (Geometry::Mesh(mesh), _) => ShapeKind::Mesh(Arc::new(WorldMesh::new(mesh, &m, name)?)),
         };
         Ok(Self {
             kind,

@@ -116,7 +116,7 @@ pub(crate) fn assemble<'d>(
         }
     };
     let material = b.shape_material(bsdf, emitter.is_some())?;
-    Ok(ShapeDesc {
+    let desc = ShapeDesc {
         geometry,
         to_world: common.to_world,
         flip_normals: common.flip_normals,
@@ -124,7 +124,13 @@ pub(crate) fn assemble<'d>(
         material,
         emitter,
         id: p.obj.id.clone(),
-    })
+    };
+    // A transform or radius that overflows (a radius of 1e308 is +inf in f32) is refused here,
+    // where the shape's file and line are known.
+    let name = format!("<shape type=\"{}\">", p.obj.ty);
+    crate::geometry::shape::WorldShape::check_placement(&desc, &name)
+        .map_err(|e| err(&p.obj.loc, ErrorKind::BadValue, e.to_string()))?;
+    Ok(desc)
 }
 
 /// Sphere and disk keep their shape only under rotation, uniform scale and translation.
