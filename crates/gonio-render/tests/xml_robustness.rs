@@ -102,3 +102,27 @@ fn deeply_nested_elements_are_an_error_not_a_stack_overflow() {
     let e = load_scene_str(&nine, data(), &[]).expect_err("too deep a material");
     assert!(e.to_string().contains("at most 8 BSDFs"), "{e}");
 }
+
+#[test]
+fn numbers_beyond_single_precision_are_refused_where_they_are_written() {
+    // A radius of 1e308 is finite in the file's double precision but +inf in the renderer's
+    // single precision; it was once refused only when the renderer placed the shape, with no
+    // file or line (found by the scene fuzzer, crates/gonio/examples/fuzz_scenes.rs).
+    let text = r#"<scene version="3.0.0">
+<shape type="sphere"><float name="radius" value="1e308"/></shape>
+</scene>"#;
+    let e = load_scene_str(text, data(), &[]).expect_err("refused");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("invalid radius 1e308") && msg.contains("single precision"),
+        "{msg}"
+    );
+    assert_eq!((e.location.line, e.location.column), (2, 50), "{msg}");
+    // A finite radius whose world-space size overflows is refused at the shape, by value.
+    let text = r#"<scene version="3.0.0">
+<shape type="sphere"><float name="radius" value="1e30"/><transform name="to_world"><scale value="1e10"/></transform></shape>
+</scene>"#;
+    let e = load_scene_str(text, data(), &[]).expect_err("refused");
+    assert!(e.to_string().contains("radius 1e30 under to_world"), "{e}");
+    assert_eq!(e.location.line, 2, "{e}");
+}

@@ -267,7 +267,7 @@ fn sphere_placement(shape: &ShapeDesc, name: &str) -> Result<Option<Affine3A>, G
         return Err(GeometryError::BadSphere {
             name: name.to_owned(),
             message: format!(
-                "radius {radius} and center {center} must be finite (in single precision) and the radius positive"
+                "radius {radius:e} and center {center} must be finite (in single precision) and the radius positive"
             ),
         });
     }
@@ -275,7 +275,7 @@ fn sphere_placement(shape: &ShapeDesc, name: &str) -> Result<Option<Affine3A>, G
     if check_affine(&full, name).is_err() {
         return Err(GeometryError::BadSphere {
             name: name.to_owned(),
-            message: format!("radius {radius} under to_world gives a degenerate or non-finite sphere"),
+            message: format!("radius {radius:e} under to_world gives a degenerate or non-finite sphere"),
         });
     }
     let l = Mat3::from(full.matrix3);

@@ -289,6 +289,17 @@ impl<'d> Params<'d> {
     ) -> Result<f64> {
         match self.float_opt(name)? {
             None => Ok(default),
+            // Finite in the file's double precision but not in the renderer's single precision.
+            Some((v, loc)) if v.is_finite() && v.abs() > f32::MAX as f64 => Err(err(
+                loc,
+                ErrorKind::BadValue,
+                format!(
+                    "invalid {name} {} in {} (beyond single precision, |x| ≤ {:e})",
+                    number(v),
+                    self.what(),
+                    f32::MAX
+                ),
+            )),
             Some((v, loc)) if v.is_finite() && ok(v) => {
                 let _ = loc;
                 Ok(v)
@@ -296,7 +307,7 @@ impl<'d> Params<'d> {
             Some((v, loc)) => Err(err(
                 loc,
                 ErrorKind::BadValue,
-                format!("invalid {name} {v} in {} ({rule})", self.what()),
+                format!("invalid {name} {} in {} ({rule})", number(v), self.what()),
             )),
         }
     }
@@ -496,4 +507,14 @@ pub(crate) fn to_affine(m: DMat4, loc: &Location, name: &str) -> Result<Affine3A
         ));
     }
     Ok(Affine3A::from_mat4(m.as_mat4()))
+}
+
+/// A number as an error message shows it: plain when short, in scientific notation when huge
+/// or tiny (1e308 rather than 309 digits).
+pub(crate) fn number(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
 }
