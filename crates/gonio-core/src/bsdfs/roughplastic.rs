@@ -269,6 +269,20 @@ impl RoughPlastic {
     }
 }
 
+impl RoughPlastic {
+    /// This model with the coat borrowed, for any wavelengths (a copy whose spectra a textured
+    /// material replaces at a point without rebuilding the coat).
+    pub fn borrowed(&self) -> RoughPlastic<Spectrum, &RoughCoat> {
+        RoughPlastic {
+            diffuse_reflectance: self.diffuse_reflectance.clone(),
+            specular_reflectance: self.specular_reflectance.clone(),
+            nonlinear: self.nonlinear,
+            coat: &self.coat,
+            specular_sampling_weight: self.specular_sampling_weight,
+        }
+    }
+}
+
 impl<S: SpectralValue, C: Borrow<RoughCoat>> RoughPlastic<S, C> {
     /// Replaces the specular sampling weight s ∈ [0, 1]. Changes the variance only.
     pub fn with_specular_sampling_weight(mut self, s: f32) -> Self {
