@@ -7,6 +7,7 @@
 //! of battery runs on correct models here), so a correct model fails the whole file with
 //! probability ≤ 1 %. Seeds are fixed: the outcome is deterministic.
 
+use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
@@ -200,6 +201,56 @@ fn roughconductor_ggx_anisotropic_visible() {
     let d = MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.4, 0.1, true);
     let c = RoughConductor::mirror(d);
     assert_passes_anisotropic("roughconductor ggx α=(0.4, 0.1) visible, white", &c);
+}
+
+// ---- roughplastic -----------------------------------------------------------------------------
+
+fn rough_coat(
+    kind: MicrofacetKind,
+    alpha: f32,
+    visible: bool,
+    eta: f32,
+    averages: CoatAverages,
+) -> RoughCoat {
+    RoughCoat::new(
+        MicrofacetDistribution::new(kind, alpha, alpha, visible),
+        eta,
+        averages,
+    )
+}
+
+#[test]
+fn roughplastic_default() {
+    // Mitsuba's defaults: ρ = 0.5, linear, polypropylene in air, Beckmann α = 0.1, visible normals.
+    assert_passes("roughplastic default", &RoughPlastic::default());
+}
+
+#[test]
+fn roughplastic_ggx_white_nonlinear_all_normals() {
+    let coat = rough_coat(MicrofacetKind::Ggx, 0.3, false, 1.5, CoatAverages::Exact);
+    let p = RoughPlastic::new(Spectrum::Constant(1.0), Spectrum::Constant(1.0), true, coat);
+    assert_passes("roughplastic ggx α=0.3 all normals, ρ=1 nonlinear, η=1.5", &p);
+}
+
+#[test]
+fn roughplastic_beckmann_rough_spectral_tinted_all_normals() {
+    let rho = piecewise(&[360.0, 0.9, 550.0, 0.1, 830.0, 0.6]);
+    let coat = rough_coat(MicrofacetKind::Beckmann, 0.6, false, 1.33, CoatAverages::Exact);
+    let p = RoughPlastic::new(rho, Spectrum::Constant(0.5), true, coat);
+    assert_passes(
+        "roughplastic beckmann α=0.6 all normals, spectral ρ nonlinear, tint 0.5, η=1.33",
+        &p,
+    );
+}
+
+#[test]
+fn roughplastic_ggx_mitsuba_averages_visible() {
+    let coat = rough_coat(MicrofacetKind::Ggx, 0.05, true, 1.9, CoatAverages::Mitsuba);
+    let p = RoughPlastic::new(Spectrum::Constant(0.8), Spectrum::Constant(1.0), false, coat);
+    assert_passes(
+        "roughplastic ggx α=0.05 visible, Mitsuba's averages, ρ=0.8 linear, η=1.9",
+        &p,
+    );
 }
 
 // ---- dielectric -------------------------------------------------------------------------------

@@ -3,7 +3,8 @@
 //! 360–830 nm, and any valid parameter: reflectances in [0, 1], indices of refraction in
 //! [1.0001, 4] and their inverses, conductor η ∈ [0, 5] and k ∈ [0, 10] including the
 //! n = k = 0 corner (0/0 in the textbook formula), exterior indices, tints, both plastic modes,
-//! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers),
+//! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers), rough plastics
+//! (both distributions, α from 1e-4 to 1 on a grid of prebuilt coats, both samplers, both averages),
 //! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
@@ -12,6 +13,7 @@
 //! `PROPTEST_CASES` (default 4096 here; each case takes microseconds).
 
 use glam::{Vec2, Vec3};
+use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
@@ -24,7 +26,7 @@ use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
 use gonio_core::{Bsdf, BsdfContext, Ior, SampledWavelengths};
 use proptest::prelude::*;
 use proptest::test_runner::{Config, TestRng, TestRunner};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// A model and its parameters, as plain data (so proptest can shrink it).
 #[derive(Clone, Debug)]
@@ -67,6 +69,13 @@ enum Spec {
         ext: f32,
         nonlinear: bool,
         tint: f32,
+        s: Option<f32>,
+    },
+    RoughPlastic {
+        rho: SpecSpectrum,
+        tint: f32,
+        nonlinear: bool,
+        coat: usize,
         s: Option<f32>,
     },
     /// A measured table on a 4 × 4 × 3 (θi, θo, φd) grid at two wavelengths, values in [0, 1].
@@ -201,6 +210,20 @@ fn leaf() -> impl Strategy<Value = Spec> {
                 tint,
                 s
             }),
+        (
+            reflectance(),
+            unit(),
+            any::<bool>(),
+            0..ROUGH_COATS,
+            proptest::option::of(unit())
+        )
+            .prop_map(|(rho, tint, nonlinear, coat, s)| Spec::RoughPlastic {
+                rho,
+                tint,
+                nonlinear,
+                coat,
+                s
+            }),
     ]
 }
 
@@ -300,6 +323,20 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             }
             f(&p)
         }
+        Spec::RoughPlastic {
+            rho,
+            tint,
+            nonlinear,
+            coat,
+            s,
+        } => {
+            let coat = rough_coat(*coat).clone();
+            let mut p = RoughPlastic::new(rho.build(), Spectrum::Constant(*tint), *nonlinear, coat);
+            if let Some(s) = s {
+                p = p.with_specular_sampling_weight(*s);
+            }
+            f(&p)
+        }
         Spec::Tabulated { values } => {
             let th = vec![0.0, 30.0, 60.0, 90.0];
             let data = TabulatedData::new(
@@ -342,6 +379,26 @@ fn wavelengths() -> impl Strategy<Value = SampledWavelengths> {
         prop_oneof![Just(360.0f32), Just(830.0f32), 360.0f32..=830.0].prop_map(SampledWavelengths::fixed),
         (0.0f32..1.0).prop_map(SampledWavelengths::sample_visible),
     ]
+}
+
+/// Rough plastic coats: α ∈ {1e-4, 0.01, 0.2, 1} × Beckmann/GGX × η ∈ {1.49, 3, 0.75} ×
+/// (visible normals with exact averages, all normals with Mitsuba's). Each takes a fraction of a
+/// second to build, so a case picks one of these, built on first use.
+const ROUGH_COATS: usize = 48;
+
+fn rough_coat(i: usize) -> &'static RoughCoat {
+    static COATS: [OnceLock<RoughCoat>; ROUGH_COATS] = [const { OnceLock::new() }; ROUGH_COATS];
+    COATS[i].get_or_init(|| {
+        let alpha = [1e-4f32, 0.01, 0.2, 1.0][i % 4];
+        let kind = [MicrofacetKind::Beckmann, MicrofacetKind::Ggx][(i / 4) % 2];
+        let eta = [1.49f32, 3.0, 0.75][(i / 8) % 3];
+        let (visible, averages) = [(true, CoatAverages::Exact), (false, CoatAverages::Mitsuba)][i / 24];
+        RoughCoat::new(
+            MicrofacetDistribution::new(kind, alpha, alpha, visible),
+            eta,
+            averages,
+        )
+    })
 }
 
 fn sample_u() -> impl Strategy<Value = f32> {

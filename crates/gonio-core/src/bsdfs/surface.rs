@@ -18,6 +18,7 @@
 //!
 //! [`SpectralValue`]: crate::spectra::SpectralValue
 
+use super::roughplastic::{RoughCoat, RoughPlastic};
 use super::{
     BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
 };
@@ -46,6 +47,8 @@ pub enum LeafBsdf<'a> {
     Plastic(Plastic<SampledSpectrum>),
     /// `roughconductor`.
     RoughConductor(RoughConductor<SampledSpectrum, SampledIor>),
+    /// `roughplastic` (its coat's tables borrowed from the scene).
+    RoughPlastic(RoughPlastic<SampledSpectrum, &'a RoughCoat>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
 }
@@ -61,6 +64,7 @@ macro_rules! with_leaf {
             LeafBsdf::ThinDielectric($b) => $body,
             LeafBsdf::Plastic($b) => $body,
             LeafBsdf::RoughConductor($b) => $body,
+            LeafBsdf::RoughPlastic($b) => $body,
             LeafBsdf::Tabulated($b) => {
                 let $b: &Tabulated = $b;
                 $body

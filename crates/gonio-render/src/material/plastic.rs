@@ -13,31 +13,31 @@ use gonio_core::bsdfs::{LeafBsdf, Plastic, SurfaceBsdf};
 use gonio_core::spectra::RgbKind;
 use gonio_core::{Bsdf, BsdfFlags, Ior, SampledWavelengths};
 
-const DIFFUSE_REFLECTANCE: ParamSpec = ParamSpec::new(
+pub(crate) const DIFFUSE_REFLECTANCE: ParamSpec = ParamSpec::new(
     "diffuse_reflectance",
     ParamType::Texture,
     DefaultValue::Float(0.5),
     "ρ, the albedo of the base",
 );
-const NONLINEAR: ParamSpec = ParamSpec::new(
+pub(crate) const NONLINEAR: ParamSpec = ParamSpec::new(
     "nonlinear",
     ParamType::Boolean,
     DefaultValue::Bool(false),
     "true: the physical series of internal reflections 1/(1 − ρ r̃) (colours saturate); false: 1/(1 − r̃)",
 );
-const INT_IOR: ParamSpec = ParamSpec::new(
+pub(crate) const INT_IOR: ParamSpec = ParamSpec::new(
     "int_ior",
     ParamType::Ior,
     DefaultValue::Str("polypropylene"),
     "index of the coat (a number or a named material; not dispersive)",
 );
-const EXT_IOR: ParamSpec = ParamSpec::new(
+pub(crate) const EXT_IOR: ParamSpec = ParamSpec::new(
     "ext_ior",
     ParamType::Ior,
     DefaultValue::Str("air"),
     "exterior index",
 );
-const SPECULAR_REFLECTANCE: ParamSpec = ParamSpec::new(
+pub(crate) const SPECULAR_REFLECTANCE: ParamSpec = ParamSpec::new(
     "specular_reflectance",
     ParamType::Texture,
     DefaultValue::Float(1.0),
@@ -61,16 +61,22 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
     let d = b.texture(p, &DIFFUSE_REFLECTANCE, RgbKind::Albedo)?;
     let nonlinear = p.bool(NONLINEAR.name, NONLINEAR.default.bool())?;
-    let int_ior = constant_ior(b, p, &INT_IOR)?;
-    let ext_ior = constant_ior(b, p, &EXT_IOR)?;
+    let int_ior = constant_ior(b, p, &INT_IOR, "plastic")?;
+    let ext_ior = constant_ior(b, p, &EXT_IOR, "plastic")?;
     let s = b.texture(p, &SPECULAR_REFLECTANCE, RgbKind::Albedo)?;
     Ok(Material::new(PlasticMaterial::new(
         d, int_ior, ext_ior, nonlinear, s,
     )))
 }
 
-/// An index that must not be dispersive (the coat's r̃ is precomputed once).
-fn constant_ior<'d>(b: &mut Builder<'d>, p: &mut Params<'d>, spec: &ParamSpec) -> Result<f32, SceneError> {
+/// An index that must not be dispersive (the coat's r̃ is precomputed once); `plugin` names the
+/// plugin in the error.
+pub(crate) fn constant_ior<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+    spec: &ParamSpec,
+    plugin: &str,
+) -> Result<f32, SceneError> {
     match b.ior(p, spec)? {
         Ior::Constant(v) => Ok(v),
         Ior::Dispersive(_) => {
@@ -83,7 +89,7 @@ fn constant_ior<'d>(b: &mut Builder<'d>, p: &mut Params<'d>, spec: &ParamSpec) -
             Err(SceneError::new(
                 loc.clone(),
                 ErrorKind::BadValue,
-                format!("plastic needs a constant {}, not a dispersive one", spec.name),
+                format!("{plugin} needs a constant {}, not a dispersive one", spec.name),
             ))
         }
     }
