@@ -21,6 +21,7 @@ pub mod dielectric;
 pub mod diffuse;
 pub mod plastic;
 pub mod roughconductor;
+pub mod roughdielectric;
 pub mod tabulated;
 pub mod thindielectric;
 pub mod twosided;
@@ -32,6 +33,7 @@ pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
 pub use plastic::PlasticMaterial;
 pub use roughconductor::RoughConductorMaterial;
+pub use roughdielectric::RoughDielectricMaterial;
 pub use tabulated::TabulatedMaterial;
 pub use thindielectric::ThinDielectricMaterial;
 pub use twosided::TwoSidedMaterial;
@@ -53,6 +55,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &thindielectric::PLUGIN,
     &plastic::PLUGIN,
     &roughconductor::PLUGIN,
+    &roughdielectric::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
