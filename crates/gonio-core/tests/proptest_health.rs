@@ -5,6 +5,7 @@
 //! n = k = 0 corner (0/0 in the textbook formula), exterior indices, tints, both plastic modes,
 //! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers), rough plastics
 //! (both distributions, α from 1e-4 to 1 on a grid of prebuilt coats, both samplers, both averages),
+//! rough dielectrics (the same roughness, any index pair, dispersive or not, tints),
 //! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
@@ -16,7 +17,8 @@ use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, RoughDielectric, Tabulated,
+    ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
@@ -45,6 +47,17 @@ enum Spec {
         k: f32,
         ext: f32,
         tint: f32,
+        ggx: bool,
+        alpha_u: f32,
+        alpha_v: f32,
+        visible: bool,
+    },
+    RoughDielectric {
+        int: f32,
+        ext: f32,
+        refl: f32,
+        trans: f32,
+        dispersive: bool,
         ggx: bool,
         alpha_u: f32,
         alpha_v: f32,
@@ -180,6 +193,25 @@ fn leaf() -> impl Strategy<Value = Spec> {
                     visible,
                 }
             }),
+        (
+            (ior_pair(), unit(), unit(), any::<bool>()),
+            (any::<bool>(), roughness(), roughness(), any::<bool>())
+        )
+            .prop_map(
+                |(((int, ext), refl, trans, dispersive), (ggx, alpha_u, alpha_v, visible))| {
+                    Spec::RoughDielectric {
+                        int,
+                        ext,
+                        refl,
+                        trans,
+                        dispersive,
+                        ggx,
+                        alpha_u,
+                        alpha_v,
+                        visible,
+                    }
+                }
+            ),
         (ior_pair(), unit(), unit(), any::<bool>()).prop_map(|((int, ext), refl, trans, dispersive)| {
             Spec::Dielectric {
                 int,
@@ -273,6 +305,40 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             c.ext_ior = Ior::Constant(*ext);
             c.specular_reflectance = Spectrum::Constant(*tint);
             f(&c)
+        }
+        Spec::RoughDielectric {
+            int,
+            ext,
+            refl,
+            trans,
+            dispersive,
+            ggx,
+            alpha_u,
+            alpha_v,
+            visible,
+        } => {
+            let int_ior = if *dispersive {
+                // As the smooth dielectric's: n rises by 2 % towards the blue.
+                Ior::from_spectrum(Spectrum::PiecewiseLinear(Arc::new(
+                    PiecewiseLinear::from_interleaved(
+                        &[360.0, int * 1.02, 830.0, *int],
+                        Extrapolation::Clamp,
+                    )
+                    .unwrap(),
+                )))
+            } else {
+                Ior::Constant(*int)
+            };
+            let kind = if *ggx {
+                MicrofacetKind::Ggx
+            } else {
+                MicrofacetKind::Beckmann
+            };
+            let d = MicrofacetDistribution::new(kind, *alpha_u, *alpha_v, *visible);
+            let mut r = RoughDielectric::new(int_ior, Ior::Constant(*ext), d);
+            r.specular_reflectance = Spectrum::Constant(*refl);
+            r.specular_transmittance = Spectrum::Constant(*trans);
+            f(&r)
         }
         Spec::Dielectric {
             int,

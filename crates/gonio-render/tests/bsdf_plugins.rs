@@ -60,6 +60,8 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
         "<bsdf type=\"roughconductor\"><texture name=\"alpha\" type=\"checkerboard\"><float name=\"color0\" value=\"0.02\"/><float name=\"color1\" value=\"0.6\"/></texture><texture name=\"specular_reflectance\" type=\"checkerboard\"/><boolean name=\"sample_visible\" value=\"false\"/></bsdf>",
         "<bsdf type=\"roughplastic\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"0.3\"/><boolean name=\"nonlinear\" value=\"true\"/></bsdf>",
         "<bsdf type=\"roughplastic\"><texture name=\"diffuse_reflectance\" type=\"checkerboard\"/><texture name=\"specular_reflectance\" type=\"checkerboard\"/><boolean name=\"sample_visible\" value=\"false\"/><string name=\"coat_averages\" value=\"mitsuba\"/></bsdf>",
+        "<bsdf type=\"roughdielectric\"><string name=\"int_ior\" value=\"SF11\"/><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha_u\" value=\"0.05\"/><float name=\"alpha_v\" value=\"0.3\"/></bsdf>",
+        "<bsdf type=\"roughdielectric\"><texture name=\"alpha\" type=\"checkerboard\"><float name=\"color0\" value=\"0.02\"/><float name=\"color1\" value=\"0.6\"/></texture><texture name=\"specular_transmittance\" type=\"checkerboard\"/><boolean name=\"sample_visible\" value=\"false\"/></bsdf>",
         "<bsdf type=\"blendbsdf\"><texture name=\"weight\" type=\"checkerboard\"/><bsdf type=\"twosided\"><bsdf type=\"conductor\"/></bsdf><bsdf type=\"dielectric\"/></bsdf>",
     ];
     let mut rng = Pcg32::new(11, 5);

@@ -20,7 +20,8 @@
 
 use super::roughplastic::{RoughCoat, RoughPlastic};
 use super::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, RoughDielectric, Tabulated,
+    ThinDielectric, TwoSided,
 };
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::ior::SampledIor;
@@ -49,6 +50,8 @@ pub enum LeafBsdf<'a> {
     RoughConductor(RoughConductor<SampledSpectrum, SampledIor>),
     /// `roughplastic` (its coat's tables borrowed from the scene).
     RoughPlastic(RoughPlastic<SampledSpectrum, &'a RoughCoat>),
+    /// `roughdielectric`.
+    RoughDielectric(RoughDielectric<SampledSpectrum, SampledIor>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
 }
@@ -65,6 +68,7 @@ macro_rules! with_leaf {
             LeafBsdf::Plastic($b) => $body,
             LeafBsdf::RoughConductor($b) => $body,
             LeafBsdf::RoughPlastic($b) => $body,
+            LeafBsdf::RoughDielectric($b) => $body,
             LeafBsdf::Tabulated($b) => {
                 let $b: &Tabulated = $b;
                 $body

@@ -48,13 +48,19 @@ fn u1_grid(n: usize) -> impl Iterator<Item = f32> {
 /// n(other side)/n(a's side), from the first transmission `sample` produces from `a`, and
 /// whether that refraction terminated the secondary wavelengths (a dispersive index: the eta
 /// holds for the hero wavelength only). (1, false) when no transmission is sampled.
+///
+/// u2 = (0.5, 0.5) is tried first, then an 8 × 8 grid (the facet a rough interface draws at
+/// (0.5, 0.5) may face away from a).
 pub fn eta_across(bsdf: &dyn Bsdf, a: Vec3, wl: &SampledWavelengths) -> (f32, bool) {
     let ctx = BsdfContext::importance();
-    for u1 in u1_grid(64) {
-        let mut wl2 = *wl;
-        if let Some(s) = bsdf.sample(&ctx, a, u1, Vec2::splat(0.5), &mut wl2) {
-            if s.flags.is_transmission() && s.eta.is_finite() && s.eta > 0.0 {
-                return (s.eta, wl2.secondary_terminated() && !wl.secondary_terminated());
+    let grid = (0..64).map(|k| Vec2::new((k % 8) as f32 + 0.5, (k / 8) as f32 + 0.5) / 8.0);
+    for u2 in std::iter::once(Vec2::splat(0.5)).chain(grid) {
+        for u1 in u1_grid(64) {
+            let mut wl2 = *wl;
+            if let Some(s) = bsdf.sample(&ctx, a, u1, u2, &mut wl2) {
+                if s.flags.is_transmission() && s.eta.is_finite() && s.eta > 0.0 {
+                    return (s.eta, wl2.secondary_terminated() && !wl.secondary_terminated());
+                }
             }
         }
     }
@@ -107,7 +113,14 @@ pub fn reciprocity(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
             }
         } else {
             n_tran += 1;
-            let (eta, dispersive) = eta_across(bsdf, a, &wl);
+            let (mut eta, mut dispersive) = eta_across(bsdf, a, &wl);
+            if eta == 1.0 {
+                // Nothing refracted from a (a rough interface seen from the denser side beyond
+                // the critical angle refracts only through rare steep facets): the index ratio
+                // seen from b is the reciprocal.
+                let (eta_b, dispersive_b) = eta_across(bsdf, b, &wl);
+                (eta, dispersive) = (1.0 / eta_b, dispersive_b);
+            }
             let slots = if dispersive { 1 } else { N_SPECTRUM_SAMPLES };
             let e = max_rel(fab * (eta * eta), fba, slots);
             if e > w_tran.0 {

@@ -22,6 +22,7 @@ pub mod diffuse;
 pub mod plastic;
 pub mod roughconductor;
 pub mod roughplastic;
+pub mod roughdielectric;
 pub mod tabulated;
 pub mod thindielectric;
 pub mod twosided;
@@ -34,6 +35,7 @@ pub use diffuse::DiffuseMaterial;
 pub use plastic::PlasticMaterial;
 pub use roughconductor::RoughConductorMaterial;
 pub use roughplastic::RoughPlasticMaterial;
+pub use roughdielectric::RoughDielectricMaterial;
 pub use tabulated::TabulatedMaterial;
 pub use thindielectric::ThinDielectricMaterial;
 pub use twosided::TwoSidedMaterial;
@@ -56,6 +58,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &plastic::PLUGIN,
     &roughconductor::PLUGIN,
     &roughplastic::PLUGIN,
+    &roughdielectric::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
