@@ -58,6 +58,8 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
         "<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/><bsdf type=\"plastic\"/></bsdf>",
         "<bsdf type=\"roughconductor\"><string name=\"material\" value=\"Cu\"/><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha_u\" value=\"0.05\"/><float name=\"alpha_v\" value=\"0.3\"/></bsdf>",
         "<bsdf type=\"roughconductor\"><texture name=\"alpha\" type=\"checkerboard\"><float name=\"color0\" value=\"0.02\"/><float name=\"color1\" value=\"0.6\"/></texture><texture name=\"specular_reflectance\" type=\"checkerboard\"/><boolean name=\"sample_visible\" value=\"false\"/></bsdf>",
+        "<bsdf type=\"principled\"><rgb name=\"base_color\" value=\"0.8, 0.3, 0.1\"/><float name=\"metallic\" value=\"0.3\"/><float name=\"spec_trans\" value=\"0.4\"/><float name=\"anisotropic\" value=\"0.5\"/><float name=\"spec_tint\" value=\"0.4\"/><float name=\"sheen\" value=\"0.5\"/><float name=\"sheen_tint\" value=\"0.5\"/><float name=\"clearcoat\" value=\"0.7\"/><float name=\"flatness\" value=\"0.3\"/></bsdf>",
+        "<bsdf type=\"principled\"><texture name=\"base_color\" type=\"checkerboard\"/><texture name=\"roughness\" type=\"checkerboard\"><float name=\"color0\" value=\"0.05\"/><float name=\"color1\" value=\"0.7\"/></texture><texture name=\"metallic\" type=\"checkerboard\"/><float name=\"eta\" value=\"1.33\"/></bsdf>",
         "<bsdf type=\"blendbsdf\"><texture name=\"weight\" type=\"checkerboard\"/><bsdf type=\"twosided\"><bsdf type=\"conductor\"/></bsdf><bsdf type=\"dielectric\"/></bsdf>",
     ];
     let mut rng = Pcg32::new(11, 5);

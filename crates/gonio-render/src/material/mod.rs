@@ -20,6 +20,7 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod plastic;
+pub mod principled;
 pub mod roughconductor;
 pub mod tabulated;
 pub mod thindielectric;
@@ -31,6 +32,7 @@ pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
 pub use plastic::PlasticMaterial;
+pub use principled::PrincipledMaterial;
 pub use roughconductor::RoughConductorMaterial;
 pub use tabulated::TabulatedMaterial;
 pub use thindielectric::ThinDielectricMaterial;
@@ -53,6 +55,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &thindielectric::PLUGIN,
     &plastic::PLUGIN,
     &roughconductor::PLUGIN,
+    &principled::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
