@@ -251,7 +251,22 @@ impl<S: SpectralValue> Principled<S> {
             return (SampledSpectrum::ZERO, 0.0);
         }
         let (cos_ih, cos_oh) = (wi.dot(h), wo.dot(h));
+        // Mitsuba's F at ωi·h, which chooses the lobes.
         let fr = fresnel_dielectric(cos_ih, self.eta).reflectance;
+        // The values use the same F written symmetrically in (ωi, ωo), so that rounding keeps
+        // them reciprocal near total internal reflection, where F is steep: a reflection at the
+        // mean of ωi·h and ωo·h (equal but for rounding), a refraction at the facet cosine on
+        // the exterior side (the same F from either side).
+        let cos_f = if reflect {
+            0.5 * (cos_ih + cos_oh)
+        } else if front {
+            cos_ih
+        } else {
+            cos_oh
+        };
+        let f_val = fresnel_dielectric(cos_f, self.eta).reflectance;
+        // (ωi·h + η ωo·h)² = |ωi + η ωo|² for a refraction, without cancellation.
+        let denom2 = (wi + wo * eta_path).length_squared();
         let refl_ok = reflect && facet_compatible(h, wi, wo, ci, true);
         let refr_ok = refract && facet_compatible(h, wi, wo, ci, false);
         let distr = self.spec_distribution();
@@ -270,41 +285,39 @@ impl<S: SpectralValue> Principled<S> {
         };
 
         // Main specular reflection.
-        if en_gr && refl_ok && fr > 0.0 {
+        if en_gr && refl_ok && f_val > 0.0 {
             let fp = if front {
-                let outside = cos_ih >= 0.0;
+                let outside = cos_f >= 0.0;
                 let eta_it = if outside { self.eta } else { 1.0 / self.eta };
                 let mut f_s = SampledSpectrum::ZERO;
                 if self.metallic != 0.0 {
-                    f_s += schlick_fresnel_spectrum(c, cos_ih, self.eta) * self.metallic;
+                    f_s += schlick_fresnel_spectrum(c, cos_f, self.eta) * self.metallic;
                 }
                 if self.spec_tint != 0.0 {
                     let r0 = tint_color(c, lum) * schlick_r0(eta_it);
-                    f_s += schlick_fresnel_spectrum(r0, cos_ih, self.eta)
+                    f_s += schlick_fresnel_spectrum(r0, cos_f, self.eta)
                         * ((1.0 - self.metallic) * self.spec_tint);
                 }
-                f_s + SampledSpectrum::splat((1.0 - self.metallic) * (1.0 - self.spec_tint) * fr)
+                f_s + SampledSpectrum::splat((1.0 - self.metallic) * (1.0 - self.spec_tint) * f_val)
             } else {
-                SampledSpectrum::splat(w_bsdf * fr)
+                SampledSpectrum::splat(w_bsdf * f_val)
             };
             value += fp * (d * g / (4.0 * ci.abs()));
         }
         // Main specular transmission.
-        if en_gt && w_bsdf > 0.0 && refr_ok && fr < 1.0 {
+        if en_gt && w_bsdf > 0.0 && refr_ok && f_val < 1.0 {
             let scale = match ctx.mode {
                 TransportMode::Radiance => 1.0 / (eta_path * eta_path),
                 TransportMode::Importance => 1.0,
             };
-            let denom = cos_ih + eta_path * cos_oh;
-            let t = (scale * (1.0 - fr) * d * g * eta_path * eta_path * cos_ih * cos_oh
-                / (ci * denom * denom))
-                .abs();
+            let t =
+                (scale * (1.0 - f_val) * d * g * eta_path * eta_path * cos_ih * cos_oh / (ci * denom2)).abs();
             value += c.sqrt() * (w_bsdf * t);
         }
         if front && reflect {
             // Clearcoat.
             if en_gr && self.clearcoat > 0.0 && refl_ok {
-                let fcc = schlick_fresnel(0.04, cos_ih, self.eta);
+                let fcc = schlick_fresnel(0.04, cos_f, self.eta);
                 let dcc = Gtr1::from_gloss(self.clearcoat_gloss).d(h);
                 let gcc = smith_ggx1(wi, h, 0.25) * smith_ggx1(wo, h, 0.25);
                 value += SampledSpectrum::splat(self.clearcoat * 0.25 * fcc * dcc * gcc * co.abs());
@@ -335,8 +348,7 @@ impl<S: SpectralValue> Principled<S> {
         let dwh_dwo = if reflect {
             (1.0 / (4.0 * cos_oh)).abs()
         } else {
-            let denom = cos_ih + eta_path * cos_oh;
-            (eta_path * eta_path * cos_oh / (denom * denom)).abs()
+            (eta_path * eta_path * cos_oh / denom2).abs()
         };
         let wi_up = if front { wi } else { -wi };
         let mut pdf = 0.0;

@@ -80,13 +80,31 @@ pub fn schlick_r0(eta: f32) -> f32 {
     r * r
 }
 
-/// The luminance that normalizes a tint: the mean of ȳ(λₖ) cₖ over the path's wavelengths
-/// (Mitsuba 3's `luminance(value, wavelengths)` in its spectral variants).
+/// ȳ(λ) as Mitsuba 3 tabulates it (`cie1931_y`): the CIE 1931 values every 5 nm from 360 to
+/// 830 nm (the 1 nm table's values there), linearly interpolated; 0 outside.
+#[inline]
+pub fn cie_y_5nm(lambda: f32) -> f32 {
+    const MIN: f32 = 360.0;
+    const MAX: f32 = 830.0;
+    const SAMPLES: usize = 95;
+    if !(MIN..=MAX).contains(&lambda) {
+        return 0.0;
+    }
+    let x = (lambda - MIN) / (MAX - MIN) * (SAMPLES - 1) as f32;
+    let i0 = (x as usize).min(SAMPLES - 2);
+    let w1 = x - i0 as f32;
+    let at = |i: usize| cie_y(MIN + 5.0 * i as f32);
+    (1.0 - w1) * at(i0) + w1 * at(i0 + 1)
+}
+
+/// The luminance that normalizes a tint: the mean of ȳ(λₖ) cₖ over the path's wavelengths, with
+/// Mitsuba's 5 nm ȳ ([`cie_y_5nm`]; Mitsuba 3's `luminance(value, wavelengths)` in its spectral
+/// variants).
 #[inline]
 pub fn tint_luminance(c: SampledSpectrum, wl: &SampledWavelengths) -> f32 {
     let mut sum = 0.0;
     for k in 0..N_SPECTRUM_SAMPLES {
-        sum += cie_y(wl.lambda(k)) * c[k];
+        sum += cie_y_5nm(wl.lambda(k)) * c[k];
     }
     sum / N_SPECTRUM_SAMPLES as f32
 }
@@ -265,6 +283,24 @@ mod tests {
             assert!((m.z - 1.0).abs() < 1e-6, "ξ₂ = 0 is the pole");
             let m = g.sample(Vec2::new(0.3, 1.0));
             assert!(m.z.abs() < 1e-3, "ξ₂ = 1 is the horizon");
+        }
+    }
+
+    #[test]
+    fn mitsubas_five_nanometre_y() {
+        // Values of Mitsuba 3.9.1's `cie1931_y` (between and on its 5 nm nodes, and outside).
+        for (l, y) in [
+            (380.5f32, 4.149_999_6e-5f32),
+            (432.7, 0.014_429_615),
+            (555.3, 0.999_700_0),
+            (829.0, 4.897_534e-7),
+            (359.0, 0.0),
+        ] {
+            assert!(
+                (cie_y_5nm(l) - y).abs() <= 1e-6 * y.max(1e-3),
+                "{l}: {} vs {y}",
+                cie_y_5nm(l)
+            );
         }
     }
 

@@ -165,3 +165,31 @@ fn energy_gain_and_loss_of_mitsubas_principled() {
     assert!(a_in < 0.5 + 1e-3 && a_in > 0.45, "inside: {a_in}");
     assert!(a_out > 1.0 && a_out < 1.05, "outside: {a_out}");
 }
+
+/// Mitsuba's tint divides the base colour by its spectral luminance over the path's four
+/// wavelengths. With all four at one wavelength (as the battery queries) the tint is 1/ȳ(λ):
+/// at 400 nm a spec_tint of 0.4 makes the surface reflect tens of times more than
+/// it receives (37× at θi = 30°), while at 555 nm (ȳ ≈ 1) it stays below 1. Over four wavelengths spread
+/// across the spectrum, as a renderer samples them, ȳ averages to a moderate value.
+#[test]
+fn tinted_principled_at_one_wavelength() {
+    let mut m = Principled::new(Spectrum::Constant(0.5));
+    m.spec_tint = 0.4;
+    let wi = dir(30.0, 0.0);
+    let at = |lambda: f32| {
+        let wl = SampledWavelengths::fixed(lambda);
+        let a = directional_albedo(&m, TransportMode::Importance, wi, &wl, 1_000_000);
+        a.r[0] + a.t[0]
+    };
+    let (blue, green) = (at(400.0), at(555.0));
+    let spread = SampledWavelengths::from_parts([420.0, 520.0, 620.0, 720.0], [1.0; 4]);
+    let a = directional_albedo(&m, TransportMode::Importance, wi, &spread, 1_000_000);
+    eprintln!(
+        "principled spec_tint 0.4, c = 0.5, θi = 30°: albedo {blue:.1} at 400 nm, {green:.4} at 555 nm, {:.4}..{:.4} over 420/520/620/720 nm",
+        a.r.min_component(),
+        a.r.max_component()
+    );
+    assert!(blue > 10.0, "{blue}");
+    assert!(green < 1.0, "{green}");
+    assert!(a.r.max_component() < 1.0, "{}", a.r);
+}
