@@ -3,7 +3,8 @@
 //! 360–830 nm, and any valid parameter: reflectances in [0, 1], indices of refraction in
 //! [1.0001, 4] and their inverses, conductor η ∈ [0, 5] and k ∈ [0, 10] including the
 //! n = k = 0 corner (0/0 in the textbook formula), exterior indices, tints, both plastic modes,
-//! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers),
+//! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers), `principled`
+//! (roughness from 1e-4 to 1, every weight in [0, 1], η and the sampling rates),
 //! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
@@ -14,7 +15,8 @@
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, RoughConductor, Tabulated,
+    ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
@@ -68,6 +70,16 @@ enum Spec {
         nonlinear: bool,
         tint: f32,
         s: Option<f32>,
+    },
+    /// `principled`: base colour, roughness, the nine weights (anisotropic, metallic,
+    /// spec_trans, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss), η and
+    /// the three sampling rates.
+    Principled {
+        rho: SpecSpectrum,
+        roughness: f32,
+        weights: [f32; 9],
+        eta: f32,
+        rates: [f32; 3],
     },
     /// A measured table on a 4 × 4 × 3 (θi, θo, φd) grid at two wavelengths, values in [0, 1].
     Tabulated {
@@ -201,6 +213,20 @@ fn leaf() -> impl Strategy<Value = Spec> {
                 tint,
                 s
             }),
+        (
+            reflectance(),
+            roughness(),
+            proptest::array::uniform9(unit()),
+            ior_pair(),
+            proptest::array::uniform3(prop_oneof![Just(0.0f32), 0.0f32..=4.0]),
+        )
+            .prop_map(|(rho, roughness, weights, (int, ext), rates)| Spec::Principled {
+                rho,
+                roughness,
+                weights,
+                eta: int / ext,
+                rates
+            }),
     ]
 }
 
@@ -298,6 +324,30 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             if let Some(s) = s {
                 p = p.with_specular_sampling_weight(*s);
             }
+            f(&p)
+        }
+        Spec::Principled {
+            rho,
+            roughness,
+            weights,
+            eta,
+            rates,
+        } => {
+            let mut p = Principled::new(rho.build());
+            p.roughness = *roughness;
+            [
+                p.anisotropic,
+                p.metallic,
+                p.spec_trans,
+                p.spec_tint,
+                p.sheen,
+                p.sheen_tint,
+                p.flatness,
+                p.clearcoat,
+                p.clearcoat_gloss,
+            ] = *weights;
+            p.eta = *eta;
+            (p.rates.diffuse, p.rates.main_specular, p.rates.clearcoat) = (rates[0], rates[1], rates[2]);
             f(&p)
         }
         Spec::Tabulated { values } => {

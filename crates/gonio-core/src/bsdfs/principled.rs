@@ -222,12 +222,25 @@ impl<S: SpectralValue> Principled<S> {
         (dm * (1.0 - self.spec_trans), dm * self.spec_trans)
     }
 
-    /// The half vector of (wi, wo), of the reflection or the refraction, turned to +z.
+    /// The half vector of (wi, wo), of the reflection (ωi + ωo) or the refraction (ω_ext +
+    /// η ω_int, the same direction as Mitsuba's ωi + η_path ωo, written so that (wi, wo) and
+    /// (wo, wi) round alike), turned to +z; and |ωi + η_path ωo|² for a refraction.
     #[inline]
-    fn half_vector(&self, wi: Vec3, wo: Vec3, reflect: bool) -> Vec3 {
-        let eta_path = if wi.z > 0.0 { self.eta } else { 1.0 / self.eta };
-        let h = (wi + wo * if reflect { 1.0 } else { eta_path }).normalize();
-        if h.z < 0.0 { -h } else { h }
+    fn half_vector(&self, wi: Vec3, wo: Vec3, reflect: bool) -> (Vec3, f32) {
+        if reflect {
+            let h = (wi + wo).normalize();
+            return (if h.z < 0.0 { -h } else { h }, 0.0);
+        }
+        let (ext, int) = if wi.z > 0.0 { (wi, wo) } else { (wo, wi) };
+        let sum = ext + int * self.eta;
+        let len2 = sum.length_squared();
+        let h = sum / len2.sqrt();
+        let denom2 = if wi.z > 0.0 {
+            len2
+        } else {
+            len2 / (self.eta * self.eta)
+        };
+        (if h.z < 0.0 { -h } else { h }, denom2)
     }
 
     /// f·|cos θo| (Mitsuba's `eval`) and the pdf, the lobes of `ctx`.
@@ -246,17 +259,15 @@ impl<S: SpectralValue> Principled<S> {
         let front = ci > 0.0;
         let (w_brdf, w_bsdf) = self.weights();
         let eta_path = if front { self.eta } else { 1.0 / self.eta };
-        let h = self.half_vector(wi, wo, reflect);
+        let (h, denom2) = self.half_vector(wi, wo, reflect);
         if !h.is_finite() {
             return (SampledSpectrum::ZERO, 0.0);
         }
         let (cos_ih, cos_oh) = (wi.dot(h), wo.dot(h));
-        // Mitsuba's F at ωi·h, which chooses the lobes.
-        let fr = fresnel_dielectric(cos_ih, self.eta).reflectance;
-        // The values use the same F written symmetrically in (ωi, ωo), so that rounding keeps
-        // them reciprocal near total internal reflection, where F is steep: a reflection at the
-        // mean of ωi·h and ωo·h (equal but for rounding), a refraction at the facet cosine on
-        // the exterior side (the same F from either side).
+        // Mitsuba's F at ωi·h, written symmetrically in (ωi, ωo), so that rounding keeps values
+        // reciprocal and the pdf isotropic near total internal reflection, where F is steep: a
+        // reflection at the mean of ωi·h and ωo·h (equal but for rounding), a refraction at the
+        // facet cosine on the exterior side (the same F from either side).
         let cos_f = if reflect {
             0.5 * (cos_ih + cos_oh)
         } else if front {
@@ -265,8 +276,7 @@ impl<S: SpectralValue> Principled<S> {
             cos_oh
         };
         let f_val = fresnel_dielectric(cos_f, self.eta).reflectance;
-        // (ωi·h + η ωo·h)² = |ωi + η ωo|² for a refraction, without cancellation.
-        let denom2 = (wi + wo * eta_path).length_squared();
+        // denom2 = (ωi·h + η_path ωo·h)² = |ωi + η_path ωo|² for a refraction, without cancellation.
         let refl_ok = reflect && facet_compatible(h, wi, wo, ci, true);
         let refr_ok = refract && facet_compatible(h, wi, wo, ci, false);
         let distr = self.spec_distribution();
@@ -339,7 +349,7 @@ impl<S: SpectralValue> Principled<S> {
         }
 
         // The pdf of `sample`.
-        let probs = lobe_probs(&self.rates, ctx, front, fr, w_brdf, w_bsdf, self.clearcoat);
+        let probs = lobe_probs(&self.rates, ctx, front, f_val, w_brdf, w_bsdf, self.clearcoat);
         let total: f32 = probs.iter().sum();
         if !(total > 0.0) {
             return (value, 0.0);
