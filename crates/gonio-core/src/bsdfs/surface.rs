@@ -19,8 +19,8 @@
 //! [`SpectralValue`]: crate::spectra::SpectralValue
 
 use super::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, RoughConductor, Tabulated,
-    ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, PrincipledThin, RoughConductor,
+    Tabulated, ThinDielectric, TwoSided,
 };
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::ior::SampledIor;
@@ -49,6 +49,8 @@ pub enum LeafBsdf<'a> {
     RoughConductor(RoughConductor<SampledSpectrum, SampledIor>),
     /// `principled`.
     Principled(Principled<SampledSpectrum>),
+    /// `principledthin`.
+    PrincipledThin(PrincipledThin<SampledSpectrum>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
 }
@@ -65,6 +67,7 @@ macro_rules! with_leaf {
             LeafBsdf::Plastic($b) => $body,
             LeafBsdf::RoughConductor($b) => $body,
             LeafBsdf::Principled($b) => $body,
+            LeafBsdf::PrincipledThin($b) => $body,
             LeafBsdf::Tabulated($b) => {
                 let $b: &Tabulated = $b;
                 $body

@@ -21,6 +21,7 @@ pub mod dielectric;
 pub mod diffuse;
 pub mod plastic;
 pub mod principled;
+pub mod principledthin;
 pub mod roughconductor;
 pub mod tabulated;
 pub mod thindielectric;
@@ -33,6 +34,7 @@ pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
 pub use plastic::PlasticMaterial;
 pub use principled::PrincipledMaterial;
+pub use principledthin::PrincipledThinMaterial;
 pub use roughconductor::RoughConductorMaterial;
 pub use tabulated::TabulatedMaterial;
 pub use thindielectric::ThinDielectricMaterial;
@@ -56,6 +58,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &plastic::PLUGIN,
     &roughconductor::PLUGIN,
     &principled::PLUGIN,
+    &principledthin::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,

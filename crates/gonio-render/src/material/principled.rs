@@ -81,7 +81,7 @@ const CLEARCOAT_GLOSS: ParamSpec = weight(
     0.0,
     "∈ [0, 1]: clearcoat roughness α = 0.1 (gloss 0) … 0.001 (gloss 1)",
 );
-const DIFFUSE_RATE: ParamSpec = ParamSpec::new(
+pub(crate) const DIFFUSE_RATE: ParamSpec = ParamSpec::new(
     "diffuse_reflectance_sampling_rate",
     ParamType::Float,
     DefaultValue::Float(1.0),
@@ -93,7 +93,7 @@ const SPECULAR_RATE: ParamSpec = ParamSpec::new(
     DefaultValue::Float(1.0),
     "relative rate of sampling the main specular lobes (≥ 0)",
 );
-const CLEARCOAT_RATE: ParamSpec = ParamSpec::new(
+pub(crate) const CLEARCOAT_RATE: ParamSpec = ParamSpec::new(
     "clearcoat_sampling_rate",
     ParamType::Float,
     DefaultValue::Float(1.0),
@@ -136,23 +136,26 @@ pub(crate) fn bad_value(b: &Builder<'_>, p: &Params<'_>, name: &str, msg: String
     SceneError::new(loc.clone(), ErrorKind::BadValue, msg)
 }
 
-/// A float-or-texture parameter; a constant must lie in [0, 1] when `blend` (a blend weight
-/// outside it would make another lobe's weight negative).
+/// A float-or-texture parameter of plugin `plugin`; a constant must be at most `max` when given
+/// (a blend weight beyond its range would make another lobe's weight negative).
 pub(crate) fn scalar_texture<'d>(
     b: &mut Builder<'d>,
     p: &mut Params<'d>,
     spec: &ParamSpec,
-    blend: bool,
+    max: Option<f32>,
+    plugin: &str,
 ) -> Result<Texture, SceneError> {
     let t = b.texture(p, spec, RgbKind::Unbounded)?;
-    if blend && !t.is_textured() && t.eval_1(Vec2::ZERO) > 1.0 {
+    if let Some(max) = max {
         let v = t.eval_1(Vec2::ZERO);
-        return Err(bad_value(
-            b,
-            p,
-            spec.name,
-            format!("invalid {} {v} in principled (must be in [0, 1])", spec.name),
-        ));
+        if !t.is_textured() && v > max {
+            return Err(bad_value(
+                b,
+                p,
+                spec.name,
+                format!("invalid {} {v} in {plugin} (must be in [0, {max}])", spec.name),
+            ));
+        }
     }
     Ok(t)
 }
@@ -203,16 +206,16 @@ fn rate(p: &mut Params<'_>, spec: &ParamSpec) -> Result<f32, SceneError> {
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
     let textures = PrincipledTextures {
         base_color: b.texture(p, &BASE_COLOR, RgbKind::Albedo)?,
-        roughness: scalar_texture(b, p, &ROUGHNESS, false)?,
-        anisotropic: scalar_texture(b, p, &ANISOTROPIC, true)?,
-        metallic: scalar_texture(b, p, &METALLIC, true)?,
-        spec_trans: scalar_texture(b, p, &SPEC_TRANS, true)?,
-        spec_tint: scalar_texture(b, p, &SPEC_TINT, true)?,
-        sheen: scalar_texture(b, p, &SHEEN, false)?,
-        sheen_tint: scalar_texture(b, p, &SHEEN_TINT, true)?,
-        flatness: scalar_texture(b, p, &FLATNESS, true)?,
-        clearcoat: scalar_texture(b, p, &CLEARCOAT, false)?,
-        clearcoat_gloss: scalar_texture(b, p, &CLEARCOAT_GLOSS, true)?,
+        roughness: scalar_texture(b, p, &ROUGHNESS, None, PLUGIN.name)?,
+        anisotropic: scalar_texture(b, p, &ANISOTROPIC, Some(1.0), PLUGIN.name)?,
+        metallic: scalar_texture(b, p, &METALLIC, Some(1.0), PLUGIN.name)?,
+        spec_trans: scalar_texture(b, p, &SPEC_TRANS, Some(1.0), PLUGIN.name)?,
+        spec_tint: scalar_texture(b, p, &SPEC_TINT, Some(1.0), PLUGIN.name)?,
+        sheen: scalar_texture(b, p, &SHEEN, None, PLUGIN.name)?,
+        sheen_tint: scalar_texture(b, p, &SHEEN_TINT, Some(1.0), PLUGIN.name)?,
+        flatness: scalar_texture(b, p, &FLATNESS, Some(1.0), PLUGIN.name)?,
+        clearcoat: scalar_texture(b, p, &CLEARCOAT, None, PLUGIN.name)?,
+        clearcoat_gloss: scalar_texture(b, p, &CLEARCOAT_GLOSS, Some(1.0), PLUGIN.name)?,
     };
     let eta = read_eta(b, p, has_lobe(&textures.spec_trans), "principled")?;
     let rates = PrincipledRates {
