@@ -9,7 +9,8 @@ coordinates `uv` (textured configurations vary with them), from outside and, whe
 transmits, from inside; and the albedo (mean sample weight, reflection and transmission, over
 2^20 independent samples at 550 nm) at a few incidences. Queries: a third near the specular
 reflection (wo reflected about a normal drawn around z), a third near the refraction (where the
-material transmits), the rest uniform on the sphere.
+material transmits; for `principledthin`, near the reflection mirrored through the sheet), the
+rest uniform on the sphere. `principledthin` is queried from both sides.
 
 Configurations whose float parameters (roughness, metallic, ...) are checkerboards are marked
 `eval_1_swapped`: Mitsuba 3.9.1's checkerboard answers `eval_1` with the other cell than `eval`
@@ -70,6 +71,37 @@ CONFIGS = [
      '<float name="color1" value="0.0"/></texture>'
      '<float name="spec_trans" value="0.6"/><float name="anisotropic" value="0.4"/></bsdf>',
      True, True),
+    ("principledthin-default", '<bsdf version="3.0.0" type="principledthin"/>', True, False),
+    ("principledthin-anisotropic-spec-trans",
+     '<bsdf version="3.0.0" type="principledthin">' + SPEC +
+     '<float name="roughness" value="0.15"/><float name="spec_tint" value="0.1"/>'
+     '<float name="anisotropic" value="0.5"/><float name="spec_trans" value="0.8"/>'
+     '<float name="diff_trans" value="0.3"/><float name="eta" value="1.33"/></bsdf>', True, False),
+    ("principledthin-diff-trans-sheen-rates",
+     '<bsdf version="3.0.0" type="principledthin">' + SPEC +
+     '<float name="roughness" value="0.7"/><float name="spec_trans" value="0.3"/>'
+     '<float name="diff_trans" value="1.2"/><float name="sheen" value="0.6"/>'
+     '<float name="sheen_tint" value="0.5"/><float name="flatness" value="0.5"/>'
+     '<float name="eta" value="1.6"/>'
+     '<float name="diffuse_reflectance_sampling_rate" value="0.5"/>'
+     '<float name="specular_reflectance_sampling_rate" value="2"/>'
+     '<float name="specular_transmittance_sampling_rate" value="1.5"/>'
+     '<float name="diffuse_transmittance_sampling_rate" value="0.8"/></bsdf>', True, False),
+    ("principledthin-textured-base-color",
+     '<bsdf version="3.0.0" type="principledthin"><texture type="checkerboard" name="base_color">'
+     '<spectrum name="color0" value="400:0.9, 700:0.1"/><spectrum name="color1" value="0.3"/>'
+     '</texture><float name="spec_trans" value="0.5"/><float name="spec_tint" value="0.5"/>'
+     '<float name="diff_trans" value="0.5"/></bsdf>', True, False),
+    ("principledthin-textured-roughness-eta-diff-trans",
+     '<bsdf version="3.0.0" type="principledthin"><spectrum name="base_color" value="0.8"/>'
+     '<texture type="checkerboard" name="roughness"><float name="color0" value="0.1"/>'
+     '<float name="color1" value="0.6"/></texture>'
+     '<texture type="checkerboard" name="eta"><float name="color0" value="1.2"/>'
+     '<float name="color1" value="1.7"/></texture>'
+     '<texture type="checkerboard" name="diff_trans"><float name="color0" value="1.5"/>'
+     '<float name="color1" value="0.2"/></texture>'
+     '<float name="spec_trans" value="0.6"/><float name="anisotropic" value="0.3"/></bsdf>',
+     True, True),
 ]
 ALBEDO_THETAS = [0.0, 45.0, 80.0]
 ALBEDO_SAMPLES = int(__import__("os").environ.get("ALBEDO_SAMPLES", 1 << 20))
@@ -106,7 +138,8 @@ def refract(wi, m, eta):
 
 
 def eta_of(xml):
-    if 'name="eta"' in xml:
+    """η of a `principled` configuration (`principledthin` queries do not need it)."""
+    if 'name="eta" value="' in xml:
         return float(xml.split('name="eta" value="')[1].split('"')[0])
     spec = 0.5
     if 'name="specular"' in xml:
@@ -114,7 +147,7 @@ def eta_of(xml):
     return 2.0 / (1.0 - math.sqrt(0.08 * spec)) - 1.0
 
 
-def queries(rng, transmits, eta):
+def queries(rng, transmits, eta, thin):
     out = []
     n = 24
     for i in range(n):
@@ -129,6 +162,13 @@ def queries(rng, transmits, eta):
             d = sum(a * b for a, b in zip(wi, m))
             wo = [2 * d * mc - w for mc, w in zip(m, wi)]
             if wo[2] * side <= 0.01:
+                wo = None
+        elif kind == 1 and thin:
+            # A thin sheet transmits along the reflection mirrored through it.
+            d = sum(a * b for a, b in zip(wi, m))
+            wo = [2 * d * mc - w for mc, w in zip(m, wi)]
+            wo[2] = -wo[2]
+            if wo[2] * side >= -0.01:
                 wo = None
         elif kind == 1 and transmits:
             rel = eta if side > 0 else 1.0 / eta
@@ -155,7 +195,7 @@ def eval_queries(xml, transmits, rng):
     bsdf = mi.load_string(xml)
     ctx = mi.BSDFContext()
     rows = []
-    for wi, wo in queries(rng, transmits, eta_of(xml)):
+    for wi, wo in queries(rng, transmits, eta_of(xml), "principledthin" in xml):
         lams = sorted(rng.uniform(380.0, 780.0) for _ in range(4))
         uv = [rng.random(), rng.random()]
         si = interaction(wi, uv, lams)

@@ -4,7 +4,8 @@
 //! [1.0001, 4] and their inverses, conductor η ∈ [0, 5] and k ∈ [0, 10] including the
 //! n = k = 0 corner (0/0 in the textbook formula), exterior indices, tints, both plastic modes,
 //! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers), `principled`
-//! (roughness from 1e-4 to 1, every weight in [0, 1], η and the sampling rates),
+//! and `principledthin` (roughness from 1e-4 to 1, every weight in its range, η and the
+//! sampling rates),
 //! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
@@ -15,8 +16,8 @@
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, RoughConductor, Tabulated,
-    ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, PrincipledThin, RoughConductor,
+    Tabulated, ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
@@ -80,6 +81,15 @@ enum Spec {
         weights: [f32; 9],
         eta: f32,
         rates: [f32; 3],
+    },
+    /// `principledthin`: base colour, roughness, the seven weights (anisotropic, spec_trans,
+    /// spec_tint, sheen, sheen_tint, flatness, diff_trans/2), η and the four sampling rates.
+    PrincipledThin {
+        rho: SpecSpectrum,
+        roughness: f32,
+        weights: [f32; 7],
+        eta: f32,
+        rates: [f32; 4],
     },
     /// A measured table on a 4 × 4 × 3 (θi, θo, φd) grid at two wavelengths, values in [0, 1].
     Tabulated {
@@ -227,6 +237,22 @@ fn leaf() -> impl Strategy<Value = Spec> {
                 eta: int / ext,
                 rates
             }),
+        (
+            reflectance(),
+            roughness(),
+            proptest::array::uniform7(unit()),
+            ior_pair(),
+            proptest::array::uniform4(prop_oneof![Just(0.0f32), 0.0f32..=4.0]),
+        )
+            .prop_map(
+                |(rho, roughness, weights, (int, ext), rates)| Spec::PrincipledThin {
+                    rho,
+                    roughness,
+                    weights,
+                    eta: int / ext,
+                    rates
+                }
+            ),
     ]
 }
 
@@ -348,6 +374,35 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             ] = *weights;
             p.eta = *eta;
             (p.rates.diffuse, p.rates.main_specular, p.rates.clearcoat) = (rates[0], rates[1], rates[2]);
+            f(&p)
+        }
+        Spec::PrincipledThin {
+            rho,
+            roughness,
+            weights,
+            eta,
+            rates,
+        } => {
+            let mut p = PrincipledThin::new(rho.build());
+            p.roughness = *roughness;
+            [
+                p.anisotropic,
+                p.spec_trans,
+                p.spec_tint,
+                p.sheen,
+                p.sheen_tint,
+                p.flatness,
+                p.diff_trans,
+            ] = *weights;
+            p.diff_trans *= 2.0;
+            p.eta = *eta;
+            let r = &mut p.rates;
+            (
+                r.diffuse_reflectance,
+                r.specular_reflectance,
+                r.specular_transmittance,
+                r.diffuse_transmittance,
+            ) = (rates[0], rates[1], rates[2], rates[3]);
             f(&p)
         }
         Spec::Tabulated { values } => {

@@ -1,10 +1,13 @@
-//! Agreement of `principled` with Mitsuba 3.9.1
+//! Agreement of `principled` and `principledthin` with Mitsuba 3.9.1
 //! (`testdata/mitsuba/reference/mitsuba-principled-values.json`, made by
 //! `crates/gonio-core/benches/mitsuba_principled_values.py`): each configuration is the same
 //! `<bsdf>` XML Mitsuba loaded, read by gonio's XML reader: Mitsuba's defaults, a pure anisotropic
 //! metal, a pure rough glass (queried from outside and inside), clearcoat with sheen, tints and
 //! flatness, every lobe at once with changed sampling rates, a textured base colour, and textured
-//! roughness and metallic with transmission.
+//! roughness and metallic with transmission; for `principledthin` (queried from both sides):
+//! its defaults, Mitsuba's documented example (anisotropic, spec_trans, diff_trans, tint), diffuse
+//! transmission with sheen, flatness and changed rates, a textured base colour, and textured
+//! roughness, η and diff_trans.
 //!
 //! * `eval` (f without the cosine, at four distinct wavelengths, so the tints' spectral
 //!   luminance is a mean over them) and `pdf` within 1e-4 relative.
@@ -67,14 +70,15 @@ fn wavelengths(q: &Value) -> SampledWavelengths {
     SampledWavelengths::from_parts([l[0], l[1], l[2], l[3]], [1.0; 4])
 }
 
-#[test]
-fn principled_eval_and_pdf_agree_with_mitsuba() {
+/// Compares every eval/pdf query of the configurations named `prefix`…; returns the number of
+/// queries, of those in a lobe, from below with a non-zero value, and transmitted.
+fn eval_and_pdf_agree(prefix: &str) -> (usize, usize, usize, usize) {
     let data = reference();
     let (mut checked, mut nonzero, mut inside, mut transmitted) = (0, 0, 0, 0);
     let (mut worst_f, mut worst_pdf) = (0.0f64, 0.0f64);
     for config in data["configs"].as_array().unwrap() {
         let name = config["name"].as_str().unwrap();
-        if !name.starts_with("principled-") {
+        if !name.starts_with(prefix) {
             continue;
         }
         let xml = config["xml"].as_str().unwrap();
@@ -121,7 +125,13 @@ fn principled_eval_and_pdf_agree_with_mitsuba() {
         worst_f = worst_f.max(cf);
         worst_pdf = worst_pdf.max(cp);
     }
-    eprintln!("principled vs Mitsuba 3.9.1: max relative difference f {worst_f:.2e}, pdf {worst_pdf:.2e}");
+    eprintln!("{prefix}… vs Mitsuba 3.9.1: max relative difference f {worst_f:.2e}, pdf {worst_pdf:.2e}");
+    (checked, nonzero, inside, transmitted)
+}
+
+#[test]
+fn principled_eval_and_pdf_agree_with_mitsuba() {
+    let (checked, nonzero, inside, transmitted) = eval_and_pdf_agree("principled-");
     assert_eq!(
         checked,
         7 * 24,
@@ -131,6 +141,21 @@ fn principled_eval_and_pdf_agree_with_mitsuba() {
     assert!(
         inside >= 6 && transmitted >= 6,
         "{inside} from inside, {transmitted} transmitted"
+    );
+}
+
+#[test]
+fn principledthin_eval_and_pdf_agree_with_mitsuba() {
+    let (checked, nonzero, inside, transmitted) = eval_and_pdf_agree("principledthin-");
+    assert_eq!(
+        checked,
+        5 * 24,
+        "the reference file holds 120 principledthin eval queries"
+    );
+    assert!(nonzero >= 60, "most queries lie in a lobe ({nonzero})");
+    assert!(
+        inside >= 10 && transmitted >= 10,
+        "{inside} from below, {transmitted} transmitted"
     );
 }
 
@@ -171,13 +196,13 @@ fn pdf_below_an_opaque_principled_is_zero() {
     );
 }
 
-#[test]
-fn principled_albedo_agrees_with_mitsuba() {
+/// The albedo of every configuration named `prefix`…; returns the number compared.
+fn albedo_agrees(prefix: &str) -> usize {
     let data = reference();
     let mut checked = 0;
     for config in data["configs"].as_array().unwrap() {
         let name = config["name"].as_str().unwrap();
-        if !name.starts_with("principled-") {
+        if !name.starts_with(prefix) {
             continue;
         }
         let material = load_bsdf_str(config["xml"].as_str().unwrap()).unwrap();
@@ -219,5 +244,15 @@ fn principled_albedo_agrees_with_mitsuba() {
             checked += 1;
         }
     }
-    assert_eq!(checked, 7 * 3 + 3 * 3);
+    checked
+}
+
+#[test]
+fn principled_albedo_agrees_with_mitsuba() {
+    assert_eq!(albedo_agrees("principled-"), 7 * 3 + 3 * 3);
+}
+
+#[test]
+fn principledthin_albedo_agrees_with_mitsuba() {
+    assert_eq!(albedo_agrees("principledthin-"), 5 * 6);
 }
