@@ -351,7 +351,7 @@ impl<S: SpectralValue> Principled<S> {
         // The pdf of `sample`.
         let probs = lobe_probs(&self.rates, ctx, front, f_val, w_brdf, w_bsdf, self.clearcoat);
         let total: f32 = probs.iter().sum();
-        if !(total > 0.0) {
+        if total.is_nan() || total <= 0.0 {
             return (value, 0.0);
         }
         let [p_d, p_cc, p_t, p_r] = probs.map(|p| p / total);
@@ -472,7 +472,7 @@ impl<S: SpectralValue> Bsdf for Principled<S> {
             return None;
         }
         let (v, pdf) = self.eval_pdf_cos(ctx, wi, wo, wl);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         Some(BsdfSample {

@@ -246,7 +246,7 @@ pub fn sheen_shape(cos_d: f32, sheen_tint: f32, tint: SampledSpectrum) -> Sample
 #[inline]
 pub fn choose_lobe<const N: usize>(probs: [f32; N], u1: f32) -> Option<usize> {
     let total: f32 = probs.iter().sum();
-    if !(total > 0.0) || !total.is_finite() {
+    if total.is_nan() || total <= 0.0 || !total.is_finite() {
         return None;
     }
     let mut acc = 0.0;
@@ -292,7 +292,7 @@ mod tests {
         for (l, y) in [
             (380.5f32, 4.149_999_6e-5f32),
             (432.7, 0.014_429_615),
-            (555.3, 0.999_700_0),
+            (555.3, 0.999_7),
             (829.0, 4.897_534e-7),
             (359.0, 0.0),
         ] {

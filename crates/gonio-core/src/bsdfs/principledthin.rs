@@ -244,7 +244,7 @@ impl<S: SpectralValue> PrincipledThin<S> {
 
         let probs = self.probs(ctx);
         let total: f32 = probs.iter().sum();
-        if !(total > 0.0) {
+        if total.is_nan() || total <= 0.0 {
             return (value, 0.0);
         }
         let [p_sr, p_st, p_dr, p_dt] = probs.map(|p| p / total);
@@ -341,7 +341,7 @@ impl<S: SpectralValue> Bsdf for PrincipledThin<S> {
         };
         let wo = wo_f * flip;
         let (v, pdf) = self.eval_pdf_cos(ctx, wi, wo, wl);
-        if !(pdf > 0.0) {
+        if pdf.is_nan() || pdf <= 0.0 {
             return None;
         }
         Some(BsdfSample {
