@@ -5,7 +5,9 @@
 //! n = k = 0 corner (0/0 in the textbook formula), exterior indices, tints, both plastic modes,
 //! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers), rough plastics
 //! (both distributions, α from 1e-4 to 1 on a grid of prebuilt coats, both samplers, both averages),
-//! rough dielectrics (the same roughness, any index pair, dispersive or not, tints),
+//! rough dielectrics (the same roughness, any index pair, dispersive or not, tints), `principled`
+//! and `principledthin` (roughness from 1e-4 to 1, every weight in its range, η and the
+//! sampling rates),
 //! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
@@ -17,8 +19,8 @@ use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, RoughDielectric, Tabulated,
-    ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, PrincipledThin, RoughConductor,
+    RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
@@ -90,6 +92,25 @@ enum Spec {
         nonlinear: bool,
         coat: usize,
         s: Option<f32>,
+    },
+    /// `principled`: base colour, roughness, the nine weights (anisotropic, metallic,
+    /// spec_trans, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss), η and
+    /// the three sampling rates.
+    Principled {
+        rho: SpecSpectrum,
+        roughness: f32,
+        weights: [f32; 9],
+        eta: f32,
+        rates: [f32; 3],
+    },
+    /// `principledthin`: base colour, roughness, the seven weights (anisotropic, spec_trans,
+    /// spec_tint, sheen, sheen_tint, flatness, diff_trans/2), η and the four sampling rates.
+    PrincipledThin {
+        rho: SpecSpectrum,
+        roughness: f32,
+        weights: [f32; 7],
+        eta: f32,
+        rates: [f32; 4],
     },
     /// A measured table on a 4 × 4 × 3 (θi, θo, φd) grid at two wavelengths, values in [0, 1].
     Tabulated {
@@ -256,6 +277,36 @@ fn leaf() -> impl Strategy<Value = Spec> {
                 coat,
                 s
             }),
+        (
+            reflectance(),
+            roughness(),
+            proptest::array::uniform9(unit()),
+            ior_pair(),
+            proptest::array::uniform3(prop_oneof![Just(0.0f32), 0.0f32..=4.0]),
+        )
+            .prop_map(|(rho, roughness, weights, (int, ext), rates)| Spec::Principled {
+                rho,
+                roughness,
+                weights,
+                eta: int / ext,
+                rates
+            }),
+        (
+            reflectance(),
+            roughness(),
+            proptest::array::uniform7(unit()),
+            ior_pair(),
+            proptest::array::uniform4(prop_oneof![Just(0.0f32), 0.0f32..=4.0]),
+        )
+            .prop_map(
+                |(rho, roughness, weights, (int, ext), rates)| Spec::PrincipledThin {
+                    rho,
+                    roughness,
+                    weights,
+                    eta: int / ext,
+                    rates
+                }
+            ),
     ]
 }
 
@@ -401,6 +452,59 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             if let Some(s) = s {
                 p = p.with_specular_sampling_weight(*s);
             }
+            f(&p)
+        }
+        Spec::Principled {
+            rho,
+            roughness,
+            weights,
+            eta,
+            rates,
+        } => {
+            let mut p = Principled::new(rho.build());
+            p.roughness = *roughness;
+            [
+                p.anisotropic,
+                p.metallic,
+                p.spec_trans,
+                p.spec_tint,
+                p.sheen,
+                p.sheen_tint,
+                p.flatness,
+                p.clearcoat,
+                p.clearcoat_gloss,
+            ] = *weights;
+            p.eta = *eta;
+            (p.rates.diffuse, p.rates.main_specular, p.rates.clearcoat) = (rates[0], rates[1], rates[2]);
+            f(&p)
+        }
+        Spec::PrincipledThin {
+            rho,
+            roughness,
+            weights,
+            eta,
+            rates,
+        } => {
+            let mut p = PrincipledThin::new(rho.build());
+            p.roughness = *roughness;
+            [
+                p.anisotropic,
+                p.spec_trans,
+                p.spec_tint,
+                p.sheen,
+                p.sheen_tint,
+                p.flatness,
+                p.diff_trans,
+            ] = *weights;
+            p.diff_trans *= 2.0;
+            p.eta = *eta;
+            let r = &mut p.rates;
+            (
+                r.diffuse_reflectance,
+                r.specular_reflectance,
+                r.specular_transmittance,
+                r.diffuse_transmittance,
+            ) = (rates[0], rates[1], rates[2], rates[3]);
             f(&p)
         }
         Spec::Tabulated { values } => {

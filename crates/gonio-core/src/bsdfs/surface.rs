@@ -20,8 +20,8 @@
 
 use super::roughplastic::{RoughCoat, RoughPlastic};
 use super::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, RoughDielectric, Tabulated,
-    ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, PrincipledThin, RoughConductor,
+    RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::ior::SampledIor;
@@ -52,6 +52,10 @@ pub enum LeafBsdf<'a> {
     RoughPlastic(RoughPlastic<SampledSpectrum, &'a RoughCoat>),
     /// `roughdielectric`.
     RoughDielectric(RoughDielectric<SampledSpectrum, SampledIor>),
+    /// `principled`.
+    Principled(Principled<SampledSpectrum>),
+    /// `principledthin`.
+    PrincipledThin(PrincipledThin<SampledSpectrum>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
 }
@@ -69,6 +73,8 @@ macro_rules! with_leaf {
             LeafBsdf::RoughConductor($b) => $body,
             LeafBsdf::RoughPlastic($b) => $body,
             LeafBsdf::RoughDielectric($b) => $body,
+            LeafBsdf::Principled($b) => $body,
+            LeafBsdf::PrincipledThin($b) => $body,
             LeafBsdf::Tabulated($b) => {
                 let $b: &Tabulated = $b;
                 $body

@@ -67,6 +67,18 @@ pub fn eta_across(bsdf: &dyn Bsdf, a: Vec3, wl: &SampledWavelengths) -> (f32, bo
     (1.0, false)
 }
 
+/// η_b/η_a for a pair on opposite sides: [`eta_across`] from `a`, or, when `a` samples no
+/// transmission (a rough interface seen beyond the critical angle from the denser side, where
+/// most facets reflect totally), the reciprocal of the one from `b`.
+fn eta_between(bsdf: &dyn Bsdf, a: Vec3, b: Vec3, wl: &SampledWavelengths) -> (f32, bool) {
+    let from_a = eta_across(bsdf, a, wl);
+    if from_a != (1.0, false) {
+        return from_a;
+    }
+    let (e, dispersive) = eta_across(bsdf, b, wl);
+    (1.0 / e, dispersive)
+}
+
 fn max_rel(a: SampledSpectrum, b: SampledSpectrum, slots: usize) -> f64 {
     (0..slots)
         .map(|i| rel_diff(a[i] as f64, b[i] as f64, TINY))
@@ -113,14 +125,7 @@ pub fn reciprocity(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
             }
         } else {
             n_tran += 1;
-            let (mut eta, mut dispersive) = eta_across(bsdf, a, &wl);
-            if eta == 1.0 {
-                // Nothing refracted from a (a rough interface seen from the denser side beyond
-                // the critical angle refracts only through rare steep facets): the index ratio
-                // seen from b is the reciprocal.
-                let (eta_b, dispersive_b) = eta_across(bsdf, b, &wl);
-                (eta, dispersive) = (1.0 / eta_b, dispersive_b);
-            }
+            let (eta, dispersive) = eta_between(bsdf, a, b, &wl);
             let slots = if dispersive { 1 } else { N_SPECTRUM_SAMPLES };
             let e = max_rel(fab * (eta * eta), fba, slots);
             if e > w_tran.0 {

@@ -20,6 +20,8 @@ pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod plastic;
+pub mod principled;
+pub mod principledthin;
 pub mod roughconductor;
 pub mod roughplastic;
 pub mod roughdielectric;
@@ -33,6 +35,8 @@ pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
 pub use plastic::PlasticMaterial;
+pub use principled::PrincipledMaterial;
+pub use principledthin::PrincipledThinMaterial;
 pub use roughconductor::RoughConductorMaterial;
 pub use roughplastic::RoughPlasticMaterial;
 pub use roughdielectric::RoughDielectricMaterial;
@@ -59,6 +63,8 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &roughconductor::PLUGIN,
     &roughplastic::PLUGIN,
     &roughdielectric::PLUGIN,
+    &principled::PLUGIN,
+    &principledthin::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
