@@ -7,9 +7,11 @@
 //! of battery runs on correct models here), so a correct model fails the whole file with
 //! probability ≤ 1 %. Seeds are fixed: the outcome is deterministic.
 
+use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, RoughConductor, Tabulated,
+    ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::{
     Anisotropic, DiffuseTransmitter, EnergyGain, EvalPdfMismatch, FalselyAnisotropic, MinimalGlass,
@@ -200,6 +202,32 @@ fn roughconductor_ggx_anisotropic_visible() {
     let d = MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.4, 0.1, true);
     let c = RoughConductor::mirror(d);
     assert_passes_anisotropic("roughconductor ggx α=(0.4, 0.1) visible, white", &c);
+}
+
+// ---- lambertsphere ---------------------------------------------------------------------------
+
+#[test]
+fn lambertsphere_default_exact() {
+    // reflectance k_d = 0.5 (c = 0.879 by Eq. 46), exact multiple scattering.
+    assert_passes("lambertsphere default", &LambertSphere::default());
+}
+
+#[test]
+fn lambertsphere_exact_white_spheres() {
+    // c = 1: the lossless half-space, the energy row's hardest case.
+    let m = LambertSphere::new(
+        Spectrum::Constant(1.0),
+        AlbedoParameter::Sphere,
+        LambertSphereModel::Exact,
+    );
+    assert_passes("lambertsphere exact c=1", &m);
+}
+
+#[test]
+fn lambertsphere_practical_spectral_reflectance() {
+    let kd = piecewise(&[400.0, 0.05, 500.0, 0.4, 600.0, 0.9, 700.0, 0.98]);
+    let m = LambertSphere::new(kd, AlbedoParameter::Reflectance, LambertSphereModel::Practical);
+    assert_passes("lambertsphere practical k_d 0.05..0.98", &m);
 }
 
 // ---- dielectric -------------------------------------------------------------------------------

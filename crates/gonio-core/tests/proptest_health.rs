@@ -4,6 +4,7 @@
 //! [1.0001, 4] and their inverses, conductor η ∈ [0, 5] and k ∈ [0, 10] including the
 //! n = k = 0 corner (0/0 in the textbook formula), exterior indices, tints, both plastic modes,
 //! rough conductors (Beckmann and GGX, α_u, α_v from 1e-4 to 1, both samplers),
+//! Lambert-sphere half-spaces (both models, k_d or c in [0, 1]),
 //! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
@@ -12,9 +13,11 @@
 //! `PROPTEST_CASES` (default 4096 here; each case takes microseconds).
 
 use glam::{Vec2, Vec3};
+use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, RoughConductor, Tabulated,
+    ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
@@ -47,6 +50,11 @@ enum Spec {
         alpha_u: f32,
         alpha_v: f32,
         visible: bool,
+    },
+    LambertSphere {
+        albedo: SpecSpectrum,
+        sphere: bool,
+        practical: bool,
     },
     Dielectric {
         int: f32,
@@ -171,6 +179,13 @@ fn leaf() -> impl Strategy<Value = Spec> {
                     visible,
                 }
             }),
+        (reflectance(), any::<bool>(), any::<bool>()).prop_map(|(albedo, sphere, practical)| {
+            Spec::LambertSphere {
+                albedo,
+                sphere,
+                practical,
+            }
+        }),
         (ior_pair(), unit(), unit(), any::<bool>()).prop_map(|((int, ext), refl, trans, dispersive)| {
             Spec::Dielectric {
                 int,
@@ -250,6 +265,23 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             c.ext_ior = Ior::Constant(*ext);
             c.specular_reflectance = Spectrum::Constant(*tint);
             f(&c)
+        }
+        Spec::LambertSphere {
+            albedo,
+            sphere,
+            practical,
+        } => {
+            let kind = if *sphere {
+                AlbedoParameter::Sphere
+            } else {
+                AlbedoParameter::Reflectance
+            };
+            let model = if *practical {
+                LambertSphereModel::Practical
+            } else {
+                LambertSphereModel::Exact
+            };
+            f(&LambertSphere::new(albedo.build(), kind, model))
         }
         Spec::Dielectric {
             int,

@@ -19,7 +19,8 @@
 //! [`SpectralValue`]: crate::spectra::SpectralValue
 
 use super::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, RoughConductor, Tabulated,
+    ThinDielectric, TwoSided,
 };
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::ior::SampledIor;
@@ -46,6 +47,8 @@ pub enum LeafBsdf<'a> {
     Plastic(Plastic<SampledSpectrum>),
     /// `roughconductor`.
     RoughConductor(RoughConductor<SampledSpectrum, SampledIor>),
+    /// `lambertsphere`.
+    LambertSphere(LambertSphere<SampledSpectrum>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
 }
@@ -61,6 +64,7 @@ macro_rules! with_leaf {
             LeafBsdf::ThinDielectric($b) => $body,
             LeafBsdf::Plastic($b) => $body,
             LeafBsdf::RoughConductor($b) => $body,
+            LeafBsdf::LambertSphere($b) => $body,
             LeafBsdf::Tabulated($b) => {
                 let $b: &Tabulated = $b;
                 $body

@@ -1,0 +1,286 @@
+//! `lambertsphere` against the published numbers of d'Eon 2021 ("An Analytic BRDF for Materials
+//! with Spherical Lambertian Scatterers", CGF 40(4)) and of Chandrasekhar's theory: H-functions
+//! and their identities, the exact m = 0 and m = 1 constants, BRDF values, plane and
+//! bihemispherical albedos of the true half-space, the white furnace at c = 1, the k_d → c
+//! mapping (Eq. 46) and the back-scattering signature. Reference values: deterministic
+//! solutions of the half-space transport problem with the full phase function (Legendre order
+//! ≤ 16 for albedos, ≤ 8 for BRDF values), the paper's practical model evaluated as published,
+//! and Chandrasekhar's H-function integral.
+
+use glam::Vec3;
+use gonio_core::bsdfs::LambertSphere;
+use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel, sphere_albedo_from_reflectance};
+use gonio_core::bsdfs::lambertsphere_h::{
+    CPosition, HFunction, MuPosition, Rule, mode0_coefficients, mode1_constants, psi, psi_integral,
+    q_coefficients, tables,
+};
+use gonio_core::{Bsdf, BsdfContext, SampledWavelengths, Spectrum};
+
+fn model(c: f32, kind: LambertSphereModel) -> LambertSphere {
+    LambertSphere::new(Spectrum::Constant(c), AlbedoParameter::Sphere, kind)
+}
+
+fn dir(theta_deg: f32, phi_deg: f32) -> Vec3 {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos())
+}
+
+fn f(m: &LambertSphere, wi: Vec3, wo: Vec3) -> f64 {
+    m.eval(
+        &BsdfContext::radiance(),
+        wi,
+        wo,
+        &SampledWavelengths::fixed(550.0),
+    )[0] as f64
+}
+
+/// Composite Gauss–Legendre nodes on [a, b] in `panels` equal panels of 16 nodes.
+fn gl(a: f64, b: f64, panels: usize) -> Vec<(f64, f64)> {
+    let base = Rule::graded();
+    // The graded rule's last panel is [0.5, 1] with 16 nodes: reuse its shape.
+    let shape: Vec<(f64, f64)> = base
+        .nodes
+        .iter()
+        .zip(&base.weights)
+        .filter(|(x, _)| **x > 0.5)
+        .map(|(x, w)| ((x - 0.5) * 2.0, w * 2.0))
+        .collect();
+    let h = (b - a) / panels as f64;
+    (0..panels)
+        .flat_map(|k| {
+            let lo = a + k as f64 * h;
+            shape
+                .iter()
+                .map(move |(x, w)| (lo + h * x, h * w))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
+/// Plane albedo a(μi) = ∫ f cos θo dωo by quadrature (μo graded towards 0, φ in [0, π] × 2).
+fn plane_albedo(m: &LambertSphere, mu_i: f64) -> f64 {
+    let wi = Vec3::new((1.0 - mu_i * mu_i).sqrt() as f32, 0.0, mu_i as f32);
+    let rule = Rule::graded();
+    let phis = gl(0.0, std::f64::consts::PI, 8);
+    let mut sum = 0.0;
+    for (mu, wmu) in rule.nodes.iter().zip(&rule.weights) {
+        let s = (1.0 - mu * mu).sqrt();
+        for (phi, wphi) in &phis {
+            let wo = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, *mu as f32);
+            sum += 2.0 * wmu * wphi * mu * f(m, wi, wo);
+        }
+    }
+    sum
+}
+
+/// Bihemispherical albedo 2∫ a(μ) μ dμ.
+fn bihemispherical(m: &LambertSphere) -> f64 {
+    let rule = Rule::graded();
+    rule.nodes
+        .iter()
+        .zip(&rule.weights)
+        .map(|(mu, w)| 2.0 * w * mu * plane_albedo(m, *mu))
+        .sum()
+}
+
+// ---- H-functions ------------------------------------------------------------------------------
+
+const MUS: [f64; 6] = [0.0, 0.1, 0.25, 0.5, 0.75, 1.0];
+/// (mode, c, H at MUS): Chandrasekhar's H-integral evaluated to 6 digits.
+const H_TABLE: [(usize, f64, [f64; 6]); 10] = [
+    (0, 0.25, [1.0, 1.028112, 1.045764, 1.060994, 1.069636, 1.075309]),
+    (0, 0.5, [1.0, 1.065322, 1.111593, 1.155034, 1.181288, 1.199205]),
+    (0, 0.75, [1.0, 1.119023, 1.217283, 1.321079, 1.389955, 1.439911]),
+    (0, 1.0, [1.0, 1.258061, 1.569156, 2.050880, 2.516882, 2.976152]),
+    (1, 0.25, [1.0, 0.985356, 0.977389, 0.971138, 0.967826, 0.965742]),
+    (1, 0.5, [1.0, 0.971824, 0.956986, 0.945562, 0.939588, 0.935854]),
+    (1, 0.75, [1.0, 0.959255, 0.938448, 0.922707, 0.914572, 0.909522]),
+    (1, 1.0, [1.0, 0.947530, 0.921507, 0.902140, 0.892241, 0.886133]),
+    (2, 0.5, [1.0, 1.005248, 1.008154, 1.010455, 1.011680, 1.012452]),
+    (2, 1.0, [1.0, 1.010619, 1.016560, 1.021292, 1.023819, 1.025417]),
+];
+
+#[test]
+fn h_functions_match_the_h_integral_and_the_tables_interpolate_them() {
+    let rule = Rule::graded();
+    let t = tables();
+    let mut worst_table = 0.0f64;
+    for (m, c, values) in H_TABLE {
+        let h = HFunction::solve(m, c, &rule);
+        for (mu, expect) in MUS.iter().zip(values) {
+            let v = h.eval(*mu);
+            assert!(
+                (v - expect).abs() < 1.5e-6,
+                "H{m}({mu}; c = {c}) = {v}, expected {expect}"
+            );
+            // The f32 table the exact model reads, interpolated in (μ, c).
+            let tv = t.h(m, &MuPosition::new(*mu as f32), &CPosition::new(c as f32)) as f64;
+            worst_table = worst_table.max((tv - expect).abs() / expect);
+        }
+    }
+    // Off the grid too: c = 0.9, 0.97, 0.995 at μ = 0.03 … 0.97.
+    for c in [0.9, 0.97, 0.995] {
+        for m in 0..3 {
+            let h = HFunction::solve(m, c, &rule);
+            for mu in [0.03, 0.2, 0.41, 0.66, 0.97] {
+                let tv = t.h(m, &MuPosition::new(mu as f32), &CPosition::new(c as f32)) as f64;
+                let v = h.eval(mu);
+                worst_table = worst_table.max((tv - v).abs() / v);
+            }
+        }
+    }
+    println!("worst relative error of the interpolated H tables: {worst_table:.2e}");
+    assert!(worst_table < 2e-5, "{worst_table}");
+}
+
+#[test]
+fn h_function_identities() {
+    let rule = Rule::graded();
+    for c in [0.3, 0.8, 0.99, 1.0] {
+        for m in 0..3 {
+            let h = HFunction::solve(m, c, &rule);
+            assert!((h.eval(0.0) - 1.0).abs() < 1e-12, "H(0) = 1");
+            // ∫ΨH = 1 − √(1 − 2∫Ψ), the negative Ψ⁽¹⁾ included.
+            let lhs: f64 = rule
+                .nodes
+                .iter()
+                .zip(&rule.weights)
+                .zip(h.values())
+                .map(|((x, w), hv)| w * psi(m, c, *x) * hv)
+                .sum();
+            let rhs = 1.0 - (1.0 - 2.0 * psi_integral(m, c)).sqrt();
+            assert!((lhs - rhs).abs() < 1e-9, "m {m} c {c}: {lhs} vs {rhs}");
+            // Quadrature of Ψ agrees with the closed form ∫Ψ.
+            let int: f64 = rule
+                .nodes
+                .iter()
+                .zip(&rule.weights)
+                .map(|(x, w)| w * psi(m, c, *x))
+                .sum();
+            assert!((int - psi_integral(m, c)).abs() < 1e-14);
+        }
+        // H(μ → ∞) → 1/√K(0), K(0) = 1 − 2∫Ψ (c < 1: for c = 1, m = 0 it grows without bound).
+        if c < 1.0 {
+            let h = HFunction::solve(0, c, &rule);
+            let k0 = 1.0 - 2.0 * psi_integral(0, c);
+            let far = h.eval(1e9);
+            assert!((far - 1.0 / k0.sqrt()).abs() < 1e-6 * far, "{far}");
+        }
+    }
+    // Moments α₀, α₁.
+    for (m, c, a0, a1) in [
+        (0, 1.0, 2.037270, 1.178735),
+        (0, 0.5, 1.141296, 0.584008),
+        (1, 0.5, 0.950361, 0.471493),
+        (1, 1.0, 0.910648, 0.448991),
+        (2, 1.0, 1.019390, 0.511204),
+    ] {
+        let h = HFunction::solve(m, c, &rule);
+        assert!((h.moment(0) - a0).abs() < 1.5e-6, "α0 {m} {c}: {}", h.moment(0));
+        assert!((h.moment(1) - a1).abs() < 1.5e-6, "α1 {m} {c}: {}", h.moment(1));
+    }
+}
+
+#[test]
+fn mode_constants_match_the_exact_tables() {
+    let rule = Rule::graded();
+    // m = 1: l, m (exact), and the identity l² + 45m/64 = 5(4c + 9)/64.
+    for (c, l_ref, m_ref) in [
+        (0.1, -0.005918, 1.044395),
+        (0.25, -0.015003, 1.110791),
+        (0.5, -0.030647, 1.220886),
+        (0.75, -0.046853, 1.330212),
+        (0.9, -0.056818, 1.395409),
+        (0.99, -0.062878, 1.434377),
+        (1.0, -0.063555, 1.438700),
+    ] {
+        let (l, m) = mode1_constants(c, &HFunction::solve(1, c, &rule));
+        assert!(
+            (l - l_ref).abs() < 1e-6 && (m - m_ref).abs() < 1e-6,
+            "c {c}: l {l} m {m}"
+        );
+        assert!((l * l + 45.0 * m / 64.0 - 5.0 * (4.0 * c + 9.0) / 64.0).abs() < 1e-12);
+    }
+    // m = 0: Q's coefficients, continued from c = 0.
+    let table: [(f64, [f64; 6]); 12] = [
+        (0.1, [0.05391, 0.00129, 0.06000, 0.00035, 0.03305, -0.01137]),
+        (0.2, [0.10781, 0.00485, 0.10666, 0.00159, 0.06125, -0.02193]),
+        (0.3, [0.16172, 0.01018, 0.14006, 0.00401, 0.08367, -0.03149]),
+        (0.4, [0.21562, 0.01665, 0.16033, 0.00782, 0.09938, -0.03983]),
+        (0.5, [0.26953, 0.02344, 0.16779, 0.01313, 0.10742, -0.04664]),
+        (0.6, [0.32344, 0.02943, 0.16299, 0.01988, 0.10688, -0.05148]),
+        (0.7, [0.37734, 0.03284, 0.14698, 0.02765, 0.09680, -0.05366]),
+        (0.8, [0.43125, 0.03056, 0.12192, 0.03523, 0.07625, -0.05196]),
+        (0.9, [0.48515, 0.01509, 0.09344, 0.03899, 0.04430, -0.04340]),
+        (0.95, [0.51211, -0.00505, 0.08378, 0.03538, 0.02375, -0.03357]),
+        (0.99, [0.53367, -0.04355, 0.09140, 0.02064, 0.00501, -0.01645]),
+        (0.999, [0.53852, -0.07001, 0.10710, 0.00735, 0.00051, -0.00541]),
+    ];
+    let mut x = [0.0, 0.0, 1.0, 0.0, 0.0, 1.5];
+    let mut c_prev = 0.0;
+    for (c, expect) in table {
+        // Continue in small steps.
+        let steps = ((c - c_prev) / 0.02).ceil().max(1.0) as usize;
+        for k in 1..=steps {
+            let ck = c_prev + (c - c_prev) * k as f64 / steps as f64;
+            x = mode0_coefficients(ck, &HFunction::solve(0, ck, &rule), &rule, x);
+        }
+        c_prev = c;
+        let q = q_coefficients(c, &x);
+        for (i, (v, e)) in q.iter().zip(expect).enumerate() {
+            assert!(
+                (v - e).abs() < 1e-5,
+                "c {c}: coefficient {} = {v}, expected {e}",
+                "ABCDEF".as_bytes()[i] as char
+            );
+        }
+        // Closed forms A = 69c/128, E = 15c(1 − c)(9 + 4c)/384.
+        assert!((q[0] - 69.0 * c / 128.0).abs() < 1e-12);
+        assert!((q[4] - 15.0 * c * (1.0 - c) * (9.0 + 4.0 * c) / 384.0).abs() < 1e-9);
+    }
+}
+
+// ---- BRDF values ------------------------------------------------------------------------------
+
+/// (c, θi, θo, φ, exact reference, practical model, f_1 only); φ = 0 is the retro side.
+const BRDF_TABLE: [(f32, f32, f32, f32, f64, f64, f64); 15] = [
+    (0.5, 0.0, 0.0, 0.0, 0.060457, 0.060360, 0.053052),
+    (0.5, 60.0, 60.0, 0.0, 0.116591, 0.116543, 0.106103),
+    (0.5, 60.0, 60.0, 180.0, 0.031362, 0.031338, 0.011565),
+    (0.5, 30.0, 60.0, 90.0, 0.055579, 0.055612, 0.043897),
+    (0.5, 80.0, 80.0, 0.0, 0.320438, 0.320016, 0.305512),
+    (0.5, 80.0, 80.0, 180.0, 0.039832, 0.039500, 0.001362),
+    (0.9, 0.0, 0.0, 0.0, 0.162363, 0.161726, 0.095493),
+    (0.9, 45.0, 45.0, 0.0, 0.209519, 0.209704, 0.135047),
+    (0.9, 45.0, 45.0, 180.0, 0.131136, 0.131208, 0.042987),
+    (0.9, 80.0, 80.0, 0.0, 0.642792, 0.641274, 0.549922),
+    (0.9, 80.0, 80.0, 180.0, 0.166117, 0.163539, 0.002452),
+    (0.9, 10.0, 70.0, 0.0, 0.165503, 0.165446, 0.087660),
+    (0.99, 0.0, 0.0, 0.0, 0.265889, 0.262152, 0.105042),
+    (0.99, 60.0, 60.0, 0.0, 0.367886, 0.367805, 0.210085),
+    (0.99, 80.0, 80.0, 180.0, 0.239160, 0.233458, 0.002697),
+];
+
+#[test]
+fn brdf_values_match_the_reference_table() {
+    let mut worst_exact = 0.0f64;
+    let mut worst_practical = 0.0f64;
+    for (c, ti, to, phi, exact, practical, single) in BRDF_TABLE {
+        let (wi, wo) = (dir(ti, 0.0), dir(to, phi));
+        let e = f(&model(c, LambertSphereModel::Exact), wi, wo);
+        let p = f(&model(c, LambertSphereModel::Practical), wi, wo);
+        // Single scattering alone: the practical model at c → 0 is f_1; check f_1 through
+        // the exact first order c p(u)/(μi + μo).
+        let u = -wi.dot(wo);
+        let f1 = c as f64 * gonio_core::bsdfs::lambertsphere::phase(u) as f64 / (wi.z + wo.z) as f64;
+        assert!((f1 - single).abs() < 6e-7 + 2e-6 * single, "f_1 {f1} vs {single}");
+        println!(
+            "c {c} θi {ti} θo {to} φ {phi}: exact {e:.6} (ref {exact}) practical {p:.6} (ref {practical})"
+        );
+        worst_exact = worst_exact.max((e - exact).abs() / exact);
+        worst_practical = worst_practical.max((p - practical).abs() / practical);
+    }
+    println!("worst relative error: exact {worst_exact:.2e}, practical {worst_practical:.2e}");
+    assert!(worst_practical < 1e-5, "practical {worst_practical}");
+    assert!(worst_exact < 1e-3, "exact {worst_exact}");
+}
