@@ -58,6 +58,8 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
         "<bsdf type=\"twosided\"><bsdf type=\"diffuse\"/><bsdf type=\"plastic\"/></bsdf>",
         "<bsdf type=\"roughconductor\"><string name=\"material\" value=\"Cu\"/><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha_u\" value=\"0.05\"/><float name=\"alpha_v\" value=\"0.3\"/></bsdf>",
         "<bsdf type=\"roughconductor\"><texture name=\"alpha\" type=\"checkerboard\"><float name=\"color0\" value=\"0.02\"/><float name=\"color1\" value=\"0.6\"/></texture><texture name=\"specular_reflectance\" type=\"checkerboard\"/><boolean name=\"sample_visible\" value=\"false\"/></bsdf>",
+        "<bsdf type=\"lambertsphere\"><rgb name=\"reflectance\" value=\"0.2, 0.5, 0.9\"/></bsdf>",
+        "<bsdf type=\"lambertsphere\"><texture name=\"sphere_albedo\" type=\"checkerboard\"/><string name=\"model\" value=\"practical\"/></bsdf>",
         "<bsdf type=\"blendbsdf\"><texture name=\"weight\" type=\"checkerboard\"/><bsdf type=\"twosided\"><bsdf type=\"conductor\"/></bsdf><bsdf type=\"dielectric\"/></bsdf>",
     ];
     let mut rng = Pcg32::new(11, 5);

@@ -19,6 +19,7 @@ pub mod blendbsdf;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod lambertsphere;
 pub mod plastic;
 pub mod roughconductor;
 pub mod tabulated;
@@ -30,6 +31,7 @@ pub use blendbsdf::BlendMaterial;
 pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
+pub use lambertsphere::LambertSphereMaterial;
 pub use plastic::PlasticMaterial;
 pub use roughconductor::RoughConductorMaterial;
 pub use tabulated::TabulatedMaterial;
@@ -53,6 +55,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &thindielectric::PLUGIN,
     &plastic::PLUGIN,
     &roughconductor::PLUGIN,
+    &lambertsphere::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
