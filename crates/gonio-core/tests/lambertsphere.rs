@@ -506,3 +506,53 @@ fn the_gonioreflectometer_measures_lambertsphere_on_a_half_space_of_spheres() {
     // A Lambertian of the same albedo does not: its worst reading is off by many σ.
     assert!(worst_lambert > 10.0, "{worst_lambert}");
 }
+
+// ---- sampling ---------------------------------------------------------------------------------
+
+/// E[w²] − a² of the one-sample albedo estimator w = f cos θo/pdf, by quadrature, for the
+/// model's own pdf and for cosine sampling.
+fn estimator_variances(m: &LambertSphere, mu_i: f64) -> (f64, f64) {
+    let wi = Vec3::new((1.0 - mu_i * mu_i).sqrt() as f32, 0.0, mu_i as f32);
+    let wl = SampledWavelengths::fixed(550.0);
+    let ctx = BsdfContext::radiance();
+    let rule = Rule::graded();
+    let phis = gl(0.0, std::f64::consts::PI, 8);
+    let (mut a, mut own, mut cosine) = (0.0, 0.0, 0.0);
+    for (mu, wmu) in rule.nodes.iter().zip(&rule.weights) {
+        let s = (1.0 - mu * mu).sqrt();
+        for (phi, wphi) in &phis {
+            let wo = Vec3::new((s * phi.cos()) as f32, (s * phi.sin()) as f32, *mu as f32);
+            let fc = f(m, wi, wo) * mu;
+            let pdf = m.pdf(&ctx, wi, wo, &wl) as f64;
+            let dw = 2.0 * wmu * wphi;
+            a += dw * fc;
+            own += dw * fc * fc / pdf;
+            cosine += dw * fc * fc / (mu / std::f64::consts::PI);
+        }
+    }
+    (own - a * a, cosine - a * a)
+}
+
+#[test]
+fn sampling_beats_cosine_sampling() {
+    // The phase-function lobe follows the single scattering (its retro-reflection at grazing
+    // incidence); variance of the one-sample albedo estimator against cosine-weighted sampling
+    // (what the public implementations use): never higher, and ≥ 3× lower at μi ≤ 0.2.
+    let (mut worst, mut worst_grazing) = (0.0f64, 0.0f64);
+    for c in [0.1f32, 0.3, 0.6, 0.9, 1.0] {
+        let m = model(c, LambertSphereModel::Exact);
+        for mu in [1.0, 0.7, 0.5, 0.3, 0.2, 0.1, 0.05] {
+            let (own, cos) = estimator_variances(&m, mu);
+            println!(
+                "c {c} μi {mu}: variance {own:.3e} vs cosine {cos:.3e} (ratio {:.3})",
+                own / cos
+            );
+            worst = worst.max(own / cos);
+            if mu <= 0.2 {
+                worst_grazing = worst_grazing.max(own / cos);
+            }
+        }
+    }
+    println!("variance ratio to cosine sampling: worst {worst:.3}, worst at μi ≤ 0.2 {worst_grazing:.3}");
+    assert!(worst < 1.001 && worst_grazing < 0.34, "{worst} {worst_grazing}");
+}

@@ -44,11 +44,15 @@
 //! so `diffuse` and `lambertsphere` with one number reflect about the same total energy (the
 //! inversion is within 4 % of the true half-space's albedo); `sphere_albedo` gives c directly.
 //!
-//! Sampling (our choice): an equal mixture of the phase function about the incident direction,
-//! folded into the upper hemisphere (pdf p(u) + p(u′), u′ for ωo mirrored below the surface),
-//! which follows the single scattering and its retro-reflection, and d'Eon's "Chandra lobe"
-//! μo = ξ^(1/(1 + √μi)), pdf (1 + √μi) μo^√μi/(2π), which follows the H-function shape of the
-//! multiple scattering; the pdf is the exact mixture's.
+//! Sampling (our choice): a mixture of cosine-weighted sampling, what public implementations
+//! use and nearly exact at normal incidence, and the phase function about the incident
+//! direction folded into the upper hemisphere (pdf p(u) + p(u′), u′ for ωo mirrored below the
+//! surface), which follows the single scattering's retro-reflection; the phase lobe is chosen
+//! with probability ½(1 − μi)³, and the pdf is the exact mixture's. Measured against cosine
+//! sampling alone (`tests/lambertsphere.rs`), the albedo estimator's variance is 3–23× lower at
+//! μi ≤ 0.2, 1.1–4× lower at 0.3 ≤ μi ≤ 0.7, and the same at normal incidence. (Mixtures with
+//! d'Eon's "Chandra lobe", pdf ∝ μo^√μi, did worse than with the cosine lobe at every c and μi
+//! we measured.)
 //!
 //! One-sided (nothing unless cos θi > 0 and cos θo > 0); exactly reciprocal.
 //!
@@ -63,13 +67,20 @@ use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::frame::Frame;
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::warp::square_to_cosine_hemisphere;
 use glam::{Vec2, Vec3};
 use std::f32::consts::{FRAC_1_PI, PI};
 
 /// Smallest cosine used in the formulas (their 1/(μi + μo) at double grazing).
 const MIN_MU: f32 = 1e-4;
-/// Probability of sampling the folded phase-function lobe (the rest: the Chandra lobe).
-const PHASE_LOBE: f32 = 0.5;
+/// Probability of sampling the folded phase-function lobe (the rest: cosine-weighted) for light
+/// arriving at cosine μi: ½(1 − μi)³, none at normal incidence, where f cos θo is nearly a
+/// cosine, about half at grazing incidence, where the single scattering's retro-reflection is.
+#[inline]
+fn phase_lobe_probability(mu_i: f32) -> f32 {
+    let t = (1.0 - mu_i).clamp(0.0, 1.0);
+    0.5 * t * t * t
+}
 
 /// Which multiple-scattering solution `lambertsphere` uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -347,11 +358,14 @@ fn sample_phase_cosine(xi: f32) -> f32 {
 /// Density of the mixture sampler at `wo` (both directions above the surface).
 #[inline]
 fn mixture_pdf(wi: Vec3, wo: Vec3) -> f32 {
+    let w = phase_lobe_probability(wi.z);
+    let cosine = wo.z.max(0.0) * FRAC_1_PI;
+    if w == 0.0 {
+        return cosine;
+    }
     let folded = Vec3::new(wo.x, wo.y, -wo.z);
     let phase_lobe = phase(-wi.dot(wo)) + phase(-wi.dot(folded));
-    let k = wi.z.max(0.0).sqrt();
-    let chandra = (1.0 + k) * wo.z.max(0.0).powf(k) * (0.5 * FRAC_1_PI);
-    PHASE_LOBE * phase_lobe + (1.0 - PHASE_LOBE) * chandra
+    w * phase_lobe + (1.0 - w) * cosine
 }
 
 impl<S: SpectralValue> Bsdf for LambertSphere<S> {
@@ -384,7 +398,7 @@ impl<S: SpectralValue> Bsdf for LambertSphere<S> {
         if !ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION) || wi.z <= 0.0 {
             return None;
         }
-        let wo = if u1 < PHASE_LOBE {
+        let wo = if u1 < phase_lobe_probability(wi.z) {
             // Scatter about the travel direction −ωi by the phase function; fold below → above.
             let u = sample_phase_cosine(u2.x);
             let s = (1.0 - u * u).max(0.0).sqrt();
@@ -392,11 +406,7 @@ impl<S: SpectralValue> Bsdf for LambertSphere<S> {
             let d = Frame::from_normal(-wi).to_world(Vec3::new(s * cp, s * sp, u));
             Vec3::new(d.x, d.y, d.z.abs())
         } else {
-            let k = wi.z.sqrt();
-            let mu = u2.x.powf(1.0 / (1.0 + k));
-            let s = (1.0 - mu * mu).max(0.0).sqrt();
-            let (sp, cp) = (2.0 * PI * u2.y).sin_cos();
-            Vec3::new(s * cp, s * sp, mu)
+            square_to_cosine_hemisphere(u2)
         };
         if wo.z <= 0.0 {
             return None;
