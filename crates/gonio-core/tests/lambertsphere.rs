@@ -59,9 +59,14 @@ fn gl(a: f64, b: f64, panels: usize) -> Vec<(f64, f64)> {
 
 /// Plane albedo a(μi) = ∫ f cos θo dωo by quadrature (μo graded towards 0, φ in [0, π] × 2).
 fn plane_albedo(m: &LambertSphere, mu_i: f64) -> f64 {
+    plane_albedo_with(m, mu_i, 8)
+}
+
+/// [`plane_albedo`] with `panels` × 16 nodes in φ.
+fn plane_albedo_with(m: &LambertSphere, mu_i: f64, panels: usize) -> f64 {
     let wi = Vec3::new((1.0 - mu_i * mu_i).sqrt() as f32, 0.0, mu_i as f32);
     let rule = Rule::graded();
-    let phis = gl(0.0, std::f64::consts::PI, 8);
+    let phis = gl(0.0, std::f64::consts::PI, panels);
     let mut sum = 0.0;
     for (mu, wmu) in rule.nodes.iter().zip(&rule.weights) {
         let s = (1.0 - mu * mu).sqrt();
@@ -79,7 +84,7 @@ fn bihemispherical(m: &LambertSphere) -> f64 {
     rule.nodes
         .iter()
         .zip(&rule.weights)
-        .map(|(mu, w)| 2.0 * w * mu * plane_albedo(m, *mu))
+        .map(|(mu, w)| 2.0 * w * mu * plane_albedo_with(m, *mu, 3))
         .sum()
 }
 

@@ -163,15 +163,14 @@ impl HFunction {
         // is H → 1/(kH)); averaging successive iterates keeps the fixed point and converges.
         for _ in 0..20_000 {
             let mut change = 0.0f64;
-            for j in 0..n {
-                let mu = rule.nodes[j];
+            for (nj, mu) in next.iter_mut().zip(&rule.nodes) {
                 let s: f64 = (0..n).map(|k| wpsi[k] * h[k] / (mu + rule.nodes[k])).sum();
-                next[j] = 1.0 / (root + s);
+                *nj = 1.0 / (root + s);
             }
-            for j in 0..n {
-                let v = 0.5 * (h[j] + next[j]);
-                change = change.max((v - h[j]).abs());
-                h[j] = v;
+            for (hj, nj) in h.iter_mut().zip(&next) {
+                let v = 0.5 * (*hj + nj);
+                change = change.max((v - *hj).abs());
+                *hj = v;
             }
             if change < 1e-14 {
                 break;
@@ -239,6 +238,7 @@ fn p_of(x: &Mode0Coefficients, l: usize, mu: f64) -> f64 {
 }
 
 /// Residuals of the ψ-equations at 20 values of μ for the coefficients `x`.
+#[allow(clippy::needless_range_loop)] // l and k index several arrays at once
 fn mode0_residuals(c: f64, h0: &HFunction, rule: &Rule, x: &Mode0Coefficients, out: &mut Vec<f64>) {
     out.clear();
     let hn = h0.values();
@@ -325,6 +325,7 @@ pub fn mode0_coefficients(
 }
 
 /// Gaussian elimination with partial pivoting on an augmented 6 × 7 system.
+#[allow(clippy::needless_range_loop)] // row operations read as in the textbook
 fn solve6(mut a: [[f64; 7]; 6]) -> Option<[f64; 6]> {
     for col in 0..6 {
         let piv = (col..6).max_by(|&i, &j| a[i][col].abs().total_cmp(&a[j][col].abs()))?;
@@ -437,6 +438,7 @@ impl MuPosition {
 
 impl Tables {
     /// Builds every table (a fraction of a second; see [`tables`]).
+    #[allow(clippy::needless_range_loop)] // ghost rows are written from the rows after them
     pub fn build() -> Self {
         let rule = Rule::graded();
         let mut h = [
