@@ -62,7 +62,7 @@
 //! | `sphere_albedo` | spectrum or texture | (c directly, instead of `reflectance`)    |
 //! | `model`         | string              | `exact` (or `practical`)                  |
 
-use super::lambertsphere_h::{CPosition, MuPosition, tables};
+use super::lambertsphere_h::{CPosition, MuPosition, Tables, tables};
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::frame::Frame;
 use crate::spectra::{SpectralValue, Spectrum};
@@ -190,11 +190,18 @@ impl<S: SpectralValue> LambertSphere<S> {
     fn value(&self, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let g = Geometry::new(wi, wo);
         let c = self.sphere_albedo(wl);
+        // A grey albedo (the same c at the four wavelengths) is evaluated once.
+        let grey = c[0] == c[1] && c[0] == c[2] && c[0] == c[3];
         let f = match self.model {
             LambertSphereModel::Exact => {
-                let (pi, po) = (MuPosition::new(g.mi), MuPosition::new(g.mo));
-                c.map(|c| g.exact(c, &pi, &po))
+                let (pi, po, t) = (MuPosition::new(g.mi), MuPosition::new(g.mo), tables());
+                if grey {
+                    SampledSpectrum::splat(g.exact(c[0], t, &pi, &po))
+                } else {
+                    c.map(|c| g.exact(c, t, &pi, &po))
+                }
             }
+            LambertSphereModel::Practical if grey => SampledSpectrum::splat(g.practical(c[0])),
             LambertSphereModel::Practical => c.map(|c| g.practical(c)),
         };
         f.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 })
@@ -207,12 +214,14 @@ pub(crate) struct Geometry {
     /// μi, μo (clamped to ≥ [`MIN_MU`]).
     mi: f32,
     mo: f32,
-    /// ωi·ωo.
-    dot: f32,
     /// S cos φ = ωi·ωo − μiμo.
     s_cos: f32,
     /// S² = (1 − μi²)(1 − μo²).
     s2: f32,
+    /// p(−ωi·ωo)/(μi + μo): f_1 per unit c.
+    single: f32,
+    /// f⁽⁰⁾_ss per unit c.
+    f0_ss: f32,
 }
 
 impl Geometry {
@@ -222,26 +231,30 @@ impl Geometry {
         let dot = wi.dot(wo).clamp(-1.0, 1.0);
         let s2 = ((1.0 - mi * mi) * (1.0 - mo * mo)).max(0.0);
         let s_cos = (dot - wi.z * wo.z).clamp(-s2.sqrt(), s2.sqrt());
+        let (a, b) = (mi, mo);
         Self {
             mi,
             mo,
-            dot,
             s_cos,
             s2,
+            // The exact first order, with the untruncated phase function.
+            single: phase(-dot) / (a + b),
+            // The first order of the truncated phase function, mode 0.
+            f0_ss: (207.0 + 256.0 * a * b - 45.0 * (a * a + b * b) + 135.0 * a * a * b * b)
+                / (768.0 * PI * (a + b)),
         }
     }
 
-    /// The exact first order c p(u)/(μi + μo), with the untruncated phase function.
+    /// The exact first order c p(u)/(μi + μo).
     #[inline]
     fn single(&self, c: f32) -> f32 {
-        c * phase(-self.dot) / (self.mi + self.mo)
+        c * self.single
     }
 
     /// First order of the truncated phase function, mode 0: f⁽⁰⁾_ss.
     #[inline]
     fn f0_ss(&self, c: f32) -> f32 {
-        let (a, b) = (self.mi, self.mo);
-        c * (207.0 + 256.0 * a * b - 45.0 * (a * a + b * b) + 135.0 * a * a * b * b) / (768.0 * PI * (a + b))
+        c * self.f0_ss
     }
 
     /// Q(μi, μo) of mode 0 from (B, C, D, F), with A = 69c/128 and E = 15c(1 − c)(9 + 4c)/384.
@@ -264,8 +277,7 @@ impl Geometry {
 
     /// The exact model at albedo c.
     #[inline]
-    fn exact(&self, c: f32, pi: &MuPosition, po: &MuPosition) -> f32 {
-        let t = tables();
+    fn exact(&self, c: f32, t: &Tables, pi: &MuPosition, po: &MuPosition) -> f32 {
         let cp = CPosition::new(c);
         let k = t.constants(&cp);
         let h = |m| t.h(m, pi, &cp) * t.h(m, po, &cp);
@@ -283,7 +295,8 @@ impl Geometry {
         let c = c.clamp(0.0, 1.0);
         let [b, cc, d, f] = practical_q(c as f64);
         let sum = self.mi + self.mo;
-        let h0 = h0_fit(self.mi, c) * h0_fit(self.mo, c);
+        let h0 = H0Fit::new(c);
+        let h0 = h0.at(self.mi) * h0.at(self.mo);
         let f0 = h0 * self.q(c, [b, cc, d, f]) / (2.0 * PI * sum) - self.f0_ss(c);
         let l = (-0.058_901_071_670_219_53 * c as f64 - 0.004_740_543_453_386_809 * (c * c) as f64) as f32;
         let m = 1.0 + 0.44 * c;
@@ -314,18 +327,44 @@ fn practical_q(c: f64) -> [f32; 4] {
     [b as f32, cc as f32, d as f32, f as f32]
 }
 
+/// The paper's fit of H⁽⁰⁾ (Eq. 37) at one albedo c: H0(μ) ≈ (1 + aμᵈ)/(1 + a√(1 − 2I₀)μᵈ).
+#[derive(Clone, Copy, Debug)]
+pub struct H0Fit {
+    a: f64,
+    d: f64,
+    root: f64,
+}
+
+impl H0Fit {
+    /// The fit's constants at albedo c.
+    #[inline]
+    pub fn new(c: f32) -> Self {
+        let c = c as f64;
+        let cs = (1.0 - c).max(0.0).sqrt();
+        let a = (8.216_443_463_470_172 + 1.501_116_252_342_486 * cs.powf(6.054_351_911_707_695))
+            / (4.175_932_557_866_179 - 1.212_221_686_519_981_3 * cs);
+        let d = (7.773_097_842_804_312 - 0.565_810_810_218_807_5 * cs.powf(0.961_546_039_332_483_6))
+            / (8.659_120_811_349_371 - 0.159_974_305_412_383_22 * cs.powi(7));
+        let i0 = 89.0 * c / 288.0 + 59.0 * c * c / 288.0 - c * c * c / 72.0;
+        Self {
+            a,
+            d,
+            root: (1.0 - 2.0 * i0).max(0.0).sqrt(),
+        }
+    }
+
+    /// H0(μ).
+    #[inline]
+    pub fn at(&self, mu: f32) -> f32 {
+        let md = (mu as f64).powf(self.d);
+        ((1.0 + self.a * md) / (1.0 + self.a * self.root * md)) as f32
+    }
+}
+
 /// The paper's fit of H⁽⁰⁾ (Eq. 37).
 #[inline]
 pub fn h0_fit(mu: f32, c: f32) -> f32 {
-    let (mu, c) = (mu as f64, c as f64);
-    let cs = (1.0 - c).max(0.0).sqrt();
-    let a = (8.216_443_463_470_172 + 1.501_116_252_342_486 * cs.powf(6.054_351_911_707_695))
-        / (4.175_932_557_866_179 - 1.212_221_686_519_981_3 * cs);
-    let d = (7.773_097_842_804_312 - 0.565_810_810_218_807_5 * cs.powf(0.961_546_039_332_483_6))
-        / (8.659_120_811_349_371 - 0.159_974_305_412_383_22 * cs.powi(7));
-    let i0 = 89.0 * c / 288.0 + 59.0 * c * c / 288.0 - c * c * c / 72.0;
-    let md = mu.powf(d);
-    ((1.0 + a * md) / (1.0 + a * (1.0 - 2.0 * i0).max(0.0).sqrt() * md)) as f32
+    H0Fit::new(c).at(mu)
 }
 
 /// The paper's fit of H⁽¹⁾ (Eq. 28).
