@@ -8,10 +8,10 @@
 //! angle, μ = cos θ and S cos φ = ωi·ωo − μiμo (φ = 0: ωo on the side of ωi, retro-reflection),
 //!
 //! ```text
-//!     p(u) = 2(√(1 − u²) − u arccos u)/(3π²)                    (paper Eq. 5, per steradian)
+//!     p(u) = 2(√(1 − u²) − u arccos u)/(3π²)                    (per steradian)
 //!     f_1  = c p(u)/(μi + μo)                                     exact single scattering
 //!     f    = f_1 + Σₘ εₘ cos(mφ) (f⁽ᵐ⁾ − f⁽ᵐ⁾_ss),  m = 0, 1, 2,  ε = (1, 2, 2)
-//!     f⁽⁰⁾ = H⁽⁰⁾(μi)H⁽⁰⁾(μo) Q(μi, μo)/(2π(μi + μo))              (Eqs. 24–26)
+//!     f⁽⁰⁾ = H⁽⁰⁾(μi)H⁽⁰⁾(μo) Q(μi, μo)/(2π(μi + μo))
 //!     f⁽¹⁾ = cH⁽¹⁾(μi)H⁽¹⁾(μo) S ((1 + lμi)(1 + lμo) + (45/64)m μiμo)/(6π(μi + μo))   (Eq. 27)
 //!     f⁽²⁾ = 15c H⁽²⁾(μi)H⁽²⁾(μo) S²/(512π(μi + μo))
 //! ```
@@ -42,7 +42,7 @@
 //! ```
 //!
 //! so `diffuse` and `lambertsphere` with one number reflect about the same total energy (the
-//! inversion is within 4 % of the true half-space's albedo); `sphere_albedo` gives c directly.
+//! inversion is within about 4 % of the true half-space's albedo); `sphere_albedo` gives c directly.
 //!
 //! Sampling (our choice): a mixture of cosine-weighted sampling, what public implementations
 //! use and nearly exact at normal incidence, and the phase function about the incident
@@ -120,8 +120,8 @@ pub fn sphere_albedo_from_reflectance(kd: f32) -> f32 {
     ((1.0 - t.powf(2.73556)) / (1.0 - 0.184096 * t.powf(2.48423))) as f32
 }
 
-/// The Lambert-sphere phase function p(u) per steradian, u the cosine of the scattering angle
-/// (paper Eq. 5): 2(√(1 − u²) − u arccos u)/(3π²).
+/// The Lambert-sphere phase function p(u) per steradian, u the cosine of the scattering angle:
+/// 2(√(1 − u²) − u arccos u)/(3π²).
 #[inline]
 pub fn phase(u: f32) -> f32 {
     let u = u.clamp(-1.0, 1.0);

@@ -3,8 +3,8 @@
 //! m = 0 and m = 1, computed numerically in double precision and tabulated once on a (μ, c) grid.
 //!
 //! The truncated phase function P̃(u) = 1 − (4/3)P₁(u) + (5/16)P₂(u) (d'Eon 2021, "An Analytic
-//! BRDF for Materials with Spherical Lambertian Scatterers", CGF 40(4), §4) has the
-//! characteristic functions (Chandrasekhar 1960, *Radiative Transfer*, §48)
+//! BRDF for Materials with Spherical Lambertian Scatterers", CGF 40(4)) has the
+//! characteristic functions (Chandrasekhar 1960, *Radiative Transfer*)
 //!
 //! ```text
 //!     Ψ⁽⁰⁾(μ) = c/384·(−15(c − 1)(4c + 9)μ⁴ + (c(20c + 281) − 346)μ² + 207)
@@ -12,8 +12,9 @@
 //!     Ψ⁽²⁾(μ) = 15c/256·(μ² − 1)²
 //! ```
 //!
-//! and each H⁽ᵐ⁾ solves H(μ) = 1 + μH(μ)∫₀¹ Ψ(μ′)H(μ′)/(μ + μ′) dμ′ (Chandrasekhar eq. V.2). We
-//! iterate its equivalent form (Chandrasekhar eq. V.37, with ∫ΨH = 1 − √(1 − 2∫Ψ))
+//! and each H⁽ᵐ⁾ solves H(μ) = 1 + μH(μ)∫₀¹ Ψ(μ′)H(μ′)/(μ + μ′) dμ′ (Chandrasekhar). The paper
+//! evaluates it through K⁽ᵐ⁾ (Eqs. 24–26) and a Fock-type integral; we iterate the equation's
+//! equivalent form (with Chandrasekhar's identity ∫ΨH = 1 − √(1 − 2∫Ψ))
 //!
 //! ```text
 //!     1/H(μ) = √(1 − 2∫₀¹Ψ) + ∫₀¹ μ′Ψ(μ′)H(μ′)/(μ + μ′) dμ′
@@ -26,7 +27,7 @@
 //! (45/64)m μiμo) with, from the moments aₙ = ∫₀¹H⁽¹⁾μⁿ dμ,
 //! l = −5c(4c + 9)(a₁ − a₃)/(64(3 + c(a₀ − a₂))) and m = 1 + 4c/9 − 64l²/45.
 //!
-//! **Mode 0** (paper Eqs. 24–26 and §4.3): f⁽⁰⁾ = H⁽⁰⁾(μi)H⁽⁰⁾(μo)Q(μi, μo)/(2π(μi + μo)) with
+//! **Mode 0**: f⁽⁰⁾ = H⁽⁰⁾(μi)H⁽⁰⁾(μo)Q(μi, μo)/(2π(μi + μo)) with
 //! Q = (c/2)Σₗ wₗ pₗ(μi)pₗ(μo), w = (1, 4/3, 5/16), where ψₗ = H⁽⁰⁾pₗ are Chandrasekhar's
 //! ψ-functions of the three Legendre terms and pₗ are quadratics with pₗ(0) = Pₗ(0). The six
 //! unknown coefficients solve the ψ-equations
