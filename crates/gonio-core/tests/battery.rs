@@ -9,9 +9,10 @@
 
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
+use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, PrincipledThin, RoughConductor,
-    RoughDielectric, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
+    RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::{
     Anisotropic, DiffuseTransmitter, EnergyGain, EvalPdfMismatch, FalselyAnisotropic, MinimalGlass,
@@ -26,7 +27,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 /// Upper bound on the battery runs on correct models in this file (Šidák family size).
-const RUNS: usize = 64;
+const RUNS: usize = 48;
 
 fn config() -> CheckConfig {
     CheckConfig {
@@ -414,6 +415,32 @@ fn principledthin_diffuse_transmission_sheen() {
     p.rates.specular_reflectance = 2.0;
     p.rates.diffuse_transmittance = 0.8;
     assert_passes("principledthin diff_trans 1.2 sheen 0.6 flatness 0.5 η=1.6", &p);
+}
+
+// ---- lambertsphere ---------------------------------------------------------------------------
+
+#[test]
+fn lambertsphere_default_exact() {
+    // reflectance k_d = 0.5 (c = 0.879 by Eq. 46), exact multiple scattering.
+    assert_passes("lambertsphere default", &LambertSphere::default());
+}
+
+#[test]
+fn lambertsphere_exact_white_spheres() {
+    // c = 1: the lossless half-space, the energy row's hardest case.
+    let m = LambertSphere::new(
+        Spectrum::Constant(1.0),
+        AlbedoParameter::Sphere,
+        LambertSphereModel::Exact,
+    );
+    assert_passes("lambertsphere exact c=1", &m);
+}
+
+#[test]
+fn lambertsphere_practical_spectral_reflectance() {
+    let kd = piecewise(&[400.0, 0.05, 500.0, 0.4, 600.0, 0.9, 700.0, 0.98]);
+    let m = LambertSphere::new(kd, AlbedoParameter::Reflectance, LambertSphereModel::Practical);
+    assert_passes("lambertsphere practical k_d 0.05..0.98", &m);
 }
 
 // ---- dielectric -------------------------------------------------------------------------------

@@ -8,6 +8,7 @@
 //! rough dielectrics (the same roughness, any index pair, dispersive or not, tints), `principled`
 //! and `principledthin` (roughness from 1e-4 to 1, every weight in its range, η and the
 //! sampling rates),
+//! Lambert-sphere half-spaces (both models, k_d or c in [0, 1]),
 //! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
@@ -18,9 +19,10 @@
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
+use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, PrincipledThin, RoughConductor,
-    RoughDielectric, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
+    RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
@@ -64,6 +66,11 @@ enum Spec {
         alpha_u: f32,
         alpha_v: f32,
         visible: bool,
+    },
+    LambertSphere {
+        albedo: SpecSpectrum,
+        sphere: bool,
+        practical: bool,
     },
     Dielectric {
         int: f32,
@@ -233,6 +240,13 @@ fn leaf() -> impl Strategy<Value = Spec> {
                     }
                 }
             ),
+        (reflectance(), any::<bool>(), any::<bool>()).prop_map(|(albedo, sphere, practical)| {
+            Spec::LambertSphere {
+                albedo,
+                sphere,
+                practical,
+            }
+        }),
         (ior_pair(), unit(), unit(), any::<bool>()).prop_map(|((int, ext), refl, trans, dispersive)| {
             Spec::Dielectric {
                 int,
@@ -390,6 +404,23 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             r.specular_reflectance = Spectrum::Constant(*refl);
             r.specular_transmittance = Spectrum::Constant(*trans);
             f(&r)
+        }
+        Spec::LambertSphere {
+            albedo,
+            sphere,
+            practical,
+        } => {
+            let kind = if *sphere {
+                AlbedoParameter::Sphere
+            } else {
+                AlbedoParameter::Reflectance
+            };
+            let model = if *practical {
+                LambertSphereModel::Practical
+            } else {
+                LambertSphereModel::Exact
+            };
+            f(&LambertSphere::new(albedo.build(), kind, model))
         }
         Spec::Dielectric {
             int,

@@ -66,6 +66,8 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
         "<bsdf type=\"principled\"><texture name=\"base_color\" type=\"checkerboard\"/><texture name=\"roughness\" type=\"checkerboard\"><float name=\"color0\" value=\"0.05\"/><float name=\"color1\" value=\"0.7\"/></texture><texture name=\"metallic\" type=\"checkerboard\"/><float name=\"eta\" value=\"1.33\"/></bsdf>",
         "<bsdf type=\"principledthin\"><rgb name=\"base_color\" value=\"0.7, 0.1, 0.1\"/><float name=\"roughness\" value=\"0.15\"/><float name=\"spec_tint\" value=\"0.1\"/><float name=\"anisotropic\" value=\"0.5\"/><float name=\"spec_trans\" value=\"0.8\"/><float name=\"diff_trans\" value=\"0.3\"/><float name=\"eta\" value=\"1.33\"/><float name=\"sheen\" value=\"0.4\"/></bsdf>",
         "<bsdf type=\"principledthin\"><texture name=\"base_color\" type=\"checkerboard\"/><texture name=\"diff_trans\" type=\"checkerboard\"><float name=\"color0\" value=\"0.2\"/><float name=\"color1\" value=\"1.8\"/></texture><texture name=\"eta\" type=\"checkerboard\"><float name=\"color0\" value=\"1.2\"/><float name=\"color1\" value=\"1.6\"/></texture><float name=\"spec_trans\" value=\"0.5\"/></bsdf>",
+        "<bsdf type=\"lambertsphere\"><rgb name=\"reflectance\" value=\"0.2, 0.5, 0.9\"/></bsdf>",
+        "<bsdf type=\"lambertsphere\"><texture name=\"sphere_albedo\" type=\"checkerboard\"/><string name=\"model\" value=\"practical\"/></bsdf>",
         "<bsdf type=\"blendbsdf\"><texture name=\"weight\" type=\"checkerboard\"/><bsdf type=\"twosided\"><bsdf type=\"conductor\"/></bsdf><bsdf type=\"dielectric\"/></bsdf>",
     ];
     let mut rng = Pcg32::new(11, 5);

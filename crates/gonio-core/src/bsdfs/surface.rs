@@ -20,8 +20,8 @@
 
 use super::roughplastic::{RoughCoat, RoughPlastic};
 use super::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, Principled, PrincipledThin, RoughConductor,
-    RoughDielectric, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
+    RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::ior::SampledIor;
@@ -56,6 +56,8 @@ pub enum LeafBsdf<'a> {
     Principled(Principled<SampledSpectrum>),
     /// `principledthin`.
     PrincipledThin(PrincipledThin<SampledSpectrum>),
+    /// `lambertsphere`.
+    LambertSphere(LambertSphere<SampledSpectrum>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
 }
@@ -75,6 +77,7 @@ macro_rules! with_leaf {
             LeafBsdf::RoughDielectric($b) => $body,
             LeafBsdf::Principled($b) => $body,
             LeafBsdf::PrincipledThin($b) => $body,
+            LeafBsdf::LambertSphere($b) => $body,
             LeafBsdf::Tabulated($b) => {
                 let $b: &Tabulated = $b;
                 $body

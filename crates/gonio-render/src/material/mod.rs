@@ -19,6 +19,7 @@ pub mod blendbsdf;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod lambertsphere;
 pub mod plastic;
 pub mod principled;
 pub mod principledthin;
@@ -34,6 +35,7 @@ pub use blendbsdf::BlendMaterial;
 pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
+pub use lambertsphere::LambertSphereMaterial;
 pub use plastic::PlasticMaterial;
 pub use principled::PrincipledMaterial;
 pub use principledthin::PrincipledThinMaterial;
@@ -65,6 +67,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &roughdielectric::PLUGIN,
     &principled::PLUGIN,
     &principledthin::PLUGIN,
+    &lambertsphere::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
