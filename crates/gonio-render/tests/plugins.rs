@@ -44,6 +44,7 @@ fn required(name: &str) -> &'static str {
     match name {
         "obj" => "<string name=\"filename\" value=\"quad.obj\"/>",
         "ply" => "<string name=\"filename\" value=\"quad_ascii.ply\"/>",
+        "serialized" => "<string name=\"filename\" value=\"quad.serialized\"/>",
         "bitmap" | "envmap" => "<string name=\"filename\" value=\"rgbw.png\"/>",
         "blackbody" => "<float name=\"temperature\" value=\"3000\"/>",
         _ => "",

@@ -58,6 +58,7 @@ pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
     &shape::cube::PLUGIN,
     &shape::obj::PLUGIN,
     &shape::ply::PLUGIN,
+    &shape::serialized::PLUGIN,
 ];
 
 /// `<emitter>` plugins attached to a shape (nested in a `<shape>`).
