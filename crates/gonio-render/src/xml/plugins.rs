@@ -171,6 +171,9 @@ impl<'d> Builder<'d> {
                         self.texture_object(idx, RgbKind::Unbounded, &obj.loc)?;
                     }
                 }
+                // Declared at the top with an id and referenced later (Mitsuba's
+                // `<sampler id="s"/>` … `<ref id="s"/>` inside a sensor): built where used.
+                Tag::Film | Tag::Sampler | Tag::Rfilter if referenced.contains(&idx) => {}
                 Tag::Film | Tag::Sampler | Tag::Rfilter => {
                     return Err(err(
                         &obj.loc,
