@@ -41,6 +41,9 @@ pub static RFILTER_PLUGINS: &[&Plugin<FilterDesc>] = &[
     &rfilter::r#box::PLUGIN,
     &rfilter::tent::PLUGIN,
     &rfilter::gaussian::PLUGIN,
+    &rfilter::mitchell::PLUGIN,
+    &rfilter::mitchell::CATMULLROM,
+    &rfilter::lanczos::PLUGIN,
 ];
 
 /// `<sampler>` plugins (nested in a sensor).
