@@ -101,8 +101,42 @@ fn prim_ids(p: &Prim) -> (u32, u32) {
     }
 }
 
+/// The smallest direction component magnitude the slab test divides by; smaller ones (zeros
+/// included) are replaced by this magnitude with the sign the traversal's octant sees. A ray
+/// moving `t·1e-20` sideways stays far inside the boxes' padding for any distance a scene has,
+/// and `extent · 1e20` stays finite for any node extent below 1e18 (no `0 · ∞` = NaN).
+const MIN_DIR_COMPONENT: f32 = 1e-20;
+
+/// `1 / d` for the slab test, with the sign of the octant obvhs picks the box faces by
+/// (`d < 0.0`): `-0.0` counts as positive there, so its inverse must be positive too.
+/// (`obvhs::ray::Ray::new` returns `-1/ε` for `-0.0`, which flips that slab, so rays such as
+/// the shadow ray `-(0, 0, -1)` towards a straight-down directional light missed every box;
+/// it also replaces components below `f32::EPSILON` by `±ε`, which narrows their slabs.)
+#[inline]
+fn slab_inverse(d: f32) -> f32 {
+    if d.abs() >= MIN_DIR_COMPONENT {
+        1.0 / d
+    } else if d < 0.0 {
+        -1.0 / MIN_DIR_COMPONENT
+    } else {
+        1.0 / MIN_DIR_COMPONENT
+    }
+}
+
+/// The obvhs ray for `ray`, its inverse direction made consistent with the octant
+/// ([`slab_inverse`]).
 fn to_obvhs(ray: &Ray) -> obvhs::ray::Ray {
-    obvhs::ray::Ray::new(Vec3A::from(ray.o), Vec3A::from(ray.d), 0.0, ray.tmax)
+    obvhs::ray::Ray {
+        origin: Vec3A::from(ray.o),
+        direction: Vec3A::from(ray.d),
+        inv_direction: Vec3A::new(
+            slab_inverse(ray.d.x),
+            slab_inverse(ray.d.y),
+            slab_inverse(ray.d.z),
+        ),
+        tmin: 0.0,
+        tmax: ray.tmax,
+    }
 }
 
 impl Accel {

@@ -8,7 +8,13 @@
 //! * `box` (radius r, default ½): `f(x) = 1` for `−r ≤ x < r` (half-open, so a sample on a pixel
 //!   border belongs to exactly one pixel);
 //! * `tent` (radius r, default 1): `f(x) = max(0, 1 − |x|/r)`;
-//! * `gaussian` (σ, default ½, radius 4σ): `f(x) = max(0, exp(−x²/2σ²) − exp(−r²/2σ²))`.
+//! * `gaussian` (σ, default ½, radius 4σ): `f(x) = max(0, exp(−x²/2σ²) − exp(−r²/2σ²))`;
+//! * `mitchell` (B, C; default ⅓, ⅓) and `catmullrom` (B = 0, C = ½), radius 2 (Mitchell and
+//!   Netravali 1988): with t = |x|, `f = ((12 − 9B − 6C)t³ + (−18 + 12B + 6C)t² + 6 − 2B)/6` for
+//!   t < 1, `((−B − 6C)t³ + (6B + 30C)t² + (−12B − 48C)t + 8B + 24C)/6` for 1 ≤ t < 2, else 0;
+//! * `lanczos` (a lobes, default 3, radius a): `f(x) = sinc(πx)·sinc(πx/a)` for |x| < a.
+//!
+//! The last two are negative in places, as in Mitsuba; a pixel is still `Σ w·c / Σ w`.
 //!
 //! Threads render into [`FilmTile`]s (a block of pixels plus the margin the filter reaches) and
 //! the tiles are added into the [`Film`] with [`Film::merge`]. The film adds in `f64` and in the
@@ -68,12 +74,47 @@ impl Kernel {
             }
             FilterDesc::Tent { radius } => (1.0 - x.abs() / radius).max(0.0),
             FilterDesc::Gaussian { .. } => ((self.gauss_alpha * x * x).exp() - self.gauss_bias).max(0.0),
+            FilterDesc::Mitchell { b, c } => {
+                let t = x.abs();
+                if t < 1.0 {
+                    ((12.0 - 9.0 * b - 6.0 * c) * t * t * t
+                        + (-18.0 + 12.0 * b + 6.0 * c) * t * t
+                        + (6.0 - 2.0 * b))
+                        / 6.0
+                } else if t < 2.0 {
+                    ((-b - 6.0 * c) * t * t * t
+                        + (6.0 * b + 30.0 * c) * t * t
+                        + (-12.0 * b - 48.0 * c) * t
+                        + (8.0 * b + 24.0 * c))
+                        / 6.0
+                } else {
+                    0.0
+                }
+            }
+            FilterDesc::Lanczos { lobes } => {
+                let a = lobes as f32;
+                if x.abs() >= a {
+                    0.0
+                } else {
+                    sinc(std::f32::consts::PI * x) * sinc(std::f32::consts::PI * x / a)
+                }
+            }
         }
     }
 
     /// How many pixels beyond a block the filter reaches.
     fn margin(&self) -> u32 {
         (self.radius - 0.5).max(0.0).ceil() as u32
+    }
+}
+
+/// sin(x)/x, 1 at 0.
+#[inline]
+fn sinc(x: f32) -> f32 {
+    if x.abs() < 1e-4 {
+        1.0 - x * x / 6.0
+    } else {
+        x.sin() / x
     }
 }
 

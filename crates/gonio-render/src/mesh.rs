@@ -1,4 +1,5 @@
-//! Triangle meshes from files (`obj`, `ply`) and Mitsuba's `cube`.
+//! Triangle meshes from files (`obj`, `ply`, Mitsuba's `serialized` in [`serialized`]) and
+//! Mitsuba's `cube`.
 //!
 //! * OBJ: `tobj`, triangulated, one index per vertex (position/normal/uv merged); all objects of
 //!   the file become one mesh. `flip_tex_coords` (Mitsuba default true for OBJ) maps v → 1 − v.
@@ -11,6 +12,8 @@
 //!   `vertex_index`) lists, fan-triangulated; other elements and properties are skipped.
 //!
 //! Every error names the file.
+
+pub mod serialized;
 
 use crate::scene::TriangleMesh;
 use glam::{Vec2, Vec3};

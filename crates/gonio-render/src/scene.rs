@@ -117,6 +117,18 @@ pub enum FilterDesc {
         /// Standard deviation, pixels.
         stddev: f32,
     },
+    /// `mitchell` (B = C = 1/3 by default) and `catmullrom` (B = 0, C = ½): radius 2.
+    Mitchell {
+        /// The cubic's B.
+        b: f32,
+        /// The cubic's C.
+        c: f32,
+    },
+    /// `lanczos`, radius = lobes (default 3).
+    Lanczos {
+        /// Number of lobes.
+        lobes: u32,
+    },
 }
 
 impl Default for FilterDesc {
@@ -131,6 +143,8 @@ impl FilterDesc {
         match *self {
             FilterDesc::Box { radius } | FilterDesc::Tent { radius } => radius,
             FilterDesc::Gaussian { stddev } => 4.0 * stddev,
+            FilterDesc::Mitchell { .. } => 2.0,
+            FilterDesc::Lanczos { lobes } => lobes as f32,
         }
     }
 }

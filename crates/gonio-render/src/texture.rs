@@ -235,6 +235,23 @@ pub fn uplift(rgb: [f32; 3], kind: RgbKind) -> Spectrum {
     }
 }
 
+/// An emission texel (an environment map's) from linear sRGB, as Mitsuba's spectral `envmap`
+/// uplifts it: scale = 2·max(rgb), the table's sigmoid of rgb/scale (no Newton polish: this runs
+/// once per texel), × D65 of unit luminance. Negative or non-finite components count as 0.
+pub fn uplift_emission_texel(rgb: [f32; 3]) -> Spectrum {
+    let rgb = rgb.map(|v| if v.is_finite() { v.max(0.0) } else { 0.0 });
+    let m = rgb[0].max(rgb[1]).max(rgb[2]);
+    if m <= 0.0 {
+        return Spectrum::Constant(0.0);
+    }
+    let scale = 2.0 * m;
+    Spectrum::Rgb(RgbSpectrum {
+        sigmoid: srgb_to_sigmoid(rgb.map(|v| v / scale)),
+        scale,
+        kind: RgbKind::Illuminant,
+    })
+}
+
 impl Texture {
     /// A constant texture.
     pub fn constant(v: f32) -> Self {

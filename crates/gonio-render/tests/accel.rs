@@ -261,3 +261,125 @@ fn shadow_rays_between_surfaces_see_neither_endpoint_surface() {
     }
     assert!(tested > 20_000, "{tested}");
 }
+
+/// Directions with exactly-zero components, of both signs: the six axes and the twelve diagonals
+/// of the coordinate planes, and a few with tiny components. A negated axis direction such as `-(0, 0, -1)` carries `-0.0`
+/// components, which is how a shadow ray towards a straight-down directional light is made.
+fn axis_aligned_directions() -> Vec<Vec3> {
+    let mut dirs = Vec::new();
+    for axis in 0..3 {
+        for s in [1.0f32, -1.0] {
+            let mut d = Vec3::ZERO;
+            d[axis] = s;
+            dirs.push(d);
+            dirs.push(-d); // -0.0 in the other two components
+            let mut e = Vec3::splat(-0.0);
+            e[axis] = s;
+            dirs.push(e);
+        }
+    }
+    let h = std::f32::consts::FRAC_1_SQRT_2;
+    for zero in 0..3 {
+        for (sa, sb) in [(1.0f32, 1.0f32), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+            for z in [0.0f32, -0.0] {
+                let mut d = Vec3::ZERO;
+                d[zero] = z;
+                d[(zero + 1) % 3] = sa * h;
+                d[(zero + 2) % 3] = sb * h;
+                dirs.push(d);
+            }
+        }
+    }
+    // Tiny components, which a slab test must not round to a narrower slab.
+    for tiny in [1e-9f32, -1e-9, 1e-30, -1e-30] {
+        dirs.push(Vec3::new(tiny, -tiny, 1.0));
+        dirs.push(Vec3::new(-1.0, tiny, tiny));
+    }
+    dirs
+}
+
+#[test]
+fn axis_aligned_rays_agree_with_brute_force_for_every_query() {
+    let mut rng = Rng(4321);
+    let shapes = random_scene(&mut rng);
+    let accel = Accel::new(shapes.clone());
+    let brute = BruteForce::new(shapes);
+    let dirs = axis_aligned_directions();
+    let (mut hits, mut occluded) = (0, 0);
+    for i in 0..6000 {
+        let d = dirs[i % dirs.len()];
+        let mut ray = Ray::new(rng.v3(-7.0, 7.0), d);
+        if i % 3 == 0 {
+            ray.tmax = rng.range(0.5, 6.0);
+        }
+        let a = accel.intersect(&ray).map(|h| (h.t, h.shape, h.prim));
+        let b = brute.intersect(&ray).map(|h| (h.t, h.shape, h.prim));
+        match (a, b) {
+            (None, None) => {}
+            (Some(a), Some(b)) => {
+                hits += 1;
+                assert!(
+                    (a.0 - b.0).abs() <= 1e-5 * a.0.max(1.0),
+                    "ray {i} {ray:?}: {a:?} vs {b:?}"
+                );
+            }
+            _ => panic!("closest hit, ray {i} {ray:?}: accel {a:?} vs brute {b:?}"),
+        }
+        let occ = accel.occluded(&ray);
+        assert_eq!(occ, b.is_some(), "occlusion, ray {i} {ray:?}");
+        occluded += occ as u32;
+        let mut ta = Vec::new();
+        accel.for_each_hit(&ray, &mut |h| {
+            ta.push((h.shape, h.prim));
+            false
+        });
+        let mut tb = Vec::new();
+        brute.for_each_hit(&ray, &mut |h| {
+            tb.push((h.shape, h.prim));
+            false
+        });
+        ta.sort();
+        tb.sort();
+        assert_eq!(ta, tb, "any-hit, ray {i} {ray:?}");
+    }
+    assert!(
+        hits > 1500 && occluded > 1500,
+        "the scene should be hit often: {hits}"
+    );
+}
+
+#[test]
+fn straight_up_shadow_ray_is_blocked_by_a_sphere_above() {
+    // The shadow ray towards a directional light with direction (0, 0, -1) is -(0, 0, -1),
+    // whose x and y are -0.0; a unit sphere above the origin must block it.
+    let sphere = shape(
+        Geometry::Sphere {
+            center: Vec3::new(0.0, 0.0, 3.0),
+            radius: 1.0,
+        },
+        Affine3A::IDENTITY,
+    );
+    let ground = shape(
+        Geometry::Rectangle,
+        Affine3A::from_scale(Vec3::new(10.0, 10.0, 1.0)),
+    );
+    let shapes: Vec<WorldShape> = [sphere, ground]
+        .iter()
+        .map(|s| WorldShape::from_scene(s, "s").unwrap())
+        .collect();
+    let accel = Accel::new(shapes);
+    for o in [Vec3::new(0.0, 0.0, 1e-4), Vec3::new(0.3, -0.2, 1e-4)] {
+        let ray = Ray::new(o, -Vec3::new(0.0, 0.0, -1.0));
+        assert!(ray.d.x.is_sign_negative() && ray.d.y.is_sign_negative());
+        assert!(accel.occluded(&ray), "occlusion from {o}");
+        assert_eq!(
+            accel.intersect(&ray).map(|h| h.shape),
+            Some(0),
+            "closest hit from {o}"
+        );
+        assert!(
+            accel.for_each_hit(&ray, &mut |h| h.shape == 0),
+            "any-hit from {o}"
+        );
+    }
+}

@@ -52,6 +52,43 @@ fn tent_and_gaussian_weights_follow_mitsuba() {
 }
 
 #[test]
+fn mitchell_catmullrom_and_lanczos_weights_follow_mitsuba() {
+    // f(0), f(0.5), f(1.5), f(2.5) of Mitsuba 3.9.1's `mitchell`, `catmullrom` and `lanczos`
+    // (`mi.load_dict({'type': ...}).eval(x)`, scalar_rgb). A sample at (4, 3.5) gives pixel
+    // (3, 3) the weight f(0.5)·f(0), pixel (2, 3) f(1.5)·f(0), pixel (1, 3) f(2.5)·f(0).
+    for (filter, f) in [
+        (
+            FilterDesc::Mitchell {
+                b: 1.0 / 3.0,
+                c: 1.0 / 3.0,
+            },
+            [0.888889, 0.534722, -0.034722, 0.0],
+        ),
+        (
+            FilterDesc::Mitchell { b: 0.0, c: 0.5 },
+            [1.0, 0.5625, -0.0625, 0.0],
+        ),
+        (
+            FilterDesc::Lanczos { lobes: 3 },
+            [1.0, 0.607927, -0.135095, 0.024317],
+        ),
+    ] {
+        let mut film = Film::new(8, 8, filter);
+        let mut tile = film.tile(UVec2::new(3, 3), UVec2::new(4, 4));
+        tile.add_sample(Vec2::new(4.0, 3.5), [1.0; 3]);
+        film.merge(&tile);
+        for (px, k) in [(3u32, 1), (4, 1), (2, 2), (5, 2), (1, 3), (6, 3)] {
+            let want = f[k] * f[0];
+            let got = film.weight(px, 3);
+            assert!(
+                (got - want).abs() < 2e-6,
+                "{filter:?} pixel {px}: {got} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
 fn constant_input_reconstructs_exactly_with_any_filter() {
     // Weighted mean: a constant signal stays constant wherever the pixel has weight, including
     // the image border where the filter is cut off.
@@ -60,6 +97,12 @@ fn constant_input_reconstructs_exactly_with_any_filter() {
         FilterDesc::Tent { radius: 1.0 },
         FilterDesc::Gaussian { stddev: 0.5 },
         FilterDesc::Box { radius: 1.5 },
+        FilterDesc::Mitchell {
+            b: 1.0 / 3.0,
+            c: 1.0 / 3.0,
+        },
+        FilterDesc::Mitchell { b: 0.0, c: 0.5 },
+        FilterDesc::Lanczos { lobes: 3 },
     ] {
         let mut film = Film::new(9, 7, filter);
         let mut tiles = film.tiles(4);

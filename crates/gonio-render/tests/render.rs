@@ -214,3 +214,59 @@ fn render_with_drives_any_integrator_with_named_channels_and_splats() {
     // No R, G, B channels: the colour image is black.
     assert!(out.image.data.iter().all(|c| *c == [0.0; 3]));
 }
+
+/// A sphere over a ground plane lit by a straight-down directional light (`direction="0,0,-1"`,
+/// as in Mitsuba's own test scenes) casts a shadow. The shadow rays `-(0, 0, -1)` carry `-0.0`
+/// components, which the BVH once set up with slabs of the wrong sign: the ground then came out
+/// uniformly lit. The camera looks down at 45° at the shadow's centre, which the sphere does not
+/// hide (the view ray passes the sphere's centre at √2 > r).
+#[test]
+fn straight_down_directional_light_casts_a_shadow() {
+    let scene = r#"<scene version="3.0.0">
+        <integrator type="path"><integer name="max_depth" value="3"/></integrator>
+        <sensor type="perspective">
+            <float name="fov" value="45"/>
+            <transform name="to_world"><lookat origin="0,-10,10" target="0,0,0" up="0,0,1"/></transform>
+            <sampler type="independent"><integer name="sample_count" value="16"/></sampler>
+            <film type="hdrfilm"><integer name="width" value="64"/><integer name="height" value="64"/>
+                <rfilter type="box"/></film>
+        </sensor>
+        <emitter type="directional"><vector name="direction" value="0,0,-1"/>
+            <rgb name="irradiance" value="1"/></emitter>
+        <shape type="sphere"><point name="center" value="0,0,2"/><float name="radius" value="1"/>
+            <bsdf type="diffuse"/></shape>
+        <shape type="rectangle"><transform name="to_world"><scale value="20"/></transform>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+    </scene>"#;
+    let p = PreparedScene::new(gonio_render::xml::load_scene_str(scene, ".", &[]).unwrap()).unwrap();
+    let out = render(
+        &p,
+        &RenderOptions::from_scene(&p.scene),
+        &|_, _| {},
+        &AtomicBool::new(false),
+    );
+    let img = &out.image;
+    let block_mean = |x0: usize, y0: usize| {
+        let mut s = 0.0;
+        for y in y0..y0 + 4 {
+            for x in x0..x0 + 4 {
+                s += img.data[y * img.width + x].iter().sum::<f32>() / 3.0;
+            }
+        }
+        s / 16.0
+    };
+    // Lit ground: L = ρE/π = 0.5/π; the centre 4×4 block (±0.4 × ±0.5 units around the
+    // origin) lies inside the unit shadow disc and sees only light reflected by the sphere.
+    let lit = 0.5 / std::f32::consts::PI;
+    let (left, right, centre) = (block_mean(2, 30), block_mean(58, 30), block_mean(30, 30));
+    for side in [left, right] {
+        assert!(
+            (side - lit).abs() < 0.05 * lit,
+            "lit ground {side} vs ρE/π = {lit}"
+        );
+    }
+    assert!(
+        centre < 0.1 * lit,
+        "the shadow's centre {centre} should be dark (lit ground {lit})"
+    );
+}

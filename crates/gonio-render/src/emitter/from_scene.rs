@@ -101,7 +101,7 @@ impl Light {
                     image.data.clone(),
                     *scale,
                     *to_world,
-                    gonio_core::Spectrum::rgb_illuminant,
+                    crate::texture::uplift_emission_texel,
                 )
                 .ok_or_else(|| "empty environment image or singular to_world".to_string())?;
                 Light::EnvMap(env)

@@ -71,18 +71,21 @@ impl ConstantLight {
     }
 }
 
-/// An `envmap` emitter: linear RGB lat-long image, uplifted per lookup.
+/// An `envmap` emitter: linear RGB lat-long image, each texel uplifted once when the light is
+/// built; a lookup interpolates the four nearest texels' spectra at the path's wavelengths (as
+/// Mitsuba's spectral `envmap` does), never uplifting at render time.
 #[derive(Clone)]
 pub struct EnvMapLight {
     width: usize,
     height: usize,
     rgb: Vec<[f32; 3]>,
+    /// `uplift` of each texel of `rgb`.
+    spectra: Vec<Spectrum>,
     scale: f32,
     to_world: Affine3A,
     to_local: Affine3A,
     distribution: Distribution2D,
     mean_luminance: f32,
-    uplift: fn([f32; 3]) -> Spectrum,
 }
 
 impl std::fmt::Debug for EnvMapLight {
@@ -130,16 +133,17 @@ impl EnvMapLight {
             / (4.0 * PI as f64)) as f32
             * scale;
         let distribution = Distribution2D::new(&weights, width, height);
+        let spectra = rgb.iter().map(|&c| uplift(c)).collect();
         Some(Self {
             width,
             height,
             rgb,
+            spectra,
             scale,
             to_world,
             to_local: to_world.inverse(),
             distribution,
             mean_luminance,
-            uplift,
         })
     }
 
@@ -160,32 +164,49 @@ impl EnvMapLight {
         self.to_world.transform_vector3(local).normalize()
     }
 
-    /// Bilinear RGB lookup between pixel centres, wrapping in u and clamping in v.
-    pub fn lookup_rgb(&self, uv: Vec2) -> [f32; 3] {
+    /// The four texels around `uv` (pixel centres; wrapping in u, clamping in v) and their
+    /// bilinear weights.
+    fn bilinear(&self, uv: Vec2) -> [(usize, f32); 4] {
         let (w, h) = (self.width as isize, self.height as isize);
         let x = uv.x * w as f32 - 0.5;
         let y = uv.y * h as f32 - 0.5;
         let (x0, y0) = (x.floor(), y.floor());
         let (fx, fy) = (x - x0, y - y0);
         let (x0, y0) = (x0 as isize, y0 as isize);
-        let px = |i: isize, j: isize| {
+        let at = |i: isize, j: isize| {
             let i = i.rem_euclid(w) as usize;
             let j = j.clamp(0, h - 1) as usize;
-            self.rgb[j * self.width + i]
+            j * self.width + i
         };
-        let (a, b, c, d) = (px(x0, y0), px(x0 + 1, y0), px(x0, y0 + 1), px(x0 + 1, y0 + 1));
-        std::array::from_fn(|k| {
-            (1.0 - fy) * ((1.0 - fx) * a[k] + fx * b[k]) + fy * ((1.0 - fx) * c[k] + fx * d[k])
-        })
+        [
+            (at(x0, y0), (1.0 - fx) * (1.0 - fy)),
+            (at(x0 + 1, y0), fx * (1.0 - fy)),
+            (at(x0, y0 + 1), (1.0 - fx) * fy),
+            (at(x0 + 1, y0 + 1), fx * fy),
+        ]
     }
 
-    /// Radiance arriving from world direction `dir` (travelling towards the viewer along −dir).
-    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        let rgb = self.lookup_rgb(self.dir_to_uv(dir));
-        if rgb == [0.0; 3] {
-            return SampledSpectrum::ZERO;
+    /// Bilinear RGB lookup between pixel centres, wrapping in u and clamping in v.
+    pub fn lookup_rgb(&self, uv: Vec2) -> [f32; 3] {
+        let mut out = [0.0f32; 3];
+        for (i, w) in self.bilinear(uv) {
+            for (o, c) in out.iter_mut().zip(self.rgb[i]) {
+                *o += w * c;
+            }
         }
-        (self.uplift)(rgb).sample(wl) * self.scale
+        out
+    }
+
+    /// Radiance arriving from world direction `dir` (travelling towards the viewer along −dir):
+    /// the bilinear interpolation of the uplifted texels, × `scale`.
+    pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let mut l = SampledSpectrum::ZERO;
+        for (i, w) in self.bilinear(self.dir_to_uv(dir)) {
+            if w > 0.0 && self.rgb[i] != [0.0; 3] {
+                l += self.spectra[i].sample(wl) * w;
+            }
+        }
+        l * self.scale
     }
 
     /// Direction towards the light ∝ luminance·sin θ, and its solid-angle density.

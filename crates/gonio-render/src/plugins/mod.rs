@@ -41,6 +41,9 @@ pub static RFILTER_PLUGINS: &[&Plugin<FilterDesc>] = &[
     &rfilter::r#box::PLUGIN,
     &rfilter::tent::PLUGIN,
     &rfilter::gaussian::PLUGIN,
+    &rfilter::mitchell::PLUGIN,
+    &rfilter::mitchell::CATMULLROM,
+    &rfilter::lanczos::PLUGIN,
 ];
 
 /// `<sampler>` plugins (nested in a sensor).
@@ -58,6 +61,7 @@ pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
     &shape::cube::PLUGIN,
     &shape::obj::PLUGIN,
     &shape::ply::PLUGIN,
+    &shape::serialized::PLUGIN,
 ];
 
 /// `<emitter>` plugins attached to a shape (nested in a `<shape>`).

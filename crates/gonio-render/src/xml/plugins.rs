@@ -31,7 +31,8 @@ pub(crate) struct Builder<'d> {
     default_material: [Option<usize>; 2],
     bsdfs: HashMap<usize, Material>,
     textures: HashMap<(usize, u8), Texture>,
-    meshes: HashMap<(PathBuf, bool, bool), Arc<TriangleMesh>>,
+    /// Meshes by (file, mesh within the file, `flip_tex_coords`, `face_normals`).
+    meshes: HashMap<(PathBuf, u32, bool, bool), Arc<TriangleMesh>>,
     visiting: Vec<usize>,
     role: RgbKind,
     pub warnings: Vec<String>,
@@ -170,6 +171,9 @@ impl<'d> Builder<'d> {
                         self.texture_object(idx, RgbKind::Unbounded, &obj.loc)?;
                     }
                 }
+                // Declared at the top with an id and referenced later (Mitsuba's
+                // `<sampler id="s"/>` … `<ref id="s"/>` inside a sensor): built where used.
+                Tag::Film | Tag::Sampler | Tag::Rfilter if referenced.contains(&idx) => {}
                 Tag::Film | Tag::Sampler | Tag::Rfilter => {
                     return Err(err(
                         &obj.loc,
@@ -280,10 +284,11 @@ impl<'d> Builder<'d> {
         })
     }
 
-    /// The mesh cached under `key` (file, `flip_tex_coords`, `face_normals`), or `load`'s.
+    /// The mesh cached under `key` (file, mesh within the file, `flip_tex_coords`,
+    /// `face_normals`), or `load`'s.
     pub(crate) fn cached_mesh(
         &mut self,
-        key: (PathBuf, bool, bool),
+        key: (PathBuf, u32, bool, bool),
         load: impl FnOnce() -> Result<TriangleMesh>,
     ) -> Result<Arc<TriangleMesh>> {
         if let Some(m) = self.meshes.get(&key) {

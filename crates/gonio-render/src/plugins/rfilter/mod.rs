@@ -3,6 +3,8 @@
 
 pub mod r#box;
 pub mod gaussian;
+pub mod lanczos;
+pub mod mitchell;
 pub mod tent;
 
 use crate::xml::{Params, SceneError};

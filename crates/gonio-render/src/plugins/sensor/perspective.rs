@@ -54,6 +54,12 @@ const PRINCIPAL_POINT_OFFSET_Y: ParamSpec = ParamSpec::new(
     DefaultValue::Float(0.0),
     "principal point offset; only 0 is supported",
 );
+const FOCUS_DISTANCE: ParamSpec = ParamSpec::new(
+    "focus_distance",
+    ParamType::Float,
+    DefaultValue::None,
+    "accepted and ignored, as in Mitsuba (a pinhole is in focus at every distance; `thinlens` uses it)",
+);
 const SHUTTER_OPEN: ParamSpec = ParamSpec::new(
     "shutter_open",
     ParamType::Float,
@@ -92,6 +98,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
         FAR_CLIP,
         PRINCIPAL_POINT_OFFSET_X,
         PRINCIPAL_POINT_OFFSET_Y,
+        FOCUS_DISTANCE,
         SHUTTER_OPEN,
         SHUTTER_CLOSE,
         FILM,
@@ -203,6 +210,8 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
             }
         }
     }
+    // Mitsuba's projective cameras all read it (default: far_clip); the pinhole never uses it.
+    p.float_opt(FOCUS_DISTANCE.name)?;
     p.float(SHUTTER_OPEN.name, SHUTTER_OPEN.default.float())?;
     p.float(SHUTTER_CLOSE.name, SHUTTER_CLOSE.default.float())?;
     Ok(SensorDesc {

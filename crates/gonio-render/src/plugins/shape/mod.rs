@@ -11,6 +11,7 @@ pub mod disk;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;
+pub mod serialized;
 pub mod sphere;
 
 use crate::mesh as meshes;
@@ -165,10 +166,15 @@ pub(crate) enum MeshFormat {
     Obj,
     /// Stanford PLY ([`meshes::load_ply`]).
     Ply,
+    /// Mesh `shape_index` of a Mitsuba serialized file ([`meshes::serialized::load_serialized`]).
+    Serialized {
+        /// Which mesh of the file.
+        shape_index: u32,
+    },
 }
 
-/// The mesh named by `filename` (relative to the scene file), loaded once per (file,
-/// `flip_tex_coords`, `face_normals`). Mitsuba smooths meshes without normals unless
+/// The mesh named by `filename` (relative to the scene file), loaded once per (file, mesh of the
+/// file, `flip_tex_coords`, `face_normals`). Mitsuba smooths meshes without normals unless
 /// `face_normals` is set.
 pub(crate) fn mesh<'d>(
     b: &mut Builder<'d>,
@@ -186,10 +192,17 @@ pub(crate) fn mesh<'d>(
         ));
     };
     let path = b.resolve_file(p, name);
-    b.cached_mesh((path.clone(), flip_tex_coords, face_normals), || {
+    let index = match format {
+        MeshFormat::Serialized { shape_index } => shape_index,
+        MeshFormat::Obj | MeshFormat::Ply => 0,
+    };
+    b.cached_mesh((path.clone(), index, flip_tex_coords, face_normals), || {
         let r = match format {
             MeshFormat::Obj => meshes::load_obj(&path, flip_tex_coords),
             MeshFormat::Ply => meshes::load_ply(&path, flip_tex_coords),
+            MeshFormat::Serialized { shape_index } => {
+                meshes::serialized::load_serialized(&path, shape_index, face_normals)
+            }
         };
         let mut m = r.map_err(|e| {
             let kind = if e.is_io() { ErrorKind::Io } else { ErrorKind::Mesh };

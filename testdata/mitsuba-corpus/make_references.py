@@ -1,0 +1,30 @@
+#!/usr/bin/env python3
+"""Renders the references of `crates/gonio-render/tests/corpus_scenes.rs` with Mitsuba 3.9.1.
+
+Each scene of this folder (copies of Mitsuba's documentation scenes, `docs/scenes/bsdf_*.xml`,
+with the film of `include/matpreview.xml` reduced to 120 x 90) is rendered with the
+`scalar_spectral` variant at SPP samples per pixel, seed 0, into `reference/<scene>.exr`.
+
+Usage (from this folder; takes minutes per scene):
+    nice python3 make_references.py [SCENE ...]      # default: every bsdf_*.xml here
+"""
+import glob
+import os
+import sys
+import time
+
+import mitsuba as mi
+
+SPP = 256
+
+mi.set_variant("scalar_spectral")
+here = os.path.dirname(os.path.abspath(__file__))
+names = sys.argv[1:] or sorted(
+    os.path.basename(p)[:-4] for p in glob.glob(os.path.join(here, "docs", "scenes", "bsdf_*.xml"))
+)
+for name in names:
+    t = time.time()
+    scene = mi.load_file(os.path.join(here, "docs", "scenes", name + ".xml"), spp=str(SPP))
+    img = mi.render(scene, spp=SPP, seed=0)
+    mi.Bitmap(img).write(os.path.join(here, "reference", name + ".exr"))
+    print(f"{name}: {SPP} spp, {time.time() - t:.0f} s", flush=True)
