@@ -5,6 +5,10 @@ Each scene of this folder (copies of Mitsuba's documentation scenes, `docs/scene
 with the film of `include/matpreview.xml` reduced to 120 x 90) is rendered with the
 `scalar_spectral` variant at SPP samples per pixel, seed 0, into `reference/<scene>.exr`.
 
+The principled scenes (`docs/scenes/principled_blend_creation/scene*.xml`) are Mitsuba's with
+its `type="Sphere"`/`"Rectangle"` (which Mitsuba itself rejects) lower-cased, the film reduced to
+96 x 96 and `envmap.hdr` reduced from 1024 x 512 to 256 x 128 (Mitsuba's `Bitmap.resample`).
+
 Usage (from this folder; takes minutes per scene):
     nice python3 make_references.py [SCENE ...]      # default: every bsdf_*.xml here
 """
@@ -24,7 +28,10 @@ names = sys.argv[1:] or sorted(
 )
 for name in names:
     t = time.time()
-    scene = mi.load_file(os.path.join(here, "docs", "scenes", name + ".xml"), spp=str(SPP))
+    path = os.path.join(here, "docs", "scenes", name + ".xml")
+    # The material-preview scenes take $spp; the principled ones fix their sampler's count.
+    params = {"spp": str(SPP)} if "$spp" in open(path).read() else {}
+    scene = mi.load_file(path, **params)
     img = mi.render(scene, spp=SPP, seed=0)
     mi.Bitmap(img).write(os.path.join(here, "reference", name + ".exr"))
     print(f"{name}: {SPP} spp, {time.time() - t:.0f} s", flush=True)

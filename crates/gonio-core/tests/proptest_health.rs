@@ -17,9 +17,9 @@
 //! `PROPTEST_CASES` (default 4096 here; each case takes microseconds).
 
 use glam::{Vec2, Vec3};
+use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
-use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
 use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
     RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,

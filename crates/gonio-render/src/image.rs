@@ -146,6 +146,16 @@ impl RgbImage {
                 path: path.to_owned(),
             });
         };
+        // The Radiance format's magic is "#?" followed by the writing program's name; `image`
+        // accepts only "#?RADIANCE", but "#?RGBE" (Mitsuba's, pbrt's, stb's writers) is as common.
+        let renamed;
+        let bytes = match bytes.strip_prefix(b"#?RGBE\n") {
+            Some(rest) if format == ::image::ImageFormat::Hdr => {
+                renamed = [b"#?RADIANCE\n".as_slice(), rest].concat();
+                renamed.as_slice()
+            }
+            _ => bytes,
+        };
         let decoded =
             ::image::load_from_memory_with_format(bytes, format).map_err(|e| ImageError::Decode {
                 path: path.to_owned(),

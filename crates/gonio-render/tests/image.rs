@@ -176,3 +176,27 @@ fn failed_write_leaves_the_old_file_and_no_temporary() {
     gradient(2, 2).write(&q).unwrap();
     assert!(std::fs::read(&q).unwrap().starts_with(b"\x89PNG"));
 }
+
+#[test]
+fn radiance_hdr_with_an_rgbe_signature_reads() {
+    // "#?RGBE" is as valid a Radiance signature as "#?RADIANCE" (Mitsuba, pbrt and stb write
+    // it); the `image` crate accepts only the latter, so the reader renames it.
+    let mut bytes = b"#?RGBE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n".to_vec();
+    bytes.extend_from_slice(&[128, 64, 32, 129, 0, 0, 0, 0]); // a lit RGBE pixel, then a black one
+    let img = gonio_render::image::RgbImage::decode(
+        &bytes,
+        std::path::Path::new("rgbe.hdr"),
+        gonio_render::image::Encoding::Srgb,
+    )
+    .expect("an #?RGBE file decodes");
+    assert_eq!((img.width, img.height), (2, 1));
+    let radiance = [b"#?RADIANCE\n".as_slice(), &bytes[7..]].concat();
+    let same = gonio_render::image::RgbImage::decode(
+        &radiance,
+        std::path::Path::new("radiance.hdr"),
+        gonio_render::image::Encoding::Srgb,
+    )
+    .unwrap();
+    assert_eq!(img.data, same.data, "the signature changes nothing else");
+    assert!(img.data[0][0] > 0.0 && img.data[1] == [0.0; 3]);
+}

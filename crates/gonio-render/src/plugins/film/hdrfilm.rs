@@ -42,6 +42,12 @@ const SAMPLE_BORDER: ParamSpec = ParamSpec::new(
     DefaultValue::Bool(false),
     "accepted and ignored",
 );
+const BANNER: ParamSpec = ParamSpec::new(
+    "banner",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "Mitsuba 0.6's banner on the image; accepted (Mitsuba 3 accepts it too) and ignored: gonio draws none",
+);
 const COMPENSATE: ParamSpec = ParamSpec::new(
     "compensate",
     ParamType::Boolean,
@@ -90,6 +96,7 @@ pub static PLUGIN: Plugin<FilmDesc> = Plugin {
         PIXEL_FORMAT,
         COMPONENT_FORMAT,
         SAMPLE_BORDER,
+        BANNER,
         COMPENSATE,
         CROP_OFFSET_X,
         CROP_OFFSET_Y,
@@ -122,6 +129,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneE
         &["float16", "float32", "uint32"],
     )?;
     p.bool(SAMPLE_BORDER.name, SAMPLE_BORDER.default.bool())?;
+    p.bool(BANNER.name, BANNER.default.bool())?;
     p.bool(COMPENSATE.name, COMPENSATE.default.bool())?;
     p.int_in(CROP_OFFSET_X.name, CROP_OFFSET_X.default.int(), 0, 0)?;
     p.int_in(CROP_OFFSET_Y.name, CROP_OFFSET_Y.default.int(), 0, 0)?;
