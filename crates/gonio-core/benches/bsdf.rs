@@ -13,8 +13,10 @@
 
 use divan::{Bencher, black_box};
 use glam::Vec3;
+use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat};
 use gonio_core::bsdfs::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, Plastic, RoughConductor, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
+    RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided,
 };
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
@@ -40,6 +42,14 @@ const MODELS: &[&str] = &[
     "blend_mirror_diffuse",
     "roughconductor_beckmann",
     "roughconductor_ggx_au",
+    "roughdielectric",
+    "roughdielectric_ggx",
+    "roughplastic",
+    "roughplastic_ggx",
+    "principled",
+    "principled_full",
+    "principledthin",
+    "lambertsphere",
 ];
 
 fn piecewise(pairs: &[f32]) -> Spectrum {
@@ -82,6 +92,33 @@ fn with_model(name: &str, f: impl FnOnce(&dyn Bsdf)) {
             piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
             MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
         )),
+        // Mitsuba's defaults, and GGX α = 0.3 (the same configurations as mitsuba_bsdf.py).
+        "roughdielectric" => f(&RoughDielectric::default()),
+        "roughdielectric_ggx" => f(&RoughDielectric::new(
+            Ior::Constant(1.5046),
+            Ior::Constant(1.000277),
+            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+        )),
+        "roughplastic" => f(&RoughPlastic::default()),
+        "roughplastic_ggx" => f(&RoughPlastic::new(
+            Spectrum::Constant(0.5),
+            Spectrum::Constant(1.0),
+            false,
+            RoughCoat::new(
+                MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+                1.49 / 1.000277,
+                CoatAverages::Exact,
+            ),
+        )),
+        "principled" => f(&Principled::default()),
+        "principled_full" => {
+            let mut p = Principled::default();
+            (p.metallic, p.spec_trans, p.clearcoat) = (0.3, 0.2, 0.5);
+            (p.sheen, p.anisotropic, p.roughness) = (0.5, 0.5, 0.4);
+            f(&p)
+        }
+        "principledthin" => f(&PrincipledThin::default()),
+        "lambertsphere" => f(&LambertSphere::default()),
         _ => unreachable!("unknown model {name}"),
     }
 }
