@@ -28,7 +28,9 @@ names = sys.argv[1:] or sorted(
 )
 for name in names:
     t = time.time()
-    path = os.path.join(here, "docs", "scenes", name + ".xml")
+    # A `_cells_swapped` copy is compared with Mitsuba's render of the original file.
+    source = name.removesuffix("_cells_swapped")
+    path = os.path.join(here, "docs", "scenes", source + ".xml")
     # The material-preview scenes take $spp; the principled ones fix their sampler's count.
     params = {"spp": str(SPP)} if "$spp" in open(path).read() else {}
     scene = mi.load_file(path, **params)

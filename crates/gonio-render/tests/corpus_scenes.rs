@@ -50,6 +50,7 @@ const CI_SPP: u32 = 32;
 /// | bsdf_roughplastic_ggx | 5.23e-4 | 3.85e-4 4.24e-4 4.61e-4 | |
 /// | bsdf_roughplastic_preserve | 5.94e-4 | 4.01e-4 4.16e-4 4.58e-4 | |
 /// | bsdf_roughdielectric_textured | 4.50e-3 | 6.65e-3 6.88e-3 6.79e-3 (see below) | |
+/// | bsdf_roughdielectric_textured_cells_swapped | 5.81e-3 | 3.10e-3 3.66e-3 3.24e-3 | |
 /// | bsdf_roughplastic_nopreserve | 5.94e-4 | 4.03e-4 4.14e-4 4.58e-4 | |
 /// | principled_blend_creation/scene | 1.31e-3 | 1.01e-3 9.39e-4 8.09e-4 | |
 /// | principled_blend_creation/scene_thin | 9.71e-4 | 8.53e-4 8.41e-4 7.49e-4 | |
