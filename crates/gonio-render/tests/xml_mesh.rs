@@ -218,3 +218,33 @@ fn ply_large_binary_grid_round_trips() {
     let (area, _) = area_vector(&m);
     assert!((area as f64 - exact).abs() < 1e-3, "{area} vs {exact}");
 }
+
+#[test]
+fn a_mesh_named_in_an_included_fragment_resolves_against_the_scene_folder() {
+    // Mitsuba's scenes/cbox: cbox-rgb.xml includes fragments/shapes.xml, which names
+    // "meshes/cbox_floor.obj", a file beside cbox-rgb.xml, not beside the fragment. Mitsuba's
+    // resolver keeps the scene's folder while it reads the include; so does gonio's (after the
+    // fragment's own folder and the <path> folders).
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("fragments")).unwrap();
+    std::fs::create_dir_all(dir.path().join("meshes")).unwrap();
+    std::fs::copy(data("quad.obj"), dir.path().join("meshes/quad.obj")).unwrap();
+    std::fs::write(
+        dir.path().join("fragments/shapes.xml"),
+        r#"<scene version="3.0.0"><shape type="obj"><string name="filename" value="meshes/quad.obj"/></shape></scene>"#,
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("scene.xml"),
+        r#"<scene version="3.0.0"><include filename="fragments/shapes.xml"/></scene>"#,
+    )
+    .unwrap();
+    let scene = gonio_render::xml::load_scene_file(dir.path().join("scene.xml"), &[]).expect("loads");
+    assert_eq!(scene.shapes.len(), 1);
+    // A name found beside the fragment still wins (the fragment's folder comes first).
+    std::fs::create_dir_all(dir.path().join("fragments/meshes")).unwrap();
+    std::fs::write(dir.path().join("fragments/meshes/quad.obj"), "garbage\n").unwrap();
+    let e = gonio_render::xml::load_scene_file(dir.path().join("scene.xml"), &[])
+        .expect_err("the fragment's copy");
+    assert!(e.to_string().contains("fragments/meshes/quad.obj"), "{e}");
+}

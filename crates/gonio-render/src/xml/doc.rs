@@ -132,13 +132,24 @@ pub(crate) struct Doc {
     pub root: usize,
     /// Extra search folders from `<path value>`.
     pub search_paths: Vec<PathBuf>,
+    /// The folder of the scene file itself (None for a lone `<bsdf>` document).
+    pub scene_dir: Option<PathBuf>,
 }
 
 impl Doc {
     /// Resolves a file name written in an object: relative names against the object's folder,
-    /// then against the `<path>` folders.
+    /// then against the `<path>` folders, then against the scene file's folder. The last is for
+    /// a name written in an included fragment but relative to the scene, as Mitsuba resolves it
+    /// (its file resolver keeps the scene's folder while it reads an include: Mitsuba's own
+    /// `scenes/cbox/fragments/shapes.xml` names `meshes/...` beside `cbox.xml`).
     pub(crate) fn resolve(&self, obj: &Obj, name: &str) -> PathBuf {
-        resolve_path(&obj.base_dir, &self.search_paths, name)
+        let first = resolve_path(&obj.base_dir, &self.search_paths, name);
+        match &self.scene_dir {
+            Some(dir) if !first.exists() && !Path::new(name).is_absolute() && dir.join(name).exists() => {
+                dir.join(name)
+            }
+            _ => first,
+        }
     }
 }
 

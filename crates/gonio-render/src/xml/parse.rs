@@ -111,6 +111,7 @@ impl Parser {
     ) -> Result<(), SceneError> {
         let xml = parse_xml(text, &name)?;
         let root_node = xml.root_element();
+        self.doc.scene_dir = Some(dir.clone());
         let mut ctx = FileCtx {
             doc: &xml,
             name,
