@@ -306,7 +306,7 @@ fn gaussian_heightfield_of_mirrors_reads_as_roughconductor_at_low_roughness() {
 fn gaussian_heightfield_of_mirrors_keeps_the_energy_single_scattering_loses() {
     // A surface of perfect mirrors absorbs nothing: every photon leaves in the end. The
     // single-scattering model of the same surface (Beckmann α = 0.5) loses the photons its
-    // masking term rejects (gonio plot microfacet-albedo); at θi = 75° that is ~9 %.
+    // masking term rejects (gonio plot microfacet-albedo); at θi = 75° that is 10 %.
     use gonio_core::instruments::microfacet_albedo::white_albedo;
     use gonio_core::microfacet::MicrofacetKind;
     let facet: Arc<dyn Bsdf> = Arc::new(Conductor::mirror());
