@@ -1,6 +1,6 @@
 //! The property battery (`gonio_core::check::battery`, the code behind `gonio check`) on every
-//! model with at least three parameter sets, and on deliberately broken models, which must fail
-//! the rows their defect breaks (so every check is shown able to fail).
+//! model with at least three parameter sets (the deliberately broken models, which must fail the
+//! rows their defect breaks, are in `battery_broken.rs`; the helpers in `battery_support/`).
 //!
 //! Statistical rows: each battery splits its α with Šidák over its own rows; the runs in this
 //! file split a family-wise α = 0.01 among themselves ([`RUNS`] is an upper bound on the number
@@ -14,84 +14,15 @@ use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
     RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
-use gonio_core::check::broken::{
-    Anisotropic, DiffuseTransmitter, EnergyGain, EvalPdfMismatch, FalselyAnisotropic, MinimalGlass,
-    MislabelledLobe, NanAtGrazing, NonReciprocal, PdfOffByFactor, WrongSampler, WrongWeight,
-};
-use gonio_core::check::{CheckConfig, CheckResult, all_passed, battery, failures, sidak};
+use gonio_core::check::broken::{DiffuseTransmitter, MinimalGlass};
+use gonio_core::check::{CheckResult, all_passed, failures};
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
-use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
+use gonio_core::spectra::Spectrum;
 use gonio_core::{Bsdf, Ior};
-use std::sync::Arc;
-use std::time::Instant;
 
-/// Upper bound on the battery runs on correct models in this file (Šidák family size).
-const RUNS: usize = 48;
-
-fn config() -> CheckConfig {
-    CheckConfig {
-        alpha: sidak(0.01, RUNS),
-        ..CheckConfig::default()
-    }
-}
-
-fn piecewise(pairs: &[f32]) -> Spectrum {
-    Spectrum::PiecewiseLinear(Arc::new(
-        PiecewiseLinear::from_interleaved(pairs, Extrapolation::Clamp).unwrap(),
-    ))
-}
-
-/// Runs the battery, prints the report, returns the rows.
-fn report(name: &str, bsdf: &dyn Bsdf) -> Vec<CheckResult> {
-    let t = Instant::now();
-    let rows = battery(bsdf, &config());
-    eprintln!("== {name} ({:.2} s)", t.elapsed().as_secs_f64());
-    for r in &rows {
-        eprintln!("   {r}");
-    }
-    rows
-}
-
-fn assert_passes(name: &str, bsdf: &dyn Bsdf) -> Vec<CheckResult> {
-    let rows = report(name, bsdf);
-    assert!(all_passed(&rows), "{name} failed:\n{}", failures(&rows));
-    // The battery must actually have tested something of each kind.
-    for must in [
-        "health",
-        "energy",
-        "albedo_estimators",
-        "reciprocity",
-        "adjoint",
-        "isotropy",
-    ] {
-        assert!(rows.iter().any(|r| r.name == must), "{name}: no `{must}` row");
-    }
-    if bsdf.flags().has_smooth() {
-        let chi2 = rows.iter().filter(|r| r.name == "chi2").count();
-        assert!(chi2 >= 3, "{name}: only {chi2} chi2 rows");
-    }
-    if bsdf.flags().is_delta() {
-        assert!(
-            rows.iter().any(|r| r.name == "delta_reciprocity"),
-            "{name}: no delta_reciprocity row"
-        );
-    }
-    rows
-}
-
-/// The broken model must fail every row in `expected` (and the report names them).
-fn assert_fails(name: &str, bsdf: &dyn Bsdf, expected: &[&str]) {
-    let rows = report(name, bsdf);
-    for e in expected {
-        let matching: Vec<_> = rows.iter().filter(|r| r.name == *e).collect();
-        assert!(!matching.is_empty(), "{name}: no `{e}` row");
-        assert!(
-            matching.iter().any(|r| !r.passed),
-            "{name}: `{e}` did not fail:\n{matching:#?}"
-        );
-    }
-}
+mod battery_support;
+use battery_support::*;
 
 // ---- diffuse ----------------------------------------------------------------------------------
 
@@ -725,109 +656,5 @@ fn minimal_glass_positive_control() {
             eta: 1.5,
             scale_radiance: true,
         },
-    );
-}
-
-// ---- negative controls: every check can fail --------------------------------------------------
-
-#[test]
-fn broken_pdf_off_by_factor_fails() {
-    assert_fails(
-        "PdfOffByFactor 0.8",
-        &PdfOffByFactor { factor: 0.8 },
-        &["chi2", "sample_pdf_vs_pdf", "pdf_normalization"],
-    );
-}
-
-#[test]
-fn broken_pdf_too_large_fails_integral() {
-    assert_fails(
-        "PdfOffByFactor 1.3",
-        &PdfOffByFactor { factor: 1.3 },
-        &["pdf_integral", "chi2"],
-    );
-}
-
-#[test]
-fn broken_sampler_fails_chi2() {
-    assert_fails("WrongSampler", &WrongSampler, &["chi2"]);
-}
-
-#[test]
-fn broken_weight_fails() {
-    assert_fails(
-        "WrongWeight",
-        &WrongWeight,
-        &["weight_vs_eval", "albedo_estimators"],
-    );
-}
-
-#[test]
-fn broken_energy_gain_fails() {
-    assert_fails("EnergyGain", &EnergyGain, &["energy"]);
-}
-
-#[test]
-fn broken_non_reciprocal_fails() {
-    assert_fails("NonReciprocal", &NonReciprocal, &["reciprocity", "adjoint"]);
-}
-
-#[test]
-fn broken_anisotropic_fails() {
-    assert_fails("Anisotropic", &Anisotropic, &["isotropy"]);
-}
-
-#[test]
-fn broken_nan_fails_health() {
-    assert_fails("NanAtGrazing", &NanAtGrazing, &["health"]);
-}
-
-#[test]
-fn broken_glass_without_eta2_fails() {
-    assert_fails(
-        "MinimalGlass without η²",
-        &MinimalGlass {
-            eta: 1.5,
-            scale_radiance: false,
-        },
-        &["delta_reciprocity"],
-    );
-}
-
-#[test]
-fn broken_lobe_flags_fail() {
-    assert_fails("MislabelledLobe", &MislabelledLobe, &["lobe_flags"]);
-}
-
-#[test]
-fn broken_anisotropy_flag_fails() {
-    assert_fails("FalselyAnisotropic", &FalselyAnisotropic, &["isotropy"]);
-}
-
-#[test]
-fn broken_eval_pdf_fails() {
-    assert_fails("EvalPdfMismatch", &EvalPdfMismatch, &["eval_pdf"]);
-}
-
-#[test]
-fn broken_transmitter_fails_eta2_law() {
-    assert_fails(
-        "DiffuseTransmitter η=1.5",
-        &DiffuseTransmitter {
-            rho_t: 0.7,
-            claimed_eta: 1.5,
-        },
-        &["eta2_law"],
-    );
-}
-
-#[test]
-fn broken_pdf_off_by_three_percent_fails() {
-    // Sensitivity: a 3 % normalization error adds ≈ N·0.03² = 900 to χ² (σ ≈ 71 at 2500 dof)
-    // and is ≈ 10 standard errors for the pdf normalization.
-    assert_fails(
-        "PdfOffByFactor 0.97",
-        &PdfOffByFactor { factor: 0.97 },
-        &["chi2", "pdf_normalization"],
     );
 }

@@ -1,0 +1,76 @@
+//! Helpers shared by `battery.rs` (correct models) and `battery_broken.rs` (negative
+//! controls): the family-wise α, the report, and the pass/fail assertions.
+#![allow(dead_code)] // each test file uses its part
+
+use gonio_core::Bsdf;
+use gonio_core::check::{CheckConfig, CheckResult, all_passed, battery, failures, sidak};
+use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// Upper bound on the battery runs on correct models in `battery.rs` (Šidák family size).
+pub const RUNS: usize = 48;
+
+pub fn config() -> CheckConfig {
+    CheckConfig {
+        alpha: sidak(0.01, RUNS),
+        ..CheckConfig::default()
+    }
+}
+
+pub fn piecewise(pairs: &[f32]) -> Spectrum {
+    Spectrum::PiecewiseLinear(Arc::new(
+        PiecewiseLinear::from_interleaved(pairs, Extrapolation::Clamp).unwrap(),
+    ))
+}
+
+/// Runs the battery, prints the report, returns the rows.
+pub fn report(name: &str, bsdf: &dyn Bsdf) -> Vec<CheckResult> {
+    let t = Instant::now();
+    let rows = battery(bsdf, &config());
+    eprintln!("== {name} ({:.2} s)", t.elapsed().as_secs_f64());
+    for r in &rows {
+        eprintln!("   {r}");
+    }
+    rows
+}
+
+pub fn assert_passes(name: &str, bsdf: &dyn Bsdf) -> Vec<CheckResult> {
+    let rows = report(name, bsdf);
+    assert!(all_passed(&rows), "{name} failed:\n{}", failures(&rows));
+    // The battery must actually have tested something of each kind.
+    for must in [
+        "health",
+        "energy",
+        "albedo_estimators",
+        "reciprocity",
+        "adjoint",
+        "isotropy",
+    ] {
+        assert!(rows.iter().any(|r| r.name == must), "{name}: no `{must}` row");
+    }
+    if bsdf.flags().has_smooth() {
+        let chi2 = rows.iter().filter(|r| r.name == "chi2").count();
+        assert!(chi2 >= 3, "{name}: only {chi2} chi2 rows");
+    }
+    if bsdf.flags().is_delta() {
+        assert!(
+            rows.iter().any(|r| r.name == "delta_reciprocity"),
+            "{name}: no delta_reciprocity row"
+        );
+    }
+    rows
+}
+
+/// The broken model must fail every row in `expected` (and the report names them).
+pub fn assert_fails(name: &str, bsdf: &dyn Bsdf, expected: &[&str]) {
+    let rows = report(name, bsdf);
+    for e in expected {
+        let matching: Vec<_> = rows.iter().filter(|r| r.name == *e).collect();
+        assert!(!matching.is_empty(), "{name}: no `{e}` row");
+        assert!(
+            matching.iter().any(|r| !r.passed),
+            "{name}: `{e}` did not fail:\n{matching:#?}"
+        );
+    }
+}
