@@ -12,6 +12,7 @@
 //!   (Malitson 1965, J. Opt. Soc. Am. 55, 1205).
 
 use crate::data::metals::*;
+use crate::data::metals_luxpop::LUXPOP;
 use crate::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
 
 /// Mitsuba's IOR presets (name, index).
@@ -57,7 +58,8 @@ pub fn ior_preset_names() -> Vec<&'static str> {
     IOR_PRESETS.iter().map(|(n, _)| *n).collect()
 }
 
-/// Conductor names known to [`conductor`] (Mitsuba's spelling).
+/// Conductor names with their own tables in `data/metals.rs` (Mitsuba's spelling); every other
+/// name of Mitsuba's `data/ior` folder is in `data/metals_luxpop.rs`.
 const CONDUCTORS: [&str; 8] = ["none", "Ag", "Al", "Au", "Cr", "Cu", "CuZn", "W"];
 
 fn table(lambda: &[f32], values: &[f32]) -> Spectrum {
@@ -69,27 +71,42 @@ fn table(lambda: &[f32], values: &[f32]) -> Spectrum {
 }
 
 /// Complex index (η, k) of a conductor under its Mitsuba `material` name (case-insensitive):
-/// `none` (η = 0, k = 1: a perfect mirror), `Ag`, `Al`, `Au`, `Cr`, `Cu`, `CuZn` (brass), `W`.
+/// `none` (η = 0, k = 1: a perfect mirror), `CuZn` (brass, pbrt-v4's data), and every preset of
+/// Mitsuba 3's `data/ior` folder: `a-C`, `Ag`, `Al`, `AlAs`, `AlSb`, `Au`, `Be`, `Cr`, `CsI`, `Cu`,
+/// `Cu2O`, `CuO`, `d-C`, `Hg`, `HgTe`, `Ir`, `K`, `Li`, `MgO`, `Mo`, `Na_palik`, `Nb`,
+/// `Ni_palik`, `Rh`, `Se`, `Se-e`, `SiC`, `SnTe`, `Ta`, `Te`, `Te-e`, `ThF4`, `TiC`, `TiN`,
+/// `TiO2`, `TiO2-e`, `VC`, `V_palik`, `VN`, `W` and their `_palik` spellings.
+///
+/// Where a table ends inside the visible range (AlSb and Se at 590–690 nm, Li at 751 nm, MgO at
+/// 768 nm, ThF4 at 800 nm, d-C at 346–656 nm) its end values continue; Mitsuba 3.9.1 evaluates
+/// those wavelengths to NaN instead. The presets whose k is zero everywhere (CsI, SnTe, ThF4,
+/// d-C: dielectrics, listed by Mitsuba as conductors) load here; Mitsuba refuses them ("no
+/// probability mass found").
 pub fn conductor(name: &str) -> Option<(Spectrum, Spectrum)> {
     let name = name.trim();
-    let canonical = CONDUCTORS.iter().find(|n| n.eq_ignore_ascii_case(name))?;
-    let (l, eta, k): (&[f32], &[f32], &[f32]) = match *canonical {
-        "none" => return Some((Spectrum::Constant(0.0), Spectrum::Constant(1.0))),
-        "Ag" => (&PALIK_LAMBDA, &AG_ETA, &AG_K),
-        "Al" => (&PALIK_LAMBDA, &AL_ETA, &AL_K),
-        "Au" => (&PALIK_LAMBDA, &AU_ETA, &AU_K),
-        "Cu" => (&PALIK_LAMBDA, &CU_ETA, &CU_K),
-        "Cr" => (&CR_LAMBDA, &CR_ETA, &CR_K),
-        "CuZn" => (&CUZN_LAMBDA, &CUZN_ETA, &CUZN_K),
-        "W" => (&W_LAMBDA, &W_ETA, &W_K),
-        _ => return None,
-    };
+    if let Some(canonical) = CONDUCTORS.iter().find(|n| n.eq_ignore_ascii_case(name)) {
+        let (l, eta, k): (&[f32], &[f32], &[f32]) = match *canonical {
+            "none" => return Some((Spectrum::Constant(0.0), Spectrum::Constant(1.0))),
+            "Ag" => (&PALIK_LAMBDA, &AG_ETA, &AG_K),
+            "Al" => (&PALIK_LAMBDA, &AL_ETA, &AL_K),
+            "Au" => (&PALIK_LAMBDA, &AU_ETA, &AU_K),
+            "Cu" => (&PALIK_LAMBDA, &CU_ETA, &CU_K),
+            "Cr" => (&CR_LAMBDA, &CR_ETA, &CR_K),
+            "CuZn" => (&CUZN_LAMBDA, &CUZN_ETA, &CUZN_K),
+            "W" => (&W_LAMBDA, &W_ETA, &W_K),
+            _ => return None,
+        };
+        return Some((table(l, eta), table(l, k)));
+    }
+    let (_, l, eta, k) = LUXPOP.iter().find(|(n, ..)| n.eq_ignore_ascii_case(name))?;
     Some((table(l, eta), table(l, k)))
 }
 
 /// All conductor names, for error messages.
 pub fn conductor_names() -> Vec<&'static str> {
-    CONDUCTORS.to_vec()
+    let mut names: Vec<&'static str> = CONDUCTORS.to_vec();
+    names.extend(LUXPOP.iter().map(|(n, ..)| *n));
+    names
 }
 
 /// A Schott-style glass: canonical name, accepted aliases (compared after lower-casing and
@@ -224,7 +241,7 @@ mod tests {
 
     #[test]
     fn metal_tables_are_well_formed() {
-        for name in conductor_names() {
+        for name in CONDUCTORS {
             let (eta, k) = conductor(name).unwrap();
             for s in [&eta, &k] {
                 if let Spectrum::PiecewiseLinear(p) = s {
@@ -245,6 +262,36 @@ mod tests {
         );
         assert!(conductor("au").is_some() && conductor("CUZN").is_some());
         assert!(conductor("Unobtainium").is_none());
+    }
+
+    #[test]
+    fn every_mitsuba_conductor_preset_resolves() {
+        // Mitsuba 3's `data/ior` tables are shorter (TiC: 6 samples) and some end inside the
+        // visible range, but each is a strictly increasing, finite table that, continued by its
+        // end values, never gives η = k = 0 (which would make the conductor Fresnel formula NaN).
+        assert_eq!(conductor_names().len(), 8 + 65); // Mitsuba ships 71 names, 6 of them in metals.rs
+        for (name, l, eta, k) in LUXPOP.iter() {
+            assert!(
+                l.len() >= 6 && l.len() == eta.len() && l.len() == k.len(),
+                "{name}"
+            );
+            assert!(l.windows(2).all(|w| w[0] < w[1]), "{name}");
+            assert!(
+                eta.iter().chain(k.iter()).all(|v| v.is_finite() && *v >= 0.0),
+                "{name}"
+            );
+            let (eta, k) = conductor(name).unwrap();
+            assert!(matches!(eta, Spectrum::PiecewiseLinear(_)), "{name}");
+            for l in [200.0, 360.0, 555.0, 700.0, 830.0, 1000.0] {
+                assert!(eta.eval(l) > 0.0 || k.eval(l) > 0.0, "{name} at {l}");
+            }
+        }
+        for name in ["a-C", "A-c", "Cu_palik", "TiO2-e", "Na_palik", "VN"] {
+            assert!(conductor(name).is_some(), "{name}");
+        }
+        // Distinct data where Mitsuba's files differ (Cu_palik is not Cu).
+        assert_ne!(conductor("Cu_palik"), conductor("Cu"));
+        assert_eq!(conductor("AlAs_palik"), conductor("AlAs"));
     }
 
     #[test]

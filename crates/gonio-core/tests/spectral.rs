@@ -350,3 +350,46 @@ fn rgb_uplifting_is_finite_on_the_gamut_boundary() {
         }
     }
 }
+
+#[test]
+fn every_mitsuba_conductor_preset_reflects_as_in_mitsuba() {
+    // Mitsuba 3.9.1's smooth-conductor reflectance for each `material` preset it loads, at five
+    // wavelengths inside the preset's table and incidences 0°, 60°, 85°
+    // (crates/gonio-core/benches/mitsuba_conductor_presets.py), against gonio's tables and
+    // Fresnel formula. Both interpolate the same tables linearly in λ: f32 rounding only.
+    use gonio_core::fresnel::fresnel_conductor;
+    use gonio_core::spectrum::SampledSpectrum;
+    let text = include_str!("../../../testdata/mitsuba/reference/mitsuba-conductor-presets.json");
+    let data: serde_json::Value = serde_json::from_str(text).unwrap();
+    let presets = data["presets"].as_object().unwrap();
+    assert_eq!(presets.len() + data["refused"].as_array().unwrap().len(), 71);
+    let mut worst = (0.0f32, String::new());
+    for (name, rows) in presets {
+        let (eta, k) = conductor(name).unwrap_or_else(|| panic!("gonio lacks preset {name}"));
+        for row in rows.as_array().unwrap() {
+            let r: Vec<f32> = row
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap() as f32)
+                .collect();
+            let (lambda, angle, expect) = (r[0], r[1], r[2]);
+            let f = fresnel_conductor(
+                angle.to_radians().cos(),
+                SampledSpectrum::splat(eta.eval(lambda)),
+                SampledSpectrum::splat(k.eval(lambda)),
+            )[0];
+            let err = (f - expect).abs() / expect.max(1e-3);
+            if err > worst.0 {
+                worst = (err, format!("{name} at {lambda} nm, {angle}°: {f} vs {expect}"));
+            }
+        }
+    }
+    println!("worst relative difference {:.2e} ({})", worst.0, worst.1);
+    assert!(worst.0 < 1e-4, "{}", worst.1);
+    // The presets Mitsuba refuses (k ≡ 0) load here, as the dielectrics they are.
+    for name in data["refused"].as_array().unwrap() {
+        let (_, k) = conductor(name.as_str().unwrap()).unwrap();
+        assert_eq!(k.eval(550.0), 0.0, "{name}");
+    }
+}

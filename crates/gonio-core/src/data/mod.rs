@@ -8,3 +8,4 @@
 pub mod cie1931;
 pub mod d65;
 pub mod metals;
+pub mod metals_luxpop;

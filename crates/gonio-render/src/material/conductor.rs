@@ -18,7 +18,7 @@ pub(crate) const MATERIAL: ParamSpec = ParamSpec::new(
     "material",
     ParamType::String,
     DefaultValue::Str("none"),
-    "a measured metal (`Au`, `Ag`, `Cu`, `Al`, ...) giving η and k; `none` is the ideal mirror",
+    "a measured metal (every preset of Mitsuba's `data/ior`: `Au`, `Ag`, `Cu`, `Al`, `Cr`, `a-C`, ...; and `CuZn`) giving η and k; `none` is the ideal mirror",
 );
 pub(crate) const ETA: ParamSpec = ParamSpec::new(
     "eta",
