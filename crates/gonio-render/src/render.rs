@@ -51,6 +51,25 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 /// arguments).
 pub const DEFAULT_SCENE: &str = include_str!("default_scene.xml");
 
+/// The embedded scenes by name (`gonio render --builtin NAME`): `gallery` (the default scene),
+/// `lambertian` (the lecture's generalizations of Lambert: Oren–Nayar, diffuse microfacets,
+/// Lambertian spheres, and single against multiple scattering on rough gold and glass) and
+/// `lambertian-furnace` (the same models in white under a uniform sky, where every lossless one
+/// vanishes; `-D ms=false` shows the single-scattering microfacet models instead).
+pub const BUILTIN_SCENES: [(&str, &str); 3] = [
+    ("gallery", DEFAULT_SCENE),
+    ("lambertian", include_str!("scenes/lambertian.xml")),
+    (
+        "lambertian-furnace",
+        include_str!("scenes/lambertian-furnace.xml"),
+    ),
+];
+
+/// The embedded scene called `name` (see [`BUILTIN_SCENES`]).
+pub fn builtin_scene(name: &str) -> Option<&'static str> {
+    BUILTIN_SCENES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+}
+
 /// Tile edge, pixels.
 pub const TILE: u32 = 16;
 /// Largest number of samples per pixel in one pass.

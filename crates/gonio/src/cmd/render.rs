@@ -4,7 +4,8 @@
 //! * The output format follows the extension: `.exr` is linear sRGB float, `.png` is sRGB 8-bit.
 //!   Without `-o` the image is written to the current directory as `<scene name>.exr`.
 //! * Without a scene, the embedded default scene (a gallery of the lecture's materials) is
-//!   rendered to `gonio.png` and `gonio.exr`.
+//!   rendered to `gonio.png` and `gonio.exr`; `--builtin NAME` renders another embedded scene
+//!   (`lambertian`, `lambertian-furnace`) to `NAME.png` and `NAME.exr`.
 //! * All cores by default; the same seed gives the same image whatever `--threads` says.
 //! * `--sampler independent` uses Mitsuba's own sampler; the default replaces it with scrambled
 //!   Sobol points (same expected image, less noise).
@@ -30,6 +31,12 @@ use std::time::Instant;
 pub struct RenderArgs {
     /// Mitsuba 3 XML scene; without it the embedded default scene is rendered.
     pub scene: Option<PathBuf>,
+    /// Render an embedded scene instead: `gallery` (the default), `lambertian` (Oren–Nayar,
+    /// diffuse microfacets, Lambertian spheres; single vs multiple scattering) or
+    /// `lambertian-furnace` (the same, white, in a white furnace).
+    #[arg(long, value_name = "NAME", conflicts_with = "scene",
+          value_parser = ["gallery", "lambertian", "lambertian-furnace"])]
+    pub builtin: Option<String>,
     /// Output image (.exr: linear float; .png: sRGB 8-bit).
     #[arg(short, long)]
     pub output: Option<PathBuf>,
@@ -107,15 +114,18 @@ pub fn run(args: RenderArgs) -> Result<ExitCode> {
             (scene, vec![out])
         }
         None => {
-            let scene = gonio_render::xml::load_scene_str(
-                gonio_render::render::DEFAULT_SCENE,
-                Path::new("."),
-                &defines,
-            )
-            .context("loading the default scene")?;
+            let name = args.builtin.as_deref().unwrap_or("gallery");
+            let text = gonio_render::render::builtin_scene(name)
+                .with_context(|| format!("no built-in scene called {name:?}"))?;
+            let scene = gonio_render::xml::load_scene_str(text, Path::new("."), &defines)
+                .with_context(|| format!("loading the built-in scene {name:?}"))?;
+            let stem = if args.builtin.is_some() { name } else { "gonio" };
             let outs = match &args.output {
                 Some(o) => vec![o.clone()],
-                None => vec![PathBuf::from("gonio.png"), PathBuf::from("gonio.exr")],
+                None => vec![
+                    PathBuf::from(format!("{stem}.png")),
+                    PathBuf::from(format!("{stem}.exr")),
+                ],
             };
             (scene, outs)
         }
