@@ -144,6 +144,12 @@ impl Channels {
         self
     }
 
+    /// Adds one channel called `name`.
+    pub fn with_channel(mut self, name: &str) -> Self {
+        self.names.push(name.to_string());
+        self
+    }
+
     /// Number of channels.
     pub fn len(&self) -> usize {
         self.names.len()

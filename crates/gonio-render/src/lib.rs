@@ -7,6 +7,7 @@
 pub mod accel;
 pub mod camera;
 pub mod compare;
+pub mod develop;
 pub mod emitter;
 pub mod film;
 pub mod geometry;

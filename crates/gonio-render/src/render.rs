@@ -34,6 +34,7 @@
 //! pattern hands over to independent numbers).
 
 use crate::accel::Accel;
+use crate::accel::Intersect;
 use crate::camera::Camera;
 use crate::emitter::Lights;
 use crate::film::{Film, FilmTile, SplatFilm};
@@ -209,15 +210,26 @@ impl PreparedScene {
         .with_camera(self.camera.as_ref())
     }
 
-    /// An empty film of the sensor's size and filter with an integrator's channels.
+    /// An empty film of the sensor's size and filter with an integrator's channels, and `A`
+    /// after them when the film's `pixel_format` has alpha.
     pub fn film(&self, integrator: &(impl Integrator + ?Sized)) -> Film {
         let (width, height) = self.size();
-        Film::with_channels(
-            width,
-            height,
-            self.scene.sensor.film.filter,
-            integrator.channels(),
-        )
+        let mut channels = integrator.channels();
+        if self.scene.sensor.film.output.pixel_format.has_alpha() {
+            channels = channels.with_channel("A");
+        }
+        Film::with_channels(width, height, self.scene.sensor.film.filter, channels)
+    }
+
+    /// A camera sample's alpha, as Mitsuba defines it: 1 when the ray hits a surface or an
+    /// environment emitter is visible behind everything (and not hidden), else 0.
+    fn alpha(&self, ray: &crate::geometry::Ray) -> f32 {
+        let sees_environment = !self.lights.infinite().is_empty() && !self.scene.integrator.hide_emitters;
+        if sees_environment || self.accel.occluded(ray) {
+            1.0
+        } else {
+            0.0
+        }
     }
 }
 
@@ -297,6 +309,9 @@ pub fn render_with<I: Integrator + ?Sized>(
     let spp = options.spp.max(1);
     let mut film = prepared.film(integrator);
     let n_channels = film.channels().len();
+    // The film's alpha channel, if any, comes after the integrator's.
+    let n_integrator = integrator.channels().len();
+    let with_alpha = n_channels > n_integrator;
     // What the integrator splats anywhere on the film (light tracing), one slot per camera
     // sample: splats arrive divided by their total (the light tracer estimates the image with
     // N = spp·pixels subpaths).
@@ -346,7 +361,10 @@ pub fn render_with<I: Integrator + ?Sized>(
                                 wavelengths: wl,
                                 sampler: sampler.padded(),
                             };
-                            integrator.sample(&mut sample, &mut value, &mut splat);
+                            integrator.sample(&mut sample, &mut value[..n_integrator], &mut splat);
+                            if with_alpha {
+                                value[n_integrator] = prepared.alpha(&ray);
+                            }
                             tile.add_sample(film_pos, &value);
                         }
                     }

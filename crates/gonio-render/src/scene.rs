@@ -87,6 +87,8 @@ pub struct FilmDesc {
     pub height: u32,
     /// Reconstruction filter (default gaussian, stddev 0.5).
     pub filter: FilterDesc,
+    /// What the image file holds (Mitsuba's `pixel_format`, `component_format`, `file_format`).
+    pub output: FilmOutput,
 }
 
 impl Default for FilmDesc {
@@ -95,8 +97,80 @@ impl Default for FilmDesc {
             width: 768,
             height: 576,
             filter: FilterDesc::default(),
+            output: FilmOutput::default(),
         }
     }
+}
+
+/// The channels of the developed image (Mitsuba's `hdrfilm` `pixel_format`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PixelFormat {
+    /// `R`, `G`, `B` (linear sRGB; the default).
+    #[default]
+    Rgb,
+    /// `R`, `G`, `B`, `A`.
+    Rgba,
+    /// `Y` (CIE luminance).
+    Luminance,
+    /// `Y`, `A`.
+    LuminanceAlpha,
+    /// `X`, `Y`, `Z` (CIE 1931).
+    Xyz,
+    /// `X`, `Y`, `Z`, `A`.
+    Xyza,
+}
+
+impl PixelFormat {
+    /// True when the image has an alpha channel.
+    pub fn has_alpha(self) -> bool {
+        matches!(self, Self::Rgba | Self::LuminanceAlpha | Self::Xyza)
+    }
+}
+
+/// The number type of each stored value (Mitsuba's `component_format`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ComponentFormat {
+    /// Half floats (Mitsuba's default).
+    #[default]
+    Float16,
+    /// Single floats.
+    Float32,
+    /// 32-bit unsigned integers (the value × 2³² − 1, clamped: what OpenEXR's UINT channels hold).
+    Uint32,
+}
+
+/// The image file format (Mitsuba's `file_format`): it names the default output's extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum FileFormat {
+    /// OpenEXR, `.exr` (the default).
+    #[default]
+    OpenExr,
+    /// Radiance RGBE, `.hdr`.
+    Rgbe,
+    /// Portable float map, `.pfm`.
+    Pfm,
+}
+
+impl FileFormat {
+    /// The file name extension Mitsuba gives this format.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Self::OpenExr => "exr",
+            Self::Rgbe => "hdr",
+            Self::Pfm => "pfm",
+        }
+    }
+}
+
+/// What the film writes: channels, number type and file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub struct FilmOutput {
+    /// Channels.
+    pub pixel_format: PixelFormat,
+    /// Number type of an EXR file's values.
+    pub component_format: ComponentFormat,
+    /// File format of the default output.
+    pub file_format: FileFormat,
 }
 
 /// Description of the reconstruction filter (`<rfilter>`).

@@ -212,3 +212,151 @@ fn loader_warnings_reach_the_user() {
     );
     assert!(dir.join("ni.exr").exists());
 }
+
+/// A tiny scene: a sphere in the middle of a 16 × 16 film, lit by a point light, no
+/// environment, with the given `hdrfilm` settings.
+fn film_scene(dir: &Path, name: &str, film_settings: &str) -> PathBuf {
+    let xml = format!(
+        r#"<scene version="3.0.0">
+    <default name="spp" value="4"/>
+    <sensor type="perspective">
+        <float name="fov" value="30"/>
+        <transform name="to_world"><lookat origin="0, 0, 5" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <sampler type="independent"><integer name="sample_count" value="$spp"/></sampler>
+        <film type="hdrfilm">
+            <integer name="width" value="16"/><integer name="height" value="16"/>
+            <rfilter type="box"/>
+            {film_settings}
+        </film>
+    </sensor>
+    <shape type="sphere"><float name="radius" value="0.8"/><bsdf type="diffuse"/></shape>
+    <emitter type="point"><point name="position" x="0" y="3" z="5"/><rgb name="intensity" value="20"/></emitter>
+</scene>"#
+    );
+    let path = dir.join(name);
+    std::fs::write(&path, xml).unwrap();
+    path
+}
+
+fn read_exr(path: &Path) -> exr::image::FlatImage {
+    exr::prelude::read_all_flat_layers_from_file(path).expect("a readable EXR")
+}
+
+#[test]
+fn output_goes_next_to_the_scene_in_the_films_format_as_in_mitsuba() {
+    // No -o: `<scene folder>/<scene name>.<file_format's extension>`, whatever the working
+    // directory; several scenes in one call; Mitsuba's -t and --define spellings.
+    let dir = tempdir("beside");
+    let scenes = dir.join("scenes");
+    std::fs::create_dir_all(&scenes).unwrap();
+    let a = film_scene(&scenes, "a.xml", "");
+    let b = film_scene(&scenes, "b.xml", r#"<string name="file_format" value="pfm"/>"#);
+    let c = film_scene(&scenes, "c.xml", r#"<string name="file_format" value="rgbe"/>"#);
+    let out = run(
+        &[
+            "render",
+            a.to_str().unwrap(),
+            b.to_str().unwrap(),
+            c.to_str().unwrap(),
+            "-t",
+            "1",
+            "--define",
+            "spp=2",
+            "-q",
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(scenes.join("a.exr").exists() && scenes.join("b.pfm").exists() && scenes.join("c.hdr").exists());
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        1,
+        "nothing in the working directory"
+    );
+    let pfm = std::fs::read(scenes.join("b.pfm")).unwrap();
+    assert!(pfm.starts_with(b"PF\n16 16\n-1.0\n") && pfm.len() == 14 + 16 * 16 * 3 * 4);
+    let hdr = RgbImage::read(scenes.join("c.hdr")).expect("a Radiance file gonio reads back");
+    let exr = RgbImage::read(scenes.join("a.exr")).unwrap();
+    // The sphere's centre, lit: both formats hold the same value within RGBE's 8-bit mantissa.
+    let (h, e) = (hdr.get(8, 8), exr.get(8, 8));
+    assert!(
+        e[0] > 0.01 && (h[0] - e[0]).abs() < 0.01 * e[0] + 1e-3,
+        "{h:?} vs {e:?}"
+    );
+    // One -o for several scenes is ambiguous.
+    let two = run(
+        &["render", a.to_str().unwrap(), b.to_str().unwrap(), "-o", "x.exr"],
+        &dir,
+    );
+    assert_eq!(two.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&two.stderr).contains("-o"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn film_pixel_and_component_formats_are_honoured() {
+    use exr::prelude::{AttributeValue, FlatSamples};
+    let dir = tempdir("formats");
+    let rgba = film_scene(
+        &dir,
+        "rgba.xml",
+        r#"<string name="pixel_format" value="rgba"/><string name="component_format" value="float32"/>"#,
+    );
+    let lum = film_scene(
+        &dir,
+        "lum.xml",
+        r#"<string name="pixel_format" value="luminance"/>"#,
+    );
+    let out = run(
+        &[
+            "render",
+            rgba.to_str().unwrap(),
+            lum.to_str().unwrap(),
+            "--seed",
+            "7",
+            "-q",
+        ],
+        &dir,
+    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+
+    let img = read_exr(&dir.join("rgba.exr"));
+    let layer = &img.layer_data[0];
+    let names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    assert_eq!(names, ["A", "B", "G", "R"]);
+    let alpha = &layer.channel_data.list[0].sample_data;
+    assert!(matches!(alpha, FlatSamples::F32(_)), "component_format float32");
+    // Alpha: 1 on the sphere (centre), 0 in the empty corner (no environment behind it).
+    assert_eq!(alpha.value_by_flat_index(8 * 16 + 8).to_f32(), 1.0);
+    assert_eq!(alpha.value_by_flat_index(0).to_f32(), 0.0);
+    // The header records how the image was made.
+    let attrs = &layer.attributes.other;
+    let text = |k: &str| match attrs.get(&exr::prelude::Text::from(k)) {
+        Some(AttributeValue::Text(t)) => t.to_string(),
+        other => panic!("{k}: {other:?}"),
+    };
+    assert!(text("generatedBy").starts_with("gonio "));
+    assert_eq!(text("spp"), "4");
+    assert_eq!(text("seed"), "7");
+    assert!(text("renderTime").ends_with(" s"));
+
+    let img = read_exr(&dir.join("lum.exr"));
+    let list = &img.layer_data[0].channel_data.list;
+    assert_eq!(list.len(), 1);
+    assert_eq!(list[0].name.to_string(), "Y");
+    assert!(
+        matches!(list[0].sample_data, FlatSamples::F16(_)),
+        "Mitsuba's default: half floats"
+    );
+    // Y is the luminance of the colour the RGBA render holds (same seed, same samples).
+    let rgb = RgbImage::read(dir.join("rgba.exr")).unwrap().get(8, 8);
+    let y = list[0].sample_data.value_by_flat_index(8 * 16 + 8).to_f32();
+    let expect = 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
+    assert!((y - expect).abs() < 2e-3 * expect, "{y} vs {expect}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,8 +1,12 @@
 //! `gonio render`: renders a Mitsuba 3 XML scene with the spectral path tracer.
 //!
-//! * `gonio render scene.xml [-o out.exr] [--spp N] [--threads N] [--seed S] [-D k=v]...`
-//! * The output format follows the extension: `.exr` is linear sRGB float, `.png` is sRGB 8-bit.
-//!   Without `-o` the image is written to the current directory as `<scene name>.exr`.
+//! * `gonio render scene.xml [more.xml ...] [-o out.exr] [--spp N] [-t N] [--seed S] [-D k=v]...`
+//!   (Mitsuba's `-t`, `-D`/`--define`; several scenes render one after the other).
+//! * Without `-o` each image is written next to its scene under the scene's name, in the film's
+//!   `file_format` (`scene.exr`, `.hdr` or `.pfm`), as Mitsuba does. With `-o` the extension
+//!   chooses: `.exr`, `.hdr` (RGBE), `.pfm`, or `.png` (sRGB 8-bit). Float outputs hold the film's
+//!   `pixel_format` channels (alpha included) and an EXR its `component_format` (Mitsuba's
+//!   default: half floats); an EXR header records the gonio version, spp, seed and render time.
 //! * Without a scene, the embedded default scene (a gallery of the lecture's materials) is
 //!   rendered to `gonio.png` and `gonio.exr`; `--builtin NAME` renders another embedded scene
 //!   (`lambertian`, `lambertian-furnace`) to `NAME.png` and `NAME.exr`.
@@ -16,9 +20,11 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use gonio_render::develop::{develop, write_developed};
 use gonio_render::image::{ChannelImage, RgbImage};
 use gonio_render::render::{PreparedScene, RenderOptions, render};
 use gonio_render::sampler::Pattern;
+use gonio_render::scene::{FileFormat, FilmOutput, Scene};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -29,28 +35,30 @@ use std::time::Instant;
 /// Arguments of `gonio render`.
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Mitsuba 3 XML scene; without it the embedded default scene is rendered.
-    pub scene: Option<PathBuf>,
+    /// Mitsuba 3 XML scenes, rendered one after the other; without one the embedded default
+    /// scene is rendered.
+    pub scene: Vec<PathBuf>,
     /// Render an embedded scene instead: `gallery` (the default), `lambertian` (Oren–Nayar,
     /// diffuse microfacets, Lambertian spheres; single vs multiple scattering) or
     /// `lambertian-furnace` (the same, white, in a white furnace).
     #[arg(long, value_name = "NAME", conflicts_with = "scene",
           value_parser = ["gallery", "lambertian", "lambertian-furnace"])]
     pub builtin: Option<String>,
-    /// Output image (.exr: linear float; .png: sRGB 8-bit).
+    /// Output image (.exr, .hdr, .pfm: linear float; .png: sRGB 8-bit); one scene only. Default:
+    /// next to the scene, under its name, in the film's `file_format`.
     #[arg(short, long)]
     pub output: Option<PathBuf>,
     /// Samples per pixel (default: the scene's sampler `sample_count`).
     #[arg(long)]
     pub spp: Option<u32>,
     /// Worker threads (default: all cores).
-    #[arg(long)]
+    #[arg(short = 't', long)]
     pub threads: Option<usize>,
     /// Seed of the sample sequences (default: the scene's sampler `seed`).
     #[arg(long)]
     pub seed: Option<u64>,
     /// Scene parameter, `name=value` (overrides `<default name=... value=...>`); repeatable.
-    #[arg(short = 'D', value_name = "NAME=VALUE")]
+    #[arg(short = 'D', long = "define", value_name = "NAME=VALUE")]
     pub define: Vec<String>,
     /// Sample pattern: `auto` (the scene's sampler, with Mitsuba's `independent` replaced by our
     /// Owen-scrambled Sobol points: same expected image, less noise), or `independent`,
@@ -73,72 +81,114 @@ fn parse_defines(defs: &[String]) -> Result<Vec<(String, String)>> {
         .collect()
 }
 
-/// Writes the render: an EXR gets every channel the integrator wrote, by name (a film of only
-/// `R`, `G`, `B` is written as an RGB image), a PNG the colour.
-fn write_image(image: &RgbImage, channels: &ChannelImage, path: &Path) -> Result<()> {
-    let ext = path
-        .extension()
+/// How an output file was made, for the EXR header.
+struct Provenance {
+    spp: u32,
+    seed: u64,
+    seconds: f64,
+}
+
+/// Writes the render to `path` by its extension: `.png` the colour as sRGB 8-bit; `.exr`,
+/// `.hdr`, `.pfm` the film's developed channels (see `gonio_render::develop`).
+fn write_image(
+    image: &RgbImage,
+    channels: &ChannelImage,
+    film: &FilmOutput,
+    made: &Provenance,
+    path: &Path,
+) -> Result<()> {
+    let format = match extension(path).as_deref() {
+        Some("png") => {
+            return image
+                .write(path)
+                .with_context(|| format!("writing {}", path.display()));
+        }
+        Some("exr") => FileFormat::OpenExr,
+        Some("hdr") => FileFormat::Rgbe,
+        Some("pfm") => FileFormat::Pfm,
+        _ => bail!(
+            "{}: unknown output format (use .exr, .hdr, .pfm or .png)",
+            path.display()
+        ),
+    };
+    let developed = develop(channels, film.pixel_format);
+    let attributes = [
+        ("generatedBy", format!("gonio {}", env!("CARGO_PKG_VERSION"))),
+        ("spp", made.spp.to_string()),
+        ("seed", made.seed.to_string()),
+        ("renderTime", format!("{:.3} s", made.seconds)),
+    ]
+    .map(|(k, v)| (k.to_string(), v));
+    write_developed(&developed, path, format, film.component_format, &attributes)
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
         .and_then(|e| e.to_str())
-        .map(|e| e.to_ascii_lowercase());
-    let only_rgb =
-        channels.names.len() == 3 && channels.names.iter().zip(["R", "G", "B"]).all(|(a, b)| a == b);
-    match ext.as_deref() {
-        Some("exr") if !only_rgb => channels
-            .write_exr(path)
-            .with_context(|| format!("writing {}", path.display())),
-        Some("exr") | Some("png") => image
-            .write(path)
-            .with_context(|| format!("writing {}", path.display())),
-        _ => bail!("{}: unknown output format (use .exr or .png)", path.display()),
-    }
+        .map(|e| e.to_ascii_lowercase())
 }
 
 /// Runs `gonio render`.
 pub fn run(args: RenderArgs) -> Result<ExitCode> {
     let defines = parse_defines(&args.define)?;
-    let (scene, outputs) = match &args.scene {
-        Some(path) => {
-            let loaded = gonio_render::xml::load_scene_file_with_warnings(path, &defines)
-                .with_context(|| format!("loading {}", path.display()))?;
-            for w in &loaded.warnings {
-                eprintln!("gonio: warning: {w}");
-            }
-            let scene = loaded.scene;
-            let out = args.output.clone().unwrap_or_else(|| {
-                let stem = path
-                    .file_stem()
-                    .map(|s| s.to_os_string())
-                    .unwrap_or_else(|| "render".into());
-                PathBuf::from(stem).with_extension("exr")
-            });
-            (scene, vec![out])
+    if args.scene.len() > 1 && args.output.is_some() {
+        bail!(
+            "-o names one output file, but {} scenes were given (each is written next to its scene without -o)",
+            args.scene.len()
+        );
+    }
+    if args.scene.is_empty() {
+        let name = args.builtin.as_deref().unwrap_or("gallery");
+        let text = gonio_render::render::builtin_scene(name)
+            .with_context(|| format!("no built-in scene called {name:?}"))?;
+        let scene = gonio_render::xml::load_scene_str(text, Path::new("."), &defines)
+            .with_context(|| format!("loading the built-in scene {name:?}"))?;
+        let stem = if args.builtin.is_some() { name } else { "gonio" };
+        let outs = match &args.output {
+            Some(o) => vec![o.clone()],
+            None => vec![
+                PathBuf::from(format!("{stem}.png")),
+                PathBuf::from(format!("{stem}.exr")),
+            ],
+        };
+        return render_one(&args, scene, outs);
+    }
+    let mut status = ExitCode::SUCCESS;
+    for path in &args.scene {
+        let loaded = gonio_render::xml::load_scene_file_with_warnings(path, &defines)
+            .with_context(|| format!("loading {}", path.display()))?;
+        for w in &loaded.warnings {
+            eprintln!("gonio: warning: {w}");
         }
-        None => {
-            let name = args.builtin.as_deref().unwrap_or("gallery");
-            let text = gonio_render::render::builtin_scene(name)
-                .with_context(|| format!("no built-in scene called {name:?}"))?;
-            let scene = gonio_render::xml::load_scene_str(text, Path::new("."), &defines)
-                .with_context(|| format!("loading the built-in scene {name:?}"))?;
-            let stem = if args.builtin.is_some() { name } else { "gonio" };
-            let outs = match &args.output {
-                Some(o) => vec![o.clone()],
-                None => vec![
-                    PathBuf::from(format!("{stem}.png")),
-                    PathBuf::from(format!("{stem}.exr")),
-                ],
-            };
-            (scene, outs)
-        }
-    };
-    for out in &outputs {
-        let ext = out
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(|e| e.to_ascii_lowercase());
-        if !matches!(ext.as_deref(), Some("exr") | Some("png")) {
-            bail!("{}: unknown output format (use .exr or .png)", out.display());
+        let scene = loaded.scene;
+        let out = args.output.clone().unwrap_or_else(|| {
+            let stem = path
+                .file_stem()
+                .map(|s| s.to_os_string())
+                .unwrap_or_else(|| "render".into());
+            let ext = scene.sensor.film.output.file_format.extension();
+            path.with_file_name(stem).with_extension(ext)
+        });
+        status = render_one(&args, scene, vec![out])?;
+        if CANCEL.load(Ordering::SeqCst) {
+            break;
         }
     }
+    Ok(status)
+}
+
+/// Renders one scene to `outputs`.
+fn render_one(args: &RenderArgs, scene: Scene, outputs: Vec<PathBuf>) -> Result<ExitCode> {
+    for out in &outputs {
+        if !matches!(extension(out).as_deref(), Some("exr" | "png" | "hdr" | "pfm")) {
+            bail!(
+                "{}: unknown output format (use .exr, .hdr, .pfm or .png)",
+                out.display()
+            );
+        }
+    }
+    let film = scene.sensor.film.output;
     let mut options = RenderOptions::from_scene(&scene);
     if let Some(spp) = args.spp {
         if spp == 0 {
@@ -199,8 +249,13 @@ pub fn run(args: RenderArgs) -> Result<ExitCode> {
     let render_secs = t1.elapsed().as_secs_f64();
     bar.finish_and_clear();
 
+    let made = Provenance {
+        spp: out.complete_spp,
+        seed: options.seed,
+        seconds: render_secs,
+    };
     for path in &outputs {
-        write_image(&out.image, &out.channels, path)?;
+        write_image(&out.image, &out.channels, &film, &made, path)?;
     }
     if !args.quiet {
         let names: Vec<String> = outputs.iter().map(|p| p.display().to_string()).collect();

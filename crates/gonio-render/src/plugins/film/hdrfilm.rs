@@ -1,9 +1,11 @@
 //! `hdrfilm`: Mitsuba 3's high-dynamic-range film (`src/films/hdrfilm.cpp`) with its nested
-//! reconstruction filter; the runtime film is [`crate::film`]. gonio writes the format the output
-//! file name asks for, so Mitsuba's output settings are accepted and ignored.
+//! reconstruction filter; the runtime film is [`crate::film`]. The output settings are honoured as
+//! Mitsuba honours them: `pixel_format` chooses the channels (alpha is the fraction of the pixel's
+//! camera rays that hit a surface or see an environment), `component_format` the EXR number type,
+//! and `file_format` the default output's format and extension (an explicit `-o name.ext` wins).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin, RFILTER_PLUGINS};
-use crate::scene::FilmDesc;
+use crate::scene::{ComponentFormat, FileFormat, FilmDesc, FilmOutput, PixelFormat};
 use crate::xml::{Builder, Params, SceneError, Tag};
 
 const WIDTH: ParamSpec = ParamSpec::new(
@@ -22,19 +24,19 @@ const FILE_FORMAT: ParamSpec = ParamSpec::new(
     "file_format",
     ParamType::String,
     DefaultValue::Str("openexr"),
-    "`openexr`, `exr`, `rgbe`, `pfm`; accepted and ignored",
+    "`openexr` (or `exr`), `rgbe` (Radiance `.hdr`), `pfm`: the default output's format",
 );
 const PIXEL_FORMAT: ParamSpec = ParamSpec::new(
     "pixel_format",
     ParamType::String,
     DefaultValue::Str("rgb"),
-    "`rgb`, `rgba`, `luminance`, `luminance_alpha`, `xyz`, `xyza`; accepted and ignored",
+    "`rgb`, `rgba`, `luminance`, `luminance_alpha`, `xyz`, `xyza`: the image's channels (EXR and PFM; RGBE holds RGB)",
 );
 const COMPONENT_FORMAT: ParamSpec = ParamSpec::new(
     "component_format",
     ParamType::String,
     DefaultValue::Str("float16"),
-    "`float16`, `float32`, `uint32`; accepted and ignored",
+    "`float16`, `float32`, `uint32`: the number type of an EXR file's values",
 );
 const SAMPLE_BORDER: ParamSpec = ParamSpec::new(
     "sample_border",
@@ -113,21 +115,36 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneE
     let filter = b
         .nested_one(p, Tag::Rfilter, RFILTER_PLUGINS, "film")?
         .unwrap_or_default();
-    p.choice(
+    let file_format = match p.choice(
         FILE_FORMAT.name,
         FILE_FORMAT.default.str(),
         &["openexr", "exr", "rgbe", "pfm"],
-    )?;
-    p.choice(
+    )? {
+        "rgbe" => FileFormat::Rgbe,
+        "pfm" => FileFormat::Pfm,
+        _ => FileFormat::OpenExr,
+    };
+    let pixel_format = match p.choice(
         PIXEL_FORMAT.name,
         PIXEL_FORMAT.default.str(),
         &["rgb", "rgba", "luminance", "luminance_alpha", "xyz", "xyza"],
-    )?;
-    p.choice(
+    )? {
+        "rgba" => PixelFormat::Rgba,
+        "luminance" => PixelFormat::Luminance,
+        "luminance_alpha" => PixelFormat::LuminanceAlpha,
+        "xyz" => PixelFormat::Xyz,
+        "xyza" => PixelFormat::Xyza,
+        _ => PixelFormat::Rgb,
+    };
+    let component_format = match p.choice(
         COMPONENT_FORMAT.name,
         COMPONENT_FORMAT.default.str(),
         &["float16", "float32", "uint32"],
-    )?;
+    )? {
+        "float32" => ComponentFormat::Float32,
+        "uint32" => ComponentFormat::Uint32,
+        _ => ComponentFormat::Float16,
+    };
     p.bool(SAMPLE_BORDER.name, SAMPLE_BORDER.default.bool())?;
     p.bool(BANNER.name, BANNER.default.bool())?;
     p.bool(COMPENSATE.name, COMPENSATE.default.bool())?;
@@ -140,5 +157,10 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneE
         width,
         height,
         filter,
+        output: FilmOutput {
+            pixel_format,
+            component_format,
+            file_format,
+        },
     })
 }
