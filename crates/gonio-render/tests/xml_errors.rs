@@ -482,3 +482,17 @@ fn errors_in_included_files_name_that_file() {
     assert_eq!((e.location.line, e.location.column), (3, 33), "{e}");
     assert!(e.to_string().contains("\"oops\""), "{e}");
 }
+
+#[test]
+fn a_scene_version_newer_than_gonio_understands_is_an_error() {
+    // Mitsuba 2.x and every 3.x minor version load (the format is Mitsuba 3's); a major version
+    // past 3 is a format gonio cannot know, named with its location.
+    for v in ["2.0.0", "2.2.1", "3.0.0", "3.9.1", "3.42"] {
+        let t = format!("<scene version=\"{v}\">\n  <shape type=\"sphere\"/>\n</scene>");
+        assert!(load_scene_str(&t, data(), &[]).is_ok(), "{v}");
+    }
+    let t = "<scene version=\"4.0.0\">\n  <shape type=\"sphere\"/>\n</scene>";
+    let e = load_err(t);
+    check(&e, ErrorKind::BadValue, at(t, "4.0.0"), &["4.0.0"]);
+    assert!(e.to_string().contains("newer than gonio understands"), "{e}");
+}

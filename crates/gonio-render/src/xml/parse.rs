@@ -606,6 +606,9 @@ fn parse_xml<'i>(text: &'i str, name: &Arc<str>) -> Result<roxmltree::Document<'
     Ok(doc)
 }
 
+/// The newest scene format gonio reads: Mitsuba 3's.
+const NEWEST_SCENE_MAJOR: u32 = 3;
+
 fn parse_version(v: &str, loc: &Location) -> Result<(u32, u32, u32), SceneError> {
     let parts: Vec<&str> = v.trim().split('.').collect();
     let bad = || {
@@ -621,6 +624,17 @@ fn parse_version(v: &str, loc: &Location) -> Result<(u32, u32, u32), SceneError>
     let mut n = [0u32; 3];
     for (i, p) in parts.iter().enumerate() {
         n[i] = p.parse().map_err(|_| bad())?;
+    }
+    // Scenes of Mitsuba 0.x–2.x load (0.x names are translated); a major version past 3 names
+    // a format gonio cannot know (Mitsuba 3.9.1 loads it silently and may misread it).
+    if n[0] > NEWEST_SCENE_MAJOR {
+        return Err(SceneError::new(
+            loc.clone(),
+            ErrorKind::BadValue,
+            format!(
+                "scene version \"{v}\" is newer than gonio understands (Mitsuba {NEWEST_SCENE_MAJOR}.x scenes and older)"
+            ),
+        ));
     }
     Ok((n[0], n[1], n[2]))
 }
