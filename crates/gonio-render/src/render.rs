@@ -167,7 +167,16 @@ impl PreparedScene {
             index: e.index,
             message: e.message,
         })?;
-        let camera = crate::camera::from_sensor(&scene.sensor);
+        let mut camera = crate::camera::from_sensor(&scene.sensor);
+        if let Some(crop) = film.crop {
+            let full_pixels = film.width as f32 * film.height as f32;
+            camera = Box::new(CroppedCamera {
+                full: camera,
+                offset: Vec2::new(crop.offset.0 as f32, crop.offset.1 as f32),
+                size: Vec2::new(crop.size.0 as f32, crop.size.1 as f32),
+                area_ratio: full_pixels / (crop.size.0 as f32 * crop.size.1 as f32),
+            });
+        }
         let accel = Accel::new(world);
         Ok(Self {
             scene,
@@ -193,9 +202,9 @@ impl PreparedScene {
         self.camera.as_ref()
     }
 
-    /// Film size (width, height).
+    /// Size (width, height) of the rendered image: the film's, or its crop window's.
     pub fn size(&self) -> (u32, u32) {
-        (self.scene.sensor.film.width, self.scene.sensor.film.height)
+        self.scene.sensor.film.image_size()
     }
 
     /// The scene's integrator (`path`, with its settings), over this scene.
@@ -230,6 +239,40 @@ impl PreparedScene {
         } else {
             0.0
         }
+    }
+}
+
+/// A camera seen through a crop window of its film (`hdrfilm`'s `crop_*`): film positions are
+/// the window's, `offset` pixels from the full film's top-left corner.
+#[derive(Debug)]
+struct CroppedCamera {
+    full: Box<dyn Camera>,
+    offset: Vec2,
+    size: Vec2,
+    /// Full film area / window area: camera samples spread over the window only, so the density
+    /// of a camera direction is this much higher than over the whole film.
+    area_ratio: f32,
+}
+
+impl Camera for CroppedCamera {
+    fn generate_ray(&self, film: Vec2) -> crate::geometry::Ray {
+        self.full.generate_ray(film + self.offset)
+    }
+
+    fn project(&self, p: glam::Vec3) -> Option<Vec2> {
+        self.full.project(p).map(|f| f - self.offset)
+    }
+
+    fn position(&self) -> glam::Vec3 {
+        self.full.position()
+    }
+
+    fn connect(&self, p: glam::Vec3) -> Option<crate::camera::CameraConnection> {
+        let mut c = self.full.connect(p)?;
+        c.film -= self.offset;
+        c.film_pdf *= self.area_ratio;
+        let inside = c.film.x >= 0.0 && c.film.y >= 0.0 && c.film.x < self.size.x && c.film.y < self.size.y;
+        inside.then_some(c)
     }
 }
 
@@ -306,6 +349,13 @@ pub fn render_with<I: Integrator + ?Sized>(
     cancel: &AtomicBool,
 ) -> RenderOutput {
     let (width, height) = prepared.size();
+    let crop_offset = prepared
+        .scene
+        .sensor
+        .film
+        .crop
+        .map_or(UVec2::ZERO, |c| UVec2::new(c.offset.0, c.offset.1));
+    let crop_shift = Vec2::new(crop_offset.x as f32, crop_offset.y as f32);
     let spp = options.spp.max(1);
     let mut film = prepared.film(integrator);
     let n_channels = film.channels().len();
@@ -351,8 +401,14 @@ pub fn render_with<I: Integrator + ?Sized>(
                 for py in lo.y..hi.y {
                     for px in lo.x..hi.x {
                         for s in start..start + count {
-                            sampler.start_pixel_sample(UVec2::new(px, py), s);
-                            let film_pos = Vec2::new(px as f32, py as f32) + sampler.next_2d();
+                            // Keyed by the full film's pixel: a crop window renders exactly
+                            // those pixels of the full image (light paths aside). The film
+                            // position is the window's, computed from the full film's (exact:
+                            // the cropped camera adds the offset back bit for bit).
+                            let full = UVec2::new(px, py) + crop_offset;
+                            sampler.start_pixel_sample(full, s);
+                            let film_pos =
+                                Vec2::new(full.x as f32, full.y as f32) + sampler.next_2d() - crop_shift;
                             let wl = wavelengths.sample(sampler.next_1d());
                             let ray = prepared.camera.generate_ray(film_pos);
                             let mut sample = CameraSample {

@@ -89,6 +89,26 @@ pub struct FilmDesc {
     pub filter: FilterDesc,
     /// What the image file holds (Mitsuba's `pixel_format`, `component_format`, `file_format`).
     pub output: FilmOutput,
+    /// The part of the film that is rendered and written (Mitsuba's `crop_offset_x`, ...,
+    /// `crop_height`; default the whole film).
+    pub crop: Option<CropWindow>,
+}
+
+/// A crop window: the rendered image is the `size` pixels of the full film starting at
+/// `offset` (top-left origin); the camera still sees the full film's field of view.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CropWindow {
+    /// Top-left pixel (x, y) of the window in the full film.
+    pub offset: (u32, u32),
+    /// Width and height of the window, ≥ 1, inside the film.
+    pub size: (u32, u32),
+}
+
+impl FilmDesc {
+    /// Size of the image that is rendered: the crop window's, or the film's.
+    pub fn image_size(&self) -> (u32, u32) {
+        self.crop.map_or((self.width, self.height), |c| c.size)
+    }
 }
 
 impl Default for FilmDesc {
@@ -98,6 +118,7 @@ impl Default for FilmDesc {
             height: 576,
             filter: FilterDesc::default(),
             output: FilmOutput::default(),
+            crop: None,
         }
     }
 }

@@ -3,10 +3,13 @@
 //! Mitsuba honours them: `pixel_format` chooses the channels (alpha is the fraction of the pixel's
 //! camera rays that hit a surface or see an environment), `component_format` the EXR number type,
 //! and `file_format` the default output's format and extension (an explicit `-o name.ext` wins).
+//! A crop window renders and writes only its part of the film, seen as the full film sees it.
+//! `sample_border` is accepted and ignored: gonio's edge pixels take the samples inside the film
+//! only (normalized by their filter weights, so unbiased, slightly noisier at the border).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin, RFILTER_PLUGINS};
-use crate::scene::{ComponentFormat, FileFormat, FilmDesc, FilmOutput, PixelFormat};
-use crate::xml::{Builder, Params, SceneError, Tag};
+use crate::scene::{ComponentFormat, CropWindow, FileFormat, FilmDesc, FilmOutput, PixelFormat};
+use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
 
 const WIDTH: ParamSpec = ParamSpec::new(
     "width",
@@ -60,25 +63,25 @@ const CROP_OFFSET_X: ParamSpec = ParamSpec::new(
     "crop_offset_x",
     ParamType::Integer,
     DefaultValue::Int(0),
-    "crop window; only the full image (0) is supported",
+    "left edge of the crop window (pixels), in [0, `width` − 1]",
 );
 const CROP_OFFSET_Y: ParamSpec = ParamSpec::new(
     "crop_offset_y",
     ParamType::Integer,
     DefaultValue::Int(0),
-    "crop window; only the full image (0) is supported",
+    "top edge of the crop window (pixels), in [0, `height` − 1]",
 );
 const CROP_WIDTH: ParamSpec = ParamSpec::new(
     "crop_width",
     ParamType::Integer,
     DefaultValue::Derived("`width`"),
-    "crop window; only the full image (`width`) is supported",
+    "width of the crop window: only that part of the film is rendered and written",
 );
 const CROP_HEIGHT: ParamSpec = ParamSpec::new(
     "crop_height",
     ParamType::Integer,
     DefaultValue::Derived("`height`"),
-    "crop window; only the full image (`height`) is supported",
+    "height of the crop window",
 );
 const RFILTER: ParamSpec = ParamSpec::new(
     "(nested rfilter)",
@@ -148,11 +151,34 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneE
     p.bool(SAMPLE_BORDER.name, SAMPLE_BORDER.default.bool())?;
     p.bool(BANNER.name, BANNER.default.bool())?;
     p.bool(COMPENSATE.name, COMPENSATE.default.bool())?;
-    p.int_in(CROP_OFFSET_X.name, CROP_OFFSET_X.default.int(), 0, 0)?;
-    p.int_in(CROP_OFFSET_Y.name, CROP_OFFSET_Y.default.int(), 0, 0)?;
     let (w, h) = (width as i64, height as i64);
-    p.int_in(CROP_WIDTH.name, w, w, w)?;
-    p.int_in(CROP_HEIGHT.name, h, h, h)?;
+    let x = p.int_in(CROP_OFFSET_X.name, CROP_OFFSET_X.default.int(), 0, w - 1)?;
+    let y = p.int_in(CROP_OFFSET_Y.name, CROP_OFFSET_Y.default.int(), 0, h - 1)?;
+    // As in Mitsuba, the window defaults to the film size and must lie inside the film.
+    let mut window = |size: &ParamSpec, offset: &ParamSpec, full: i64, start: i64| {
+        let explicit = p.int_opt(size.name)?.is_some();
+        let at = p.int_opt(offset.name)?.map(|(_, l)| l.clone());
+        match (explicit, at) {
+            (false, Some(loc)) if start > 0 => Err(err(
+                &loc,
+                ErrorKind::BadValue,
+                format!(
+                    "the crop window leaves the film: {} {start} with the default {} {full} (give {} ≤ {})",
+                    offset.name,
+                    size.name,
+                    size.name,
+                    full - start
+                ),
+            )),
+            _ => p.int_in(size.name, full, 1, full - start),
+        }
+    };
+    let cw = window(&CROP_WIDTH, &CROP_OFFSET_X, w, x)?;
+    let ch = window(&CROP_HEIGHT, &CROP_OFFSET_Y, h, y)?;
+    let crop = ((x, y, cw, ch) != (0, 0, w, h)).then_some(CropWindow {
+        offset: (x as u32, y as u32),
+        size: (cw as u32, ch as u32),
+    });
     Ok(FilmDesc {
         width,
         height,
@@ -162,5 +188,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneE
             component_format,
             file_format,
         },
+        crop,
     })
 }
