@@ -46,6 +46,28 @@ pub struct IntegratorDesc {
     /// surface → camera) instead of finding them by BSDF sampling (default true; see
     /// `integrator::caustics`).
     pub caustic_paths: bool,
+    /// Which algorithm: `path` (the fields above), `direct` or `depth`.
+    pub kind: IntegratorKind,
+}
+
+/// The integrator plugin a scene names; `path`'s settings are [`IntegratorDesc`]'s fields.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum IntegratorKind {
+    /// `path`: the path tracer.
+    #[default]
+    Path,
+    /// `direct` (Mitsuba 3 `src/integrators/direct.cpp`): emitters seen directly plus one
+    /// bounce of direct lighting, `emitter_samples` light samples and `bsdf_samples` BSDF
+    /// samples per hit, combined by the power heuristic.
+    Direct {
+        /// Light samples per hit.
+        emitter_samples: u32,
+        /// BSDF samples per hit.
+        bsdf_samples: u32,
+    },
+    /// `depth` (Mitsuba 3 `src/integrators/depth.cpp`): the distance along the camera ray to
+    /// the first hit, 0 where the ray escapes, in every colour channel.
+    Depth,
 }
 
 impl Default for IntegratorDesc {
@@ -57,6 +79,7 @@ impl Default for IntegratorDesc {
             hide_emitters: false,
             thin_shadows: true,
             caustic_paths: true,
+            kind: IntegratorKind::Path,
         }
     }
 }

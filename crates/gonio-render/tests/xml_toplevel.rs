@@ -42,3 +42,38 @@ fn an_unreferenced_top_level_sampler_is_still_an_error() {
         "{e}"
     );
 }
+
+#[test]
+fn a_top_level_area_emitter_is_attached_to_the_shape_that_references_it() {
+    // Mitsuba's `scenes/cbox/cbox-rgb.xml`: the emitter is declared after the shape that uses it.
+    let s = load(
+        r#"<shape type="rectangle" id="light"><ref id="area-emitter"/></shape>
+        <shape type="sphere"/>
+        <emitter type="area" id="area-emitter"><rgb name="radiance" value="18.4, 11.0, 2.75"/></emitter>"#,
+    )
+    .unwrap();
+    assert_eq!(s.shapes.len(), 2);
+    assert!(s.shapes[0].emitter.is_some(), "the rectangle emits");
+    assert!(s.shapes[1].emitter.is_none(), "the sphere does not");
+    assert!(s.emitters.is_empty(), "no emitter stands on its own");
+}
+
+#[test]
+fn an_area_emitter_attached_twice_or_to_nothing_is_an_error() {
+    let e = load(
+        r#"<emitter type="area" id="e"/>
+        <shape type="sphere"><ref id="e"/></shape>
+        <shape type="sphere"><ref id="e"/></shape>"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("already attached") && e.contains("single shape") && e.contains(":3:"),
+        "{e}"
+    );
+    let e = load(r#"<emitter type="area" id="e"/>"#).unwrap_err().to_string();
+    assert!(
+        e.contains("must be nested in a <shape>") && e.contains(":1:"),
+        "{e}"
+    );
+}

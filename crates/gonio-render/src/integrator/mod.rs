@@ -72,6 +72,7 @@
 //! from the side of the geometric normal that their direction points to.
 
 pub mod caustics;
+mod direct;
 
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
@@ -81,7 +82,7 @@ use crate::geometry::{Ray, SurfaceInteraction};
 use crate::material::Material;
 pub use crate::sampler::PathSampler;
 use crate::sampler::{PaddedSampler, Pcg32};
-use crate::scene::IntegratorDesc;
+use crate::scene::{IntegratorDesc, IntegratorKind};
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::color::linear_srgb_from_sampled;
@@ -162,6 +163,8 @@ pub struct PathTracer<'a> {
     caustics: Option<caustics::EmissionSampler>,
     /// The camera light paths connect to (light tracing needs it).
     camera: Option<&'a dyn Camera>,
+    /// `path`, or `direct` and `depth` ([`direct`]), which reuse its light sampling and MIS.
+    kind: IntegratorKind,
 }
 
 /// The last real scattering vertex of a camera path, for the MIS weight of a light that the
@@ -274,6 +277,7 @@ impl<'a> PathTracer<'a> {
             thin_shadows: settings.thin_shadows,
             caustics,
             camera: None,
+            kind: settings.kind,
         }
     }
 
@@ -495,16 +499,7 @@ impl<'a> PathTracer<'a> {
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
         let flags = v.bsdf.flags();
-        let n_side = if v.wi.z >= 0.0 {
-            v.si.shading.n
-        } else {
-            -v.si.shading.n
-        };
-        let light_ref = LightRef {
-            p: v.si.p,
-            n: n_side,
-            hemisphere: !flags.is_transmission(),
-        };
+        let light_ref = Self::light_ref(v, flags);
 
         // Random numbers: a vertex with a smooth lobe takes five (light choice, light point,
         // lobe, direction), a purely delta one only its lobe choice (it samples no light and
@@ -515,7 +510,7 @@ impl<'a> PathTracer<'a> {
         if smooth {
             let u_sel = sampler.next_1d();
             let u_light = sampler.next_2d();
-            nee = self.next_event(v, &light_ref, state.beta, u_sel, u_light, wl);
+            nee = self.next_event(v, &light_ref, state.beta, u_sel, u_light, wl, (1.0, 1.0));
             if !light.is_empty() {
                 let c = self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
                 nee += state.beta * W::from_spectrum(c);
@@ -551,8 +546,26 @@ impl<'a> PathTracer<'a> {
         }
     }
 
+    /// Where lights are sampled from at vertex `v` (its side of the shading normal; a whole
+    /// sphere of directions when the BSDF transmits).
+    fn light_ref(v: &Vertex, flags: BsdfFlags) -> LightRef {
+        let n_side = if v.wi.z >= 0.0 {
+            v.si.shading.n
+        } else {
+            -v.si.shading.n
+        };
+        LightRef {
+            p: v.si.p,
+            n: n_side,
+            hemisphere: !flags.is_transmission(),
+        }
+    }
+
     /// Next-event estimation from `v`: β·f·|cos|·Lᵢ·T/p·w for one light sample (`u_sel` picks
-    /// the light, `u` the point), w the power heuristic against the BSDF density.
+    /// the light, `u` the point), w the power heuristic against the BSDF density. `counts`
+    /// (light samples, BSDF samples) scale the two densities in the heuristic (`(1, 1)` for the
+    /// path tracer; `direct` takes several of each).
+    #[allow(clippy::too_many_arguments)]
     fn next_event<W: Weight>(
         &self,
         v: &Vertex,
@@ -561,6 +574,7 @@ impl<'a> PathTracer<'a> {
         u_sel: f32,
         u: Vec2,
         wl: &SampledWavelengths,
+        counts: (f32, f32),
     ) -> W
     where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
@@ -584,7 +598,7 @@ impl<'a> PathTracer<'a> {
         let w = if ls.delta {
             1.0
         } else {
-            mis_power(ls.pdf, bsdf_pdf)
+            mis_power(ls.pdf * counts.0, bsdf_pdf * counts.1)
         };
         beta * f * W::from_spectrum(ls.li) * t * (wo.z.abs() * w / ls.pdf)
     }
@@ -674,6 +688,22 @@ impl Integrator for PathTracer<'_> {
     }
 
     fn sample(&self, sample: &mut CameraSample<'_>, value: &mut [f32], splat: &mut dyn FnMut(Vec2, &[f32])) {
+        match self.kind {
+            IntegratorKind::Path => {}
+            IntegratorKind::Direct {
+                emitter_samples,
+                bsdf_samples,
+            } => {
+                let l = self.li_direct(sample, emitter_samples, bsdf_samples);
+                value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
+                return;
+            }
+            IntegratorKind::Depth => {
+                let l = SampledSpectrum::splat(self.depth(&sample.ray));
+                value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
+                return;
+            }
+        }
         let mut light = caustics::LightSubpath::new();
         if self.traces_caustics() {
             // The light subpath first: it shares the wavelengths (and may terminate the

@@ -28,7 +28,11 @@ use crate::scene::{
 use crate::texture::Texture;
 
 /// `<integrator>` plugins.
-pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[&integrator::path::PLUGIN];
+pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
+    &integrator::path::PLUGIN,
+    &integrator::direct::PLUGIN,
+    &integrator::depth::PLUGIN,
+];
 
 /// `<sensor>` plugins.
 pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[&sensor::perspective::PLUGIN];

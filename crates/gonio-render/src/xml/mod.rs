@@ -22,7 +22,7 @@ mod values;
 pub use error::{ErrorKind, Location, SceneError};
 pub use params::{BsdfPlugin, DefaultValue, ParamSpec, ParamType, Plugin};
 pub(crate) use params::{Params, err, to_affine};
-pub(crate) use parse::Tag;
+pub(crate) use parse::{Obj, Tag};
 pub(crate) use plugins::{Builder, image_error, unknown_plugin};
 
 use crate::material::Material;

@@ -35,6 +35,9 @@ pub(crate) struct Builder<'d> {
     meshes: HashMap<(PathBuf, u32, bool, bool), Arc<TriangleMesh>>,
     visiting: Vec<usize>,
     role: RgbKind,
+    /// Area emitters already attached to a shape, with where (Mitsuba attaches one emitter to
+    /// one shape only).
+    pub(crate) attached_emitters: HashMap<usize, Location>,
     pub warnings: Vec<String>,
 }
 
@@ -71,6 +74,7 @@ impl<'d> Builder<'d> {
             meshes: HashMap::new(),
             visiting: Vec::new(),
             role: RgbKind::Unbounded,
+            attached_emitters: HashMap::new(),
             warnings: Vec::new(),
         }
     }
@@ -159,6 +163,9 @@ impl<'d> Builder<'d> {
                     }
                 }
                 Tag::Shape => shapes.push(self.build_plugin(SHAPE_PLUGINS, idx)?),
+                // An area emitter declared with an id and referenced by a shape (Mitsuba's
+                // `scenes/cbox`: `<shape ...><ref id="area-emitter"/></shape>`) is built there.
+                Tag::Emitter if referenced.contains(&idx) && crate::plugins::emitter::is_area(obj) => {}
                 Tag::Emitter => emitters.push(crate::plugins::emitter::build(&mut self, idx)?),
                 // Definitions: built (and so checked) even when nothing refers to them.
                 Tag::Bsdf => {

@@ -1,6 +1,6 @@
 //! `<emitter>` plugins (Mitsuba 3 `src/emitters/`). The runtime lights are in
-//! [`crate::emitter`]. An `area` emitter is nested in a shape ([`area`]); the others stand in
-//! the scene (`build`). Colours and numbers are × D65, as in spectral Mitsuba.
+//! [`crate::emitter`]. An `area` emitter is nested in a shape, or declared in the scene with an
+//! `id` and referenced by one shape ([`area`]); the others stand in the scene (`build`). Colours and numbers are × D65, as in spectral Mitsuba.
 
 pub mod area;
 pub mod constant;
@@ -13,6 +13,11 @@ use crate::plugins::{AREA_EMITTER_PLUGINS, EMITTER_PLUGINS, Plugin};
 use crate::scene::{AreaEmitterDesc, EmitterDesc};
 use crate::xml::{Builder, ErrorKind, Location, SceneError, err, unknown_plugin};
 
+/// Whether the `<emitter>` object is one a shape carries (`area`).
+pub(crate) fn is_area(obj: &crate::xml::Obj) -> bool {
+    Plugin::find(AREA_EMITTER_PLUGINS, &obj.ty).is_some()
+}
+
 /// Builds the `<emitter>` object `idx` standing in the scene.
 pub(crate) fn build(b: &mut Builder<'_>, idx: usize) -> Result<EmitterDesc, SceneError> {
     let obj = &b.doc.objs[idx];
@@ -20,7 +25,10 @@ pub(crate) fn build(b: &mut Builder<'_>, idx: usize) -> Result<EmitterDesc, Scen
         return Err(err(
             &obj.loc,
             ErrorKind::Grammar,
-            format!("an \"{}\" emitter must be nested in a <shape>", obj.ty),
+            format!(
+                "an \"{}\" emitter must be nested in a <shape> (or given an id and referenced by one)",
+                obj.ty
+            ),
         ));
     }
     let Some(plugin) = Plugin::find(EMITTER_PLUGINS, &obj.ty) else {
@@ -41,6 +49,22 @@ pub(crate) fn area(b: &mut Builder<'_>, idx: usize, loc: &Location) -> Result<Ar
             format!("a shape can only carry an \"area\" emitter, found \"{}\"", obj.ty),
         ));
     };
+    // Mitsuba's `AreaLight::set_shape`: one emitter, one shape.
+    if let Some(first) = b.attached_emitters.get(&idx) {
+        return Err(err(
+            loc,
+            ErrorKind::Grammar,
+            format!(
+                "this \"{}\" emitter{} is already attached to the shape at {first}; an area emitter can be attached to a single shape",
+                obj.ty,
+                obj.id
+                    .as_ref()
+                    .map(|i| format!(" (id \"{i}\")"))
+                    .unwrap_or_default()
+            ),
+        ));
+    }
+    b.attached_emitters.insert(idx, loc.clone());
     b.enter(idx, loc)?;
     let e = b.run_plugin(plugin, idx)?;
     b.leave();

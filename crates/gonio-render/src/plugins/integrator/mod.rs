@@ -1,3 +1,5 @@
 //! `<integrator>` plugins.
 
+pub mod depth;
+pub mod direct;
 pub mod path;

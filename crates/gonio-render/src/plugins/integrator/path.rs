@@ -3,7 +3,7 @@
 //! caustics (`crate::integrator`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::IntegratorDesc;
+use crate::scene::{IntegratorDesc, IntegratorKind};
 use crate::xml::{Builder, Params, SceneError};
 
 const MAX_DEPTH: ParamSpec = ParamSpec::new(
@@ -84,5 +84,6 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         hide_emitters,
         thin_shadows,
         caustic_paths,
+        kind: IntegratorKind::Path,
     })
 }
