@@ -27,10 +27,12 @@
 //!
 //! Stochastic models (Heitz 2016 random walks, layered BSDFs) seed their own generator from a
 //! hash of (wi, wo) so `eval`/`pdf` stay deterministic functions of their arguments, and draw the
-//! rest of their randomness in `sample` from the `u1`, `u2` they are given. Polarization would add
-//! a method with a default that depolarizes (a Mueller matrix diag(f, 0, 0, 0)), leaving every
-//! unpolarized caller unchanged.
+//! rest of their randomness in `sample` from the `u1`, `u2` they are given. Polarization adds
+//! methods with defaults that depolarize (a Mueller matrix diag(f, 0, 0, 0)): [`Bsdf::eval_mueller`],
+//! [`Bsdf::sample_mueller`], [`Bsdf::null_transmission_mueller`], leaving every unpolarized caller
+//! unchanged; polarizing models override them.
 
+use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
@@ -303,6 +305,68 @@ pub trait Bsdf: Send + Sync {
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
         (self.eval(ctx, wi, wo, wl), self.pdf(ctx, wi, wo, wl))
+    }
+
+    /// [`Bsdf::eval`] as a Mueller matrix in the local frame, from Mitsuba's implicit Stokes basis
+    /// of the incident beam to that of the outgoing one (see [`light_directions`]). The default
+    /// depolarizes: diag(f, 0, 0, 0), frame-free. Its M00 is [`Bsdf::eval`]'s value exactly.
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        Mueller::depolarizer(self.eval(ctx, wi, wo, wl))
+    }
+
+    /// [`Bsdf::sample`] with a Mueller weight (bases as [`Bsdf::eval_mueller`]); the same
+    /// direction, pdf, flags and η, and M00 equal to [`Bsdf::sample`]'s weight. The default
+    /// depolarizes.
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        self.sample(ctx, wi, u1, u2, wl).map(BsdfSample::depolarized)
+    }
+
+    /// [`Bsdf::null_transmission`] as a Mueller matrix for light crossing along −`wi` (bases: the
+    /// implicit basis of −`wi` on both sides). The default depolarizes.
+    fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        self.null_transmission(wi, wl).map(Mueller::depolarizer)
+    }
+}
+
+/// The directions light travels at a scattering event, `(light_in, light_out)`: in radiance mode
+/// light arrives along −`wo` and leaves along `wi` (towards the camera); in importance mode it
+/// arrives along −`wi` and leaves along `wo` (Mitsuba's `wo_hat`/`wi_hat`). A Mueller matrix of a
+/// BSDF maps Stokes vectors in the implicit basis of `light_in` to the implicit basis of
+/// `light_out`.
+#[inline]
+pub fn light_directions(ctx: &BsdfContext, wi: Vec3, wo: Vec3) -> (Vec3, Vec3) {
+    match ctx.mode {
+        TransportMode::Radiance => (-wo, wi),
+        TransportMode::Importance => (-wi, wo),
+    }
+}
+
+impl BsdfSample {
+    /// The same sample with a depolarizing Mueller weight diag(weight, 0, 0, 0).
+    #[inline]
+    pub fn depolarized(self) -> BsdfSample<Mueller> {
+        self.with_weight(Mueller::depolarizer(self.weight))
+    }
+}
+
+impl<W> BsdfSample<W> {
+    /// The same direction, pdf, flags and η with another weight.
+    #[inline]
+    pub fn with_weight<V>(self, weight: V) -> BsdfSample<V> {
+        BsdfSample {
+            wo: self.wo,
+            weight,
+            pdf: self.pdf,
+            flags: self.flags,
+            eta: self.eta,
+        }
     }
 }
 

@@ -2,8 +2,8 @@
 //! replace the spectrum by a Mueller matrix (and the film's value by a Stokes vector) without
 //! touching the estimators.
 //!
-//! Today the only [`Weight`] is [`SampledSpectrum`]: four spectral values, every BSDF
-//! depolarizing. A polarized renderer (Mitsuba 3's `*_polarized` variants; Wilkie & Weidlich 2012,
+//! Two [`Weight`]s exist: [`SampledSpectrum`] (four spectral values) and
+//! [`crate::mueller::Mueller`] (a Mueller matrix per wavelength with its Stokes bases). A polarized renderer (Mitsuba 3's `*_polarized` variants; Wilkie & Weidlich 2012,
 //! "Polarised light in computer graphics") carries 4×4 Mueller matrices per wavelength whose
 //! products are taken in path order, and observes the Stokes vector's first component S0 where
 //! an unpolarized renderer observes the spectrum: [`Weight::intensity`] is that observation,
@@ -14,6 +14,7 @@
 //! polarizing model adds its own implementation for Mueller matrices.
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfSample};
+use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 use std::fmt::Debug;
@@ -107,6 +108,30 @@ impl<B: Bsdf + ?Sized> BsdfWeight<SampledSpectrum> for B {
     }
 }
 
+/// Every [`Bsdf`] gives Mueller matrices through its polarized methods ([`Bsdf::eval_mueller`],
+/// [`Bsdf::sample_mueller`], [`Bsdf::null_transmission_mueller`]; depolarizing by default).
+impl<B: Bsdf + ?Sized> BsdfWeight<Mueller> for B {
+    #[inline]
+    fn eval_weight(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        self.eval_mueller(ctx, wi, wo, wl)
+    }
+    #[inline]
+    fn sample_weight(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        self.sample_mueller(ctx, wi, u1, u2, wl)
+    }
+    #[inline]
+    fn null_transmission_weight(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        self.null_transmission_mueller(wi, wl)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -120,11 +145,12 @@ mod tests {
         let ctx = BsdfContext::radiance();
         let wl = SampledWavelengths::fixed(550.0);
         let (wi, wo) = (Vec3::Z, Vec3::new(0.6, 0.0, 0.8));
-        assert_eq!(d.eval_weight(&ctx, wi, wo, &wl), d.eval(&ctx, wi, wo, &wl));
+        let spectral: &dyn BsdfWeight<SampledSpectrum> = &d;
+        assert_eq!(spectral.eval_weight(&ctx, wi, wo, &wl), d.eval(&ctx, wi, wo, &wl));
         let (mut a, mut b) = (wl, wl);
         let u2 = Vec2::new(0.3, 0.7);
         assert_eq!(
-            d.sample_weight(&ctx, wi, 0.5, u2, &mut a),
+            spectral.sample_weight(&ctx, wi, 0.5, u2, &mut a),
             d.sample(&ctx, wi, 0.5, u2, &mut b)
         );
         assert_eq!(
@@ -132,5 +158,26 @@ mod tests {
             SampledSpectrum::ONE
         );
         assert!(<SampledSpectrum as Weight>::ZERO.is_black());
+    }
+
+    /// The Mueller weight of a depolarizing BSDF is diag(f, 0, 0, 0) with f the spectral value,
+    /// frame-free; its intensity is M00, and ONE/ZERO behave as identity and nothing.
+    #[test]
+    fn mueller_weights_of_a_depolarizing_bsdf() {
+        let d = Diffuse::default();
+        let ctx = BsdfContext::radiance();
+        let wl = SampledWavelengths::fixed(550.0);
+        let (wi, wo) = (Vec3::Z, Vec3::new(0.6, 0.0, 0.8));
+        let polarized: &dyn BsdfWeight<Mueller> = &d;
+        let m = polarized.eval_weight(&ctx, wi, wo, &wl);
+        assert_eq!(m, Mueller::depolarizer(d.eval(&ctx, wi, wo, &wl)));
+        assert_eq!(m.intensity(), d.eval(&ctx, wi, wo, &wl));
+        assert!(m.frames().is_none());
+        assert_eq!(Mueller::ONE * m, m);
+        assert!((Mueller::ZERO * m).is_black());
+        assert_eq!(
+            Mueller::from_spectrum(SampledSpectrum::splat(0.3)).intensity(),
+            SampledSpectrum::splat(0.3)
+        );
     }
 }

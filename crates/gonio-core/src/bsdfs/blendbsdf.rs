@@ -35,7 +35,9 @@
 //! | (nested BSDFs) | 2 × `bsdf`     | required; w = 0 gives the first, w = 1 the second |
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
+use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::weight::Weight;
 use glam::{Vec2, Vec3};
 
 /// (1 − w)·`bsdf0` + w·`bsdf1`.
@@ -169,6 +171,59 @@ impl Bsdf for BlendBsdf<'_> {
             return None;
         }
         Some(t0.unwrap_or(SampledSpectrum::ZERO) * (1.0 - w) + t1.unwrap_or(SampledSpectrum::ZERO) * w)
+    }
+
+    /// (1 − w)·M0 + w·M1 (both children answer in the same implicit bases).
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        let w = self.w();
+        let mut f = Mueller::ZERO;
+        if w < 1.0 {
+            f += self.bsdf0.eval_mueller(ctx, wi, wo, wl) * (1.0 - w);
+        }
+        if w > 0.0 {
+            f += self.bsdf1.eval_mueller(ctx, wi, wo, wl) * w;
+        }
+        f
+    }
+
+    /// [`Bsdf::sample`]'s lobe choice and mixture weight with Mueller matrices.
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        let w = self.w();
+        let (chosen, p_select, u1) = if u1 < w {
+            (self.bsdf1, w, u1 / w)
+        } else {
+            (self.bsdf0, 1.0 - w, (u1 - w) / (1.0 - w))
+        };
+        let u1 = u1.clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+        let mut s = chosen.sample_mueller(ctx, wi, u1, u2, wl)?;
+        if s.flags.is_delta() {
+            s.pdf *= p_select;
+            return Some(s);
+        }
+        let (_, pdf) = self.eval_pdf(ctx, wi, s.wo, wl);
+        if pdf <= 0.0 {
+            return None;
+        }
+        s.weight = self.eval_mueller(ctx, wi, s.wo, wl) * (s.wo.z.abs() / pdf);
+        s.pdf = pdf;
+        Some(s)
+    }
+
+    fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        let w = self.w();
+        let t0 = self.bsdf0.null_transmission_mueller(wi, wl);
+        let t1 = self.bsdf1.null_transmission_mueller(wi, wl);
+        if t0.is_none() && t1.is_none() {
+            return None;
+        }
+        Some(t0.unwrap_or(Mueller::ZERO) * (1.0 - w) + t1.unwrap_or(Mueller::ZERO) * w)
     }
 }
 

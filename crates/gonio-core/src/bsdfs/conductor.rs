@@ -24,9 +24,11 @@
 //! Fresnel then uses the relative complex index (n + ik)/n_ext. A dispersive exterior changes
 //! amplitudes only and terminates nothing.
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, reflect};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, light_directions, reflect};
 use crate::fresnel::fresnel_conductor_exterior;
+use crate::fresnel_polarized::{conductor_reflection, interface_mueller, normalized};
 use crate::ior::{Ior, IorValue, SampledIor};
+use crate::mueller::Mueller;
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
@@ -126,6 +128,32 @@ impl<S: SpectralValue, I: IorValue> Bsdf for Conductor<S, I> {
             flags: BsdfFlags::DELTA_REFLECTION,
             eta: 1.0,
         })
+    }
+
+    /// The mirror's weight times the conductor's Fresnel reflection Mueller matrix (complex
+    /// index, with its retardance), normalized so that M00 is [`Bsdf::sample`]'s weight.
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        let s = self.sample(ctx, wi, u1, u2, wl)?;
+        let m = conductor_reflection(
+            wi.z,
+            self.eta.sample(wl),
+            self.k.sample(wl),
+            self.ext_ior.sample(wl),
+        );
+        let (light_in, light_out) = light_directions(ctx, wi, s.wo);
+        Some(s.with_weight(interface_mueller(
+            normalized(&m).scaled(s.weight),
+            Vec3::Z,
+            light_in,
+            light_out,
+        )))
     }
 }
 

@@ -34,9 +34,15 @@
 //!
 //! gonio additionally accepts a spectrum (Sellmeier, table) for either index.
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode, choose_delta_lobe, reflect};
+use crate::bsdf::{
+    Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode, choose_delta_lobe, light_directions, reflect,
+};
 use crate::fresnel::{FresnelDielectric, fresnel_dielectric, fresnel_dielectric_spectrum, refract};
+use crate::fresnel_polarized::{
+    dielectric_reflection, dielectric_transmission, interface_mueller, normalized,
+};
 use crate::ior::{Ior, IorValue, SampledIor, relative_eta, relative_hero_eta};
+use crate::mueller::Mueller;
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
@@ -159,6 +165,33 @@ impl<S: SpectralValue, I: IorValue> Bsdf for Dielectric<S, I> {
             flags: TRANSMISSION,
             eta: eta_it,
         })
+    }
+
+    /// [`Bsdf::sample`]'s lobe and weight times the Fresnel reflection or transmission Mueller
+    /// matrix (with the phase of total internal reflection), normalized so that M00 is the
+    /// spectral weight.
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        let s = self.sample(ctx, wi, u1, u2, wl)?;
+        let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
+        let m = if s.flags.is_reflection() {
+            dielectric_reflection(wi.z, eta)
+        } else {
+            dielectric_transmission(wi.z, eta)
+        };
+        let (light_in, light_out) = light_directions(ctx, wi, s.wo);
+        Some(s.with_weight(interface_mueller(
+            normalized(&m).scaled(s.weight),
+            Vec3::Z,
+            light_in,
+            light_out,
+        )))
     }
 }
 

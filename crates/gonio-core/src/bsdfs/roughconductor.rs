@@ -37,8 +37,10 @@
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::fresnel::fresnel_conductor_exterior;
+use crate::fresnel_polarized::{conductor_reflection, facet_mueller};
 use crate::ior::{Ior, IorValue, SampledIor};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
+use crate::mueller::Mueller;
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
@@ -203,6 +205,46 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughConductor<S, I> {
             flags: BsdfFlags::GLOSSY_REFLECTION,
             eta: 1.0,
         })
+    }
+
+    /// `eval` with the conductor's Fresnel Mueller matrix at the half vector (polarizing).
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        self.polarize(self.eval(ctx, wi, wo, wl), ctx, wi, wo, wl)
+    }
+
+    /// `sample` with the conductor's Fresnel Mueller matrix at the half vector.
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        let s = self.sample(ctx, wi, u1, u2, wl)?;
+        Some(s.with_weight(self.polarize(s.weight, ctx, wi, s.wo, wl)))
+    }
+}
+
+impl<S: SpectralValue, I: IorValue> RoughConductor<S, I> {
+    /// The unpolarized value `f` at (wi, wo) as a Mueller matrix: the Fresnel reflection at the
+    /// half vector in its s/p frames (Mitsuba's polarized `roughconductor`).
+    fn polarize(
+        &self,
+        f: SampledSpectrum,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> Mueller {
+        let h = (wi + wo).normalize_or_zero();
+        let fresnel = conductor_reflection(
+            wi.dot(h),
+            self.eta.sample(wl),
+            self.k.sample(wl),
+            self.ext_ior.sample(wl),
+        );
+        facet_mueller(f, &fresnel, h, ctx, wi, wo)
     }
 }
 

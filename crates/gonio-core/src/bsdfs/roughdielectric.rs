@@ -62,8 +62,10 @@
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
 use crate::fresnel::{fresnel_dielectric, fresnel_dielectric_spectrum};
+use crate::fresnel_polarized::{dielectric_reflection, dielectric_transmission, facet_mueller};
 use crate::ior::{Ior, IorValue, SampledIor, relative_eta, relative_hero_eta};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
+use crate::mueller::Mueller;
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
@@ -391,6 +393,55 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughDielectric<S, I> {
             },
             eta: eta_crossed,
         })
+    }
+
+    /// `eval` with the dielectric's Fresnel reflection or transmission Mueller matrix at the
+    /// (generalized) half vector (polarizing).
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        self.polarize(self.eval(ctx, wi, wo, wl), ctx, wi, wo, wl)
+    }
+
+    /// `sample` with the Fresnel Mueller matrix of the sampled lobe at its half vector.
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        let s = self.sample(ctx, wi, u1, u2, wl)?;
+        Some(s.with_weight(self.polarize(s.weight, ctx, wi, s.wo, wl)))
+    }
+}
+
+impl<S: SpectralValue, I: IorValue> RoughDielectric<S, I> {
+    /// The unpolarized value `f` at (wi, wo) as a Mueller matrix: the Fresnel reflection or
+    /// transmission at the hero wavelength's (generalized) half vector, in its s/p frames
+    /// (Mitsuba's polarized `roughdielectric`).
+    fn polarize(
+        &self,
+        f: SampledSpectrum,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> Mueller {
+        let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
+        let reflect = wi.z * wo.z > 0.0;
+        let (w_ext, w_int) = if wi.z > 0.0 { (wi, wo) } else { (wo, wi) };
+        let m = if reflect {
+            (wi + wo).normalize_or_zero()
+        } else {
+            (w_ext + eta[0] * w_int).normalize_or_zero()
+        };
+        let m = if m.z < 0.0 { -m } else { m };
+        let fresnel = if reflect {
+            dielectric_reflection(wi.dot(m), eta)
+        } else {
+            dielectric_transmission(wi.dot(m), eta)
+        };
+        facet_mueller(f, &fresnel, m, ctx, wi, wo)
     }
 }
 

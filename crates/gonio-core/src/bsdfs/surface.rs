@@ -25,6 +25,7 @@ use super::{
 };
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::ior::SampledIor;
+use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 use std::mem::MaybeUninit;
@@ -123,6 +124,25 @@ impl Bsdf for LeafBsdf<'_> {
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
         with_leaf!(self, b => b.eval_pdf(ctx, wi, wo, wl))
+    }
+    #[inline]
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        with_leaf!(self, b => b.eval_mueller(ctx, wi, wo, wl))
+    }
+    #[inline]
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        with_leaf!(self, b => b.sample_mueller(ctx, wi, u1, u2, wl))
+    }
+    #[inline]
+    fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        with_leaf!(self, b => b.null_transmission_mueller(wi, wl))
     }
 }
 
@@ -342,6 +362,25 @@ impl Bsdf for NodeRef<'_, '_> {
     ) -> (SampledSpectrum, f32) {
         self.with(|b| b.eval_pdf(ctx, wi, wo, wl))
     }
+    #[inline]
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        self.with(|b| b.eval_mueller(ctx, wi, wo, wl))
+    }
+    #[inline]
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        self.with(|b| b.sample_mueller(ctx, wi, u1, u2, wl))
+    }
+    #[inline]
+    fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        self.with(|b| b.null_transmission_mueller(wi, wl))
+    }
 }
 
 impl Bsdf for SurfaceBsdf<'_> {
@@ -381,6 +420,25 @@ impl Bsdf for SurfaceBsdf<'_> {
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
         self.root().eval_pdf(ctx, wi, wo, wl)
+    }
+    #[inline]
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        self.root().eval_mueller(ctx, wi, wo, wl)
+    }
+    #[inline]
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        self.root().sample_mueller(ctx, wi, u1, u2, wl)
+    }
+    #[inline]
+    fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        self.root().null_transmission_mueller(wi, wl)
     }
 }
 

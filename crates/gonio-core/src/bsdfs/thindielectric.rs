@@ -27,12 +27,15 @@
 //! | `specular_reflectance`   | spectrum    | 1 (tint; not physical) |
 //! | `specular_transmittance` | spectrum    | 1 (tint; not physical) |
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, choose_delta_lobe, reflect};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, choose_delta_lobe, light_directions, reflect};
 use crate::fresnel::{fresnel_dielectric, thin_slab_reflectance, thin_slab_transmittance};
+use crate::fresnel_polarized::{fresnel_amplitudes, interface_mueller, normalized};
 use crate::ior::{Ior, IorValue, SampledIor, relative_eta};
+use crate::mueller::{Mueller, MuellerMatrix};
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
+use num_complex::Complex32;
 
 /// A thin dielectric sheet: Stokes-summed delta reflection and straight-through transmission.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -145,6 +148,76 @@ impl<S: SpectralValue, I: IorValue> Bsdf for ThinDielectric<S, I> {
     fn null_transmission(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
         let (_, t) = self.reflectance_transmittance(wi.z, wl);
         Some(t * self.specular_transmittance.sample(wl))
+    }
+
+    /// `sample` with the polarization of the Stokes series summed per polarization
+    /// ([`ThinDielectric::slab_mueller`]).
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        let s = self.sample(ctx, wi, u1, u2, wl)?;
+        let m = self.slab_mueller(wi.z, s.flags.is_reflection(), wl);
+        let (light_in, light_out) = light_directions(ctx, wi, s.wo);
+        Some(s.with_weight(interface_mueller(
+            m.scaled(s.weight),
+            Vec3::Z,
+            light_in,
+            light_out,
+        )))
+    }
+
+    fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        let t = self.null_transmission(wi, wl)?;
+        Some(interface_mueller(
+            self.slab_mueller(wi.z, false, wl).scaled(t),
+            Vec3::Z,
+            -wi,
+            -wi,
+        ))
+    }
+}
+
+impl<S: SpectralValue, I: IorValue> ThinDielectric<S, I> {
+    /// The polarization of the sheet's reflection (or transmission) with M00 = 1, in the s/p
+    /// frames: the Stokes series summed separately for s and p light, R'_x = 2R_x/(1 + R_x),
+    /// T'_x = (1 − R_x)/(1 + R_x), and for the s–p cross term (the amplitude products
+    /// ρ = Re(a_p a_s*) and τ = √(T_s T_p), the same from both sides, r' = −r inside) the series
+    /// ρ + τ²ρ/(1 − ρ²) for reflection and τ²/(1 − ρ²) for transmission. The reflections add
+    /// incoherently (no thin-film interference). The unpolarized value stays the model's own
+    /// 2R/(1 + R) of the averaged R (Mitsuba's), so only the shape M/M00 comes from the sums.
+    pub fn slab_mueller(&self, cos_theta: f32, reflection: bool, wl: &SampledWavelengths) -> MuellerMatrix {
+        let c = cos_theta.abs();
+        let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
+        let mut el = [[0.0f32; 4]; 4];
+        for (i, e) in el.iter_mut().enumerate() {
+            let (a_s, a_p) = fresnel_amplitudes(c, Complex32::new(eta[i], 0.0));
+            let (rs, rp) = (a_s.norm_sqr(), a_p.norm_sqr());
+            let rho = (a_p * a_s.conj()).re;
+            let tau2 = (1.0 - rs) * (1.0 - rp);
+            let (xs, xp, cross) = if reflection {
+                (
+                    2.0 * rs / (1.0 + rs),
+                    2.0 * rp / (1.0 + rp),
+                    rho + tau2 * rho / (1.0 - rho * rho),
+                )
+            } else {
+                (
+                    (1.0 - rs) / (1.0 + rs),
+                    (1.0 - rp) / (1.0 + rp),
+                    tau2 / (1.0 - rho * rho),
+                )
+            };
+            // At grazing incidence ρ² → 1 and τ² → 0: the limit is total reflection, ρ = ±1.
+            let cross = if cross.is_finite() { cross } else { rho };
+            *e = [0.5 * (xs + xp), 0.5 * (xs - xp), cross, 0.0];
+        }
+        let col = |j: usize| SampledSpectrum::from_fn(|i| el[i][j]);
+        normalized(&MuellerMatrix::interface(col(0), col(1), col(2), col(3)))
     }
 }
 

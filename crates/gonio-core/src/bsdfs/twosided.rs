@@ -25,6 +25,7 @@
 //! through the back face, and vice versa. The scene loader enforces Mitsuba's rule.
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
+use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
@@ -126,6 +127,48 @@ impl Bsdf for TwoSided<'_> {
             self.back.null_transmission(flip(wi), wl)
         }
     }
+
+    /// The back side's matrix is mirrored (z ↦ −z flips the handedness of the Stokes bases:
+    /// s2 and s3 change sign, [`Mueller::mirrored`]) and re-expressed in the implicit bases of the
+    /// actual directions.
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        if wi.z >= 0.0 {
+            self.front.eval_mueller(ctx, wi, wo, wl)
+        } else {
+            unmirror(self.back.eval_mueller(ctx, flip(wi), flip(wo), wl))
+        }
+    }
+
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        if wi.z >= 0.0 {
+            self.front.sample_mueller(ctx, wi, u1, u2, wl)
+        } else {
+            let mut s = self.back.sample_mueller(ctx, flip(wi), u1, u2, wl)?;
+            s.wo = flip(s.wo);
+            s.weight = unmirror(s.weight);
+            Some(s)
+        }
+    }
+
+    fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        if wi.z >= 0.0 {
+            self.front.null_transmission_mueller(wi, wl)
+        } else {
+            self.back.null_transmission_mueller(flip(wi), wl).map(unmirror)
+        }
+    }
+}
+
+/// A back-side Mueller matrix brought back through the mirror z ↦ −z, in implicit bases.
+fn unmirror(m: Mueller) -> Mueller {
+    m.mirrored(flip).in_implicit_bases()
 }
 
 #[cfg(test)]

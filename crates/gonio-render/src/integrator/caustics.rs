@@ -603,7 +603,7 @@ impl PathTracer<'_> {
             if !(w > 0.0) {
                 continue;
             }
-            let vis = self.visibility(spawn_ray_between(si.p, si.n, y.p, Some(y.n)), wl);
+            let vis: SampledSpectrum = self.visibility(spawn_ray_between(si.p, si.n, y.p, Some(y.n)), wl);
             if !vis.is_black() {
                 sum += c * vis * w;
             }

@@ -308,7 +308,7 @@ impl PathTracer<'_> {
         if !(w > 0.0) {
             return;
         }
-        let v = self.visibility(spawn_ray_between(y.p, y.n, c.near_point, None), wl);
+        let v: SampledSpectrum = self.visibility(spawn_ray_between(y.p, y.n, c.near_point, None), wl);
         if !v.is_black() {
             splat(c.film, value * v * w, wl);
         }
