@@ -48,6 +48,8 @@ pub enum LeafBsdf<'a> {
     Plastic(Plastic<SampledSpectrum>),
     /// `roughconductor`.
     RoughConductor(RoughConductor<SampledSpectrum, SampledIor>),
+    /// `roughdiffuse`.
+    RoughDiffuse(super::RoughDiffuse<SampledSpectrum>),
     /// `roughplastic` (its coat's tables borrowed from the scene).
     RoughPlastic(RoughPlastic<SampledSpectrum, &'a RoughCoat>),
     /// `roughdielectric`.
@@ -73,6 +75,7 @@ macro_rules! with_leaf {
             LeafBsdf::ThinDielectric($b) => $body,
             LeafBsdf::Plastic($b) => $body,
             LeafBsdf::RoughConductor($b) => $body,
+            LeafBsdf::RoughDiffuse($b) => $body,
             LeafBsdf::RoughPlastic($b) => $body,
             LeafBsdf::RoughDielectric($b) => $body,
             LeafBsdf::Principled($b) => $body,
