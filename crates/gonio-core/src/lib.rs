@@ -20,6 +20,7 @@ pub mod instruments;
 pub mod ior;
 pub mod math;
 pub mod microfacet;
+pub mod microsurface;
 pub mod named;
 pub mod quadrature;
 pub mod rgb2spec;
