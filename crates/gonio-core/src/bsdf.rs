@@ -296,6 +296,16 @@ pub trait Bsdf: Send + Sync {
         None
     }
 
+    /// True (the default) when [`Bsdf::pdf`] is the exact density of [`Bsdf::sample`] and
+    /// [`Bsdf::eval`] the exact BSDF value. False for stochastic models (Heitz et al. 2016
+    /// random walks): `eval` is then an unbiased estimate, `pdf` an approximation for **MIS
+    /// weights only**, and `sample().weight` the exact throughput. A caller may then never form
+    /// eval·cos/pdf as a sample weight, and the checks compare sample against eval by histograms
+    /// of weights instead of densities.
+    fn pdf_is_exact(&self) -> bool {
+        true
+    }
+
     /// `eval` and `pdf` together (models may share work).
     fn eval_pdf(
         &self,

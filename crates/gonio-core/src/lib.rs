@@ -21,6 +21,7 @@ pub mod instruments;
 pub mod ior;
 pub mod math;
 pub mod microfacet;
+pub mod microsurface;
 pub mod mueller;
 pub mod named;
 pub mod quadrature;

@@ -277,7 +277,7 @@ impl MicrofacetDistribution {
     }
 
     /// Visible normals for wi.z > 0 (Heitz & d'Eon 2014; GGX: Heitz 2018).
-    fn sample_visible_normal(&self, wi: Vec3, u: Vec2) -> Vec3 {
+    pub(crate) fn sample_visible_normal(&self, wi: Vec3, u: Vec2) -> Vec3 {
         let (au, av) = (self.alpha_u, self.alpha_v);
         // Stretch wi to the configuration of roughness 1.
         let wh = Vec3::new(au * wi.x, av * wi.y, wi.z).normalize();

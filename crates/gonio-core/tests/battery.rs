@@ -8,6 +8,7 @@
 //! probability ≤ 1 %. Seeds are fixed: the outcome is deterministic.
 
 use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
+use gonio_core::bsdfs::roughdiffuse::{RoughDiffuse, RoughDiffuseModel};
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
@@ -134,6 +135,28 @@ fn roughconductor_ggx_anisotropic_visible() {
     let d = MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.4, 0.1, true);
     let c = RoughConductor::mirror(d);
     assert_passes_anisotropic("roughconductor ggx α=(0.4, 0.1) visible, white", &c);
+}
+
+// ---- roughdiffuse ------------------------------------------------------------------------------
+
+#[test]
+fn roughdiffuse_default_oren_nayar() {
+    // ρ = 0.5, α = 0.2, the full model with interreflections.
+    assert_passes("roughdiffuse default", &RoughDiffuse::default());
+}
+
+#[test]
+fn roughdiffuse_oren_nayar_very_rough_bright() {
+    // A bright, very rough surface (its albedo stays below 1 at every incidence at ρ = 0.9).
+    let m = RoughDiffuse::new(Spectrum::Constant(0.9), 1.0, RoughDiffuseModel::OrenNayar);
+    assert_passes("roughdiffuse oren-nayar ρ=0.9 α=1", &m);
+}
+
+#[test]
+fn roughdiffuse_oren_nayar_fast_spectral() {
+    let rho = piecewise(&[400.0, 0.05, 500.0, 0.4, 600.0, 0.9, 700.0, 0.6]);
+    let m = RoughDiffuse::new(rho, 0.5, RoughDiffuseModel::OrenNayarFast);
+    assert_passes("roughdiffuse useFastApprox spectral ρ α=0.5", &m);
 }
 
 // ---- roughplastic -----------------------------------------------------------------------------

@@ -22,6 +22,7 @@
 
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
+use gonio_core::bsdfs::roughdiffuse::{RoughDiffuse, RoughDiffuseModel};
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat, RoughPlastic};
 use gonio_core::bsdfs::tabulated::TabulatedData;
 use gonio_core::bsdfs::{
@@ -61,6 +62,11 @@ enum Spec {
         alpha_u: f32,
         alpha_v: f32,
         visible: bool,
+    },
+    RoughDiffuse {
+        rho: SpecSpectrum,
+        alpha: f32,
+        fast: bool,
     },
     RoughDielectric {
         int: f32,
@@ -228,6 +234,12 @@ fn leaf() -> impl Strategy<Value = Spec> {
                 }
             }),
         (
+            reflectance(),
+            prop_oneof![Just(0.0f32), roughness(), 0.0f32..=4.0],
+            any::<bool>()
+        )
+            .prop_map(|(rho, alpha, fast)| Spec::RoughDiffuse { rho, alpha, fast }),
+        (
             (ior_pair(), unit(), unit(), any::<bool>()),
             (any::<bool>(), roughness(), roughness(), any::<bool>())
         )
@@ -376,6 +388,14 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             c.ext_ior = Ior::Constant(*ext);
             c.specular_reflectance = Spectrum::Constant(*tint);
             f(&c)
+        }
+        Spec::RoughDiffuse { rho, alpha, fast } => {
+            let model = if *fast {
+                RoughDiffuseModel::OrenNayarFast
+            } else {
+                RoughDiffuseModel::OrenNayar
+            };
+            f(&RoughDiffuse::new(rho.build(), *alpha, model))
         }
         Spec::RoughDielectric {
             int,

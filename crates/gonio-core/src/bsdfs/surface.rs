@@ -49,6 +49,8 @@ pub enum LeafBsdf<'a> {
     Plastic(Plastic<SampledSpectrum>),
     /// `roughconductor`.
     RoughConductor(RoughConductor<SampledSpectrum, SampledIor>),
+    /// `roughdiffuse`.
+    RoughDiffuse(super::RoughDiffuse<SampledSpectrum>),
     /// `roughplastic` (its coat's tables borrowed from the scene).
     RoughPlastic(RoughPlastic<SampledSpectrum, &'a RoughCoat>),
     /// `roughdielectric`.
@@ -74,6 +76,7 @@ macro_rules! with_leaf {
             LeafBsdf::ThinDielectric($b) => $body,
             LeafBsdf::Plastic($b) => $body,
             LeafBsdf::RoughConductor($b) => $body,
+            LeafBsdf::RoughDiffuse($b) => $body,
             LeafBsdf::RoughPlastic($b) => $body,
             LeafBsdf::RoughDielectric($b) => $body,
             LeafBsdf::Principled($b) => $body,

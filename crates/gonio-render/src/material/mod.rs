@@ -25,6 +25,7 @@ pub mod principled;
 pub mod principledthin;
 pub mod roughconductor;
 pub mod roughdielectric;
+pub mod roughdiffuse;
 pub mod roughplastic;
 pub mod tabulated;
 pub mod thindielectric;
@@ -41,6 +42,7 @@ pub use principled::PrincipledMaterial;
 pub use principledthin::PrincipledThinMaterial;
 pub use roughconductor::RoughConductorMaterial;
 pub use roughdielectric::RoughDielectricMaterial;
+pub use roughdiffuse::RoughDiffuseMaterial;
 pub use roughplastic::RoughPlasticMaterial;
 pub use tabulated::TabulatedMaterial;
 pub use thindielectric::ThinDielectricMaterial;
@@ -63,6 +65,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &thindielectric::PLUGIN,
     &plastic::PLUGIN,
     &roughconductor::PLUGIN,
+    &roughdiffuse::PLUGIN,
     &roughplastic::PLUGIN,
     &roughdielectric::PLUGIN,
     &principled::PLUGIN,

@@ -1,0 +1,208 @@
+//! Tests of `roughdiffuse` (Oren–Nayar): the Lambertian limit, an independent double-precision
+//! evaluation of Oren and Nayar's formulas written with the angles themselves (no half-angle or
+//! sine identities), reciprocity and the energy balance.
+
+use super::*;
+use crate::albedo::directional_albedo;
+use crate::bsdf::TransportMode;
+use crate::rng::Pcg32;
+use std::f64::consts::PI;
+
+fn dir(theta_deg: f64, phi_deg: f64) -> Vec3 {
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    Vec3::new(
+        (t.sin() * p.cos()) as f32,
+        (t.sin() * p.sin()) as f32,
+        t.cos() as f32,
+    )
+}
+
+/// Oren and Nayar 1994, Eqs. 30 (C1, C2, C3) and 31 (interreflections), with σ = α/√2, from the
+/// polar angles and the azimuth difference directly.
+fn reference(rho: f64, alpha_rms: f64, fast: bool, ti: f64, to: f64, dphi: f64) -> f64 {
+    let sigma = alpha_rms / 2f64.sqrt();
+    let s2 = sigma * sigma;
+    let (a, b) = (ti.max(to), ti.min(to));
+    let cphi = if ti.sin() > 1e-4 && to.sin() > 1e-4 {
+        dphi.cos()
+    } else {
+        0.0
+    };
+    if fast {
+        let aa = 1.0 - s2 / (2.0 * (s2 + 0.33));
+        let bb = 0.45 * s2 / (s2 + 0.09);
+        return rho / PI * (aa + bb * cphi.max(0.0) * a.sin() * b.tan());
+    }
+    let c1 = 1.0 - 0.5 * s2 / (s2 + 0.33);
+    let c2 = if cphi > 0.0 {
+        0.45 * s2 / (s2 + 0.09) * a.sin()
+    } else {
+        0.45 * s2 / (s2 + 0.09) * (a.sin() - (2.0 * b / PI).powi(3))
+    };
+    let c3 = 0.125 * s2 / (s2 + 0.09) * (4.0 * a * b / (PI * PI)).powi(2);
+    let l1 = rho / PI * (c1 + cphi * c2 * b.tan() + (1.0 - cphi.abs()) * c3 * ((a + b) / 2.0).tan());
+    let l2 = 0.17 * rho * rho / PI * s2 / (s2 + 0.13) * (1.0 - cphi * (2.0 * b / PI).powi(2));
+    l1 + l2
+}
+
+fn model(rho: f32, alpha: f32, fast: bool) -> RoughDiffuse {
+    let m = if fast {
+        RoughDiffuseModel::OrenNayarFast
+    } else {
+        RoughDiffuseModel::OrenNayar
+    };
+    RoughDiffuse::new(Spectrum::Constant(rho), alpha, m)
+}
+
+fn f(m: &RoughDiffuse, wi: Vec3, wo: Vec3) -> f32 {
+    m.eval(
+        &BsdfContext::radiance(),
+        wi,
+        wo,
+        &SampledWavelengths::fixed(550.0),
+    )[0]
+}
+
+#[test]
+fn both_forms_match_an_independent_evaluation() {
+    // (θi, φi, θo, φo) in degrees: retro side, forward side, across, normal incidence, grazing.
+    let points = [
+        (30.0, 0.0, 60.0, 0.0),
+        (60.0, 0.0, 60.0, 180.0),
+        (45.0, 20.0, 70.0, 110.0),
+        (0.0, 0.0, 50.0, 30.0),
+        (80.0, 0.0, 80.0, 0.0),
+        (85.0, 10.0, 20.0, 200.0),
+        (10.0, 0.0, 75.0, 270.0),
+    ];
+    for fast in [false, true] {
+        for (rho, alpha) in [(0.5, 0.2), (0.8, 0.5), (0.3, 1.0), (1.0, 2.0)] {
+            let m = model(rho, alpha, fast);
+            for &(ti, pi, to, po) in &points {
+                let got = f(&m, dir(ti, pi), dir(to, po)) as f64;
+                let want = reference(
+                    rho as f64,
+                    alpha as f64,
+                    fast,
+                    (ti as f64).to_radians(),
+                    (to as f64).to_radians(),
+                    ((po - pi) as f64).to_radians(),
+                );
+                assert!(
+                    (got - want).abs() <= 2e-5 * want.abs().max(1e-3),
+                    "fast={fast} ρ={rho} α={alpha} ({ti},{pi})→({to},{po}): {got} vs {want}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn the_forms_differ_as_the_paper_says() {
+    // At normal incidence only C1 and the interreflections remain: f = ρ/π (C1 + 0.17ρσ²/(σ² + 0.13))
+    // for the full model and ρA/π for the qualitative one (A = C1).
+    let (rho, alpha) = (0.8f32, 0.5f32);
+    let s2 = (alpha * alpha / 2.0) as f64;
+    let c1 = 1.0 - 0.5 * s2 / (s2 + 0.33);
+    let c4 = 0.17 * s2 / (s2 + 0.13);
+    let wo = dir(40.0, 0.0);
+    let full = f(&model(rho, alpha, false), Vec3::Z, wo) as f64;
+    let fast = f(&model(rho, alpha, true), Vec3::Z, wo) as f64;
+    let r = rho as f64;
+    assert!((full - r / PI * (c1 + r * c4)).abs() < 1e-6, "{full}");
+    assert!((fast - r / PI * c1).abs() < 1e-6, "{fast}");
+    // Forward scattering (cos φ < 0): the qualitative form is flat at A, the full one falls below
+    // it through −C2 tan β and the interreflections' −cos φ (2β/π)² sign.
+    let (wi, wo) = (dir(60.0, 0.0), dir(60.0, 180.0));
+    let full = f(&model(rho, alpha, false), wi, wo) as f64;
+    let fast = f(&model(rho, alpha, true), wi, wo) as f64;
+    assert!((fast - r / PI * c1).abs() < 1e-6);
+    assert!(full != fast);
+}
+
+#[test]
+fn zero_roughness_is_lambert_exactly() {
+    let mut rng = Pcg32::new(7, 1);
+    for fast in [false, true] {
+        let m = model(0.7, 0.0, fast);
+        for _ in 0..200 {
+            let wi = square_to_cosine_hemisphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+            let wo = square_to_cosine_hemisphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+            if wi.z <= 0.0 || wo.z <= 0.0 {
+                continue;
+            }
+            assert_eq!(f(&m, wi, wo), 0.7 * FRAC_1_PI, "fast={fast} {wi} {wo}");
+        }
+    }
+}
+
+#[test]
+fn reciprocal() {
+    let mut rng = Pcg32::new(11, 3);
+    for fast in [false, true] {
+        let m = model(0.6, 0.8, fast);
+        for _ in 0..500 {
+            let wi = square_to_cosine_hemisphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+            let wo = square_to_cosine_hemisphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+            if wi.z <= 0.0 || wo.z <= 0.0 {
+                continue;
+            }
+            let (a, b) = (f(&m, wi, wo), f(&m, wo, wi));
+            assert!((a - b).abs() <= 1e-5 * a.max(b), "fast={fast}: {a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn energy_below_one_up_to_bright_albedos() {
+    // Directional albedo by quadrature: < 1 for ρ ≤ 0.9 at every roughness and incidence, and
+    // below ρ at normal incidence for the qualitative form (A ≤ 1 is all that remains there).
+    let wl = SampledWavelengths::fixed(550.0);
+    for fast in [false, true] {
+        for alpha in [0.05, 0.2, 0.5, 1.0, 3.0] {
+            let m = model(0.9, alpha, fast);
+            for mu in [1.0f32, 0.7, 0.3, 0.1, 0.02] {
+                let wi = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+                let a = directional_albedo(&m, TransportMode::Radiance, wi, &wl, 64 * 128 * 2).r[0];
+                assert!(a < 1.0, "fast={fast} α={alpha} μ={mu}: {a}");
+                if fast && mu == 1.0 {
+                    assert!(a <= 0.9 + 1e-4, "{a}");
+                }
+            }
+        }
+    }
+    // Oren–Nayar is not energy-conserving: white facets at α = 0.5 reflect more than they receive
+    // at grazing incidence (1.044 for the full model at cos θi = 0.01).
+    let m = model(1.0, 0.5, false);
+    let wi = Vec3::new((1.0f32 - 1e-4).sqrt(), 0.0, 0.01);
+    let a = directional_albedo(&m, TransportMode::Radiance, wi, &wl, 64 * 128 * 2).r[0];
+    assert!((a - 1.044).abs() < 0.003, "{a}");
+}
+
+#[test]
+fn sample_weight_is_eval_over_pdf() {
+    let m = model(0.8, 0.6, false);
+    let wl = SampledWavelengths::fixed(550.0);
+    let ctx = BsdfContext::radiance();
+    let wi = dir(70.0, 30.0);
+    let mut rng = Pcg32::new(3, 9);
+    for _ in 0..100 {
+        let mut wl2 = wl;
+        let u = Vec2::new(rng.next_f32(), rng.next_f32());
+        let s = m.sample(&ctx, wi, 0.5, u, &mut wl2).unwrap();
+        let want = m.eval(&ctx, wi, s.wo, &wl)[0] * s.wo.z / m.pdf(&ctx, wi, s.wo, &wl);
+        assert!(
+            (s.weight[0] - want).abs() <= 1e-5 * want,
+            "{} vs {want}",
+            s.weight[0]
+        );
+        assert_eq!(s.pdf, m.pdf(&ctx, wi, s.wo, &wl));
+    }
+    let mut wl3 = wl;
+    assert!(m.sample(&ctx, -wi, 0.5, Vec2::splat(0.3), &mut wl3).is_none());
+    assert_eq!(
+        m.eval(&ctx, wi, -Vec3::Z, &wl),
+        SampledSpectrum::ZERO,
+        "one-sided"
+    );
+}
