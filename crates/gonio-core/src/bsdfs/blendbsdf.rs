@@ -85,6 +85,10 @@ impl Bsdf for BlendBsdf<'_> {
         self.bsdf0.flags() | self.bsdf1.flags()
     }
 
+    fn pdf_is_exact(&self) -> bool {
+        self.bsdf0.pdf_is_exact() && self.bsdf1.pdf_is_exact()
+    }
+
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let w = self.w();
         let mut f = SampledSpectrum::ZERO;
@@ -157,6 +161,14 @@ impl Bsdf for BlendBsdf<'_> {
         if pdf <= 0.0 {
             return None;
         }
+        if !self.pdf_is_exact() {
+            // A stochastic child (a random walk) has no exact density to form f·cos/pdf with:
+            // keep the chosen child's exact throughput, w_k·(f_k cos/p_k)/P(select k) with
+            // P(select k) = w_k, an unbiased one-sample estimator of the blend; the mixture's
+            // approximate pdf is for MIS weights only.
+            s.pdf = pdf;
+            return Some(s);
+        }
         // A black result is still returned (this blend may itself be a mixture's child).
         s.weight = f * (s.wo.z.abs() / pdf);
         s.pdf = pdf;
@@ -211,6 +223,11 @@ impl Bsdf for BlendBsdf<'_> {
         if pdf <= 0.0 {
             return None;
         }
+        if !self.pdf_is_exact() {
+            // As in `sample`: the chosen child's exact throughput.
+            s.pdf = pdf;
+            return Some(s);
+        }
         s.weight = self.eval_mueller(ctx, wi, s.wo, wl) * (s.wo.z.abs() / pdf);
         s.pdf = pdf;
         Some(s)
@@ -230,7 +247,7 @@ impl Bsdf for BlendBsdf<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bsdfs::{Conductor, Dielectric, Diffuse, Plastic, ThinDielectric};
+    use crate::bsdfs::{Conductor, Dielectric, Diffuse, Plastic, ThinDielectric, TwoSided};
     use crate::spectra::Spectrum;
     use std::f32::consts::FRAC_1_PI;
 
@@ -260,6 +277,53 @@ mod tests {
         }
         let mean = sum / n as f64;
         (mean, ((sum2 / n as f64 - mean * mean) / n as f64).sqrt())
+    }
+
+    /// A stand-in for a stochastic model: a Lambertian whose `pdf` is only an approximation
+    /// (twice the true density, as an MIS-only pdf may be), with exact sample weights.
+    struct ApproximatePdf(Diffuse);
+
+    impl Bsdf for ApproximatePdf {
+        fn flags(&self) -> BsdfFlags {
+            self.0.flags()
+        }
+        fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+            self.0.eval(ctx, wi, wo, wl)
+        }
+        fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
+            2.0 * self.0.pdf(ctx, wi, wo, wl)
+        }
+        fn sample(
+            &self,
+            ctx: &BsdfContext,
+            wi: Vec3,
+            u1: f32,
+            u2: Vec2,
+            wl: &mut SampledWavelengths,
+        ) -> Option<BsdfSample> {
+            self.0.sample(ctx, wi, u1, u2, wl)
+        }
+        fn pdf_is_exact(&self) -> bool {
+            false
+        }
+    }
+
+    #[test]
+    fn a_blend_with_a_stochastic_child_keeps_the_exact_sample_weights() {
+        // Forming f·cos/pdf with an MIS-only pdf would halve this child's contribution; the
+        // blend must keep the chosen child's exact throughput instead.
+        let walk = ApproximatePdf(Diffuse::new(Spectrum::Constant(0.8)));
+        let grey = Diffuse::new(Spectrum::Constant(0.2));
+        let blend = BlendBsdf::new(0.3, &grey, &walk);
+        assert!(!blend.pdf_is_exact() && !TwoSided::new(&blend).pdf_is_exact());
+        let expect = 0.7 * 0.2 + 0.3 * 0.8;
+        for deg in [0.0f32, 60.0] {
+            let (mean, se) = albedo(&blend, &BsdfContext::radiance(), dir(deg), 100_000, 9);
+            assert!(
+                (mean - expect).abs() < 4.0 * se,
+                "{deg}°: {mean} ± {se} vs {expect}"
+            );
+        }
     }
 
     #[test]
