@@ -64,11 +64,19 @@ print("//! file; do not edit by hand. Each table: (wavelengths in nm, η, k).")
 print()
 print("#![allow(clippy::excessive_precision)]")
 print()
+grids = {}  # wavelength grid -> name of the first table on it
+lambda_of = {}
+for (eta, k), n in tables.items():
+    grid = tuple(a for a, _ in eta)
+    lambda_of[n] = grids.setdefault(grid, n)
 for (eta, k), n in tables.items():
     i = ident(n)
     m = len(eta)
-    print(f"/// {n}: wavelengths (nm), {eta[0][0]:.1f}–{eta[-1][0]:.1f}.")
-    print(f"static {i}_LAMBDA: [f32; {m}] = [\n{arr(a for a, _ in eta)}\n];")
+    if lambda_of[n] == n:
+        print(f"/// Wavelengths (nm) of {n}" + "".join(
+            f", {o}" for o in tables.values() if o != n and lambda_of[o] == n) +
+            f": {eta[0][0]:.1f}–{eta[-1][0]:.1f}.")
+        print(f"static {i}_LAMBDA: [f32; {m}] = [\n{arr(a for a, _ in eta)}\n];")
     print(f"/// {n}: η.")
     print(f"static {i}_ETA: [f32; {m}] = [\n{arr(v for _, v in eta)}\n];")
     print(f"/// {n}: k.")
@@ -78,5 +86,6 @@ print("/// Preset name (Mitsuba's spelling) → (wavelengths, η, k).")
 print(f"pub static LUXPOP: [(&str, &[f32], &[f32], &[f32]); {len(alias)}] = [")
 for n, t in alias:
     i = ident(t)
-    print(f'    ("{n}", &{i}_LAMBDA, &{i}_ETA, &{i}_K),')
+    g = ident(lambda_of[t])
+    print(f'    ("{n}", &{g}_LAMBDA, &{i}_ETA, &{i}_K),')
 print("];")
