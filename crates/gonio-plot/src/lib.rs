@@ -16,6 +16,7 @@
 #![warn(missing_docs)]
 
 mod colormap;
+pub mod diffuse_figures;
 pub mod figures;
 mod hemisphere;
 mod line;
