@@ -83,6 +83,10 @@ impl Bsdf for BlendBsdf<'_> {
         self.bsdf0.flags() | self.bsdf1.flags()
     }
 
+    fn pdf_is_exact(&self) -> bool {
+        self.bsdf0.pdf_is_exact() && self.bsdf1.pdf_is_exact()
+    }
+
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let w = self.w();
         let mut f = SampledSpectrum::ZERO;
@@ -149,6 +153,13 @@ impl Bsdf for BlendBsdf<'_> {
             // f_δ/P(select): the blend factor and the selection probability cancel.
             s.pdf *= p_select;
             return Some(s);
+        }
+        if !self.pdf_is_exact() {
+            // A child's pdf is for MIS only: no f/pdf may be formed. The chosen child's exact
+            // weight is the mixture's (blend factor over selection probability = 1); the
+            // reported pdf is the mixture's, as `pdf` returns it, for the MIS weights.
+            s.pdf = self.pdf(ctx, wi, s.wo, wl);
+            return (s.pdf > 0.0).then_some(s);
         }
         // Smooth: one-sample mixture over both children at the sampled direction.
         let (f, pdf) = self.eval_pdf(ctx, wi, s.wo, wl);

@@ -72,6 +72,10 @@ impl Bsdf for TwoSided<'_> {
         self.front.flags() | self.back.flags()
     }
 
+    fn pdf_is_exact(&self) -> bool {
+        self.front.pdf_is_exact() && self.back.pdf_is_exact()
+    }
+
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         if wi.z >= 0.0 {
             self.front.eval(ctx, wi, wo, wl)
