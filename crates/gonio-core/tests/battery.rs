@@ -159,6 +159,14 @@ fn roughdiffuse_oren_nayar_fast_spectral() {
     assert_passes("roughdiffuse useFastApprox spectral ρ α=0.5", &m);
 }
 
+#[test]
+fn roughdiffuse_microfacet_ggx_stochastic() {
+    // Heitz et al. 2016 Lambertian microfacets: walk sampling, stochastic eval, MIS-only pdf.
+    let rho = piecewise(&[400.0, 0.2, 550.0, 0.9, 700.0, 0.5]);
+    let m = RoughDiffuse::new(rho, 0.8, RoughDiffuseModel::Microfacet(MicrofacetKind::Ggx));
+    assert_passes_stochastic("roughdiffuse microfacet ggx α=0.8 spectral ρ", &m, 1024);
+}
+
 // ---- roughconductor / roughdielectric with multiple scattering (pdf for MIS only) -----------
 
 /// A stochastic model (Heitz et al. 2016 walk) passes the battery's stochastic rows: the
