@@ -1,7 +1,7 @@
 //! Figures for the lecture's generalizations of the ideal diffuse BRDF (Oren–Nayar, Heitz et
 //! al. 2016 Lambertian microfacets, d'Eon 2021 Lambertian spheres) and for multiple scattering
 //! on microfacets. The numbers are computed by the caller (`gonio plot retroreflection`,
-//! `saturation`); these functions only lay them out.
+//! `saturation`, `multiple-scattering`); these functions only lay them out.
 
 use super::{Figure, LegendPosition, LinePlot, Panel, Series, VLine};
 

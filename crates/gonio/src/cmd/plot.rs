@@ -52,6 +52,9 @@ enum Kind {
     /// Reflectance spectra of `diffuse`, `roughdiffuse` and `lambertsphere` at the same k_d:
     /// multiple scattering saturates colour.
     Saturation(super::plot_diffuse::SaturationArgs),
+    /// Albedo against roughness of a white rough conductor and a rough dielectric, single
+    /// scattering against `multiple_scattering` (Heitz et al. 2016).
+    MultipleScattering(super::plot_diffuse::MultipleArgs),
 }
 
 #[derive(ClapArgs)]
@@ -210,6 +213,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Kind::MicrofacetAlbedo(a) => microfacet_albedo(a),
         Kind::Retroreflection(a) => super::plot_diffuse::retroreflection(a),
         Kind::Saturation(a) => super::plot_diffuse::saturation(a),
+        Kind::MultipleScattering(a) => super::plot_diffuse::multiple_scattering(a),
     }
 }
 

@@ -1,6 +1,7 @@
-//! `gonio plot retroreflection|saturation`: the lecture's figures on generalizations of the ideal
-//! diffuse BRDF (Lambert, Oren–Nayar, Heitz et al. 2016 diffuse microfacets, d'Eon 2021
-//! Lambertian spheres), as PNG and SVG.
+//! `gonio plot retroreflection|saturation|multiple-scattering`: the lecture's figures on
+//! generalizations of the ideal diffuse BRDF (Lambert, Oren–Nayar, Heitz et al. 2016 diffuse
+//! microfacets, d'Eon 2021 Lambertian spheres) and on the energy multiple scattering restores
+//! to rough conductors and dielectrics, as PNG and SVG.
 
 use super::plot::{check_lambda, load, save, written};
 use anyhow::bail;
@@ -12,7 +13,9 @@ use gonio_core::instruments::polar::compute_polar;
 use gonio_core::{
     Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths, TransportMode,
 };
-use gonio_plot::diffuse_figures::{Curve, retroreflection_figure, saturation_figure};
+use gonio_plot::diffuse_figures::{
+    Curve, retroreflection_figure, saturation_figure, scattering_order_figure,
+};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -59,6 +62,26 @@ pub struct SaturationArgs {
     print: bool,
     /// Output file (.png, .svg, or no extension for both).
     #[arg(short, long, default_value = "saturation")]
+    output: PathBuf,
+}
+
+/// Arguments of `gonio plot multiple-scattering`.
+#[derive(ClapArgs)]
+pub struct MultipleArgs {
+    /// Incident angles, degrees (each within [0, 90)).
+    #[arg(long, value_delimiter = ',', default_value = "0,60")]
+    theta: Vec<f32>,
+    /// Number of roughness values over [0.05, 1].
+    #[arg(long, default_value_t = 12)]
+    steps: usize,
+    /// Monte Carlo samples per point.
+    #[arg(long, default_value_t = 20_000)]
+    samples: usize,
+    /// Relative index of the dielectric.
+    #[arg(long, default_value_t = 1.5)]
+    eta: f32,
+    /// Output file (.png, .svg, or no extension for both).
+    #[arg(short, long, default_value = "multiple-scattering-albedo")]
     output: PathBuf,
 }
 
@@ -260,4 +283,67 @@ mod tests {
         );
         assert_eq!(srgb_of(&flat(0.0)), [0, 0, 0]);
     }
+}
+
+/// Runs `gonio plot multiple-scattering`: the directional albedo of a white GGX rough conductor
+/// (R) and of a rough dielectric (R + T, importance mode) against α, single scattering (Mitsuba's
+/// models) and with `multiple_scattering` (Heitz et al. 2016), by sampling.
+pub fn multiple_scattering(a: MultipleArgs) -> anyhow::Result<ExitCode> {
+    use gonio_core::Ior;
+    use gonio_core::bsdfs::{RoughConductor, RoughDielectric};
+    use gonio_core::instruments::microfacet_albedo::alpha_grid;
+    use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
+    if let Some(t) = a.theta.iter().find(|t| !(0.0..90.0).contains(*t)) {
+        bail!("--theta {t}: each angle must be within [0, 90) degrees");
+    }
+    if !(2..=200).contains(&a.steps) {
+        bail!("--steps {}: must be within [2, 200]", a.steps);
+    }
+    if a.samples < 2 {
+        bail!("--samples {}: need at least 2", a.samples);
+    }
+    if !(a.eta > 1.0 && a.eta.is_finite()) {
+        bail!("--eta {}: must be a finite number > 1", a.eta);
+    }
+    let alphas = alpha_grid(0.05, 1.0, a.steps);
+    let albedo = |b: &dyn Bsdf, theta: f32, seed: u64| {
+        let p = directional_albedo(
+            b,
+            &[theta],
+            a.samples,
+            TransportMode::Importance,
+            Wavelengths::Fixed(550.0),
+            false,
+            seed,
+        );
+        p[0].r + p[0].t
+    };
+    let mut conductor: Vec<Curve> = vec![];
+    let mut dielectric: Vec<Curve> = vec![];
+    for &theta in &a.theta {
+        for ms in [false, true] {
+            let order = if ms { "multiple" } else { "single" };
+            let (mut c, mut d) = (vec![], vec![]);
+            for (k, &alpha) in alphas.iter().enumerate() {
+                let distr = MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, alpha);
+                let mut rc = RoughConductor::mirror(distr);
+                rc.multiple_scattering = ms;
+                let mut rd = RoughDielectric::new(Ior::Constant(a.eta), Ior::Constant(1.0), distr);
+                rd.multiple_scattering = ms;
+                c.push((alpha as f64, albedo(&rc, theta, k as u64)));
+                d.push((alpha as f64, albedo(&rd, theta, k as u64)));
+            }
+            conductor.push((format!("θ = {theta}°, {order}"), c));
+            dielectric.push((format!("θ = {theta}°, {order}"), d));
+        }
+    }
+    let panels = [
+        ("White rough conductor (F = 1): R".to_string(), conductor),
+        (format!("Rough dielectric η = {}: R + T", a.eta), dielectric),
+    ];
+    let note = format!(
+        "GGX; solid: single scattering, dashed: multiple_scattering (Heitz et al. 2016); {} samples per point, λ = 550 nm",
+        a.samples
+    );
+    written(save(&scattering_order_figure(&panels, &note), &a.output)?)
 }
