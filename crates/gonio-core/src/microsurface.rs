@@ -135,6 +135,21 @@ pub fn sample_rng(wi: Vec3, u1: f32, u2: glam::Vec2) -> Pcg32 {
     Pcg32::new(h, 0x5357)
 }
 
+/// The balance weight a/(a + b) of the strategy with weight `a` (½ when both vanish).
+#[inline]
+fn mis_weight(a: f32, b: f32) -> f32 {
+    let s = a + b;
+    if s > 0.0 && s.is_finite() {
+        a / s
+    } else if a.is_infinite() && !b.is_infinite() {
+        1.0
+    } else if b.is_infinite() && !a.is_infinite() {
+        0.0
+    } else {
+        0.5
+    }
+}
+
 /// ln B(a, b) = ln Γ(a) + ln Γ(b) − ln Γ(a + b).
 fn ln_beta(a: f64, b: f64) -> f64 {
     puruspe::ln_gamma(a) + puruspe::ln_gamma(b) - puruspe::ln_gamma(a + b)
@@ -311,7 +326,8 @@ impl Microsurface {
         None
     }
 
-    /// Unbiased estimate of f·cos θo of the multiple-scattering conductor (wi.z, wo.z > 0).
+    /// Unbiased estimate of f·cos θo of the multiple-scattering conductor (wi.z, wo.z > 0): the
+    /// bidirectional estimator (walks from ωi and from ωo, MIS-weighted; see the module docs).
     pub fn eval_conductor(
         &self,
         wi: Vec3,
@@ -322,8 +338,31 @@ impl Microsurface {
         if wi.z <= 0.0 || wo.z <= 0.0 {
             return SampledSpectrum::ZERO;
         }
-        let mut sum = self.conductor_single(wi, wo, &fresnel);
+        // f(ωo, ωi) = f(ωi, ωo): the walk from ωo estimates f cos θi.
+        self.conductor_half(wi, wo, &fresnel, rng)
+            + self.conductor_half(wo, wi, &fresnel, rng) * (wo.z / wi.z)
+    }
+
+    /// The MIS weight of a bounce at a vertex: D of its (sign-fixed) half vector, the authors'
+    /// stand-in for the density of sampling that bounce.
+    #[inline]
+    fn mis_d(&self, h: Vec3) -> f32 {
+        let h = if h.z < 0.0 { -h } else { h };
+        self.distribution.d(h)
+    }
+
+    /// One side of the bidirectional conductor estimator: half the single scattering, plus the
+    /// next-event terms of the walk from `wi`, each weighted D(first bounce)/(D(first) + D(last)).
+    fn conductor_half(
+        &self,
+        wi: Vec3,
+        wo: Vec3,
+        fresnel: &impl Fn(f32) -> SampledSpectrum,
+        rng: &mut Pcg32,
+    ) -> SampledSpectrum {
+        let mut sum = self.conductor_single(wi, wo, fresnel) * 0.5;
         let (mut w, mut c1, mut energy) = (-wi, 1.0f32, SampledSpectrum::splat(1.0));
+        let mut w_first = 0.0f32;
         for order in 1..=MAX_ORDER {
             match self.sample_height(w, c1, rng.next_f32()) {
                 None => break,
@@ -333,7 +372,9 @@ impl Microsurface {
             if order >= 2 {
                 let s = self.g1_height(wo, c1);
                 if s > 0.0 {
-                    let term = energy * self.conductor_phase(wv, wo, &fresnel) * s;
+                    let w_last = self.mis_d((wv + wo).normalize_or_zero());
+                    let mis = mis_weight(w_first, w_last);
+                    let term = energy * self.conductor_phase(wv, wo, fresnel) * (s * mis);
                     if term.is_finite() {
                         sum += term;
                     }
@@ -346,6 +387,9 @@ impl Microsurface {
             let c = wv.dot(m);
             energy *= fresnel(c.max(0.0));
             w = (2.0 * c * m - wv).normalize();
+            if order == 1 {
+                w_first = self.mis_d((wi + w).normalize_or_zero());
+            }
         }
         sum
     }
@@ -396,7 +440,7 @@ impl Microsurface {
     }
 
     /// The closed-form single scattering of the dielectric (importance transport), f₁·|cos θo|.
-    fn dielectric_single(&self, wi: Vec3, wo: Vec3, eta: f32) -> f32 {
+    pub(crate) fn dielectric_single(&self, wi: Vec3, wo: Vec3, eta: f32) -> f32 {
         let d = &self.distribution;
         if wo.z > 0.0 {
             let h = (wi + wo).normalize_or_zero();
@@ -483,14 +527,29 @@ impl Microsurface {
     }
 
     /// Unbiased estimate of f·|cos θo| of the multiple-scattering dielectric in importance
-    /// transport, for `wi` above (wi.z > 0) and `eta` = n(below)/n(above).
+    /// transport, for `wi` above (wi.z > 0) and `eta` = n(below)/n(above): the bidirectional
+    /// estimator. The walk from ωo estimates f_imp(ωo, ωi)|cos θi|, and
+    /// f_imp(ωi, ωo) = f_imp(ωo, ωi) (η_ωo/η_ωi)² (Veach 1997, §5.2).
     pub fn eval_dielectric(&self, wi: Vec3, wo: Vec3, eta: f32, rng: &mut Pcg32) -> f32 {
         if wi.z <= 0.0 || wo.z == 0.0 {
             return 0.0;
         }
-        let mut sum = self.dielectric_single(wi, wo, eta);
+        let forward = self.dielectric_half(wi, wo, eta, rng);
+        let backward = if wo.z > 0.0 {
+            self.dielectric_half(wo, wi, eta, rng) * (wo.z / wi.z)
+        } else {
+            // Seen from below: the frame negated, the relative index inverted.
+            self.dielectric_half(-wo, -wi, 1.0 / eta, rng) * (-wo.z / wi.z) * (eta * eta)
+        };
+        forward + backward
+    }
+
+    /// One side of the bidirectional dielectric estimator (see [`Self::conductor_half`]).
+    pub(crate) fn dielectric_half(&self, wi: Vec3, wo: Vec3, eta: f32, rng: &mut Pcg32) -> f32 {
+        let mut sum = 0.5 * self.dielectric_single(wi, wo, eta);
         let (mut w, mut c1, mut eta_l) = (-wi, 1.0f32, eta);
         let mut outside = true;
+        let mut w_first = 0.0f32;
         for order in 1..=MAX_ORDER {
             match self.sample_height(w, c1, rng.next_f32()) {
                 None => break,
@@ -505,7 +564,13 @@ impl Microsurface {
                     self.g1_height(-wo_l, 1.0 - c1)
                 };
                 if s > 0.0 {
-                    let term = self.dielectric_phase(wv, wo_l, eta_l) * s;
+                    let h_last = if wo_l.z > 0.0 {
+                        wv + wo_l
+                    } else {
+                        wv + eta_l * wo_l
+                    };
+                    let mis = mis_weight(w_first, self.mis_d(h_last.normalize_or_zero()));
+                    let term = self.dielectric_phase(wv, wo_l, eta_l) * s * mis;
                     if term.is_finite() {
                         sum += term;
                     }
@@ -522,14 +587,23 @@ impl Microsurface {
             } else {
                 refract_about(wv, m, eta_l)
             };
-            match refracted {
-                None => w = (2.0 * c * m - wv).normalize(),
+            let h_first = match refracted {
+                None => {
+                    w = (2.0 * c * m - wv).normalize();
+                    wv + w
+                }
                 Some((wt, _)) => {
-                    w = -wt.normalize();
+                    let wt = wt.normalize();
+                    let h = wv + eta_l * wt;
+                    w = -wt;
                     c1 = 1.0 - c1;
                     eta_l = 1.0 / eta_l;
                     outside = !outside;
+                    h
                 }
+            };
+            if order == 1 {
+                w_first = self.mis_d(h_first.normalize_or_zero());
             }
         }
         sum

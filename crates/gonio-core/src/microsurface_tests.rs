@@ -270,3 +270,93 @@ fn eval_and_sample_rngs_are_pure_functions_of_their_arguments() {
     assert_eq!(sample_rng(a, 0.5, u), sample_rng(a, 0.5, u));
     assert_ne!(sample_rng(a, 0.5, u), sample_rng(a, 0.5, Vec2::new(0.3, 0.70001)));
 }
+
+#[test]
+fn zz_debug_cell() {
+    let s = surface(Ggx, 0.6, 0.6);
+    let wi = Vec3::new(0.5, 0.3, 0.8).normalize();
+    let (z0, z1, p0, p1) = (-0.25f32, 0.0f32, 180f32.to_radians(), 225f32.to_radians());
+    let inside = |w: Vec3| {
+        let p = w.y.atan2(w.x).rem_euclid(std::f32::consts::TAU);
+        w.z >= z0 && w.z < z1 && p >= p0 && p < p1
+    };
+    let mut rng = Pcg32::new(3, 3);
+    let n = 2_000_000;
+    let mut a = 0.0f64;
+    let mut hits = 0;
+    let mut by_order = [0u32; 17];
+    let mut by_cross = [0u32; 8];
+    for _ in 0..n {
+        if let Some(w) = s.sample_dielectric(wi, SampledSpectrum::splat(1.5), &mut rng) {
+            if inside(w.wo) {
+                a += w.weight[0] as f64;
+                hits += 1;
+                by_order[w.order as usize] += 1;
+                by_cross[(w.crossings as usize).min(7)] += 1;
+            }
+        }
+    }
+    let m = 200_000;
+    let area = ((z1 - z0) * (p1 - p0)) as f64;
+    let mut b = 0.0f64;
+    let mut bu = 0.0f64;
+    for _ in 0..m {
+        let z = z0 + (z1 - z0) * rng.next_f32();
+        let p = p0 + (p1 - p0) * rng.next_f32();
+        let r = (1.0 - z * z).sqrt();
+        let wo = Vec3::new(r * p.cos(), r * p.sin(), z);
+        b += s.eval_dielectric(wi, wo, 1.5, &mut rng) as f64;
+        bu += uni(&s, wi, wo, 1.5, &mut rng) as f64;
+    }
+    eprintln!(
+        "sampled {} ({hits} hits, orders {:?}, crossings {:?}) eval {} uni {}",
+        a / n as f64,
+        by_order,
+        by_cross,
+        b / m as f64 * area,
+        bu / m as f64 * area
+    );
+}
+
+fn uni(s: &Microsurface, wi: Vec3, wo: Vec3, eta: f32, rng: &mut Pcg32) -> f32 {
+    let mut sum = s.dielectric_single(wi, wo, eta);
+    let (mut w, mut c1, mut eta_l) = (-wi, 1.0f32, eta);
+    let mut outside = true;
+    for order in 1..=MAX_ORDER {
+        match s.sample_height(w, c1, rng.next_f32()) {
+            None => break,
+            Some(c) => c1 = c,
+        }
+        let wv = -w;
+        if order >= 2 {
+            let wo_l = if outside { wo } else { -wo };
+            let sh = if wo_l.z > 0.0 {
+                s.g1_height(wo_l, c1)
+            } else {
+                s.g1_height(-wo_l, 1.0 - c1)
+            };
+            let t = s.dielectric_phase(wv, wo_l, eta_l) * sh;
+            if t.is_finite() {
+                sum += t;
+            }
+        }
+        let m = s.sample_vndf(wv, rng);
+        let c = wv.dot(m).max(0.0);
+        let f = fresnel_dielectric(c, eta_l).reflectance;
+        let r = if rng.next_f32() < f {
+            None
+        } else {
+            refract_about(wv, m, eta_l)
+        };
+        match r {
+            None => w = (2.0 * c * m - wv).normalize(),
+            Some((wt, _)) => {
+                w = -wt.normalize();
+                c1 = 1.0 - c1;
+                eta_l = 1.0 / eta_l;
+                outside = !outside;
+            }
+        }
+    }
+    sum
+}

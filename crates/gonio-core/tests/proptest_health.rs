@@ -63,10 +63,11 @@ enum Spec {
         alpha_v: f32,
         visible: bool,
     },
+    /// `roughdiffuse`: model 0 Oren–Nayar, 1 its fast form, 2/3 Beckmann/GGX microfacets.
     RoughDiffuse {
         rho: SpecSpectrum,
         alpha: f32,
-        fast: bool,
+        model: u8,
     },
     RoughDielectric {
         int: f32,
@@ -236,9 +237,9 @@ fn leaf() -> impl Strategy<Value = Spec> {
         (
             reflectance(),
             prop_oneof![Just(0.0f32), roughness(), 0.0f32..=4.0],
-            any::<bool>()
+            0u8..4
         )
-            .prop_map(|(rho, alpha, fast)| Spec::RoughDiffuse { rho, alpha, fast }),
+            .prop_map(|(rho, alpha, model)| Spec::RoughDiffuse { rho, alpha, model }),
         (
             (ior_pair(), unit(), unit(), any::<bool>()),
             (any::<bool>(), roughness(), roughness(), any::<bool>())
@@ -389,11 +390,12 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             c.specular_reflectance = Spectrum::Constant(*tint);
             f(&c)
         }
-        Spec::RoughDiffuse { rho, alpha, fast } => {
-            let model = if *fast {
-                RoughDiffuseModel::OrenNayarFast
-            } else {
-                RoughDiffuseModel::OrenNayar
+        Spec::RoughDiffuse { rho, alpha, model } => {
+            let model = match model {
+                0 => RoughDiffuseModel::OrenNayar,
+                1 => RoughDiffuseModel::OrenNayarFast,
+                2 => RoughDiffuseModel::Microfacet(MicrofacetKind::Beckmann),
+                _ => RoughDiffuseModel::Microfacet(MicrofacetKind::Ggx),
             };
             f(&RoughDiffuse::new(rho.build(), *alpha, model))
         }

@@ -517,3 +517,120 @@ mod tests {
         );
     }
 }
+
+#[cfg(test)]
+mod text_fits {
+    //! Every figure's text stays inside it: no ink in the outermost pixels of any figure kind at
+    //! the size `gonio plot` draws it, with the longest captions each kind writes.
+    use super::*;
+    use gonio_core::bsdfs::{Conductor, Diffuse, Plastic};
+    use gonio_core::instruments::albedo::{Wavelengths, directional_albedo};
+    use gonio_core::instruments::microfacet_albedo::{albedo_vs_roughness, alpha_grid};
+    use gonio_core::instruments::polar::compute_polar;
+    use gonio_core::instruments::slice::{SliceSettings, compute_slice};
+    use gonio_core::microfacet::MicrofacetKind;
+    use gonio_core::{SampledWavelengths, TransportMode};
+
+    /// Pixels of the figure's 2-pixel border that are not white.
+    fn ink_on_border(f: &Figure) -> usize {
+        let img = ::image::load_from_memory(&f.to_png().unwrap()).unwrap().to_rgb8();
+        let (w, h) = img.dimensions();
+        img.enumerate_pixels()
+            .filter(|(x, y, p)| {
+                (*x < 2 || *y < 2 || *x + 2 >= w || *y + 2 >= h) && p.0.iter().any(|&c| c < 245)
+            })
+            .count()
+    }
+
+    #[test]
+    fn captions_fit_inside_every_figure() {
+        let wl = SampledWavelengths::fixed(550.0);
+        let mut figures: Vec<(&str, Figure)> = vec![];
+        for (fixed, theta, width) in [(Fixed::Light, 30.0, 760), (Fixed::View, 60.0, 760)] {
+            let s = compute_slice(
+                &Conductor::mirror(),
+                &SliceSettings {
+                    fixed,
+                    theta_deg: theta,
+                    resolution: 24,
+                    ..Default::default()
+                },
+                &wl,
+            );
+            let p = slice_panel(&s, "<bsdf type=\"conductor\"/>", true, "λ = 550 nm");
+            let width = if p.disks.len() > 1 { 1100 } else { width };
+            figures.push(("slice", Figure::single(Panel::Hemisphere(p), (width, 580))));
+        }
+        let s = compute_slice(
+            &Plastic::default(),
+            &SliceSettings {
+                resolution: 24,
+                ..Default::default()
+            },
+            &wl,
+        );
+        figures.push((
+            "slice rgb",
+            Figure::single(
+                Panel::Hemisphere(slice_panel_rgb(
+                    &s,
+                    vec![vec![Some([0.5; 3]); 24 * 24]],
+                    "<bsdf type=\"plastic\"/>",
+                    "colour of π·f under D65, sRGB, scaled by 0.123",
+                )),
+                (760, 580),
+            ),
+        ));
+        let lobes: Vec<(String, _)> = [
+            (
+                "<bsdf type=\"diffuse\"/>",
+                compute_polar(&Diffuse::default(), 45.0, 181, true, &wl),
+            ),
+            (
+                "<bsdf type=\"plastic\"/>",
+                compute_polar(&Plastic::default(), 45.0, 181, true, &wl),
+            ),
+        ]
+        .into_iter()
+        .map(|(n, l)| (n.to_string(), l))
+        .collect();
+        figures.push(("polar", polar_figure(&lobes, true, "λ = 550 nm")));
+        let pts = directional_albedo(
+            &Diffuse::default(),
+            &[0.0, 45.0, 89.5],
+            64,
+            TransportMode::Importance,
+            Wavelengths::Visible,
+            false,
+            0,
+        );
+        figures.push((
+            "albedo",
+            albedo_figure(
+                &[("<bsdf type=\"diffuse\"/>".into(), pts)],
+                "20000 samples per angle, importance mode, mean over 360–830 nm, light from below; bars: ±1 standard error",
+            ),
+        ));
+        let curves = albedo_vs_roughness(
+            &[MicrofacetKind::Beckmann, MicrofacetKind::Ggx],
+            &[0.0, 45.0, 80.0],
+            &alpha_grid(0.1, 1.0, 3),
+        );
+        figures.push(("microfacet-albedo", microfacet_energy_figure(&curves)));
+        figures.push(("fresnel", fresnel_dielectric_figure(1.5, "glass")));
+        for (name, f) in &figures {
+            assert_eq!(ink_on_border(f), 0, "{name}: text reaches the figure's edge");
+        }
+    }
+
+    #[test]
+    fn long_captions_wrap_and_short_ones_do_not() {
+        let long = "equal-area projection: centre = normal, rim = horizon, rings every 30°, azimuth φ anticlockwise from the right; λ = 550 nm; f = 0 off the delta lobes";
+        let lines = crate::wrap_text(long, 12, 700);
+        assert!(lines.len() >= 2, "{lines:?}");
+        assert!(lines.iter().all(|l| crate::text_width(l, 12) <= 700));
+        assert_eq!(lines.join(" "), long, "no word lost");
+        assert_eq!(crate::wrap_text("λ = 550 nm", 12, 700), vec!["λ = 550 nm"]);
+        assert!(crate::fitting_size(long, 18, 300) < 18);
+    }
+}

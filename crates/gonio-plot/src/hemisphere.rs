@@ -1,7 +1,7 @@
 //! Hemisphere images: the disks of a BSDF slice in an azimuthal projection, with a colour bar,
 //! θ rings, azimuth labels and markers for the fixed direction and for delta lobes.
 
-use super::{PlotError, Raster, colormap, draw_err, font};
+use super::{PlotError, Raster, colormap, draw_err, draw_lines, fitting_size, font, line_height, wrap_text};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -89,7 +89,10 @@ impl HemispherePlot {
             .iter()
             .any(|d| matches!(d.pixels, Pixels::Scalar { .. }));
         let avail_w = w as i32 - if has_bar { BAR_W as i32 } else { 0 } - 20;
-        let d = ((avail_w / n - 100).min(h as i32 - TOP - 80)).max(16);
+        // Room for the note's lines beyond the first, which the 80 pixels below the disks hold.
+        let note_lines = wrap_text(&self.note, 12, w.saturating_sub(24)).len() as i32;
+        let extra = (note_lines - 1).max(0) * line_height(12);
+        let d = ((avail_w / n - 100).min(h as i32 - TOP - 80 - extra)).max(16);
         let gap = (avail_w - n * d) / (n + 1);
         let disks = (0..n)
             .map(|k| (10 + gap + k * (d + gap), TOP + 20, d as u32))
@@ -145,7 +148,7 @@ impl HemispherePlot {
         area.draw(&Text::new(
             self.title.clone(),
             (size.0 as i32 / 2, 8),
-            font(18).pos(ct),
+            font(fitting_size(&self.title, 18, size.0.saturating_sub(20))).pos(ct),
         ))
         .map_err(draw_err)?;
         let grey = RGBColor(150, 150, 150);
@@ -233,12 +236,8 @@ impl HemispherePlot {
                 .first()
                 .map(|d| d.1 + d.2 as i32 + 46)
                 .unwrap_or(size.1 as i32 - 20);
-            area.draw(&Text::new(
-                self.note.clone(),
-                (size.0 as i32 / 2, y),
-                font(12).color(&RGBColor(80, 80, 80)).pos(ct),
-            ))
-            .map_err(draw_err)?;
+            let lines = wrap_text(&self.note, 12, size.0.saturating_sub(24));
+            draw_lines(area, &lines, (size.0 as i32 / 2, y), 12, RGBColor(80, 80, 80))?;
         }
         if self
             .disks

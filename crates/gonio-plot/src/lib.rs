@@ -16,6 +16,7 @@
 #![warn(missing_docs)]
 
 mod colormap;
+pub mod diffuse_figures;
 pub mod figures;
 mod hemisphere;
 mod line;
@@ -159,10 +160,11 @@ impl Figure {
             root.clone()
         } else {
             let (top, rest) = root.split_vertically(TITLE_H);
+            let size = fitting_size(&self.title, 22, w.saturating_sub(20));
             top.draw(&Text::new(
                 self.title.clone(),
                 (w as i32 / 2, 10),
-                TextStyle::from((FONT, 22).into_font()).pos(plotters::style::text_anchor::Pos::new(
+                TextStyle::from((FONT, size).into_font()).pos(plotters::style::text_anchor::Pos::new(
                     plotters::style::text_anchor::HPos::Center,
                     plotters::style::text_anchor::VPos::Top,
                 )),
@@ -322,6 +324,74 @@ pub fn series_color(k: usize) -> RGBColor {
 /// A text style of the plot font.
 pub(crate) fn font(size: u32) -> TextStyle<'static> {
     TextStyle::from((FONT, size).into_font())
+}
+
+/// Width in pixels of `text` in the plot font at `size` (an estimate of 0.6 em per character
+/// if the font cannot measure it).
+pub fn text_width(text: &str, size: u32) -> u32 {
+    ensure_font();
+    FontDesc::new(FontFamily::Name(FONT), size as f64, FontStyle::Normal)
+        .box_size(text)
+        .map(|(w, _)| w)
+        .unwrap_or((text.chars().count() as f64 * size as f64 * 0.6).ceil() as u32)
+}
+
+/// `text` broken at spaces into lines no wider than `max_width` pixels at font `size` (a single
+/// word wider than that keeps a line of its own).
+pub fn wrap_text(text: &str, size: u32, max_width: u32) -> Vec<String> {
+    let mut lines: Vec<String> = vec![];
+    let mut line = String::new();
+    for word in text.split(' ').filter(|w| !w.is_empty()) {
+        let candidate = if line.is_empty() {
+            word.to_string()
+        } else {
+            format!("{line} {word}")
+        };
+        if line.is_empty() || text_width(&candidate, size) <= max_width {
+            line = candidate;
+        } else {
+            lines.push(std::mem::replace(&mut line, word.to_string()));
+        }
+    }
+    if !line.is_empty() {
+        lines.push(line);
+    }
+    lines
+}
+
+/// The largest font size ≤ `size` (and ≥ 9) at which `text` fits in `max_width` pixels.
+pub fn fitting_size(text: &str, size: u32, max_width: u32) -> u32 {
+    let mut s = size;
+    while s > 9 && text_width(text, s) > max_width {
+        s -= 1;
+    }
+    s
+}
+
+/// Line height of wrapped small print at font `size`.
+pub(crate) fn line_height(size: u32) -> i32 {
+    (size as f64 * 1.3).ceil() as i32
+}
+
+/// Draws `lines` centred on `x`, the first line's top at `y`; returns the height used.
+pub(crate) fn draw_lines<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    lines: &[String],
+    (x, y): (i32, i32),
+    size: u32,
+    color: RGBColor,
+) -> Result<i32, PlotError> {
+    use plotters::style::text_anchor::{HPos, Pos, VPos};
+    let lh = line_height(size);
+    for (k, l) in lines.iter().enumerate() {
+        area.draw(&Text::new(
+            l.clone(),
+            (x, y + k as i32 * lh),
+            font(size).color(&color).pos(Pos::new(HPos::Center, VPos::Top)),
+        ))
+        .map_err(draw_err)?;
+    }
+    Ok(lines.len() as i32 * lh)
 }
 
 #[cfg(test)]

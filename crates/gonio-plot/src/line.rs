@@ -1,7 +1,7 @@
 //! Curves against an x axis: Fresnel curves, reflectance against wavelength, albedo curves
 //! with error bars.
 
-use super::{PlotError, draw_err, font, series_color};
+use super::{PlotError, draw_err, draw_lines, fitting_size, font, series_color, wrap_text};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
@@ -164,20 +164,18 @@ impl LinePlot {
         area.draw(&Text::new(
             self.title.clone(),
             (w as i32 / 2, 6),
-            font(18).pos(center_top),
+            font(fitting_size(&self.title, 18, w.saturating_sub(20))).pos(center_top),
         ))
         .map_err(draw_err)?;
-        if !self.note.is_empty() {
-            area.draw(&Text::new(
-                self.note.clone(),
-                (w as i32 / 2, 30),
-                font(12).color(&RGBColor(90, 90, 90)).pos(center_top),
-            ))
-            .map_err(draw_err)?;
-        }
+        let note_h = if self.note.is_empty() {
+            0
+        } else {
+            let lines = wrap_text(&self.note, 12, w.saturating_sub(24));
+            draw_lines(area, &lines, (w as i32 / 2, 30), 12, RGBColor(90, 90, 90))?
+        };
         let mut chart = ChartBuilder::on(area)
             .margin(12)
-            .margin_top(if self.note.is_empty() { 34 } else { 50 })
+            .margin_top(34 + note_h.max(0) as u32)
             .x_label_area_size(44)
             .y_label_area_size(62)
             .build_cartesian_2d(x0..x1, y0..y1)

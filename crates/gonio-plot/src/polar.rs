@@ -1,7 +1,7 @@
 //! Lobes in the plane of incidence, as a polar plot: the surface is the horizontal line, the
 //! normal points up, radius = the BSDF value; several BSDFs overlaid, delta lobes as arrows.
 
-use super::{PlotError, draw_err, font, series_color};
+use super::{PlotError, draw_err, draw_lines, fitting_size, font, line_height, series_color, wrap_text};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -69,7 +69,7 @@ impl PolarPlot {
         area.draw(&Text::new(
             self.title.clone(),
             (w as i32 / 2, 8),
-            font(18).pos(top),
+            font(fitting_size(&self.title, 18, w.saturating_sub(20))).pos(top),
         ))
         .map_err(draw_err)?;
         let rmax = self
@@ -242,14 +242,10 @@ impl PolarPlot {
                 .draw()
                 .map_err(draw_err)?;
         }
-        area.draw(&Text::new(
-            format!("radius: {}; surface horizontal, normal up", self.r_label),
-            (w as i32 / 2, h as i32 - 18),
-            font(12)
-                .color(&RGBColor(80, 80, 80))
-                .pos(Pos::new(HPos::Center, VPos::Center)),
-        ))
-        .map_err(draw_err)?;
+        let caption = format!("radius: {}; surface horizontal, normal up", self.r_label);
+        let lines = wrap_text(&caption, 12, w.saturating_sub(24));
+        let y = h as i32 - 8 - lines.len() as i32 * line_height(12);
+        draw_lines(area, &lines, (w as i32 / 2, y), 12, RGBColor(80, 80, 80))?;
         Ok(())
     }
 }

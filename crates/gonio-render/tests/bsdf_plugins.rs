@@ -59,6 +59,7 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
         "<bsdf type=\"roughconductor\"><string name=\"material\" value=\"Cu\"/><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha_u\" value=\"0.05\"/><float name=\"alpha_v\" value=\"0.3\"/></bsdf>",
         "<bsdf type=\"roughconductor\"><texture name=\"alpha\" type=\"checkerboard\"><float name=\"color0\" value=\"0.02\"/><float name=\"color1\" value=\"0.6\"/></texture><texture name=\"specular_reflectance\" type=\"checkerboard\"/><boolean name=\"sample_visible\" value=\"false\"/></bsdf>",
         "<bsdf type=\"roughdiffuse\"/>",
+        "<bsdf type=\"roughdiffuse\"><string name=\"model\" value=\"microfacet\"/><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"0.8\"/></bsdf>",
         "<bsdf type=\"roughdiffuse\"><texture name=\"alpha\" type=\"checkerboard\"><float name=\"color0\" value=\"0\"/><float name=\"color1\" value=\"0.9\"/></texture><rgb name=\"reflectance\" value=\"0.7, 0.4, 0.2\"/><boolean name=\"useFastApprox\" value=\"true\"/></bsdf>",
         "<bsdf type=\"roughplastic\"><string name=\"distribution\" value=\"ggx\"/><float name=\"alpha\" value=\"0.3\"/><boolean name=\"nonlinear\" value=\"true\"/></bsdf>",
         "<bsdf type=\"roughplastic\"><texture name=\"diffuse_reflectance\" type=\"checkerboard\"/><texture name=\"specular_reflectance\" type=\"checkerboard\"/><boolean name=\"sample_visible\" value=\"false\"/><string name=\"coat_averages\" value=\"mitsuba\"/></bsdf>",

@@ -156,18 +156,17 @@ impl Bsdf for BlendBsdf<'_> {
             s.pdf *= p_select;
             return Some(s);
         }
+        if !self.pdf_is_exact() {
+            // A child's pdf is for MIS only: no f/pdf may be formed. The chosen child's exact
+            // weight is the mixture's (blend factor over selection probability = 1); the
+            // reported pdf is the mixture's, as `pdf` returns it, for the MIS weights.
+            s.pdf = self.pdf(ctx, wi, s.wo, wl);
+            return (s.pdf > 0.0).then_some(s);
+        }
         // Smooth: one-sample mixture over both children at the sampled direction.
         let (f, pdf) = self.eval_pdf(ctx, wi, s.wo, wl);
         if pdf <= 0.0 {
             return None;
-        }
-        if !self.pdf_is_exact() {
-            // A stochastic child (a random walk) has no exact density to form f·cos/pdf with:
-            // keep the chosen child's exact throughput, w_k·(f_k cos/p_k)/P(select k) with
-            // P(select k) = w_k, an unbiased one-sample estimator of the blend; the mixture's
-            // approximate pdf is for MIS weights only.
-            s.pdf = pdf;
-            return Some(s);
         }
         // A black result is still returned (this blend may itself be a mixture's child).
         s.weight = f * (s.wo.z.abs() / pdf);

@@ -22,6 +22,13 @@
 //! (F ≡ 1) surface reflects less than 1, the more so the rougher it is and the more grazing the
 //! light (Heitz et al. 2016, "Multiple-Scattering Microfacet BSDFs with the Smith Model").
 //!
+//! **Multiple scattering** (`multiple_scattering = true`, ours; Heitz et al. 2016): the facets'
+//! inter-reflections are followed by the random walk of [`crate::microsurface`]. `sample` is the
+//! walk (weight: the product of F over its bounces, per wavelength; the walk's geometry does not
+//! depend on the wavelength); `eval` is its unbiased stochastic estimate, a deterministic function
+//! of (ωi, ωo, λ) through a seeded generator; `pdf` is an approximation for MIS weights only
+//! ([`Bsdf::pdf_is_exact`] is false). A white surface then reflects all the light.
+//!
 //! Mitsuba 3 plugin `roughconductor`, one-sided (nothing unless cos θi > 0 and cos θo > 0):
 //!
 //! | parameter              | type     | default                                   |
@@ -33,13 +40,15 @@
 //! | `alpha` / `alpha_u`, `alpha_v` | float or texture | 0.1                      |
 //! | `sample_visible`       | boolean  | true                                      |
 //!
-//! Addition over Mitsuba, as for `conductor`: `ext_ior`, the index of a dielectric exterior.
+//! Additions over Mitsuba: as for `conductor`, `ext_ior`, the index of a dielectric exterior;
+//! `multiple_scattering` (boolean, default false: Mitsuba's single-scattering model).
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::fresnel::fresnel_conductor_exterior;
 use crate::fresnel_polarized::{conductor_reflection, facet_mueller};
 use crate::ior::{Ior, IorValue, SampledIor};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
+use crate::microsurface::{Microsurface, eval_rng, sample_rng};
 use crate::mueller::Mueller;
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -58,6 +67,8 @@ pub struct RoughConductor<S = Spectrum, I = Ior> {
     pub specular_reflectance: S,
     /// Normal distribution and roughness (α_u along the shading frame's x, the surface tangent).
     pub distribution: MicrofacetDistribution,
+    /// Follow the inter-reflections between facets (Heitz et al. 2016); false: single scattering.
+    pub multiple_scattering: bool,
 }
 
 impl Default for RoughConductor {
@@ -76,6 +87,7 @@ impl RoughConductor {
             ext_ior: Ior::Constant(1.0),
             specular_reflectance: Spectrum::Constant(1.0),
             distribution,
+            multiple_scattering: false,
         }
     }
 
@@ -92,6 +104,7 @@ impl RoughConductor {
             ext_ior: self.ext_ior.at(wl),
             specular_reflectance: self.specular_reflectance.sample(wl),
             distribution: self.distribution,
+            multiple_scattering: self.multiple_scattering,
         }
     }
 }
@@ -142,6 +155,17 @@ impl<S: SpectralValue, I: IorValue> RoughConductor<S, I> {
         }
         (self.fresnel(wi.dot(h), wl) * value, pdf)
     }
+
+    /// (f, MIS-only pdf) of the multiple-scattering model: the walk's stochastic estimate.
+    fn eval_pdf_ms(&self, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> (SampledSpectrum, f32) {
+        if wi.z <= 0.0 || wo.z <= 0.0 {
+            return (SampledSpectrum::ZERO, 0.0);
+        }
+        let ms = Microsurface::new(self.distribution);
+        let mut rng = eval_rng(wi, wo, wl);
+        let f_cos = ms.eval_conductor(wi, wo, |c| self.fresnel(c, wl), &mut rng);
+        (f_cos / wo.z, ms.pdf_conductor(wi, wo))
+    }
 }
 
 impl<S: SpectralValue, I: IorValue> Bsdf for RoughConductor<S, I> {
@@ -159,7 +183,17 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughConductor<S, I> {
     }
 
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
+        if self.multiple_scattering {
+            if !ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) {
+                return 0.0;
+            }
+            return Microsurface::new(self.distribution).pdf_conductor(wi, wo);
+        }
         self.eval_pdf(ctx, wi, wo, wl).1
+    }
+
+    fn pdf_is_exact(&self) -> bool {
+        !self.multiple_scattering
     }
 
     fn eval_pdf(
@@ -172,6 +206,9 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughConductor<S, I> {
         if !ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) {
             return (SampledSpectrum::ZERO, 0.0);
         }
+        if self.multiple_scattering {
+            return self.eval_pdf_ms(wi, wo, wl);
+        }
         self.eval_pdf_lobe(wi, wo, wl)
     }
 
@@ -179,12 +216,25 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughConductor<S, I> {
         &self,
         ctx: &BsdfContext,
         wi: Vec3,
-        _u1: f32,
+        u1: f32,
         u2: Vec2,
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
         if !ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) || wi.z <= 0.0 {
             return None;
+        }
+        if self.multiple_scattering {
+            let ms = Microsurface::new(self.distribution);
+            let wl = &*wl;
+            let walk = ms.sample_conductor(wi, |c| self.fresnel(c, wl), &mut sample_rng(wi, u1, u2))?;
+            let pdf = ms.pdf_conductor(wi, walk.wo);
+            return (pdf > 0.0).then_some(BsdfSample {
+                wo: walk.wo,
+                weight: walk.weight,
+                pdf,
+                flags: BsdfFlags::GLOSSY_REFLECTION,
+                eta: 1.0,
+            });
         }
         let (m, pdf_m) = self.distribution.sample(wi, u2);
         let cos_im = wi.dot(m);

@@ -46,6 +46,10 @@
 //! (weights F(λᵢ)/F(λ₀)), a refraction takes its scalar η from [`relative_hero_eta`], which
 //! terminates the secondary wavelengths.
 //!
+//! **Multiple scattering** (`multiple_scattering`, ours; Heitz et al. 2016): the random walk of
+//! [`crate::microsurface`] across the interface, in `roughdielectric_ms.rs`; `pdf` is then for
+//! MIS only ([`Bsdf::pdf_is_exact`]).
+//!
 //! Mitsuba 3 plugin `roughdielectric`, two-sided:
 //!
 //! | parameter                | type             | default                  |
@@ -57,6 +61,7 @@
 //! | `distribution`           | string           | `beckmann` (or `ggx`)    |
 //! | `alpha` / `alpha_u`, `alpha_v` | float or texture | 0.1                |
 //! | `sample_visible`         | boolean          | true                     |
+//! | `multiple_scattering`    | boolean (ours)   | false                    |
 //!
 //! gonio additionally accepts a spectrum (Sellmeier, table) for either index.
 
@@ -83,6 +88,8 @@ pub struct RoughDielectric<S = Spectrum, I = Ior> {
     pub specular_transmittance: S,
     /// Normal distribution and roughness (α_u along the shading frame's x, the surface tangent).
     pub distribution: MicrofacetDistribution,
+    /// Follow the scattering between facets (Heitz et al. 2016); false: single scattering.
+    pub multiple_scattering: bool,
 }
 
 /// Below this roughness all-normal sampling draws from the model's own distribution, without
@@ -119,6 +126,7 @@ impl RoughDielectric {
             specular_reflectance: Spectrum::Constant(1.0),
             specular_transmittance: Spectrum::Constant(1.0),
             distribution,
+            multiple_scattering: false,
         }
     }
 
@@ -130,6 +138,7 @@ impl RoughDielectric {
             specular_reflectance: self.specular_reflectance.sample(wl),
             specular_transmittance: self.specular_transmittance.sample(wl),
             distribution: self.distribution,
+            multiple_scattering: self.multiple_scattering,
         }
     }
 }
@@ -318,11 +327,18 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughDielectric<S, I> {
     }
 
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        self.eval_pdf_lobes(ctx, wi, wo, wl).0
+        self.eval_pdf(ctx, wi, wo, wl).0
     }
 
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
+        if self.multiple_scattering {
+            return self.pdf_ms(ctx, wi, wo, wl);
+        }
         self.eval_pdf_lobes(ctx, wi, wo, wl).1
+    }
+
+    fn pdf_is_exact(&self) -> bool {
+        !self.multiple_scattering
     }
 
     fn eval_pdf(
@@ -332,6 +348,9 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughDielectric<S, I> {
         wo: Vec3,
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
+        if self.multiple_scattering {
+            return self.eval_pdf_ms(ctx, wi, wo, wl);
+        }
         self.eval_pdf_lobes(ctx, wi, wo, wl)
     }
 
@@ -348,6 +367,9 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughDielectric<S, I> {
         let cos_i = wi.z;
         if cos_i == 0.0 || !(has_r || has_t) {
             return None;
+        }
+        if self.multiple_scattering {
+            return self.sample_ms(ctx, wi, u1, u2, wl);
         }
         // A facet normal seen from wi's side.
         let (m, pdf_m) = self.sampling_distribution(cos_i).sample(wi * cos_i.signum(), u2);
@@ -444,6 +466,9 @@ impl<S: SpectralValue, I: IorValue> RoughDielectric<S, I> {
         facet_mueller(f, &fresnel, m, ctx, wi, wo)
     }
 }
+
+#[path = "roughdielectric_ms.rs"]
+mod ms;
 
 #[cfg(test)]
 mod tests {

@@ -206,3 +206,145 @@ fn sample_weight_is_eval_over_pdf() {
         "one-sided"
     );
 }
+
+// ---- model="microfacet": Heitz et al. 2016 Lambertian microfacets ------------------------------
+
+fn microfacet(rho: f32, alpha: f32, kind: MicrofacetKind) -> RoughDiffuse {
+    RoughDiffuse::new(
+        Spectrum::Constant(rho),
+        alpha,
+        RoughDiffuseModel::Microfacet(kind),
+    )
+}
+
+/// Mean and standard error of the sample weights (a cut or failed walk counts as 0) over `n`
+/// stratified-free uniform draws.
+fn walk_albedo(m: &RoughDiffuse, wi: Vec3, n: usize, seed: u64) -> (f64, f64) {
+    let ctx = BsdfContext::radiance();
+    let wl = SampledWavelengths::fixed(550.0);
+    let mut rng = Pcg32::new(seed, 5);
+    let (mut s, mut s2) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        let mut wl2 = wl;
+        let w = m
+            .sample(&ctx, wi, rng.next_f32(), rng.next_vec2(), &mut wl2)
+            .map_or(0.0, |s| s.weight[0] as f64);
+        s += w;
+        s2 += w * w;
+    }
+    let mean = s / n as f64;
+    let var = (s2 / n as f64 - mean * mean).max(0.0);
+    (mean, (var / n as f64).sqrt())
+}
+
+#[test]
+fn microfacet_white_furnace() {
+    // ρ = 1: every walk that is not cut after 16 bounces returns weight 1 exactly.
+    for kind in [MicrofacetKind::Beckmann, MicrofacetKind::Ggx] {
+        for alpha in [0.2f32, 1.0] {
+            for mu in [1.0f32, 0.5, 0.1] {
+                let wi = Vec3::new((1.0 - mu * mu).sqrt(), 0.0, mu);
+                let (a, _) = walk_albedo(&microfacet(1.0, alpha, kind), wi, 20_000, 1);
+                assert!((0.997..=1.0).contains(&a), "{kind:?} α={alpha} μ={mu}: {a}");
+            }
+        }
+    }
+}
+
+#[test]
+fn microfacet_reference_albedos() {
+    // Lambertian GGX microfacets at normal incidence, ρ = 0.8 (random-walk references):
+    // α = 1: 0.6736 ± 0.0003, α = 0.5: 0.7487 ± 0.0002.
+    for (alpha, want, want_se) in [(1.0f32, 0.6736, 0.0003), (0.5, 0.7487, 0.0002)] {
+        let (a, se) = walk_albedo(&microfacet(0.8, alpha, MicrofacetKind::Ggx), Vec3::Z, 400_000, 2);
+        let tol = 4.0 * (se * se + want_se * want_se).sqrt();
+        eprintln!("GGX α={alpha} ρ=0.8 μ=1: walk albedo {a:.5} ± {se:.5} (reference {want})");
+        assert!((a - want).abs() < tol, "α={alpha}: {a} ± {se} vs {want}");
+    }
+}
+
+#[test]
+fn microfacet_eval_integrates_to_the_walk_albedo() {
+    // E[eval cos θo/(cos θo/π)] over cosine-distributed ωo is the albedo the walk samples.
+    let m = microfacet(0.8, 0.7, MicrofacetKind::Beckmann);
+    let wl = SampledWavelengths::fixed(550.0);
+    let ctx = BsdfContext::radiance();
+    let wi = dir(60.0, 0.0);
+    let n = 100_000;
+    let mut rng = Pcg32::new(9, 2);
+    let (mut s, mut s2) = (0.0f64, 0.0f64);
+    for _ in 0..n {
+        let wo = square_to_cosine_hemisphere(rng.next_vec2());
+        if wo.z <= 0.0 {
+            continue;
+        }
+        let v = (m.eval(&ctx, wi, wo, &wl)[0] * std::f32::consts::PI) as f64;
+        s += v;
+        s2 += v * v;
+    }
+    let mean = s / n as f64;
+    let se = ((s2 / n as f64 - mean * mean) / n as f64).sqrt();
+    let (walk, walk_se) = walk_albedo(&m, wi, 100_000, 3);
+    let tol = 4.0 * (se * se + walk_se * walk_se).sqrt();
+    assert!(
+        (mean - walk).abs() < tol,
+        "eval {mean} ± {se}, walk {walk} ± {walk_se}"
+    );
+    assert!(!m.pdf_is_exact() && model(0.5, 0.2, false).pdf_is_exact());
+}
+
+#[test]
+fn microfacet_smooth_limit_is_lambert_and_rough_retroreflects() {
+    let wl = SampledWavelengths::fixed(550.0);
+    // α → 0: a flat Lambertian surface, f = ρ/π (single scattering only, exact per estimate).
+    let m = microfacet(0.6, 1e-4, MicrofacetKind::Beckmann);
+    for (wi, wo) in [
+        (dir(30.0, 0.0), dir(50.0, 120.0)),
+        (dir(70.0, 10.0), dir(20.0, 200.0)),
+    ] {
+        let v = f(&m, wi, wo);
+        assert!((v - 0.6 * FRAC_1_PI).abs() < 1e-3 * 0.6 * FRAC_1_PI, "{v}");
+    }
+    // Rough: back towards the light (φ = 0) brighter than forward (φ = 180°), like Oren–Nayar.
+    // Averages of independent estimates (the microsurface with its own generator).
+    let m = microfacet(0.8, 1.0, MicrofacetKind::Beckmann);
+    let ms = m.microsurface(MicrofacetKind::Beckmann);
+    let rho = m.reflectance.sample(&wl);
+    let wi = dir(60.0, 0.0);
+    let mean = |wo: Vec3, seed: u64| {
+        let mut rng = Pcg32::new(seed, 1);
+        let n = 20_000;
+        (0..n)
+            .map(|_| ms.eval_diffuse(wi, wo, rho, &mut rng)[0] as f64)
+            .sum::<f64>()
+            / n as f64
+            / wo.z as f64
+    };
+    let (back, fwd) = (mean(dir(60.0, 0.0), 4), mean(dir(60.0, 180.0), 5));
+    eprintln!("Beckmann α=1 ρ=0.8, θi = θo = 60°: f back {back:.4}, forward {fwd:.4}");
+    assert!(back > 1.3 * fwd, "back {back} forward {fwd}");
+}
+
+#[test]
+fn microfacet_reciprocal_in_expectation() {
+    let wl = SampledWavelengths::fixed(550.0);
+    let m = microfacet(0.7, 0.6, MicrofacetKind::Ggx);
+    let ms = m.microsurface(MicrofacetKind::Ggx);
+    let rho = m.reflectance.sample(&wl);
+    let (a, b) = (dir(20.0, 0.0), dir(75.0, 140.0));
+    let stats = |wi: Vec3, wo: Vec3, seed: u64| {
+        let mut rng = Pcg32::new(seed, 7);
+        let n = 40_000;
+        let (mut s, mut s2) = (0.0f64, 0.0f64);
+        for _ in 0..n {
+            let v = (ms.eval_diffuse(wi, wo, rho, &mut rng)[0] / wo.z) as f64;
+            s += v;
+            s2 += v * v;
+        }
+        let mean = s / n as f64;
+        (mean, ((s2 / n as f64 - mean * mean) / n as f64).sqrt())
+    };
+    let ((f_ab, se_ab), (f_ba, se_ba)) = (stats(a, b, 1), stats(b, a, 2));
+    let tol = 4.0 * (se_ab * se_ab + se_ba * se_ba).sqrt();
+    assert!((f_ab - f_ba).abs() < tol, "{f_ab} ± {se_ab} vs {f_ba} ± {se_ba}");
+}

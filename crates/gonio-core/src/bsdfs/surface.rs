@@ -99,6 +99,10 @@ impl Bsdf for LeafBsdf<'_> {
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         with_leaf!(self, b => b.eval(ctx, wi, wo, wl))
     }
+
+    fn pdf_is_exact(&self) -> bool {
+        with_leaf!(self, b => b.pdf_is_exact())
+    }
     #[inline]
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
         with_leaf!(self, b => b.pdf(ctx, wi, wo, wl))
@@ -337,6 +341,10 @@ impl Bsdf for NodeRef<'_, '_> {
         self.with(|b| b.eval(ctx, wi, wo, wl))
     }
     #[inline]
+    fn pdf_is_exact(&self) -> bool {
+        self.with(|b| b.pdf_is_exact())
+    }
+    #[inline]
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
         self.with(|b| b.pdf(ctx, wi, wo, wl))
     }
@@ -394,6 +402,10 @@ impl Bsdf for SurfaceBsdf<'_> {
     #[inline]
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         self.root().eval(ctx, wi, wo, wl)
+    }
+    #[inline]
+    fn pdf_is_exact(&self) -> bool {
+        self.root().pdf_is_exact()
     }
     #[inline]
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {

@@ -15,6 +15,7 @@
 //! | `reciprocity`, `eta2_law`, `adjoint`, `delta_reciprocity` | f(a,b) = f(b,a); f(a,b)/η_a² = f(b,a)/η_b²; f_imp(a,b) = f_rad(b,a) | [`reciprocity`] | Veach 1997, §5.2 |
 //! | `isotropy` | f under a common rotation about the normal | [`isotropy`] | lecture slide "BRDF properties" |
 //! | `health`, `lobe_flags` | no NaN/Inf/negative values, grazing included; flags match sides | [`health`] | (ours) |
+//! | `sample_vs_eval`, in-expectation `reciprocity`/`adjoint`/`eta2_law` | for stochastic models whose pdf is for MIS only ([`Bsdf::pdf_is_exact`]): weighted sample histogram = cell integrals of eval·\|cos\|; laws on means of reseeded evals | [`stochastic`] | (ours; Heitz et al. 2016 validate eval against sample the same way) |
 //!
 //! # Thresholds
 //!
@@ -39,6 +40,7 @@ pub mod energy;
 pub mod health;
 pub mod isotropy;
 pub mod reciprocity;
+pub mod stochastic;
 
 use crate::bsdf::Bsdf;
 use crate::rng::Pcg32;
@@ -249,6 +251,10 @@ pub struct CheckConfig {
     pub pairs: usize,
     /// Random queries of the health check (plus a fixed set of grazing and degenerate ones).
     pub health_queries: usize,
+    /// `sample` calls per incidence of [`stochastic::sample_vs_eval`] (stochastic models).
+    pub sample_vs_eval_samples: usize,
+    /// `eval` calls per cell of [`stochastic::sample_vs_eval`].
+    pub sample_vs_eval_evals_per_cell: usize,
 }
 
 impl Default for CheckConfig {
@@ -266,6 +272,8 @@ impl Default for CheckConfig {
             energy_wavelengths: vec![400.0, 550.0, 700.0],
             pairs: 20_000,
             health_queries: 20_000,
+            sample_vs_eval_samples: 200_000,
+            sample_vs_eval_evals_per_cell: 512,
         }
     }
 }
@@ -281,6 +289,8 @@ impl CheckConfig {
         c.energy_samples /= 10;
         c.pairs /= 10;
         c.health_queries /= 10;
+        c.sample_vs_eval_samples /= 10;
+        c.sample_vs_eval_evals_per_cell /= 4;
         c
     }
 
@@ -332,7 +342,14 @@ pub fn direction(theta_deg: f32, phi_deg: f32, sign: f32) -> Vec3 {
 /// Runs every check that applies to `bsdf` (by its [`Bsdf::flags`]): χ² and the pdf checks
 /// only for models with a smooth lobe, the delta-lobe reciprocity only for models with a delta
 /// lobe. Rows of one statistical family share the Šidák-corrected α of `config`.
+///
+/// A model whose pdf is for MIS only ([`Bsdf::pdf_is_exact`] false) gets the [`stochastic`] rows
+/// in place of `chi2`, `weight_vs_eval`, `pdf_integral`, `pdf_normalization`, the pointwise
+/// reciprocity rows and `isotropy` (exact identities its random `eval` does not satisfy).
 pub fn battery(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
+    if !bsdf.pdf_is_exact() {
+        return stochastic_battery(bsdf, config);
+    }
     let flags = bsdf.flags();
     let chi2_plan = chi2::plan(bsdf, config);
     // Statistical rows: the χ² configurations, pdf_integral, pdf_normalization, energy,
@@ -350,6 +367,25 @@ pub fn battery(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
     rows.extend(energy::energy(bsdf, config, alpha_row));
     rows.extend(reciprocity::reciprocity(bsdf, config));
     rows.push(isotropy::isotropy(bsdf, config));
+    rows
+}
+
+/// [`battery`] for a model whose pdf is for MIS only.
+fn stochastic_battery(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
+    let n_inc = config.chi2.incidences.len();
+    // Statistical rows: sample_vs_eval per incidence, energy, albedo_estimators, and the three
+    // in-expectation laws.
+    let alpha_row = sidak(config.alpha, n_inc + 5);
+    let mut rows = Vec::new();
+    rows.extend(health::health(bsdf, config));
+    rows.extend(stochastic::sample_vs_eval(bsdf, config, alpha_row));
+    rows.extend(
+        consistency::consistency(bsdf, config)
+            .into_iter()
+            .filter(|r| r.name != "weight_vs_eval"),
+    );
+    rows.extend(energy::energy(bsdf, config, alpha_row));
+    rows.extend(stochastic::reciprocity_in_expectation(bsdf, config, alpha_row));
     rows
 }
 

@@ -49,6 +49,13 @@ pub(crate) const SAMPLE_VISIBLE: ParamSpec = ParamSpec::new(
     "sample the distribution of visible normals (fewer wasted samples) instead of all normals",
 );
 
+pub(crate) const MULTIPLE_SCATTERING: ParamSpec = ParamSpec::new(
+    "multiple_scattering",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "follow the inter-reflections between facets (Heitz et al. 2016: random-walk sampling, stochastic eval; not in Mitsuba 3)",
+);
+
 /// The `roughconductor` plugin.
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
     name: "roughconductor",
@@ -64,6 +71,7 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
         ALPHA_V,
         SAMPLE_VISIBLE,
         EXT_IOR,
+        MULTIPLE_SCATTERING,
     ],
     build,
 };
@@ -117,16 +125,11 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
     let (alpha_u, alpha_v) = roughness(b, p)?;
     let sample_visible = p.bool(SAMPLE_VISIBLE.name, SAMPLE_VISIBLE.default.bool())?;
     let ext_ior = b.ior(p, &EXT_IOR)?;
-    Ok(Material::new(RoughConductorMaterial::new(
-        eta,
-        k,
-        ext_ior,
-        specular,
-        kind,
-        alpha_u,
-        alpha_v,
-        sample_visible,
-    )))
+    let multiple_scattering = p.bool(MULTIPLE_SCATTERING.name, MULTIPLE_SCATTERING.default.bool())?;
+    let mut m =
+        RoughConductorMaterial::new(eta, k, ext_ior, specular, kind, alpha_u, alpha_v, sample_visible);
+    m.model.multiple_scattering = multiple_scattering;
+    Ok(Material::new(m))
 }
 
 /// `roughconductor` in a scene.
@@ -167,6 +170,7 @@ impl RoughConductorMaterial {
             ext_ior,
             specular_reflectance: model_value(&specular_reflectance),
             distribution,
+            multiple_scattering: false,
         };
         Self {
             specular_reflectance,
@@ -245,6 +249,19 @@ mod tests {
         assert_eq!(rc.model.k, Spectrum::Constant(1.0));
         assert!(!m.is_textured());
         assert_eq!(m.flags(), BsdfFlags::GLOSSY_REFLECTION);
+        assert!(
+            !rc.model.multiple_scattering,
+            "Mitsuba's single scattering by default"
+        );
+        let ms =
+            load(r#"<bsdf type="roughconductor"><boolean name="multiple_scattering" value="true"/></bsdf>"#)
+                .unwrap();
+        assert!(
+            ms.get::<RoughConductorMaterial>()
+                .unwrap()
+                .model
+                .multiple_scattering
+        );
     }
 
     #[test]

@@ -10,7 +10,7 @@
 
 use super::dielectric::{EXT_IOR, INT_IOR, SPECULAR_REFLECTANCE, SPECULAR_TRANSMITTANCE, interface};
 use super::roughconductor::{
-    ALPHA, ALPHA_U, ALPHA_V, DISTRIBUTION, SAMPLE_VISIBLE, distribution_kind, roughness,
+    ALPHA, ALPHA_U, ALPHA_V, DISTRIBUTION, MULTIPLE_SCATTERING, SAMPLE_VISIBLE, distribution_kind, roughness,
 };
 use super::{BsdfPlugin, Material, SurfaceMaterial, model_value, retint_at};
 use crate::texture::Texture;
@@ -35,6 +35,7 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
         ALPHA_U,
         ALPHA_V,
         SAMPLE_VISIBLE,
+        MULTIPLE_SCATTERING,
     ],
     build,
 };
@@ -59,16 +60,10 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
     let kind = distribution_kind(p)?;
     let (alpha_u, alpha_v) = roughness(b, p)?;
     let sample_visible = p.bool(SAMPLE_VISIBLE.name, SAMPLE_VISIBLE.default.bool())?;
-    Ok(Material::new(RoughDielectricMaterial::new(
-        int_ior,
-        ext_ior,
-        r,
-        t,
-        kind,
-        alpha_u,
-        alpha_v,
-        sample_visible,
-    )))
+    let multiple_scattering = p.bool(MULTIPLE_SCATTERING.name, MULTIPLE_SCATTERING.default.bool())?;
+    let mut m = RoughDielectricMaterial::new(int_ior, ext_ior, r, t, kind, alpha_u, alpha_v, sample_visible);
+    m.model.multiple_scattering = multiple_scattering;
+    Ok(Material::new(m))
 }
 
 /// `roughdielectric` in a scene.
@@ -111,6 +106,7 @@ impl RoughDielectricMaterial {
             specular_reflectance: model_value(&specular_reflectance),
             specular_transmittance: model_value(&specular_transmittance),
             distribution,
+            multiple_scattering: false,
         };
         Self {
             specular_reflectance,
@@ -203,6 +199,19 @@ mod tests {
         assert_eq!(
             m.flags(),
             BsdfFlags::GLOSSY_REFLECTION | RoughDielectric::TRANSMISSION_FLAGS
+        );
+        assert!(
+            !rd.model.multiple_scattering,
+            "Mitsuba's single scattering by default"
+        );
+        let ms =
+            load(r#"<bsdf type="roughdielectric"><boolean name="multiple_scattering" value="true"/></bsdf>"#)
+                .unwrap();
+        assert!(
+            ms.get::<RoughDielectricMaterial>()
+                .unwrap()
+                .model
+                .multiple_scattering
         );
     }
 

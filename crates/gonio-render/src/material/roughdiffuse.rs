@@ -1,6 +1,8 @@
 //! `roughdiffuse`: a rough diffuse surface (core model [`gonio_core::bsdfs::RoughDiffuse`]),
 //! Mitsuba 0.6's plugin of that name (`src/bsdfs/roughdiffuse.cpp`): Oren–Nayar, full model by
-//! default, the qualitative one with `useFastApprox`. Mitsuba 3 has no such plugin.
+//! default, the qualitative one with `useFastApprox`. Mitsuba 3 has no such plugin. Ours adds
+//! `model="microfacet"`: Lambertian facets on the Smith microsurface of `distribution` with
+//! every bounce between them (Heitz et al. 2016).
 //!
 //! As in Mitsuba 0.6, `alpha` is the RMS slope (Oren–Nayar's σ = α/√2) and may be a texture
 //! (looked up per hit; a bitmap's luminance), and `reflectance` a spectrum or texture.
@@ -9,11 +11,12 @@ use super::{
     BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
 };
 use crate::texture::Texture;
-use crate::xml::{Builder, Params, SceneError};
+use crate::xml::{Builder, ErrorKind, Params, SceneError};
 use glam::Vec2;
 use gonio_core::bsdfs::roughdiffuse::RoughDiffuseModel;
 use gonio_core::bsdfs::surface::TooManyNodes;
 use gonio_core::bsdfs::{LeafBsdf, RoughDiffuse, SurfaceBsdf};
+use gonio_core::microfacet::MicrofacetKind;
 use gonio_core::spectra::RgbKind;
 use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths};
 
@@ -35,23 +38,56 @@ const USE_FAST_APPROX: ParamSpec = ParamSpec::new(
     DefaultValue::Bool(false),
     "Oren–Nayar's qualitative model (no interreflections) instead of the full one",
 );
+const MODEL: ParamSpec = ParamSpec::new(
+    "model",
+    ParamType::String,
+    DefaultValue::Str("orennayar"),
+    "`orennayar` (V-grooves, closed form) or `microfacet` (Lambertian facets on a Smith microsurface, all bounces: Heitz et al. 2016; stochastic eval, white stays white)",
+);
+const DISTRIBUTION: ParamSpec = ParamSpec::new(
+    "distribution",
+    ParamType::String,
+    DefaultValue::Str("beckmann"),
+    "microfacet normal distribution of `model=\"microfacet\"`: `beckmann` or `ggx`",
+);
 
 /// The `roughdiffuse` plugin.
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
     name: "roughdiffuse",
     summary: "(Mitsuba 0.6) Rough diffuse reflection: Oren–Nayar's V-groove model, flatter than Lambert with retro-reflection at grazing angles; one-sided.",
-    params: &[REFLECTANCE, ALPHA, USE_FAST_APPROX],
+    params: &[REFLECTANCE, ALPHA, USE_FAST_APPROX, MODEL, DISTRIBUTION],
     build,
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
     let reflectance = b.texture(p, &REFLECTANCE, RgbKind::Albedo)?;
     let alpha = b.texture(p, &ALPHA, RgbKind::Unbounded)?;
-    let fast = p.bool(USE_FAST_APPROX.name, USE_FAST_APPROX.default.bool())?;
-    let model = if fast {
-        RoughDiffuseModel::OrenNayarFast
+    let name = p.choice(MODEL.name, MODEL.default.str(), &["orennayar", "microfacet"])?;
+    let only_with = |p: &mut Params<'d>, param: &str, model: &str| -> Result<(), SceneError> {
+        match p.get(param) {
+            Some(v) => Err(SceneError::new(
+                v.loc.clone(),
+                ErrorKind::Grammar,
+                format!("roughdiffuse: {param} applies to model=\"{model}\" only"),
+            )),
+            None => Ok(()),
+        }
+    };
+    let model = if name == "microfacet" {
+        only_with(p, USE_FAST_APPROX.name, "orennayar")?;
+        let kind = p.choice(
+            DISTRIBUTION.name,
+            DISTRIBUTION.default.str(),
+            &["beckmann", "ggx"],
+        )?;
+        RoughDiffuseModel::Microfacet(MicrofacetKind::from_name(kind).expect("one of the choices"))
     } else {
-        RoughDiffuseModel::OrenNayar
+        only_with(p, DISTRIBUTION.name, "microfacet")?;
+        if p.bool(USE_FAST_APPROX.name, USE_FAST_APPROX.default.bool())? {
+            RoughDiffuseModel::OrenNayarFast
+        } else {
+            RoughDiffuseModel::OrenNayar
+        }
     };
     Ok(Material::new(RoughDiffuseMaterial::new(
         reflectance,
@@ -146,6 +182,21 @@ mod tests {
         assert_eq!(rd.model.alpha, 0.7);
         assert_eq!(rd.model.model, RoughDiffuseModel::OrenNayarFast);
         assert_eq!(rd.model.reflectance, Spectrum::Constant(0.3));
+        for (xml, want) in [
+            (
+                r#"<bsdf type="roughdiffuse"><string name="model" value="microfacet"/></bsdf>"#,
+                MicrofacetKind::Beckmann,
+            ),
+            (
+                r#"<bsdf type="roughdiffuse"><string name="model" value="microfacet"/><string name="distribution" value="ggx"/></bsdf>"#,
+                MicrofacetKind::Ggx,
+            ),
+        ] {
+            let m = load_bsdf_str(xml).unwrap();
+            let rd = m.get::<RoughDiffuseMaterial>().unwrap();
+            assert_eq!(rd.model.model, RoughDiffuseModel::Microfacet(want), "{xml}");
+            assert!(!rd.model.pdf_is_exact());
+        }
     }
 
     #[test]
@@ -158,6 +209,22 @@ mod tests {
             (
                 r#"<bsdf type="roughdiffuse"><string name="useFastApprox" value="yes"/></bsdf>"#,
                 "useFastApprox",
+            ),
+            (
+                r#"<bsdf type="roughdiffuse"><string name="model" value="vgroove"/></bsdf>"#,
+                "orennayar, microfacet",
+            ),
+            (
+                r#"<bsdf type="roughdiffuse"><string name="distribution" value="ggx"/></bsdf>"#,
+                "distribution applies to model=\"microfacet\"",
+            ),
+            (
+                r#"<bsdf type="roughdiffuse"><string name="model" value="microfacet"/><boolean name="useFastApprox" value="true"/></bsdf>"#,
+                "useFastApprox applies to model=\"orennayar\"",
+            ),
+            (
+                r#"<bsdf type="roughdiffuse"><string name="model" value="microfacet"/><string name="distribution" value="phong"/></bsdf>"#,
+                "beckmann, ggx",
             ),
         ] {
             let e = load_bsdf_str(xml).unwrap_err().to_string();

@@ -163,6 +163,9 @@ impl Bsdf for Borrowed<'_> {
     fn flags(&self) -> gonio_core::BsdfFlags {
         self.0.flags()
     }
+    fn pdf_is_exact(&self) -> bool {
+        self.0.pdf_is_exact()
+    }
     fn eval(
         &self,
         ctx: &gonio_core::BsdfContext,

@@ -5,5 +5,6 @@ pub mod check;
 pub mod compare;
 pub mod measure;
 pub mod plot;
+pub mod plot_diffuse;
 pub mod relight;
 pub mod render;

@@ -1,4 +1,5 @@
-//! `gonio plot fresnel|slice|polar|albedo`: the lecture's BRDF plots as PNG and SVG.
+//! `gonio plot fresnel|slice|polar|albedo|microfacet-albedo`: the lecture's BRDF plots as PNG and
+//! SVG (`retroreflection` and `saturation` in [`super::plot_diffuse`]).
 //!
 //! Every subcommand takes `-o PATH`: `PATH.png` or `PATH.svg` writes that format, a path
 //! without an extension writes both. The written files are printed on stdout. A BSDF argument is
@@ -45,6 +46,15 @@ enum Kind {
     /// The energy single-scattering microfacets lose: albedo of a white rough conductor against
     /// roughness, Beckmann and GGX, at several incident angles (deterministic quadrature).
     MicrofacetAlbedo(MicrofacetAlbedoArgs),
+    /// In-plane BRDF of Lambert, Oren–Nayar, diffuse microfacets and Lambertian spheres at
+    /// grazing incidence, same reflectance: the retro-reflection of rough and porous surfaces.
+    Retroreflection(super::plot_diffuse::RetroArgs),
+    /// Reflectance spectra of `diffuse`, `roughdiffuse` and `lambertsphere` at the same k_d:
+    /// multiple scattering saturates colour.
+    Saturation(super::plot_diffuse::SaturationArgs),
+    /// Albedo against roughness of a white rough conductor and a rough dielectric, single
+    /// scattering against `multiple_scattering` (Heitz et al. 2016).
+    MultipleScattering(super::plot_diffuse::MultipleArgs),
 }
 
 #[derive(ClapArgs)]
@@ -201,12 +211,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Kind::Polar(a) => polar(a),
         Kind::Albedo(a) => albedo(a),
         Kind::MicrofacetAlbedo(a) => microfacet_albedo(a),
+        Kind::Retroreflection(a) => super::plot_diffuse::retroreflection(a),
+        Kind::Saturation(a) => super::plot_diffuse::saturation(a),
+        Kind::MultipleScattering(a) => super::plot_diffuse::multiple_scattering(a),
     }
 }
 
 /// Encodes a figure as `path` asks (`gonio_plot::encode`) and writes each file atomically.
 /// Returns the files written.
-fn save(figure: &Figure, path: &Path) -> anyhow::Result<Vec<PathBuf>> {
+pub(crate) fn save(figure: &Figure, path: &Path) -> anyhow::Result<Vec<PathBuf>> {
     let mut files = vec![];
     for (file, bytes) in gonio_plot::encode(figure, path)? {
         write_atomically(&file, &bytes)?;
@@ -215,7 +228,7 @@ fn save(figure: &Figure, path: &Path) -> anyhow::Result<Vec<PathBuf>> {
     Ok(files)
 }
 
-fn written(files: Vec<PathBuf>) -> anyhow::Result<ExitCode> {
+pub(crate) fn written(files: Vec<PathBuf>) -> anyhow::Result<ExitCode> {
     let mut out = std::io::stdout().lock();
     for f in files {
         writeln!(out, "{}", f.display())?;
