@@ -360,19 +360,3 @@ fn uni(s: &Microsurface, wi: Vec3, wo: Vec3, eta: f32, rng: &mut Pcg32) -> f32 {
     }
     sum
 }
-
-#[test]
-fn zz_measure_table() {
-    for kind in [Ggx, Beckmann] {
-        for alpha in [0.1f32, 0.3, 0.5, 0.8, 1.0] {
-            for theta in [0.0f32, 60.0, 80.0] {
-                let s = surface(kind, alpha, alpha);
-                let wi = dir(theta, 0.0);
-                let (albedo, one, order, cut) = walk_stats(200_000, |rng| s.sample_conductor(wi, white, rng));
-                eprintln!(
-                    "{kind:?} α={alpha} θ={theta}: single {one:.4} ms {albedo:.5} cut {cut:.5} mean order {order:.3}"
-                );
-            }
-        }
-    }
-}
