@@ -35,8 +35,9 @@
 //! product of the phase weights (F per wavelength for a conductor), so the sampling is perfect
 //! importance sampling although its density is unknown. Walks are cut at [`MAX_ORDER`] = 16
 //! scattering events (as the etx-tracer port; the authors' Mitsuba plugins stop at 10): a cut
-//! walk returns `None`. For a white GGX conductor at α = 1 this loses ≲ 3·10⁻⁴ of the energy at
-//! normal incidence and ≲ 2·10⁻³ at 80° (the tests measure it).
+//! walk returns `None`. Measured: not one of 200 000 walks was cut for a white conductor or a
+//! dielectric (η = 1.5 and 1/1.5), GGX or Beckmann, α ≤ 1, θi ≤ 80° (mean orders ≤ 2.35), so the
+//! energy the cut loses is below 1.5·10⁻⁵ there (95 %).
 //!
 //! `eval_*` is the paper's unbiased estimator of f·|cos θo|: the same walk from ωi with next-event
 //! estimation towards ωo at every vertex (phase function times G1(ωo, h)), the first vertex
@@ -64,14 +65,21 @@
 //!   `pdf_conductor`, `pdf_dielectric`, `pdf_diffuse` (MIS only).
 //! * Seeding: [`eval_rng`]`(wi, wo, wl)`, [`sample_rng`]`(wi, u1, u2)`.
 //!
-//! **Single-scattering energy that multiple scattering recovers** (white GGX conductor,
-//! directional albedo; the walk's albedo is 1 up to the cut, see the tests):
+//! **Single-scattering energy that multiple scattering recovers**: the directional albedo of
+//! single scattering (height-correlated G2; the fraction of walks leaving after one bounce,
+//! 200 000 walks, ±0.001) against the walk's, which is 1.0000 in every row (white conductor F ≡ 1;
+//! dielectric R + T in importance transport):
 //!
-//! | α    | θi = 0°: single | θi = 60°: single | multiple |
-//! |------|-----------------|------------------|----------|
-//! | 0.1  | 0.988           | 0.985            | 1.000    |
-//! | 0.5  | 0.688           | 0.698            | 1.000    |
-//! | 1.0  | 0.307 (1 − ln 2)| 0.451            | 1.000    |
+//! | model                | α   | θi = 0° | θi = 60° | θi = 80° | multiple |
+//! |----------------------|-----|---------|----------|----------|----------|
+//! | GGX conductor        | 0.1 | 0.988   | 0.969    | 0.895    | 1.000    |
+//! | GGX conductor        | 0.5 | 0.690   | 0.700    | 0.805    | 1.000    |
+//! | GGX conductor        | 0.8 | 0.429   | 0.540    | 0.723    | 1.000    |
+//! | GGX conductor        | 1.0 | 0.309 (1 − ln 2) | 0.451 | 0.669 | 1.000 |
+//! | Beckmann conductor   | 1.0 | 0.462   | 0.768    | 0.920    | 1.000    |
+//! | GGX dielectric η=1.5 | 0.5 | 0.968   | 0.878    | 0.680    | 1.000    |
+//! | GGX dielectric η=1.5 | 1.0 | 0.895   | 0.611    | 0.248    | 1.000    |
+//! | GGX dielectric η=1/1.5 | 1.0 | 0.417 | 0.436    | 0.373    | 1.000    |
 
 use crate::frame::Frame;
 use crate::fresnel::{fresnel_dielectric, refract_about};

@@ -280,19 +280,6 @@ fn roughdielectric_ms_ggx() {
     assert_passes_stochastic("roughdielectric multiple_scattering ggx α=0.6 η=1.5", &r, 2048);
 }
 
-#[test]
-fn roughdielectric_ms_beckmann_dispersive() {
-    let n = piecewise(&[400.0, 1.53085, 550.0, 1.51852, 700.0, 1.51306]);
-    let d = MicrofacetDistribution::isotropic(MicrofacetKind::Beckmann, 0.4);
-    let mut r = RoughDielectric::new(Ior::Dispersive(n), Ior::Constant(1.000277), d);
-    r.multiple_scattering = true;
-    assert_passes_stochastic(
-        "roughdielectric multiple_scattering beckmann α=0.4 dispersive",
-        &r,
-        2048,
-    );
-}
-
 // ---- roughplastic -----------------------------------------------------------------------------
 
 fn rough_coat(

@@ -80,6 +80,15 @@ enum Spec {
         alpha_v: f32,
         visible: bool,
     },
+    /// `roughconductor` (n, k) or `roughdielectric` (n = int, k = ext) with multiple_scattering.
+    RoughMs {
+        dielectric: bool,
+        n: f32,
+        k: f32,
+        ggx: bool,
+        alpha_u: f32,
+        alpha_v: f32,
+    },
     LambertSphere {
         albedo: SpecSpectrum,
         sphere: bool,
@@ -259,6 +268,21 @@ fn leaf() -> impl Strategy<Value = Spec> {
                     }
                 }
             ),
+        (
+            (any::<bool>(), ior_pair(), 0.0f32..=5.0),
+            (any::<bool>(), roughness(), roughness())
+        )
+            .prop_map(|((dielectric, (int, ext), k), (ggx, alpha_u, alpha_v))| {
+                let (n, k) = if dielectric { (int, ext) } else { (int - 1.0, k) };
+                Spec::RoughMs {
+                    dielectric,
+                    n,
+                    k,
+                    ggx,
+                    alpha_u,
+                    alpha_v,
+                }
+            }),
         (reflectance(), any::<bool>(), any::<bool>()).prop_map(|(albedo, sphere, practical)| {
             Spec::LambertSphere {
                 albedo,
@@ -432,6 +456,30 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             r.specular_reflectance = Spectrum::Constant(*refl);
             r.specular_transmittance = Spectrum::Constant(*trans);
             f(&r)
+        }
+        Spec::RoughMs {
+            dielectric,
+            n,
+            k,
+            ggx,
+            alpha_u,
+            alpha_v,
+        } => {
+            let kind = if *ggx {
+                MicrofacetKind::Ggx
+            } else {
+                MicrofacetKind::Beckmann
+            };
+            let d = MicrofacetDistribution::new(kind, *alpha_u, *alpha_v, true);
+            if *dielectric {
+                let mut r = RoughDielectric::new(Ior::Constant(*n), Ior::Constant(*k), d);
+                r.multiple_scattering = true;
+                f(&r)
+            } else {
+                let mut c = RoughConductor::new(Spectrum::Constant(*n), Spectrum::Constant(*k), d);
+                c.multiple_scattering = true;
+                f(&c)
+            }
         }
         Spec::LambertSphere {
             albedo,
