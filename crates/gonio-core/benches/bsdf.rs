@@ -13,10 +13,12 @@
 
 use divan::{Bencher, black_box};
 use glam::Vec3;
+use gonio_core::bsdfs::lambertsphere::{AlbedoParameter, LambertSphereModel};
+use gonio_core::bsdfs::roughdiffuse::RoughDiffuseModel;
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat};
 use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
-    RoughConductor, RoughDielectric, RoughPlastic, ThinDielectric, TwoSided,
+    RoughConductor, RoughDielectric, RoughDiffuse, RoughPlastic, ThinDielectric, TwoSided,
 };
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
@@ -50,6 +52,12 @@ const MODELS: &[&str] = &[
     "principled_full",
     "principledthin",
     "lambertsphere",
+    "lambertsphere_practical",
+    "roughdiffuse_oren_nayar",
+    "roughdiffuse_fast",
+    "roughdiffuse_microfacet",
+    "roughconductor_ms_ggx",
+    "roughdielectric_ms_ggx",
 ];
 
 fn piecewise(pairs: &[f32]) -> Spectrum {
@@ -119,6 +127,42 @@ fn with_model(name: &str, f: impl FnOnce(&dyn Bsdf)) {
         }
         "principledthin" => f(&PrincipledThin::default()),
         "lambertsphere" => f(&LambertSphere::default()),
+        "lambertsphere_practical" => f(&LambertSphere::new(
+            Spectrum::Constant(0.5),
+            AlbedoParameter::Reflectance,
+            LambertSphereModel::Practical,
+        )),
+        // Mitsuba 0.6's defaults (ρ = 0.5, α = 0.2), and α = 0.8 for the walk.
+        "roughdiffuse_oren_nayar" => f(&RoughDiffuse::default()),
+        "roughdiffuse_fast" => f(&RoughDiffuse::new(
+            Spectrum::Constant(0.5),
+            0.2,
+            RoughDiffuseModel::OrenNayarFast,
+        )),
+        "roughdiffuse_microfacet" => f(&RoughDiffuse::new(
+            Spectrum::Constant(0.5),
+            0.8,
+            RoughDiffuseModel::Microfacet(MicrofacetKind::Ggx),
+        )),
+        // Heitz et al. 2016 walks: gold GGX α = 0.3 as above, and glass GGX α = 0.3.
+        "roughconductor_ms_ggx" => {
+            let mut c = RoughConductor::new(
+                piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
+                piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
+                MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+            );
+            c.multiple_scattering = true;
+            f(&c)
+        }
+        "roughdielectric_ms_ggx" => {
+            let mut d = RoughDielectric::new(
+                Ior::Constant(1.5046),
+                Ior::Constant(1.000277),
+                MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+            );
+            d.multiple_scattering = true;
+            f(&d)
+        }
         _ => unreachable!("unknown model {name}"),
     }
 }
