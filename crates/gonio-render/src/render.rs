@@ -187,7 +187,7 @@ impl PreparedScene {
             &self.scene.materials,
             &self.shape_material,
         )
-        .with_camera(self.camera.as_ref())
+        .with_camera_if_it_connects(self.camera.as_ref())
     }
 
     /// An empty film of the sensor's size and filter with an integrator's channels.
@@ -320,7 +320,11 @@ pub fn render_with<I: Integrator + ?Sized>(
                             sampler.start_pixel_sample(UVec2::new(px, py), s);
                             let film_pos = Vec2::new(px as f32, py as f32) + sampler.next_2d();
                             let wl = wavelengths.sample(sampler.next_1d());
-                            let ray = prepared.camera.generate_ray(film_pos);
+                            let ray = if prepared.camera.needs_lens_sample() {
+                                prepared.camera.generate_ray_lens(film_pos, sampler.next_2d())
+                            } else {
+                                prepared.camera.generate_ray(film_pos)
+                            };
                             let mut sample = CameraSample {
                                 film: film_pos,
                                 ray,

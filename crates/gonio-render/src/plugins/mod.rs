@@ -35,7 +35,11 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
 ];
 
 /// `<sensor>` plugins.
-pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[&sensor::perspective::PLUGIN];
+pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[
+    &sensor::perspective::PLUGIN,
+    &sensor::orthographic::PLUGIN,
+    &sensor::thinlens::PLUGIN,
+];
 
 /// `<film>` plugins (nested in a sensor).
 pub static FILM_PLUGINS: &[&Plugin<FilmDesc>] = &[&film::hdrfilm::PLUGIN];
@@ -55,6 +59,8 @@ pub static SAMPLER_PLUGINS: &[&Plugin<SamplerDesc>] = &[
     &sampler::independent::PLUGIN,
     &sampler::stratified::PLUGIN,
     &sampler::multijitter::PLUGIN,
+    &sampler::ldsampler::PLUGIN,
+    &sampler::orthogonal::PLUGIN,
 ];
 
 /// `<shape>` plugins.
