@@ -72,6 +72,7 @@ pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
     &shape::obj::PLUGIN,
     &shape::ply::PLUGIN,
     &shape::serialized::PLUGIN,
+    &shape::cylinder::PLUGIN,
 ];
 
 /// `<emitter>` plugins attached to a shape (nested in a `<shape>`).
