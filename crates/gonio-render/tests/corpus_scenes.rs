@@ -58,6 +58,8 @@ const CI_SPP: u32 = 32;
 /// | sensor_orthographic | 6.98e-4 | 5.27e-4 5.33e-4 4.77e-4 | |
 /// | integrator_direct_both | 1.38e-3 | 9.77e-4 1.35e-3 1.32e-3 (see below) | |
 /// | integrator_direct_lum | 3.70e-2 | 1.75e-2 2.57e-2 1.71e-2 | |
+/// | shape_cylinder_onesided | 5.60e-4 | 4.01e-4 4.93e-4 4.89e-4 | |
+/// | shape_cylinder_twosided | 5.86e-4 | 4.19e-4 5.02e-4 4.79e-4 | |
 ///
 /// The sensor scenes (Mitsuba's `sensor_thinlens.xml`, `sensor_orthographic.xml` over
 /// `include/sensor_scene.xml`, 120 × 90) take `$spp` from the caller, as in Mitsuba. The `direct`
@@ -67,7 +69,8 @@ const CI_SPP: u32 = 32;
 /// `roughplastic` plates as much as the integrator; it sits at the noise level rather than below it
 /// (gonio's mean is 0.7–1.5 % below Mitsuba's at 256 spp, largest around the sharpest plate). The
 /// BSDF-sampling-only scene (`integrator_direct_bsdf`) is too noisy at this spp to test anything
-/// and is left out (gonio-vs-gonio 1.19, gonio-vs-reference 0.32–0.44).
+/// and is left out (gonio-vs-gonio 1.19, gonio-vs-reference 0.32–0.44). The cylinder scenes
+/// (`include/shape_scene.xml`, 120 × 90) compare our tessellated cylinder with Mitsuba's quadric.
 ///
 /// The principled scenes (Mitsuba's `principled_blend_creation/`, a `principled` and a
 /// `principledthin` sphere before a checkerboard under an environment map) are corrected in the
@@ -100,6 +103,8 @@ const SCENES: &[(&str, f64)] = &[
     ("sensor_orthographic", 6.98e-4),
     ("integrator_direct_both", 1.38e-3),
     ("integrator_direct_lum", 3.70e-2),
+    ("shape_cylinder_onesided", 5.60e-4),
+    ("shape_cylinder_twosided", 5.86e-4),
 ];
 
 fn corpus() -> PathBuf {
@@ -252,6 +257,12 @@ fn direct_integrator_matches_mitsuba() {
 #[test]
 fn direct_integrator_emitter_sampling_only_matches_mitsuba() {
     check("integrator_direct_lum");
+}
+
+#[test]
+fn cylinder_matches_mitsuba() {
+    check("shape_cylinder_onesided");
+    check("shape_cylinder_twosided");
 }
 
 #[test]
