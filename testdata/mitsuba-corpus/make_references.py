@@ -9,6 +9,11 @@ The principled scenes (`docs/scenes/principled_blend_creation/scene*.xml`) are M
 its `type="Sphere"`/`"Rectangle"` (which Mitsuba itself rejects) lower-cased, the film reduced to
 96 x 96 and `envmap.hdr` reduced from 1024 x 512 to 256 x 128 (Mitsuba's `Bitmap.resample`).
 
+The sensor and `direct` scenes (`sensor_thinlens`, `sensor_orthographic`,
+`integrator_direct_both`, `_lum`) and the cylinder scenes (`shape_cylinder_onesided`,
+`_twosided`) have their films reduced to 120 x 90 (the direct ones 120 x 80); they
+are rendered when named on the command line. Scenes that use `$spp` get SPP as that parameter.
+
 Usage (from this folder; takes minutes per scene):
     nice python3 make_references.py [SCENE ...]      # default: every bsdf_*.xml here
 """

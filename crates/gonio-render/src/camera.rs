@@ -6,8 +6,9 @@
 //! [`Camera::generate_ray`] for paths traced from the camera, [`Camera::connect`] (and
 //! [`Camera::project`]) for light tracing, which joins a point to the camera and needs the
 //! camera's importance and the density with which a camera sample would have produced the
-//! direction. Mitsuba's `thinlens` and `orthographic` sensors fit the same trait (a thin lens
-//! samples its aperture in `connect`).
+//! direction. Mitsuba's `orthographic` ([`OrthographicCamera`]) and `thinlens`
+//! ([`ThinLensCamera`]) sensors implement the same trait; they do not connect (light tracing of
+//! caustics is then off, [`Camera::connects`]).
 //!
 //! Camera space: +z forward, +y up, **+x left** (Mitsuba's `lookat` builds the columns
 //! `[left, up, dir, origin]`). A camera-space point (x, y, z) lands at film coordinates
@@ -16,7 +17,7 @@
 //! and image y grows downwards. Rays start on the near plane and end on the far plane.
 
 use crate::geometry::Ray;
-use crate::scene::SensorDesc;
+use crate::scene::{Projection, SensorDesc};
 use glam::{Affine3A, Vec2, Vec3};
 
 /// A camera: rays for film positions, and the connection of world points to the film.
@@ -39,11 +40,39 @@ pub trait Camera: std::fmt::Debug + Send + Sync {
     /// film position, importance, density), or `None` when `p` cannot be seen (behind the camera,
     /// outside the clip range, off the film).
     fn connect(&self, p: Vec3) -> Option<CameraConnection>;
+
+    /// True when rays depend on a lens sample ([`Camera::generate_ray_lens`]): the render loop
+    /// then draws one for each camera sample.
+    fn needs_lens_sample(&self) -> bool {
+        false
+    }
+
+    /// The camera ray through film position `film` and lens position `u_lens` ∈ [0, 1)² (a thin
+    /// lens); cameras without a lens ignore `u_lens`.
+    fn generate_ray_lens(&self, film: Vec2, u_lens: Vec2) -> Ray {
+        let _ = u_lens;
+        self.generate_ray(film)
+    }
+
+    /// False when [`Camera::connect`] cannot join a point to the film (the orthographic camera
+    /// sees each point along one direction only; the thin lens would need a lens sample): the
+    /// integrator then finds every path from the camera side.
+    fn connects(&self) -> bool {
+        true
+    }
 }
 
-/// The camera of a scene's sensor (today always [`PerspectiveCamera`]).
+/// The camera of a scene's sensor: [`PerspectiveCamera`], [`OrthographicCamera`] or
+/// [`ThinLensCamera`].
 pub fn from_sensor(sensor: &SensorDesc) -> Box<dyn Camera> {
-    Box::new(PerspectiveCamera::new(sensor))
+    match sensor.projection {
+        Projection::Perspective => Box::new(PerspectiveCamera::new(sensor)),
+        Projection::Orthographic => Box::new(OrthographicCamera::new(sensor)),
+        Projection::ThinLens {
+            aperture_radius,
+            focus_distance,
+        } => Box::new(ThinLensCamera::new(sensor, aperture_radius, focus_distance)),
+    }
 }
 
 /// A pinhole perspective camera (Mitsuba's `perspective`).
@@ -206,4 +235,171 @@ pub fn look_at(origin: Vec3, target: Vec3, up: Vec3) -> Affine3A {
     let left = up.normalize().cross(dir).normalize();
     let new_up = dir.cross(left);
     Affine3A::from_cols(left.into(), new_up.into(), dir.into(), origin.into())
+}
+
+/// Mitsuba's `orthographic` sensor (`src/sensors/orthographic.cpp`): film position (s, t) ∈
+/// [0, 1]² starts its ray at the camera-space point (1 − 2s, (1 − 2t)/aspect, near), mapped by
+/// `to_world` (scale included), and the ray runs `far − near` along normalize(to_world · +z).
+#[derive(Clone, Debug)]
+pub struct OrthographicCamera {
+    to_world: Affine3A,
+    to_camera: Affine3A,
+    /// normalize(to_world · +z).
+    forward: Vec3,
+    aspect: f32,
+    width: f32,
+    height: f32,
+    near: f32,
+    far: f32,
+}
+
+impl OrthographicCamera {
+    /// The camera of a scene sensor.
+    pub fn new(sensor: &SensorDesc) -> Self {
+        Self::from_parts(
+            sensor.to_world,
+            sensor.film.width,
+            sensor.film.height,
+            sensor.near_clip,
+            sensor.far_clip,
+        )
+    }
+
+    /// A camera from `to_world` (camera → world, scale allowed), film size in pixels and the
+    /// clip distances.
+    pub fn from_parts(to_world: Affine3A, width: u32, height: u32, near: f32, far: f32) -> Self {
+        Self {
+            to_world,
+            to_camera: to_world.inverse(),
+            forward: to_world.transform_vector3(Vec3::Z).normalize(),
+            aspect: width as f32 / height as f32,
+            width: width as f32,
+            height: height as f32,
+            near,
+            far,
+        }
+    }
+}
+
+impl Camera for OrthographicCamera {
+    fn generate_ray(&self, film: Vec2) -> Ray {
+        let s = film.x / self.width;
+        let t = film.y / self.height;
+        let pc = Vec3::new(1.0 - 2.0 * s, (1.0 - 2.0 * t) / self.aspect, self.near);
+        Ray {
+            o: self.to_world.transform_point3(pc),
+            d: self.forward,
+            tmax: self.far - self.near,
+        }
+    }
+
+    fn project(&self, p: Vec3) -> Option<Vec2> {
+        let c = self.to_camera.transform_point3(p);
+        if c.z < self.near {
+            return None;
+        }
+        let s = 0.5 * (1.0 - c.x);
+        let t = 0.5 * (1.0 - self.aspect * c.y);
+        Some(Vec2::new(s * self.width, t * self.height))
+    }
+
+    fn position(&self) -> Vec3 {
+        self.to_world.transform_point3(Vec3::ZERO)
+    }
+
+    /// Never: a point is seen along one direction only (a delta), which light tracing cannot hit.
+    fn connect(&self, _p: Vec3) -> Option<CameraConnection> {
+        None
+    }
+
+    fn connects(&self) -> bool {
+        false
+    }
+}
+
+/// Mitsuba's `thinlens` sensor (`src/sensors/thinlens.cpp`): the pinhole camera's ray through a
+/// film position meets the plane z = `focus_distance` at F; the ray goes from the lens point
+/// A = r·concentric(u_lens) (z = 0) towards F, starting on the near plane and ending on the far
+/// plane (distances along the camera's z axis).
+#[derive(Clone, Debug)]
+pub struct ThinLensCamera {
+    pinhole: PerspectiveCamera,
+    aperture_radius: f32,
+    focus_distance: f32,
+}
+
+impl ThinLensCamera {
+    /// The camera of a scene sensor with its lens.
+    pub fn new(sensor: &SensorDesc, aperture_radius: f32, focus_distance: f32) -> Self {
+        Self {
+            pinhole: PerspectiveCamera::new(sensor),
+            aperture_radius,
+            focus_distance,
+        }
+    }
+
+    /// A thin lens of radius `aperture_radius` focused at `focus_distance` on the pinhole
+    /// camera `pinhole` (its position is the lens centre).
+    pub fn from_pinhole(pinhole: PerspectiveCamera, aperture_radius: f32, focus_distance: f32) -> Self {
+        Self {
+            pinhole,
+            aperture_radius,
+            focus_distance,
+        }
+    }
+}
+
+impl Camera for ThinLensCamera {
+    /// The ray through the lens centre (the pinhole's).
+    fn generate_ray(&self, film: Vec2) -> Ray {
+        self.generate_ray_lens(film, Vec2::splat(0.5))
+    }
+
+    fn needs_lens_sample(&self) -> bool {
+        true
+    }
+
+    fn generate_ray_lens(&self, film: Vec2, u_lens: Vec2) -> Ray {
+        let c = &self.pinhole;
+        let s = film.x / c.width;
+        let t = film.y / c.height;
+        // The pinhole direction with z = 1, scaled to the focus plane.
+        let focus = Vec3::new(
+            (1.0 - 2.0 * s) * c.tan_half,
+            (1.0 - 2.0 * t) * c.tan_half / c.aspect,
+            1.0,
+        ) * self.focus_distance;
+        let a = gonio_core::warp::square_to_uniform_disk_concentric(u_lens) * self.aperture_radius;
+        let lens = Vec3::new(a.x, a.y, 0.0);
+        let dc = (focus - lens).normalize();
+        let inv_z = 1.0 / dc.z;
+        let (near_t, far_t) = (c.near * inv_z, c.far * inv_z);
+        let dw = c.to_world.transform_vector3(dc);
+        let len = dw.length();
+        let d = dw / len;
+        let o = c.to_world.transform_point3(lens) + dw * near_t;
+        Ray {
+            o,
+            d,
+            tmax: (far_t - near_t) * len,
+        }
+    }
+
+    /// Where the point appears when in focus (through the lens centre).
+    fn project(&self, p: Vec3) -> Option<Vec2> {
+        self.pinhole.project(p)
+    }
+
+    fn position(&self) -> Vec3 {
+        self.pinhole.position()
+    }
+
+    /// Not implemented for a lens (it would sample the aperture).
+    fn connect(&self, _p: Vec3) -> Option<CameraConnection> {
+        None
+    }
+
+    fn connects(&self) -> bool {
+        false
+    }
 }

@@ -216,7 +216,7 @@ impl PreparedScene {
             &self.scene.materials,
             &self.shape_material,
         )
-        .with_camera(self.camera.as_ref())
+        .with_camera_if_it_connects(self.camera.as_ref())
     }
 
     /// An empty film of the sensor's size and filter with an integrator's channels, and `A`
@@ -410,7 +410,11 @@ pub fn render_with<I: Integrator + ?Sized>(
                             let film_pos =
                                 Vec2::new(full.x as f32, full.y as f32) + sampler.next_2d() - crop_shift;
                             let wl = wavelengths.sample(sampler.next_1d());
-                            let ray = prepared.camera.generate_ray(film_pos);
+                            let ray = if prepared.camera.needs_lens_sample() {
+                                prepared.camera.generate_ray_lens(film_pos, sampler.next_2d())
+                            } else {
+                                prepared.camera.generate_ray(film_pos)
+                            };
                             let mut sample = CameraSample {
                                 film: film_pos,
                                 ray,

@@ -48,6 +48,9 @@ impl From<crate::scene::SamplerKind> for Pattern {
             K::Independent => Pattern::Independent,
             K::Stratified { jitter } => Pattern::Stratified { jitter },
             K::MultiJitter { jitter } => Pattern::MultiJitter { jitter },
+            // Aliases: see `plugins::sampler::ldsampler` and `plugins::sampler::orthogonal`.
+            K::LowDiscrepancy => Pattern::Sobol,
+            K::Orthogonal { jitter } => Pattern::MultiJitter { jitter },
         }
     }
 }

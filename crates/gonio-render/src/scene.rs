@@ -89,8 +89,11 @@ impl Default for IntegratorDesc {
 pub struct SensorDesc {
     /// Camera to world (camera space: +z forward, +y up, +x left).
     pub to_world: Affine3A,
-    /// Horizontal field of view, degrees, after the `fov_axis` conversion.
+    /// Horizontal field of view, degrees, after the `fov_axis` conversion (`perspective`,
+    /// `thinlens`; unused by `orthographic`).
     pub fov_x_deg: f32,
+    /// The sensor plugin: pinhole, orthographic or thin lens.
+    pub projection: Projection,
     /// Near clipping distance (default 0.01).
     pub near_clip: f32,
     /// Far clipping distance (default 10000).
@@ -99,6 +102,24 @@ pub struct SensorDesc {
     pub film: FilmDesc,
     /// The sampler.
     pub sampler: SamplerDesc,
+}
+
+/// How a sensor maps film positions to rays (Mitsuba 3 `src/sensors/`).
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum Projection {
+    /// `perspective`: a pinhole.
+    #[default]
+    Perspective,
+    /// `orthographic`: parallel rays along +z from the camera-space rectangle
+    /// [−1, 1] × [−1/aspect, 1/aspect] on the near plane (sized by `to_world`'s scale).
+    Orthographic,
+    /// `thinlens`: a thin lens of radius `aperture_radius` focused at `focus_distance`.
+    ThinLens {
+        /// Lens radius (camera-space units).
+        aperture_radius: f32,
+        /// Distance of the plane in focus, along +z.
+        focus_distance: f32,
+    },
 }
 
 /// Description of the `<film>` (`hdrfilm`), as the scene file gives it.
@@ -300,6 +321,13 @@ pub enum SamplerKind {
     },
     /// `multijitter` (`jitter`, default true).
     MultiJitter {
+        /// Jitter inside strata.
+        jitter: bool,
+    },
+    /// `ldsampler` (rendered with our Owen-scrambled Sobol points).
+    LowDiscrepancy,
+    /// `orthogonal` (`jitter`, default true; rendered with our multi-jittered points).
+    Orthogonal {
         /// Jitter inside strata.
         jitter: bool,
     },

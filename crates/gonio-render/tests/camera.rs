@@ -139,3 +139,133 @@ fn connect_inverts_generate_ray_and_importance_is_the_pixel_solid_angle() {
     assert!(c.connect(Vec3::new(0.0, 0.0, -2000.0)).is_none());
     assert!(c.connect(Vec3::new(50.0, 0.0, 0.0)).is_none());
 }
+
+// ---------------------------------------------------------------------------------------------
+// `orthographic` and `thinlens` (Mitsuba 3 `src/sensors/orthographic.cpp`, `thinlens.cpp`).
+
+use gonio_render::camera::{OrthographicCamera, ThinLensCamera};
+use gonio_render::scene::Projection;
+
+#[test]
+fn orthographic_rays_are_parallel_from_the_scaled_near_plane() {
+    // At +z looking at the origin, +y up, scaled by 2: the film covers x ∈ [−2, 2],
+    // y ∈ [−1, 1] (aspect 2); camera-space +x is world −x.
+    let m =
+        look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y) * glam::Affine3A::from_scale(Vec3::splat(2.0));
+    let c = OrthographicCamera::from_parts(m, 200, 100, 0.01, 1000.0);
+    for (film, x, y) in [
+        (Vec2::new(0.0, 0.0), -2.0f32, 1.0f32),
+        (Vec2::new(100.0, 50.0), 0.0, 0.0),
+        (Vec2::new(50.0, 50.0), -1.0, 0.0),
+        (Vec2::new(200.0, 100.0), 2.0, -1.0),
+        (Vec2::new(150.0, 25.0), 1.0, 0.5),
+    ] {
+        let r = c.generate_ray(film);
+        // The near plane is scaled with the rest: z = 5 − 2·0.01.
+        let o = Vec3::new(x, y, 5.0 - 0.02);
+        assert!(
+            (r.o - o).length() < 1e-5,
+            "{film:?}: origin {:?}, expected {o:?}",
+            r.o
+        );
+        assert!((r.d - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-6, "{:?}", r.d);
+        assert!((r.tmax - (1000.0 - 0.01)).abs() < 1e-3, "{}", r.tmax);
+        // project inverts it (for a point anywhere along the ray).
+        let back = c.project(r.o + r.d * 3.0).unwrap();
+        assert!((back - film).length() < 1e-3, "{back:?} vs {film:?}");
+    }
+    assert!(!c.connects() && c.connect(Vec3::ZERO).is_none());
+}
+
+#[test]
+fn thin_lens_rays_meet_on_the_focus_plane_and_start_on_the_lens() {
+    let to_world = look_at(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y);
+    let pinhole = PerspectiveCamera::from_parts(to_world, 60.0, 200, 100, 0.01, 1000.0);
+    let (radius, focus) = (0.5f32, 4.0f32);
+    let c = ThinLensCamera::from_pinhole(pinhole.clone(), radius, focus);
+    assert!(c.needs_lens_sample() && !c.connects());
+    for film in [
+        Vec2::new(100.0, 50.0),
+        Vec2::new(50.0, 50.0),
+        Vec2::new(13.0, 91.0),
+    ] {
+        let centre = pinhole.generate_ray(film);
+        // The point in focus: the pinhole ray at camera depth `focus` (camera z is world −z).
+        let f = Vec3::new(0.0, 0.0, 5.0) + centre.d * (focus / -centre.d.z);
+        for u in [
+            Vec2::new(0.5, 0.5),
+            Vec2::new(1.0, 0.5),
+            Vec2::new(0.5, 1.0),
+            Vec2::new(0.9, 0.2),
+            Vec2::new(0.03, 0.77),
+        ] {
+            let r = c.generate_ray_lens(film, u);
+            assert!((r.d.length() - 1.0).abs() < 1e-5);
+            // The ray starts on the near plane (camera z = 0.01) ...
+            assert!((r.o.z - (5.0 - 0.01)).abs() < 1e-4, "{:?}", r.o);
+            // ... from a lens point within the aperture (back on z = 5) ...
+            let lens = r.o - r.d * (0.01 / -r.d.z);
+            let d = Vec3::new(lens.x, lens.y, 0.0).length();
+            assert!(d <= radius * (1.0 + 1e-5), "lens point {lens:?}");
+            // ... through the point in focus ...
+            let at_focus = r.o + r.d * ((5.0 - focus - r.o.z) / r.d.z);
+            assert!((at_focus - f).length() < 1e-4, "{at_focus:?} vs {f:?}");
+            // ... and ends on the far plane.
+            let end = r.o + r.d * r.tmax;
+            assert!((end.z - (5.0 - 1000.0)).abs() < 1e-2, "{end:?}");
+        }
+        // The concentric map: u = (1, 0.5) is the lens's rim on camera +x (world −x).
+        let r = c.generate_ray_lens(film, Vec2::new(1.0, 0.5));
+        let lens = r.o - r.d * (0.01 / -r.d.z);
+        assert!((lens - Vec3::new(-radius, 0.0, 5.0)).length() < 1e-4, "{lens:?}");
+        // Through the lens centre it is the pinhole ray.
+        let r = c.generate_ray_lens(film, Vec2::splat(0.5));
+        assert!((r.d - centre.d).length() < 1e-5 && (r.o - centre.o).length() < 1e-4);
+    }
+}
+
+#[test]
+fn sensors_are_read_with_mitsubas_parameters() {
+    let load = |sensor: &str| {
+        gonio_render::xml::load_scene_str(&format!(r#"<scene version="3.0.0">{sensor}</scene>"#), ".", &[])
+    };
+    let s = load(
+        r#"<sensor type="thinlens"><float name="aperture_radius" value="0.2"/><float name="fov" value="40"/></sensor>"#,
+    )
+    .unwrap();
+    // focus_distance defaults to far_clip.
+    assert_eq!(
+        s.sensor.projection,
+        Projection::ThinLens {
+            aperture_radius: 0.2,
+            focus_distance: 10000.0
+        }
+    );
+    let s = load(
+        r#"<sensor type="orthographic"><transform name="to_world"><scale value="3"/></transform></sensor>"#,
+    )
+    .unwrap();
+    assert_eq!(s.sensor.projection, Projection::Orthographic);
+    let e = load(r#"<sensor type="thinlens"/>"#).unwrap_err().to_string();
+    assert!(e.contains("needs an aperture_radius") && e.contains(":1:"), "{e}");
+    let e = load(r#"<sensor type="thinlens"><float name="aperture_radius" value="-1"/></sensor>"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("invalid aperture_radius -1"), "{e}");
+    let e = load(
+        r#"<sensor type="thinlens"><float name="aperture_radius" value="1"/><float name="focus_distance" value="0"/></sensor>"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("invalid focus_distance 0"), "{e}");
+    let e = load(r#"<sensor type="orthographic"><float name="fov" value="40"/></sensor>"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("unused parameter \"fov\""), "{e}");
+    let e = load(
+        r#"<sensor type="thinlens"><float name="aperture_radius" value="1"/><transform name="to_world"><scale value="2"/></transform></sensor>"#,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("scale factors"), "{e}");
+}

@@ -47,6 +47,7 @@ fn required(name: &str) -> &'static str {
         "serialized" => "<string name=\"filename\" value=\"quad.serialized\"/>",
         "bitmap" | "envmap" => "<string name=\"filename\" value=\"rgbw.png\"/>",
         "blackbody" => "<float name=\"temperature\" value=\"3000\"/>",
+        "thinlens" => "<float name=\"aperture_radius\" value=\"0.1\"/>",
         _ => "",
     }
 }

@@ -226,3 +226,62 @@ fn padded_sampler_switches_to_a_keyed_stream_after_the_structured_dimensions() {
         assert_eq!(p.next_1d(), plain.next_1d());
     }
 }
+
+/// `ldsampler` and `orthogonal` (Mitsuba 3 `src/samplers/`): read with Mitsuba's parameters and
+/// count rounding (the counts Mitsuba 3.9.1 prints for sample_count 1, 10, 16, 17, 26, 50), and
+/// rendered with our Sobol and multi-jittered patterns.
+#[test]
+fn ldsampler_and_orthogonal_round_their_counts_as_mitsuba() {
+    use gonio_render::plugins::sampler::{ldsampler, orthogonal};
+    let ld: Vec<u32> = [1, 10, 16, 17, 26, 50]
+        .iter()
+        .map(|&n| ldsampler::rounded_count(n))
+        .collect();
+    assert_eq!(ld, [4, 16, 16, 64, 64, 64]);
+    let oa: Vec<u32> = [1, 10, 16, 17, 26, 50]
+        .iter()
+        .map(|&n| orthogonal::rounded_count(n))
+        .collect();
+    assert_eq!(oa, [4, 25, 25, 25, 49, 121]);
+
+    let load = |sampler: &str| {
+        gonio_render::xml::load_scene_str_with_warnings(
+            &format!(r#"<scene version="3.0.0"><sensor type="perspective">{sampler}</sensor></scene>"#),
+            ".",
+            &[],
+        )
+    };
+    let l = load(r#"<sampler type="ldsampler"><integer name="sample_count" value="10"/></sampler>"#).unwrap();
+    assert_eq!(l.scene.sensor.sampler.sample_count, 16);
+    assert!(
+        l.warnings.iter().any(|w| w.contains("rounding to 16")),
+        "{:?}",
+        l.warnings
+    );
+    assert_eq!(Pattern::from(l.scene.sensor.sampler.kind), Pattern::Sobol);
+    let l = load(
+        r#"<sampler type="orthogonal"><integer name="sample_count" value="25"/><boolean name="jitter" value="false"/><integer name="strength" value="2"/></sampler>"#,
+    )
+    .unwrap();
+    assert_eq!(l.scene.sensor.sampler.sample_count, 25);
+    assert!(
+        !l.warnings.iter().any(|w| w.contains("rounding")),
+        "{:?}",
+        l.warnings
+    );
+    assert_eq!(
+        Pattern::from(l.scene.sensor.sampler.kind),
+        Pattern::MultiJitter { jitter: false }
+    );
+    let e = load(r#"<sampler type="ldsampler"><boolean name="jitter" value="false"/></sampler>"#)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("unused parameter \"jitter\"") && e.contains(":1:"),
+        "{e}"
+    );
+    let e = load(r#"<sampler type="orthogonal"><integer name="strength" value="1"/></sampler>"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("strength"), "{e}");
+}

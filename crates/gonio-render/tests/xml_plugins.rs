@@ -467,3 +467,80 @@ fn textured_plastic_uses_texture_means_for_sampling() {
     assert!(f0 > 5.0 * f1 && f1 > 0.0, "{f0} {f1}");
     assert!(p.is_textured());
 }
+
+/// `cylinder` (Mitsuba 3 `src/shapes/cylinder.cpp`): the lateral surface between p0 and p1,
+/// normals away from the axis, uv = (φ/2π, z along the axis), no caps.
+#[test]
+fn cylinder_is_the_lateral_surface_between_its_end_points() {
+    use gonio_render::accel::Intersect;
+    use gonio_render::geometry::Ray;
+    use gonio_render::render::PreparedScene;
+    let scene = load_scene_str(
+        r#"<scene version="3.0.0"><shape type="cylinder">
+            <point name="p0" value="1, 2, 3"/><point name="p1" value="1, 2, 5"/><float name="radius" value="0.5"/>
+        </shape></scene>"#,
+        ".",
+        &[],
+    )
+    .unwrap();
+    let prepared = PreparedScene::new(scene).unwrap();
+    let accel = prepared.accel();
+    // From +x at mid-height: hits x = 1.5, normal +x, v = 1/2; the tessellation's chord is at
+    // most r(1 − cos(π/256)) inside the circle.
+    let hit = accel
+        .intersect(&Ray::new(Vec3::new(10.0, 2.0, 4.0), Vec3::NEG_X))
+        .expect("hits the side");
+    assert!((hit.t - 8.5).abs() < 1e-4, "t = {}", hit.t);
+    // The shading normal is the radial direction; the facet's own normal is within π/256 of it.
+    assert!(
+        (hit.shading.n - Vec3::X).length() < 1e-3,
+        "n = {:?}",
+        hit.shading.n
+    );
+    assert!((hit.n - Vec3::X).length() < 1.3e-2, "n = {:?}", hit.n);
+    assert!((hit.uv.y - 0.5).abs() < 1e-5, "uv = {:?}", hit.uv);
+    // From −y the angle is φ = 3π/2 around the axis frame's z = +z: u is a quarter turn from
+    // the +x hit's, one way or the other.
+    let side = accel
+        .intersect(&Ray::new(Vec3::new(1.0, -10.0, 3.5), Vec3::Y))
+        .expect("hits the side");
+    assert!(
+        (side.p.y - 1.5).abs() < 1e-4 && (side.uv.y - 0.25).abs() < 1e-5,
+        "{side:?}"
+    );
+    let du = (side.uv.x - hit.uv.x).rem_euclid(1.0);
+    assert!((du - 0.25).abs() < 1e-3 || (du - 0.75).abs() < 1e-3, "du = {du}");
+    // No caps: along the axis the ray passes through; beyond p1 it misses.
+    assert!(
+        accel
+            .intersect(&Ray::new(Vec3::new(1.0, 2.0, 0.0), Vec3::Z))
+            .is_none()
+    );
+    assert!(
+        accel
+            .intersect(&Ray::new(Vec3::new(10.0, 2.0, 5.5), Vec3::NEG_X))
+            .is_none()
+    );
+    // From inside, the ray meets the far wall.
+    let inside = accel
+        .intersect(&Ray::new(Vec3::new(1.0, 2.0, 4.0), Vec3::X))
+        .expect("hits the wall from inside");
+    assert!((inside.t - 0.5).abs() < 1e-4);
+
+    let e = load_scene_str(
+        r#"<scene version="3.0.0"><shape type="cylinder"><point name="p1" value="0, 0, 0"/></shape></scene>"#,
+        ".",
+        &[],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("must differ") && e.contains(":1:"), "{e}");
+    let e = load_scene_str(
+        r#"<scene version="3.0.0"><shape type="cylinder"><float name="radius" value="0"/></shape></scene>"#,
+        ".",
+        &[],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("radius") && e.contains("positive"), "{e}");
+}

@@ -288,6 +288,16 @@ impl<'a> PathTracer<'a> {
         self
     }
 
+    /// [`PathTracer::with_camera`] when the camera can join points to its film
+    /// ([`Camera::connects`]); otherwise no light tracing.
+    pub fn with_camera_if_it_connects(self, camera: &'a dyn Camera) -> Self {
+        if camera.connects() {
+            self.with_camera(camera)
+        } else {
+            self
+        }
+    }
+
     /// True when light subpaths ([`PathTracer::trace_light_path`]) take part: each camera sample
     /// then traces one and passes it to [`PathTracer::li`].
     pub fn traces_caustics(&self) -> bool {

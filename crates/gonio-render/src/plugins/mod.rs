@@ -35,7 +35,11 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
 ];
 
 /// `<sensor>` plugins.
-pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[&sensor::perspective::PLUGIN];
+pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[
+    &sensor::perspective::PLUGIN,
+    &sensor::orthographic::PLUGIN,
+    &sensor::thinlens::PLUGIN,
+];
 
 /// `<film>` plugins (nested in a sensor).
 pub static FILM_PLUGINS: &[&Plugin<FilmDesc>] = &[&film::hdrfilm::PLUGIN];
@@ -55,6 +59,8 @@ pub static SAMPLER_PLUGINS: &[&Plugin<SamplerDesc>] = &[
     &sampler::independent::PLUGIN,
     &sampler::stratified::PLUGIN,
     &sampler::multijitter::PLUGIN,
+    &sampler::ldsampler::PLUGIN,
+    &sampler::orthogonal::PLUGIN,
 ];
 
 /// `<shape>` plugins.
@@ -66,6 +72,7 @@ pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
     &shape::obj::PLUGIN,
     &shape::ply::PLUGIN,
     &shape::serialized::PLUGIN,
+    &shape::cylinder::PLUGIN,
 ];
 
 /// `<emitter>` plugins attached to a shape (nested in a `<shape>`).

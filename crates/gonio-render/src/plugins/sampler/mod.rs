@@ -3,7 +3,9 @@
 //! also [`JITTER`].
 
 pub mod independent;
+pub mod ldsampler;
 pub mod multijitter;
+pub mod orthogonal;
 pub mod stratified;
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType};

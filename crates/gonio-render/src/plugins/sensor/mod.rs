@@ -1,3 +1,5 @@
 //! `<sensor>` plugins.
 
+pub mod orthographic;
 pub mod perspective;
+pub mod thinlens;

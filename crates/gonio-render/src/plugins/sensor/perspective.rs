@@ -2,83 +2,83 @@
 //! film and sampler; the runtime camera is [`crate::camera`].
 
 use crate::plugins::{DefaultValue, FILM_PLUGINS, ParamSpec, ParamType, Plugin, SAMPLER_PLUGINS};
-use crate::scene::{FilmDesc, SamplerDesc, SensorDesc};
+use crate::scene::{FilmDesc, Projection, SamplerDesc, SensorDesc};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
 use glam::Affine3A;
 
-const TO_WORLD: ParamSpec = ParamSpec::new(
+pub(crate) const TO_WORLD: ParamSpec = ParamSpec::new(
     "to_world",
     ParamType::Transform,
     DefaultValue::None,
     "camera to world (+z forward, +y up); scale factors are refused, a mirror flip is allowed",
 );
-const FOV: ParamSpec = ParamSpec::new(
+pub(crate) const FOV: ParamSpec = ParamSpec::new(
     "fov",
     ParamType::Float,
     DefaultValue::None,
     "field of view in degrees, in (0, 180), along `fov_axis` (instead of `focal_length`)",
 );
-const FOCAL_LENGTH: ParamSpec = ParamSpec::new(
+pub(crate) const FOCAL_LENGTH: ParamSpec = ParamSpec::new(
     "focal_length",
     ParamType::String,
     DefaultValue::Str("50mm"),
     "focal length of a 35 mm film camera, e.g. \"50mm\" (instead of `fov`)",
 );
-const FOV_AXIS: ParamSpec = ParamSpec::new(
+pub(crate) const FOV_AXIS: ParamSpec = ParamSpec::new(
     "fov_axis",
     ParamType::String,
     DefaultValue::Str("x"),
     "the axis `fov` is measured along: `x`, `y`, `diagonal`, `smaller`, `larger`",
 );
-const NEAR_CLIP: ParamSpec = ParamSpec::new(
+pub(crate) const NEAR_CLIP: ParamSpec = ParamSpec::new(
     "near_clip",
     ParamType::Float,
     DefaultValue::Float(0.01),
     "near clipping distance (positive)",
 );
-const FAR_CLIP: ParamSpec = ParamSpec::new(
+pub(crate) const FAR_CLIP: ParamSpec = ParamSpec::new(
     "far_clip",
     ParamType::Float,
     DefaultValue::Float(10000.0),
     "far clipping distance (above `near_clip`)",
 );
-const PRINCIPAL_POINT_OFFSET_X: ParamSpec = ParamSpec::new(
+pub(crate) const PRINCIPAL_POINT_OFFSET_X: ParamSpec = ParamSpec::new(
     "principal_point_offset_x",
     ParamType::Float,
     DefaultValue::Float(0.0),
     "principal point offset; only 0 is supported",
 );
-const PRINCIPAL_POINT_OFFSET_Y: ParamSpec = ParamSpec::new(
+pub(crate) const PRINCIPAL_POINT_OFFSET_Y: ParamSpec = ParamSpec::new(
     "principal_point_offset_y",
     ParamType::Float,
     DefaultValue::Float(0.0),
     "principal point offset; only 0 is supported",
 );
-const FOCUS_DISTANCE: ParamSpec = ParamSpec::new(
+pub(crate) const FOCUS_DISTANCE: ParamSpec = ParamSpec::new(
     "focus_distance",
     ParamType::Float,
     DefaultValue::None,
     "accepted and ignored, as in Mitsuba (a pinhole is in focus at every distance; `thinlens` uses it)",
 );
-const SHUTTER_OPEN: ParamSpec = ParamSpec::new(
+pub(crate) const SHUTTER_OPEN: ParamSpec = ParamSpec::new(
     "shutter_open",
     ParamType::Float,
     DefaultValue::Float(0.0),
     "accepted and ignored (no motion blur)",
 );
-const SHUTTER_CLOSE: ParamSpec = ParamSpec::new(
+pub(crate) const SHUTTER_CLOSE: ParamSpec = ParamSpec::new(
     "shutter_close",
     ParamType::Float,
     DefaultValue::Float(0.0),
     "accepted and ignored (no motion blur)",
 );
-const FILM: ParamSpec = ParamSpec::new(
+pub(crate) const FILM: ParamSpec = ParamSpec::new(
     "(nested film)",
     ParamType::Film,
     DefaultValue::Str("hdrfilm"),
     "at most one nested film",
 );
-const SAMPLER: ParamSpec = ParamSpec::new(
+pub(crate) const SAMPLER: ParamSpec = ParamSpec::new(
     "(nested sampler)",
     ParamType::Sampler,
     DefaultValue::Str("independent"),
@@ -108,6 +108,17 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, SceneError> {
+    build_projective(b, p, true)
+}
+
+/// What `perspective`, `thinlens` (`has_fov = true`) and `orthographic` (`has_fov = false`, scale allowed
+/// in `to_world`) share: film, sampler, `to_world`, field of view, clipping, ignored shutter and
+/// principal point; the caller sets [`SensorDesc::projection`].
+pub(crate) fn build_projective<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+    has_fov: bool,
+) -> Result<SensorDesc, SceneError> {
     let obj = p.obj;
     let film = b
         .nested_one(p, Tag::Film, FILM_PLUGINS, "sensor")?
@@ -124,9 +135,10 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
     // Mitsuba: "Scale factors in the camera-to-world transformation are not allowed!"
     // (a mirror flip, scale −1, keeps unit axes and is allowed).
     let m = to_world.matrix3;
-    if [m.x_axis, m.y_axis, m.z_axis]
-        .iter()
-        .any(|a| (a.length() - 1.0).abs() > 1e-3)
+    if has_fov
+        && [m.x_axis, m.y_axis, m.z_axis]
+            .iter()
+            .any(|a| (a.length() - 1.0).abs() > 1e-3)
     {
         return Err(err(
             tw_loc.as_ref().unwrap_or(&obj.loc),
@@ -140,13 +152,20 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
         ));
     }
     let aspect = film.width as f64 / film.height as f64;
-    let fov = p.float_opt(FOV.name)?;
-    let focal = p.string_opt(FOCAL_LENGTH.name)?;
-    let axis = p.choice(
-        FOV_AXIS.name,
-        FOV_AXIS.default.str(),
-        &["x", "y", "diagonal", "smaller", "larger"],
-    )?;
+    let (fov, focal, axis) = if has_fov {
+        (
+            p.float_opt(FOV.name)?,
+            p.string_opt(FOCAL_LENGTH.name)?,
+            p.choice(
+                FOV_AXIS.name,
+                FOV_AXIS.default.str(),
+                &["x", "y", "diagonal", "smaller", "larger"],
+            )?,
+        )
+    } else {
+        // An orthographic camera has no field of view; its width is to_world's scale.
+        (None, Some(("50mm", &obj.loc)), "x")
+    };
     let fov_x = match (fov, focal) {
         (Some(_), Some((_, loc))) => {
             return Err(err(
@@ -199,7 +218,12 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
             format!("far_clip {far_clip} must exceed near_clip {near_clip}"),
         ));
     }
-    for name in [PRINCIPAL_POINT_OFFSET_X.name, PRINCIPAL_POINT_OFFSET_Y.name] {
+    let offsets: &[&str] = if has_fov {
+        &[PRINCIPAL_POINT_OFFSET_X.name, PRINCIPAL_POINT_OFFSET_Y.name]
+    } else {
+        &[]
+    };
+    for &name in offsets {
         if let Some((v, loc)) = p.float_opt(name)? {
             if v != 0.0 {
                 return Err(err(
@@ -217,6 +241,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
     Ok(SensorDesc {
         to_world,
         fov_x_deg: fov_x as f32,
+        projection: Projection::Perspective,
         near_clip: near_clip as f32,
         far_clip: far_clip as f32,
         film,
@@ -250,6 +275,7 @@ pub(crate) fn default_sensor() -> SensorDesc {
     SensorDesc {
         to_world: Affine3A::IDENTITY,
         fov_x_deg: fov_x_of_focal_length(mm, aspect) as f32,
+        projection: Projection::Perspective,
         near_clip: NEAR_CLIP.default.float() as f32,
         far_clip: FAR_CLIP.default.float() as f32,
         film,

@@ -7,6 +7,7 @@
 //! with the mesh cache (`mesh`).
 
 pub mod cube;
+pub mod cylinder;
 pub mod disk;
 pub mod obj;
 pub mod ply;
