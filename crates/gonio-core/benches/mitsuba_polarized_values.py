@@ -8,7 +8,8 @@ For each configuration (a `<bsdf>` XML string gonio's reader loads too) and quer
   4x4 Mueller matrix at one wavelength, in the local frame (si.sh_frame = identity, normal +z);
 * `sample` rows: `bsdf.sample(ctx, si, sample1, sample2)`: the direction, pdf and Mueller weight.
 
-Mitsuba returns BSDF Mueller matrices from the implicit Stokes basis of the incident beam
+`polarizer`, `retarder` and `circular` are straight-through filters (wo = -wi), sampled from
+both sides. Mitsuba returns BSDF Mueller matrices from the implicit Stokes basis of the incident beam
 (`mueller.stokes_basis(-wo_hat)`) to that of the outgoing one (`stokes_basis(wi_hat)`), with
 light arriving along -wo_hat and leaving along wi_hat (wo_hat = wo, wi_hat = wi in radiance mode,
 swapped in importance mode). gonio's `eval_mueller`/`sample_mueller` use the same bases, so
@@ -48,6 +49,14 @@ CONFIGS = [
     ("plastic-nonlinear", X.format("plastic", '<boolean name="nonlinear" value="true"/><spectrum name="diffuse_reflectance" value="0.8"/>'), "both"),
     ("roughplastic-beckmann-0.1", X.format("roughplastic", '<float name="alpha" value="0.1"/>'), "eval"),
     ("roughplastic-ggx-0.3", X.format("roughplastic", '<string name="distribution" value="ggx"/><float name="alpha" value="0.3"/><spectrum name="diffuse_reflectance" value="0.2"/>'), "eval"),
+    ("polarizer-0", X.format("polarizer", ''), "sample"),
+    ("polarizer-30-t0.7", X.format("polarizer", '<float name="theta" value="30"/><spectrum name="transmittance" value="0.7"/>'), "sample"),
+    ("polarizer-nonpolarizing", X.format("polarizer", '<float name="theta" value="60"/><boolean name="polarizing" value="false"/>'), "sample"),
+    ("retarder-quarter-wave", X.format("retarder", ''), "sample"),
+    ("retarder-45-half-wave", X.format("retarder", '<float name="theta" value="45"/><float name="delta" value="180"/>'), "sample"),
+    ("retarder-30-60", X.format("retarder", '<float name="theta" value="-30"/><float name="delta" value="60"/><spectrum name="transmittance" value="0.9"/>'), "sample"),
+    ("circular-right", X.format("circular", ''), "sample"),
+    ("circular-left-0.8", X.format("circular", '<boolean name="left_handed" value="true"/><spectrum name="transmittance" value="0.8"/>'), "sample"),
     ("roughplastic-ggx-0.05-1.6", X.format("roughplastic", '<string name="distribution" value="ggx"/><float name="alpha" value="0.05"/><float name="int_ior" value="1.6"/>'), "eval"),
 ]
 WAVELENGTHS = [450.0, 550.0, 650.0]
@@ -123,7 +132,7 @@ def sample_rows(bsdf, name, rng):
         wi = [math.sin(t) * math.cos(phi), math.sin(t) * math.sin(phi), math.cos(t)]
         if k >= len(thetas):
             wi[2] = -wi[2]  # from inside (dielectrics: TIR beyond the critical angle)
-            if not name.startswith("dielectric"):
+            if not name.startswith(("dielectric", "polarizer", "retarder", "circular")):
                 continue
         for s1 in (0.01, 0.99):
             mode = "importance" if (k + int(s1 > 0.5)) % 3 == 2 else "radiance"

@@ -338,8 +338,9 @@ pub trait Bsdf: Send + Sync {
         self.sample(ctx, wi, u1, u2, wl).map(BsdfSample::depolarized)
     }
 
-    /// [`Bsdf::null_transmission`] as a Mueller matrix for light crossing along −`wi` (bases: the
-    /// implicit basis of −`wi` on both sides). The default depolarizes.
+    /// [`Bsdf::null_transmission`] as a Mueller matrix for light crossing along `wi` (towards the
+    /// shadow ray's origin, as Mitsuba's `eval_null_transmission`; bases: the implicit basis of
+    /// `wi` on both sides). The default depolarizes.
     fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
         self.null_transmission(wi, wl).map(Mueller::depolarizer)
     }

@@ -289,3 +289,43 @@ fn mueller_reciprocity_relation() {
     );
     assert!(back.matrix().max_abs_diff(&q(fwd.matrix())) < 1e-5);
 }
+
+/// `roughdielectric` polarizes like the smooth `dielectric` at the specular configurations (the
+/// microfacet normal is then the macro-normal): the shapes M/M00 agree, for reflection and
+/// refraction, from both sides (Mitsuba 3.9.1's `roughdielectric` does not polarize, so this is
+/// its check).
+#[test]
+fn roughdielectric_shape_is_the_smooth_dielectrics_at_the_specular_directions() {
+    use crate::bsdfs::{Dielectric, RoughDielectric};
+    use crate::ior::Ior;
+    use glam::Vec2;
+    let smooth = Dielectric::new(Ior::Constant(1.5), Ior::Constant(1.0));
+    let d = MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.05, 0.05, true);
+    let rough = RoughDielectric::new(Ior::Constant(1.5), Ior::Constant(1.0), d);
+    let wl = SampledWavelengths::fixed(550.0);
+    let shape = |m: &Mueller| crate::fresnel_polarized::normalized(m.matrix());
+    let mut checked = 0;
+    for ctx in [BsdfContext::radiance(), BsdfContext::importance()] {
+        for wi in [
+            Vec3::new(0.5, 0.2, 0.84).normalize(),
+            Vec3::new(-0.3, 0.6, -0.74).normalize(),
+            Vec3::new(0.1, -0.2, -0.97).normalize(),
+        ] {
+            for u1 in [0.01f32, 0.99] {
+                let Some(s) = smooth.sample_mueller(&ctx, wi, u1, Vec2::splat(0.5), &mut wl.clone()) else {
+                    continue;
+                };
+                let r = rough.eval_mueller(&ctx, wi, s.wo, &wl);
+                assert!(r.get(0, 0)[0] > 0.0);
+                let (a, b) = (shape(&s.weight), shape(&r));
+                assert!(a.max_abs_diff(&b) < 2e-3, "wi {wi} wo {}: {a:?} vs {b:?}", s.wo);
+                assert_eq!(
+                    s.weight.frames().map(|f| f.1.forward()),
+                    r.frames().map(|f| f.1.forward())
+                );
+                checked += 1;
+            }
+        }
+    }
+    assert!(checked >= 10, "{checked}");
+}

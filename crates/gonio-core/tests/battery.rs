@@ -543,6 +543,27 @@ fn dielectric_dispersive() {
     );
 }
 
+// ---- polarization filters (unpolarized values: straight-through delta transmission) ----------
+
+#[test]
+fn polarizer_filters() {
+    use gonio_core::bsdfs::{CircularPolarizer, Polarizer, Retarder};
+    let p = Polarizer {
+        theta: 30.0,
+        transmittance: piecewise(&[400.0, 0.9, 700.0, 0.4]),
+        polarizing: true,
+    };
+    assert_passes("polarizer θ=30 spectral t", &p);
+    assert_passes("retarder quarter-wave", &Retarder::default());
+    assert_passes(
+        "circular left t=0.8",
+        &CircularPolarizer {
+            transmittance: Spectrum::Constant(0.8),
+            left_handed: true,
+        },
+    );
+}
+
 // ---- thin dielectric --------------------------------------------------------------------------
 
 #[test]

@@ -9,7 +9,8 @@
 //! and `principledthin` (roughness from 1e-4 to 1, every weight in its range, η and the
 //! sampling rates),
 //! Lambert-sphere half-spaces (both models, k_d or c in [0, 1]),
-//! measured tables (zeros included), and `twosided` / `blendbsdf` nested over all of these.
+//! measured tables (zeros included), the polarization filters (`polarizer`, `retarder`,
+//! `circular`, any angle), and `twosided` / `blendbsdf` nested over all of these.
 //!
 //! Each case checks one (wi, wo) query of `eval`/`pdf`/`eval_pdf` and one `sample` call in both
 //! transport modes with the per-query functions of `gonio_core::check::health`, the same code
@@ -29,6 +30,7 @@ use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
     RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
+use gonio_core::bsdfs::{CircularPolarizer, Polarizer, Retarder};
 use gonio_core::check::broken::NanAtGrazing;
 use gonio_core::check::health::{check_eval, check_sample};
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
@@ -145,6 +147,14 @@ enum Spec {
     Tabulated {
         values: Vec<f32>,
     },
+    /// `polarizer` (kind 0), `retarder` (1), `circular` (2): angle θ, phase δ (degrees), t.
+    Filter {
+        kind: u8,
+        theta: f32,
+        delta: f32,
+        t: SpecSpectrum,
+        flag: bool,
+    },
     TwoSided {
         front: Box<Spec>,
         back: Option<Box<Spec>>,
@@ -213,7 +223,23 @@ fn ior_pair() -> impl Strategy<Value = (f32, f32)> {
 
 fn leaf() -> impl Strategy<Value = Spec> {
     prop_oneof![
-        proptest::collection::vec(unit(), 96).prop_map(|values| Spec::Tabulated { values }),
+        prop_oneof![
+            proptest::collection::vec(unit(), 96).prop_map(|values| Spec::Tabulated { values }),
+            (
+                0u8..3,
+                -360.0f32..=360.0,
+                -360.0f32..=360.0,
+                reflectance(),
+                any::<bool>()
+            )
+                .prop_map(|(kind, theta, delta, t, flag)| Spec::Filter {
+                    kind,
+                    theta,
+                    delta,
+                    t,
+                    flag
+                }),
+        ],
         reflectance().prop_map(|rho| Spec::Diffuse { rho }),
         (
             prop_oneof![Just(0.0f32), 0.0f32..=5.0],
@@ -628,6 +654,27 @@ fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
             .unwrap();
             f(&Tabulated::new(data))
         }
+        Spec::Filter {
+            kind,
+            theta,
+            delta,
+            t,
+            flag,
+        } => match kind {
+            0 => f(&Polarizer {
+                theta: *theta,
+                transmittance: t.build(),
+                polarizing: *flag,
+            }),
+            1 => f(&Retarder {
+                transmittance: t.build(),
+                ..Retarder::new(*theta, *delta)
+            }),
+            _ => f(&CircularPolarizer {
+                transmittance: t.build(),
+                left_handed: *flag,
+            }),
+        },
         Spec::TwoSided { front, back } => with_bsdf(front, &mut |fr| match back {
             None => f(&TwoSided::new(fr)),
             Some(b) => with_bsdf(b, &mut |bk| f(&TwoSided::with_back(fr, bk))),

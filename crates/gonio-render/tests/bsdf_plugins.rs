@@ -72,6 +72,9 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
         "<bsdf type=\"lambertsphere\"><rgb name=\"reflectance\" value=\"0.2, 0.5, 0.9\"/></bsdf>",
         "<bsdf type=\"lambertsphere\"><texture name=\"sphere_albedo\" type=\"checkerboard\"/><string name=\"model\" value=\"practical\"/></bsdf>",
         "<bsdf type=\"blendbsdf\"><texture name=\"weight\" type=\"checkerboard\"/><bsdf type=\"twosided\"><bsdf type=\"conductor\"/></bsdf><bsdf type=\"dielectric\"/></bsdf>",
+        "<bsdf type=\"polarizer\"><float name=\"theta\" value=\"30\"/><texture name=\"transmittance\" type=\"checkerboard\"/></bsdf>",
+        "<bsdf type=\"retarder\"><float name=\"theta\" value=\"45\"/><float name=\"delta\" value=\"180\"/><texture name=\"transmittance\" type=\"checkerboard\"/></bsdf>",
+        "<bsdf type=\"circular\"><boolean name=\"left_handed\" value=\"true\"/><texture name=\"transmittance\" type=\"checkerboard\"/></bsdf>",
     ];
     let mut rng = Pcg32::new(11, 5);
     let mut dir = || {
@@ -104,6 +107,23 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
                     assert_eq!(
                         hit.null_transmission(wi, &wl),
                         any.null_transmission(wi, &wl),
+                        "{text}"
+                    );
+                    // The polarized values too (Mueller matrices and their frames).
+                    assert_eq!(
+                        hit.eval_mueller(&ctx, wi, wo, &wl),
+                        any.eval_mueller(&ctx, wi, wo, &wl),
+                        "{text}"
+                    );
+                    let (mut a, mut b) = (wl, wl);
+                    assert_eq!(
+                        hit.sample_mueller(&ctx, wi, u1, u2, &mut a),
+                        any.sample_mueller(&ctx, wi, u1, u2, &mut b),
+                        "{text}"
+                    );
+                    assert_eq!(
+                        hit.null_transmission_mueller(wi, &wl),
+                        any.null_transmission_mueller(wi, &wl),
                         "{text}"
                     );
                 }

@@ -23,6 +23,7 @@ use super::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
     RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
+use super::{CircularPolarizer, Polarizer, Retarder};
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::ior::SampledIor;
 use crate::mueller::Mueller;
@@ -63,6 +64,12 @@ pub enum LeafBsdf<'a> {
     LambertSphere(LambertSphere<SampledSpectrum>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
+    /// `polarizer`.
+    Polarizer(Polarizer<SampledSpectrum>),
+    /// `retarder`.
+    Retarder(Retarder<SampledSpectrum>),
+    /// `circular`.
+    CircularPolarizer(CircularPolarizer<SampledSpectrum>),
 }
 
 /// Calls `$body` with `$b: &dyn Bsdf` bound to the model inside a [`LeafBsdf`] (static dispatch
@@ -86,6 +93,9 @@ macro_rules! with_leaf {
                 let $b: &Tabulated = $b;
                 $body
             }
+            LeafBsdf::Polarizer($b) => $body,
+            LeafBsdf::Retarder($b) => $body,
+            LeafBsdf::CircularPolarizer($b) => $body,
         }
     };
 }

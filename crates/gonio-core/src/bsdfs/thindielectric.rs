@@ -176,8 +176,8 @@ impl<S: SpectralValue, I: IorValue> Bsdf for ThinDielectric<S, I> {
         Some(interface_mueller(
             self.slab_mueller(wi.z, false, wl).scaled(t),
             Vec3::Z,
-            -wi,
-            -wi,
+            wi,
+            wi,
         ))
     }
 }

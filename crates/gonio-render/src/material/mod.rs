@@ -16,13 +16,16 @@
 //! `docs/adding-a-plugin.md` walks through one.
 
 pub mod blendbsdf;
+pub mod circular;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod lambertsphere;
 pub mod plastic;
+pub mod polarizer;
 pub mod principled;
 pub mod principledthin;
+pub mod retarder;
 pub mod roughconductor;
 pub mod roughdielectric;
 pub mod roughdiffuse;
@@ -33,13 +36,16 @@ pub mod twosided;
 
 pub use crate::xml::{BsdfPlugin, DefaultValue, ParamSpec, ParamType};
 pub use blendbsdf::BlendMaterial;
+pub use circular::CircularMaterial;
 pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
 pub use lambertsphere::LambertSphereMaterial;
 pub use plastic::PlasticMaterial;
+pub use polarizer::PolarizerMaterial;
 pub use principled::PrincipledMaterial;
 pub use principledthin::PrincipledThinMaterial;
+pub use retarder::RetarderMaterial;
 pub use roughconductor::RoughConductorMaterial;
 pub use roughdielectric::RoughDielectricMaterial;
 pub use roughdiffuse::RoughDiffuseMaterial;
@@ -74,6 +80,9 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
+    &polarizer::PLUGIN,
+    &retarder::PLUGIN,
+    &circular::PLUGIN,
 ];
 
 /// The registered plugin called `name`.

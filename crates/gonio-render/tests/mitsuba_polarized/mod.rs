@@ -73,10 +73,10 @@ fn rel_diff(got: &Mueller, want: &[[f64; 4]; 4], shape: bool) -> f64 {
         .flatten()
         .fold(0.0f64, |a, x| a.max((x * scale_w).abs()));
     let mut d = 0.0f64;
-    for r in 0..4 {
-        for c in 0..4 {
+    for (r, row) in want.iter().enumerate() {
+        for (c, w) in row.iter().enumerate() {
             let g = got.get(r, c)[0] as f64 * scale_g;
-            d = d.max((g - want[r][c] * scale_w).abs());
+            d = d.max((g - w * scale_w).abs());
         }
     }
     if big > 0.0 { d / big } else { d }
@@ -175,5 +175,5 @@ fn polarized_bsdfs_agree_with_mitsuba() {
     for (n, d) in &worst {
         eprintln!("  {n:32} {d:.2e}");
     }
-    assert!(checked >= 230, "the reference file holds {checked} queries");
+    assert!(checked >= 370, "the reference file holds {checked} queries");
 }

@@ -1,0 +1,89 @@
+//! `retarder`: an ideal linear retarder (wave plate) that light crosses without deviation (core
+//! model [`gonio_core::bsdfs::Retarder`]; Mitsuba 3 `src/bsdfs/retarder.cpp`). Unpolarized
+//! renders see a clear filter of transmittance t.
+
+use super::polarizer::{THETA, TRANSMITTANCE};
+use super::{
+    BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
+};
+use crate::texture::Texture;
+use crate::xml::{Builder, Params, SceneError};
+use glam::Vec2;
+use gonio_core::bsdfs::surface::TooManyNodes;
+use gonio_core::bsdfs::{LeafBsdf, Retarder, SurfaceBsdf};
+use gonio_core::spectra::RgbKind;
+use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths};
+
+const DELTA: ParamSpec = ParamSpec::new(
+    "delta",
+    ParamType::Float,
+    DefaultValue::Float(90.0),
+    "phase difference between the fast and slow axes at normal incidence, degrees (90: quarter-wave plate); falls off with |cos θi|",
+);
+
+/// The `retarder` plugin.
+pub static PLUGIN: BsdfPlugin = BsdfPlugin {
+    name: "retarder",
+    summary: "Ideal linear retarder (wave plate), light passes straight through (unpolarized renders: a filter of t).",
+    params: &[THETA, DELTA, TRANSMITTANCE],
+    build,
+};
+
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
+    let theta = p.float_checked(
+        THETA.name,
+        THETA.default.float(),
+        f64::is_finite,
+        "a finite angle",
+    )? as f32;
+    let delta = p.float_checked(
+        DELTA.name,
+        DELTA.default.float(),
+        f64::is_finite,
+        "a finite angle",
+    )? as f32;
+    let transmittance = b.texture(p, &TRANSMITTANCE, RgbKind::Albedo)?;
+    let model = Retarder {
+        transmittance: model_value(&transmittance),
+        ..Retarder::new(theta, delta)
+    };
+    Ok(Material::new(RetarderMaterial { transmittance, model }))
+}
+
+/// `retarder` in a scene.
+#[derive(Clone, Debug)]
+pub struct RetarderMaterial {
+    /// t.
+    pub transmittance: Texture,
+    /// The model (t's mean when textured).
+    pub model: Retarder,
+}
+
+impl SurfaceMaterial for RetarderMaterial {
+    fn flags(&self) -> BsdfFlags {
+        self.model.flags()
+    }
+    fn is_textured(&self) -> bool {
+        self.transmittance.is_textured()
+    }
+    fn push<'a>(
+        &'a self,
+        uv: Vec2,
+        wl: &SampledWavelengths,
+        tree: &mut SurfaceBsdf<'a>,
+    ) -> Result<u8, TooManyNodes> {
+        let mut m = self.model.at(wl);
+        retint_at(&mut m.transmittance, &self.transmittance, uv, wl);
+        tree.push_leaf(LeafBsdf::Retarder(m))
+    }
+    fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
+        if self.transmittance.is_textured() {
+            f(&Retarder {
+                transmittance: self.transmittance.eval(uv),
+                ..self.model.clone()
+            })
+        } else {
+            f(&self.model)
+        }
+    }
+}
