@@ -287,6 +287,12 @@ impl<S: SpectralValue, I: IorValue> RoughConductor<S, I> {
         wo: Vec3,
         wl: &SampledWavelengths,
     ) -> Mueller {
+        if self.multiple_scattering {
+            // Heitz et al. 2016's walk mixes every order of scattering into one value; one
+            // facet's Fresnel matrix does not describe it. Depolarized (the unpolarized value
+            // unchanged), until the walk carries Mueller matrices itself.
+            return Mueller::depolarizer(f);
+        }
         let h = (wi + wo).normalize_or_zero();
         let fresnel = conductor_reflection(
             wi.dot(h),
@@ -309,6 +315,26 @@ mod tests {
         let (st, ct) = theta_deg.to_radians().sin_cos();
         let (sp, cp) = phi_deg.to_radians().sin_cos();
         Vec3::new(st * cp, st * sp, ct)
+    }
+
+    #[test]
+    fn multiple_scattering_lobes_depolarize_and_keep_the_unpolarized_value() {
+        let mut c = RoughConductor::new(
+            Spectrum::Constant(0.2),
+            Spectrum::Constant(3.9),
+            MicrofacetDistribution::isotropic(Ggx, 0.5),
+        );
+        let ctx = BsdfContext::radiance();
+        let wl = SampledWavelengths::fixed(550.0);
+        let (wi, wo) = (dir(60.0, 0.0), dir(50.0, 170.0));
+        let polarized = c.eval_mueller(&ctx, wi, wo, &wl);
+        assert!(polarized.get(1, 0)[0].abs() > 1e-3, "single scattering polarizes");
+        c.multiple_scattering = true;
+        let m = c.eval_mueller(&ctx, wi, wo, &wl);
+        assert_eq!(m.get(0, 0), c.eval(&ctx, wi, wo, &wl));
+        for (r, k) in (0..4).flat_map(|r| (0..4).map(move |k| (r, k))).skip(1) {
+            assert_eq!(m.get(r, k), SampledSpectrum::ZERO, "M{r}{k}");
+        }
     }
 
     #[test]

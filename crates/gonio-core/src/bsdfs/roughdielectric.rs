@@ -449,6 +449,12 @@ impl<S: SpectralValue, I: IorValue> RoughDielectric<S, I> {
         wo: Vec3,
         wl: &SampledWavelengths,
     ) -> Mueller {
+        if self.multiple_scattering {
+            // Heitz et al. 2016's walk mixes every order of scattering into one value; one
+            // facet's Fresnel matrix does not describe it. Depolarized (the unpolarized value
+            // unchanged), until the walk carries Mueller matrices itself.
+            return Mueller::depolarizer(f);
+        }
         let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
         let reflect = wi.z * wo.z > 0.0;
         let (w_ext, w_int) = if wi.z > 0.0 { (wi, wo) } else { (wo, wi) };
