@@ -27,7 +27,9 @@
 //!
 //! Stochastic models (Heitz 2016 random walks, layered BSDFs) seed their own generator from a
 //! hash of (wi, wo) so `eval`/`pdf` stay deterministic functions of their arguments, and draw the
-//! rest of their randomness in `sample` from the `u1`, `u2` they are given. Polarization would add
+//! rest of their randomness in `sample` from the `u1`, `u2` they are given. Such a model says
+//! [`Bsdf::pdf_is_exact`] = false: its `sample().weight` is exact, its `eval` an unbiased
+//! estimate and its `pdf` an approximation for MIS weights only (`crate::microsurface`). Polarization would add
 //! a method with a default that depolarizes (a Mueller matrix diag(f, 0, 0, 0)), leaving every
 //! unpolarized caller unchanged.
 
