@@ -27,10 +27,12 @@
 //!
 //! Stochastic models (Heitz 2016 random walks, layered BSDFs) seed their own generator from a
 //! hash of (wi, wo) so `eval`/`pdf` stay deterministic functions of their arguments, and draw the
-//! rest of their randomness in `sample` from the `u1`, `u2` they are given. Polarization adds
-//! methods with defaults that depolarize (a Mueller matrix diag(f, 0, 0, 0)): [`Bsdf::eval_mueller`],
-//! [`Bsdf::sample_mueller`], [`Bsdf::null_transmission_mueller`], leaving every unpolarized caller
-//! unchanged; polarizing models override them.
+//! rest of their randomness in `sample` from the `u1`, `u2` they are given. Such a model says
+//! [`Bsdf::pdf_is_exact`] = false: its `sample().weight` is exact, its `eval` an unbiased
+//! estimate and its `pdf` an approximation for MIS weights only (`crate::microsurface`).
+//! Polarization adds methods with defaults that depolarize (a Mueller matrix diag(f, 0, 0, 0)):
+//! [`Bsdf::eval_mueller`], [`Bsdf::sample_mueller`], [`Bsdf::null_transmission_mueller`],
+//! leaving every unpolarized caller unchanged; polarizing models override them.
 
 use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};

@@ -46,8 +46,13 @@
 //! the diffuse material uses G2/G1 times its one-sample facet term). It is random: callers seed
 //! its [`Pcg32`] from the arguments ([`eval_rng`]) so that `eval` is a deterministic function of
 //! them. The diffuse estimator starts from the more grazing of ωi, ωo (reciprocity), as the
-//! authors' plugin does. The conductor/dielectric estimators start from ωi only (no
-//! bidirectional MIS): unbiased, with more variance at grazing ωo.
+//! authors' plugin does. The conductor/dielectric estimators are the authors' bidirectional
+//! ones, run from both ends (two walks per call): the walk from ωo estimates the reversed
+//! configuration (reciprocity; the dielectric's (η_ωo/η_ωi)² for a transmission), each
+//! next-event term is weighted D(first bounce's half vector)/(D(first) + D(last connection's))
+//! against the same path found from the other end, and the closed-form single scattering counts
+//! ½ in each. Both remain heavy-tailed towards grazing refractions (a few evaluations carry much
+//! of the mean), which the checks account for (`check::stochastic`).
 //!
 //! `pdf_*` is not the walk's density (unknown): the single-scattering visible-normal density plus
 //! |cos θo| (conductor/dielectric; the authors' plugins, not normalized) or cos θo/π (diffuse).
