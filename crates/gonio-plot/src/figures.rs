@@ -625,11 +625,16 @@ mod text_fits {
 
     #[test]
     fn long_captions_wrap_and_short_ones_do_not() {
-        let long = "equal-area projection: centre = normal, rim = horizon, rings every 30°, azimuth φ anticlockwise from the right; λ = 550 nm; f = 0 off the delta lobes";
+        let long = "Lambert equal-area projection: centre = normal, rim = horizon, rings every 30°, azimuth φ anticlockwise from the right; λ = 550 nm; f = 0 off the delta lobes";
         let lines = crate::wrap_text(long, 12, 700);
         assert!(lines.len() >= 2, "{lines:?}");
         assert!(lines.iter().all(|l| crate::text_width(l, 12) <= 700));
         assert_eq!(lines.join(" "), long, "no word lost");
+        assert!(
+            lines.iter().any(|l| l.contains("Lambert equal-area projection"))
+                && lines.iter().any(|l| l.contains("f = 0 off the delta lobes")),
+            "clauses stay whole: {lines:?}"
+        );
         assert_eq!(crate::wrap_text("λ = 550 nm", 12, 700), vec!["λ = 550 nm"]);
         assert!(crate::fitting_size(long, 18, 300) < 18);
     }

@@ -336,21 +336,51 @@ pub fn text_width(text: &str, size: u32) -> u32 {
         .unwrap_or((text.chars().count() as f64 * size as f64 * 0.6).ceil() as u32)
 }
 
-/// `text` broken at spaces into lines no wider than `max_width` pixels at font `size` (a single
-/// word wider than that keeps a line of its own).
+/// `text` broken into lines no wider than `max_width` pixels at font `size`: preferably after a
+/// clause's "; " (so a phrase stays on one line), else at spaces (a single word wider than that
+/// keeps a line of its own). Joining the lines with spaces gives `text` back.
 pub fn wrap_text(text: &str, size: u32, max_width: u32) -> Vec<String> {
+    let fits = |s: &str| text_width(s, size) <= max_width;
     let mut lines: Vec<String> = vec![];
     let mut line = String::new();
-    for word in text.split(' ').filter(|w| !w.is_empty()) {
-        let candidate = if line.is_empty() {
-            word.to_string()
+    let clauses: Vec<String> = {
+        let parts: Vec<&str> = text.split("; ").collect();
+        let n = parts.len();
+        parts
+            .iter()
+            .enumerate()
+            .map(|(k, c)| if k + 1 < n { format!("{c};") } else { c.to_string() })
+            .collect()
+    };
+    for clause in clauses.iter().filter(|c| !c.trim().is_empty()) {
+        let joined = if line.is_empty() {
+            clause.clone()
         } else {
-            format!("{line} {word}")
+            format!("{line} {clause}")
         };
-        if line.is_empty() || text_width(&candidate, size) <= max_width {
-            line = candidate;
-        } else {
-            lines.push(std::mem::replace(&mut line, word.to_string()));
+        if fits(&joined) {
+            line = joined;
+            continue;
+        }
+        if fits(clause) {
+            if !line.is_empty() {
+                lines.push(std::mem::take(&mut line));
+            }
+            line = clause.clone();
+            continue;
+        }
+        // A clause longer than a line: break it at spaces.
+        for word in clause.split(' ').filter(|w| !w.is_empty()) {
+            let candidate = if line.is_empty() {
+                word.to_string()
+            } else {
+                format!("{line} {word}")
+            };
+            if line.is_empty() || fits(&candidate) {
+                line = candidate;
+            } else {
+                lines.push(std::mem::replace(&mut line, word.to_string()));
+            }
         }
     }
     if !line.is_empty() {
