@@ -18,6 +18,9 @@
 //!        + 0.17 ρ²/π · σ²/(σ² + 0.13) · (1 − cos φ (2β/π)²)                  (interreflections)
 //! ```
 //!
+//! (the bracket of the direct term clamped at 0: for σ ≳ 1.4 rad the fit goes negative when a
+//! grazing direction looks back against the other),
+//!
 //! the paper's full model (its Eqs. 30 and 31: the single-bounce fit plus the two-bounce
 //! interreflection term), and, with `useFastApprox`, its "qualitative" model
 //!
@@ -217,7 +220,10 @@ impl<S: SpectralValue> RoughDiffuse<S> {
                 let c4 = 0.17 * s2 / (s2 + 0.13);
                 // tan((α + β)/2) from the half-angle identity.
                 let tan_half = (g.sin_alpha + g.sin_beta) / (g.cos_alpha + g.cos_beta);
-                let single = c1 + g.cos_phi * c2 * g.tan_beta + (1.0 - g.cos_phi.abs()) * c3 * tan_half;
+                // The fit goes negative for very rough surfaces seen backwards near grazing
+                // (σ ≳ 1.4 rad: C1 + cos φ C2 tan β < 0): a radiance is never negative.
+                let single =
+                    (c1 + g.cos_phi * c2 * g.tan_beta + (1.0 - g.cos_phi.abs()) * c3 * tan_half).max(0.0);
                 let double = c4 * (1.0 - g.cos_phi * b2 * b2);
                 (rho * single + rho * rho * double) * FRAC_1_PI
             }

@@ -348,3 +348,26 @@ fn microfacet_reciprocal_in_expectation() {
     let tol = 4.0 * (se_ab * se_ab + se_ba * se_ba).sqrt();
     assert!((f_ab - f_ba).abs() < tol, "{f_ab} ± {se_ab} vs {f_ba} ± {se_ba}");
 }
+
+#[test]
+fn oren_nayar_is_never_negative_on_very_rough_surfaces_seen_backwards() {
+    // Found by proptest_health: at α = 3.58 (σ = 2.5 rad) the full model's direct bracket
+    // C1 + cos φ C2 tan β is −0.11 for this backward, grazing pair; it is clamped at 0 and the
+    // interreflection term alone remains.
+    let m = model(0.05, 3.58, false);
+    let wi = Vec3::new(-0.05376646, 0.93563145, 0.34885943);
+    let wo = Vec3::new(0.3421514, -0.9396448, 0.00024414063).normalize();
+    let value = f(&m, wi, wo);
+    assert!(value >= 0.0 && value.is_finite(), "{value}");
+    let mut rng = Pcg32::new(3, 4);
+    for _ in 0..20_000 {
+        let (a, b) = (rng.next_f32(), rng.next_f32());
+        let (c, d) = (rng.next_f32(), rng.next_f32());
+        let wi = crate::warp::square_to_cosine_hemisphere(glam::Vec2::new(a, b));
+        let wo = crate::warp::square_to_cosine_hemisphere(glam::Vec2::new(c, d));
+        for alpha in [1.0, 2.0, 4.0] {
+            let v = f(&model(0.05, alpha, false), wi, wo);
+            assert!(v >= 0.0, "α {alpha}, wi {wi}, wo {wo}: {v}");
+        }
+    }
+}
