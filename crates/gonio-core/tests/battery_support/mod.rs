@@ -8,7 +8,8 @@ use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Upper bound on the battery runs on correct models in `battery.rs` (Šidák family size): 53
+/// Upper bound on the battery runs on correct models in `battery.rs` and its `battery_stochastic`
+/// module (Šidák family size): 53
 /// `assert_passes`, 6 anisotropic and 6 stochastic runs, and 2 direct `report`s.
 pub const RUNS: usize = 67;
 
