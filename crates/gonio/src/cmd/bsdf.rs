@@ -7,8 +7,15 @@
 //! | command  | input line                                   | output line                        |
 //! |----------|----------------------------------------------|------------------------------------|
 //! | `eval`   | `wi_x wi_y wi_z wo_x wo_y wo_z lambda_nm`    | `f pdf` (f without the cosine)     |
+//! | `eval --mueller` | the same                             | 16 numbers: the Mueller matrix of f, row by row |
 //! | `sample` | `wi_x wi_y wi_z lambda_nm u1 u2x u2y`        | `wo_x wo_y wo_z weight pdf flags`  |
 //! | `albedo` | `wi_x wi_y wi_z lambda_nm`                   | `R T` (delta lobes exact)          |
+//!
+//! `--mueller` prints the polarized value, the 4 × 4 Mueller matrix of f (no cosine), row by
+//! row, in Mitsuba 3's convention: from the implicit Stokes basis (`stokes_basis`) of the incident
+//! light's travel direction to that of the outgoing light's, in the local frame (radiance mode:
+//! light travels along −wo and leaves along wi; see `gonio_core::mueller`). Its first element is
+//! `f`; a depolarizing model prints diag(f, 0, 0, 0).
 //!
 //! Blank lines and lines starting with `#` are skipped (no output). A bad line prints a message
 //! naming the line on stderr and exits with status 2. Output is flushed whenever the input
@@ -32,8 +39,15 @@ pub struct Args {
 
 #[derive(Subcommand)]
 enum Query {
-    /// `wi wo lambda_nm` → `f pdf` per line (f without the cosine).
-    Eval(Common),
+    /// `wi wo lambda_nm` → `f pdf` per line (f without the cosine); with `--mueller`, the 16
+    /// elements of f's Mueller matrix, row by row.
+    Eval {
+        #[command(flatten)]
+        common: Common,
+        /// Print the polarized value: 16 numbers per query (Mitsuba's Stokes bases).
+        #[arg(long)]
+        mueller: bool,
+    },
     /// `wi lambda_nm u1 u2x u2y` → `wo weight pdf flags` per line.
     Sample(Common),
     /// `wi lambda_nm` → `R T` per line: directional albedo, delta lobes exact.
@@ -83,7 +97,7 @@ pub fn load_material(arg: &str) -> anyhow::Result<Material> {
 /// Runs `gonio bsdf`.
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let (common, kind) = match &args.query {
-        Query::Eval(c) => (c, Kind::Eval),
+        Query::Eval { common, mueller } => (common, if *mueller { Kind::EvalMueller } else { Kind::Eval }),
         Query::Sample(c) => (c, Kind::Sample),
         Query::Albedo { common, samples } => (common, Kind::Albedo((*samples as f64).sqrt().ceil() as usize)),
     };
@@ -102,6 +116,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 #[derive(Clone, Copy)]
 enum Kind {
     Eval,
+    EvalMueller,
     Sample,
     Albedo(usize),
 }
@@ -152,6 +167,17 @@ fn answer(bsdf: &dyn Bsdf, ctx: &BsdfContext, kind: Kind, text: &str) -> anyhow:
             let wl = wavelength(v[6])?;
             let (f, pdf) = bsdf.eval_pdf(ctx, wi, wo, &wl);
             Ok(format!("{} {}", f[0], pdf))
+        }
+        Kind::EvalMueller => {
+            expect_len(&v, 7, "wi_x wi_y wi_z wo_x wo_y wo_z lambda_nm")?;
+            let wi = direction(&v[0..3], "wi")?;
+            let wo = direction(&v[3..6], "wo")?;
+            let wl = wavelength(v[6])?;
+            let m = bsdf.eval_mueller(ctx, wi, wo, &wl);
+            let elements: Vec<String> = (0..16)
+                .map(|k| format!("{}", m.get(k / 4, k % 4)[0] + 0.0))
+                .collect();
+            Ok(elements.join(" "))
         }
         Kind::Sample => {
             expect_len(&v, 7, "wi_x wi_y wi_z lambda_nm u1 u2x u2y")?;
@@ -240,6 +266,37 @@ mod tests {
         assert!((v[0] - 0.5 / std::f64::consts::PI).abs() < 1e-7);
         assert!((v[1] - 1.0 / std::f64::consts::PI).abs() < 1e-7);
         assert_eq!(lines[1], "0 0");
+    }
+
+    #[test]
+    fn eval_mueller_prints_sixteen_numbers_whose_first_is_f() {
+        // A Lambertian depolarizes: diag(f, 0, 0, 0).
+        let (code, out) = run_lines(Kind::EvalMueller, "0 0 1 0.6 0 0.8 550\n");
+        assert_eq!(code, ExitCode::SUCCESS);
+        let v: Vec<f64> = out.trim().split(' ').map(|x| x.parse().unwrap()).collect();
+        assert_eq!(v.len(), 16);
+        assert!((v[0] - 0.5 / std::f64::consts::PI).abs() < 1e-7);
+        assert!(v[1..].iter().all(|x| *x == 0.0), "{v:?}");
+        // A smooth-ish gold conductor polarizes at oblique incidence: the line is its matrix,
+        // row by row, and its M00 is eval's f.
+        let m = gonio_render::xml::load_bsdf_str(
+            r#"<bsdf type="roughconductor"><string name="material" value="Au"/><float name="alpha" value="0.3"/></bsdf>"#,
+        )
+        .unwrap();
+        let (wi, wo) = (Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.5, 0.1, 0.86).normalize());
+        let line = format!("{} {} {} {} {} {} 600", wi.x, wi.y, wi.z, wo.x, wo.y, wo.z);
+        m.with_bsdf(Vec2::splat(0.5), |bsdf| {
+            let ctx = BsdfContext::default();
+            let reply = answer(bsdf, &ctx, Kind::EvalMueller, &line).unwrap();
+            let v: Vec<f32> = reply.split(' ').map(|x| x.parse().unwrap()).collect();
+            let wl = SampledWavelengths::fixed(600.0);
+            let mm = bsdf.eval_mueller(&ctx, wi.normalize(), wo, &wl);
+            for k in 0..16 {
+                assert_eq!(v[k], mm.get(k / 4, k % 4)[0] + 0.0, "element {k}");
+            }
+            assert_eq!(v[0], bsdf.eval(&ctx, wi.normalize(), wo, &wl)[0]);
+            assert!(v[1].abs() > 1e-4 * v[0], "polarizing: {v:?}");
+        });
     }
 
     #[test]
