@@ -39,6 +39,7 @@ pub mod consistency;
 pub mod energy;
 pub mod health;
 pub mod isotropy;
+pub mod polarization;
 pub mod reciprocity;
 pub mod stochastic;
 
