@@ -14,6 +14,7 @@
 //! | `albedo_estimators` | mean sample weight = uniform-sphere integral of f·\|cos\| | [`energy`] | (ours) |
 //! | `reciprocity`, `eta2_law`, `adjoint`, `delta_reciprocity` | f(a,b) = f(b,a); f(a,b)/η_a² = f(b,a)/η_b²; f_imp(a,b) = f_rad(b,a) | [`reciprocity`] | Veach 1997, §5.2 |
 //! | `isotropy` | f under a common rotation about the normal | [`isotropy`] | lecture slide "BRDF properties" |
+//! | `mueller_physical` | `eval_mueller` and `sample_mueller` map physical Stokes vectors to physical ones (\|S1..S3\| ≤ S0) | [`polarization`] | (ours; Chipman et al., *Polarized Light and Optical Systems*, ch. 6) |
 //! | `health`, `lobe_flags` | no NaN/Inf/negative values, grazing included; flags match sides | [`health`] | (ours) |
 //! | `sample_vs_eval`, in-expectation `reciprocity`/`adjoint`/`eta2_law` | for stochastic models whose pdf is for MIS only ([`Bsdf::pdf_is_exact`]): weighted sample histogram = cell integrals of eval·\|cos\|; laws on means of reseeded evals | [`stochastic`] | (ours; Heitz et al. 2016 validate eval against sample the same way) |
 //!
@@ -368,6 +369,7 @@ pub fn battery(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult> {
     rows.extend(energy::energy(bsdf, config, alpha_row));
     rows.extend(reciprocity::reciprocity(bsdf, config));
     rows.push(isotropy::isotropy(bsdf, config));
+    rows.push(polarization::mueller_physical(bsdf, config));
     rows
 }
 
@@ -387,6 +389,7 @@ fn stochastic_battery(bsdf: &dyn Bsdf, config: &CheckConfig) -> Vec<CheckResult>
     );
     rows.extend(energy::energy(bsdf, config, alpha_row));
     rows.extend(stochastic::reciprocity_in_expectation(bsdf, config, alpha_row));
+    rows.push(polarization::mueller_physical(bsdf, config));
     rows
 }
 
