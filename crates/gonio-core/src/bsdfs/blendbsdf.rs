@@ -218,16 +218,14 @@ impl Bsdf for BlendBsdf<'_> {
             s.pdf *= p_select;
             return Some(s);
         }
-        let (_, pdf) = self.eval_pdf(ctx, wi, s.wo, wl);
+        let pdf = self.pdf(ctx, wi, s.wo, wl);
         if pdf <= 0.0 {
             return None;
         }
-        if !self.pdf_is_exact() {
-            // As in `sample`: the chosen child's exact throughput.
-            s.pdf = pdf;
-            return Some(s);
+        // With a stochastic child the chosen child's exact throughput stays, as in `sample`.
+        if self.pdf_is_exact() {
+            s.weight = self.eval_mueller(ctx, wi, s.wo, wl) * (s.wo.z.abs() / pdf);
         }
-        s.weight = self.eval_mueller(ctx, wi, s.wo, wl) * (s.wo.z.abs() / pdf);
         s.pdf = pdf;
         Some(s)
     }
