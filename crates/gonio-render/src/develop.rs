@@ -86,10 +86,7 @@ pub fn write_developed(
         FileFormat::Rgbe => encode_rgbe(image).map_err(encode_err)?,
         FileFormat::Pfm => encode_pfm(image).map_err(encode_err)?,
     };
-    crate::output::write_atomically(path, &bytes).map_err(|e| ImageError::Io {
-        path: e.path,
-        source: e.source,
-    })
+    crate::image::write_atomically(path, &bytes)
 }
 
 /// The planes `names` of `image`, or an error naming what is missing.
@@ -106,7 +103,9 @@ fn planes(image: &ChannelImage, names: &[&str]) -> Result<Vec<usize>, String> {
         .collect()
 }
 
-fn encode_exr(
+/// An OpenEXR file of `image`'s channels (one per name) with `component` values and the header
+/// text `attributes` (also `ChannelImage::write_exr`'s encoder, float32 without attributes).
+pub(crate) fn encode_exr(
     image: &ChannelImage,
     component: ComponentFormat,
     attributes: &[(String, String)],

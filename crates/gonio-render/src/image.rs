@@ -348,35 +348,12 @@ impl ChannelImage {
     }
 
     fn encode_exr(&self) -> Result<Vec<u8>, String> {
-        use exr::prelude::*;
-        if self.width == 0 || self.height == 0 || self.names.is_empty() {
-            return Err("an EXR image cannot be empty".into());
-        }
-        let n = self.names.len();
-        let mut list = SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
-        for (k, name) in self.names.iter().enumerate() {
-            let name =
-                Text::new_or_none(name.as_str()).ok_or_else(|| format!("bad channel name {name:?}"))?;
-            let plane: Vec<f32> = self.data.iter().skip(k).step_by(n).copied().collect();
-            list.push(AnyChannel::new(name, FlatSamples::F32(plane)));
-        }
-        let layer = Layer::new(
-            (self.width, self.height),
-            LayerAttributes::default(),
-            exr::image::Encoding::FAST_LOSSLESS,
-            AnyChannels::sort(list),
-        );
-        let mut cursor = Cursor::new(Vec::new());
-        Image::from_layer(layer)
-            .write()
-            .to_buffered(&mut cursor)
-            .map_err(|e| e.to_string())?;
-        Ok(cursor.into_inner())
+        crate::develop::encode_exr(self, crate::scene::ComponentFormat::Float32, &[])
     }
 }
 
 /// Writes `bytes` through the one atomic writer ([`crate::output::write_atomically`]).
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
+pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), ImageError> {
     crate::output::write_atomically(path, bytes).map_err(|e| ImageError::Io {
         path: e.path,
         source: e.source,
