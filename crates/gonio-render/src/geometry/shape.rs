@@ -166,12 +166,22 @@ pub struct PrimHit {
 
 /// A ray prepared for the watertight triangle test (Woop, Benthin and Wald 2013): the axis
 /// permutation that makes |d.z| largest and the shear constants.
+///
+/// The permutation is kept as one of its six cases ([`TriRay::perm`]) so that the test is
+/// compiled once per case with constant component indices: indexing a `Vec3` by a run-time axis
+/// number cost more than the rest of the test (a bounds-checked `match` per component).
 #[derive(Clone, Copy, Debug)]
 pub struct TriRay {
     o: Vec3,
-    k: [usize; 3],
+    /// Which `(kx, ky, kz)` of [`PERMUTATIONS`] this ray uses.
+    perm: u8,
     s: Vec3,
 }
+
+/// The six axis permutations `(kx, ky, kz)` of the watertight test: `kz` the dominant axis of
+/// the direction, `kx`, `ky` the next two in cyclic order, swapped when `d[kz] < 0` (keeps the
+/// winding).
+const PERMUTATIONS: [[usize; 3]; 6] = [[1, 2, 0], [2, 1, 0], [2, 0, 1], [0, 2, 1], [0, 1, 2], [1, 0, 2]];
 
 impl TriRay {
     /// Prepares `ray`.
@@ -185,16 +195,14 @@ impl TriRay {
         } else {
             2
         };
-        let mut kx = (kz + 1) % 3;
-        let mut ky = (kx + 1) % 3;
-        if ray.d[kz] < 0.0 {
-            std::mem::swap(&mut kx, &mut ky); // keep the winding
-        }
-        let dz = ray.d[kz];
+        let d = ray.d.to_array();
+        let perm = 2 * kz + usize::from(d[kz] < 0.0);
+        let [kx, ky, _] = PERMUTATIONS[perm];
+        let dz = d[kz];
         Self {
             o: ray.o,
-            k: [kx, ky, kz],
-            s: Vec3::new(ray.d[kx] / dz, ray.d[ky] / dz, 1.0 / dz),
+            perm: perm as u8,
+            s: Vec3::new(d[kx] / dz, d[ky] / dz, 1.0 / dz),
         }
     }
 }
@@ -204,13 +212,31 @@ impl TriRay {
 /// `(t, b1, b2)` with `p = (1 − b1 − b2)·p0 + b1·p1 + b2·p2`, for `0 < t < tmax`.
 #[inline]
 pub fn intersect_triangle(p0: Vec3, p1: Vec3, p2: Vec3, r: &TriRay, tmax: f32) -> Option<(f32, f32, f32)> {
-    let [kx, ky, kz] = r.k;
-    let a = p0 - r.o;
-    let b = p1 - r.o;
-    let c = p2 - r.o;
-    let (ax, ay) = (a[kx] - r.s.x * a[kz], a[ky] - r.s.y * a[kz]);
-    let (bx, by) = (b[kx] - r.s.x * b[kz], b[ky] - r.s.y * b[kz]);
-    let (cx, cy) = (c[kx] - r.s.x * c[kz], c[ky] - r.s.y * c[kz]);
+    match r.perm {
+        0 => woop::<1, 2, 0>(p0, p1, p2, r, tmax),
+        1 => woop::<2, 1, 0>(p0, p1, p2, r, tmax),
+        2 => woop::<2, 0, 1>(p0, p1, p2, r, tmax),
+        3 => woop::<0, 2, 1>(p0, p1, p2, r, tmax),
+        4 => woop::<0, 1, 2>(p0, p1, p2, r, tmax),
+        _ => woop::<1, 0, 2>(p0, p1, p2, r, tmax),
+    }
+}
+
+/// [`intersect_triangle`] for the permutation `(KX, KY, KZ)`.
+#[inline(always)]
+fn woop<const KX: usize, const KY: usize, const KZ: usize>(
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+    r: &TriRay,
+    tmax: f32,
+) -> Option<(f32, f32, f32)> {
+    let a = (p0 - r.o).to_array();
+    let b = (p1 - r.o).to_array();
+    let c = (p2 - r.o).to_array();
+    let (ax, ay) = (a[KX] - r.s.x * a[KZ], a[KY] - r.s.y * a[KZ]);
+    let (bx, by) = (b[KX] - r.s.x * b[KZ], b[KY] - r.s.y * b[KZ]);
+    let (cx, cy) = (c[KX] - r.s.x * c[KZ], c[KY] - r.s.y * c[KZ]);
     let mut u = cx * by - cy * bx;
     let mut v = ax * cy - ay * cx;
     let mut w = bx * ay - by * ax;
@@ -227,7 +253,7 @@ pub fn intersect_triangle(p0: Vec3, p1: Vec3, p2: Vec3, r: &TriRay, tmax: f32) -
     if det == 0.0 {
         return None;
     }
-    let (az, bz, cz) = (r.s.z * a[kz], r.s.z * b[kz], r.s.z * c[kz]);
+    let (az, bz, cz) = (r.s.z * a[KZ], r.s.z * b[KZ], r.s.z * c[KZ]);
     let t_scaled = u * az + v * bz + w * cz;
     if det < 0.0 {
         if t_scaled >= 0.0 || t_scaled < tmax * det {
