@@ -242,6 +242,20 @@ impl RgbSpectrum {
             _ => v,
         }
     }
+
+    /// Values at the four wavelengths of a path, each equal bit for bit to [`Self::eval`]'s (the
+    /// sigmoid polynomial evaluated four lanes at once).
+    #[inline]
+    pub fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
+        let lambda = glam::Vec4::from_array(wl.lambdas());
+        let v = glam::Vec4::splat(self.scale) * self.sigmoid.eval4(lambda);
+        match self.kind {
+            RgbKind::Illuminant => {
+                SampledSpectrum(v * glam::Vec4::from_array(wl.lambdas().map(d65_normalized)))
+            }
+            _ => SampledSpectrum(v),
+        }
+    }
 }
 
 /// Planck's law: spectral radiance of a blackbody at `lambda_nm` and `temperature_k`, in
@@ -459,6 +473,7 @@ impl Spectrum {
     pub fn sample(&self, wl: &SampledWavelengths) -> SampledSpectrum {
         match self {
             Spectrum::Constant(v) => SampledSpectrum::splat(*v),
+            Spectrum::Rgb(r) => r.sample(wl),
             _ => SampledSpectrum::from_fn(|i| self.eval(wl.lambda(i))),
         }
     }
