@@ -7,6 +7,9 @@
 //! indirection per candidate; triangles carry their three vertices inline. The choice of crate and
 //! its measured speed are in `ARCHITECTURE.md` and `benches/accel.rs`.
 //!
+//! Scenes of at most 16 primitives skip the BVH: their boxes are tested four at a time from a
+//! flat list (`accel/flat.rs`, where the measurement that chose this is).
+//!
 //! [`Intersect`] is the interface the integrator uses; [`BruteForce`] implements it by testing
 //! every primitive and serves as the test oracle for [`Accel`].
 
@@ -16,6 +19,8 @@ use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::CwBvh;
 use std::time::Duration;
+
+mod flat;
 
 /// Ray queries against a set of shapes.
 pub trait Intersect {
@@ -44,6 +49,8 @@ enum Prim {
 pub struct Accel {
     shapes: Vec<WorldShape>,
     bvh: Option<CwBvh>,
+    /// Used instead of `bvh` for a few primitives (then `prims` are in scene order).
+    flat: Option<flat::FlatBoxes>,
     prims: Vec<Prim>,
     build_time: Duration,
 }
@@ -148,11 +155,21 @@ impl Accel {
             return Self {
                 shapes,
                 bvh: None,
+                flat: None,
                 prims,
                 build_time,
             };
         }
         let aabbs: Vec<Aabb> = prims.iter().map(|p| prim_aabb(&shapes, p)).collect();
+        if prims.len() <= flat::MAX_PRIMS {
+            return Self {
+                shapes,
+                bvh: None,
+                flat: Some(flat::FlatBoxes::new(&aabbs)),
+                prims,
+                build_time,
+            };
+        }
         let start = std::time::Instant::now();
         let bvh = obvhs::cwbvh::builder::build_cwbvh(
             &aabbs,
@@ -164,6 +181,7 @@ impl Accel {
         Self {
             shapes,
             bvh: Some(bvh),
+            flat: None,
             prims,
             build_time,
         }
@@ -182,6 +200,11 @@ impl Accel {
 
 impl Intersect for Accel {
     fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        if let Some(flat) = &self.flat {
+            let (h, id) = flat.closest(&self.shapes, &self.prims, ray)?;
+            let (shape, prim) = prim_ids(&self.prims[id]);
+            return Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h));
+        }
         let bvh = self.bvh.as_ref()?;
         let tri = TriRay::new(ray);
         let mut best: Option<(PrimHit, usize)> = None;
@@ -206,6 +229,9 @@ impl Intersect for Accel {
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
+        if let Some(flat) = &self.flat {
+            return flat.any(&self.shapes, &self.prims, ray);
+        }
         let Some(bvh) = self.bvh.as_ref() else {
             return false;
         };
@@ -219,6 +245,9 @@ impl Intersect for Accel {
     }
 
     fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
+        if let Some(flat) = &self.flat {
+            return flat.each(&self.shapes, &self.prims, ray, f);
+        }
         let Some(bvh) = self.bvh.as_ref() else {
             return false;
         };

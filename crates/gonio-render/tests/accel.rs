@@ -1,4 +1,4 @@
-//! The obvhs-backed `Accel` against the brute-force oracle on random mixed scenes.
+//! The `Accel` (obvhs BVH, or the flat box list of small scenes) against the brute-force oracle on random mixed scenes.
 
 use glam::{Affine3A, Quat, Vec3};
 use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
@@ -380,6 +380,114 @@ fn straight_up_shadow_ray_is_blocked_by_a_sphere_above() {
         assert!(
             accel.for_each_hit(&ray, &mut |h| h.shape == 0),
             "any-hit from {o}"
+        );
+    }
+}
+
+/// A scene of `n_tris + 8` primitives: 3 spheres, 2 rectangles, 2 disks, an axis-aligned
+/// triangle (flat box) and `n_tris` random triangles — small enough for the flat box list when
+/// `n_tris <= 8`, the BVH above.
+fn small_scene(rng: &mut Rng, n_tris: u32) -> Vec<WorldShape> {
+    let mut shapes = Vec::new();
+    for _ in 0..3 {
+        let (c, r) = (rng.v3(-3.0, 3.0), rng.range(0.3, 1.2));
+        shapes.push(shape(
+            Geometry::Sphere { center: c, radius: r },
+            Affine3A::IDENTITY,
+        ));
+    }
+    for g in [
+        Geometry::Rectangle,
+        Geometry::Rectangle,
+        Geometry::Disk,
+        Geometry::Disk,
+    ] {
+        let q = Quat::from_scaled_axis(rng.v3(-2.0, 2.0));
+        let m =
+            Affine3A::from_scale_rotation_translation(Vec3::splat(rng.range(0.5, 2.0)), q, rng.v3(-3.0, 3.0));
+        shapes.push(shape(g, m));
+    }
+    let mut mesh = TriangleMesh {
+        positions: vec![
+            Vec3::new(-4.0, -4.0, -3.5),
+            Vec3::new(4.0, -4.0, -3.5),
+            Vec3::new(0.0, 4.0, -3.5),
+        ],
+        indices: vec![[0, 1, 2]],
+        ..Default::default()
+    };
+    for i in 1..=n_tris {
+        let c = rng.v3(-3.0, 3.0);
+        for _ in 0..3 {
+            mesh.positions.push(c + rng.v3(-1.0, 1.0));
+        }
+        mesh.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
+    }
+    shapes.push(shape(Geometry::Mesh(Arc::new(mesh)), Affine3A::IDENTITY));
+    shapes
+        .iter()
+        .enumerate()
+        .map(|(i, s)| WorldShape::from_scene(s, &i.to_string()).unwrap())
+        .collect()
+}
+
+#[test]
+fn small_scenes_agree_with_brute_force_on_both_sides_of_the_flat_list_limit() {
+    // 15 and 16 primitives take the flat box list, 17 the BVH; random and axis-aligned rays,
+    // every query, against the oracle.
+    let dirs = axis_aligned_directions();
+    for (seed, n_tris) in [(11u64, 7u32), (12, 8), (13, 9)] {
+        let mut rng = Rng(seed);
+        let shapes = small_scene(&mut rng, n_tris);
+        let accel = Accel::new(shapes.clone());
+        let brute = BruteForce::new(shapes);
+        assert_eq!(accel.prim_count(), n_tris as usize + 8);
+        let (mut hits, mut misses) = (0, 0);
+        for i in 0..6000 {
+            let d = if i % 2 == 0 {
+                rng.dir()
+            } else {
+                dirs[(i / 2) % dirs.len()]
+            };
+            let mut ray = Ray::new(rng.v3(-3.5, 3.5), d);
+            if i % 3 == 0 {
+                ray.tmax = rng.range(0.5, 6.0);
+            }
+            let a = accel.intersect(&ray).map(|h| (h.t, h.shape, h.prim));
+            let b = brute.intersect(&ray).map(|h| (h.t, h.shape, h.prim));
+            match (a, b) {
+                (None, None) => misses += 1,
+                (Some(a), Some(b)) => {
+                    hits += 1;
+                    assert!(
+                        (a.0 - b.0).abs() <= 1e-5 * a.0.max(1.0),
+                        "{n_tris} triangles, ray {i} {ray:?}: {a:?} vs {b:?}"
+                    );
+                }
+                _ => panic!("{n_tris} triangles, closest hit, ray {i} {ray:?}: accel {a:?} vs brute {b:?}"),
+            }
+            assert_eq!(
+                accel.occluded(&ray),
+                b.is_some(),
+                "{n_tris} triangles, occlusion, ray {i} {ray:?}"
+            );
+            let mut ta = Vec::new();
+            accel.for_each_hit(&ray, &mut |h| {
+                ta.push((h.shape, h.prim));
+                false
+            });
+            let mut tb = Vec::new();
+            brute.for_each_hit(&ray, &mut |h| {
+                tb.push((h.shape, h.prim));
+                false
+            });
+            ta.sort();
+            tb.sort();
+            assert_eq!(ta, tb, "{n_tris} triangles, any-hit, ray {i} {ray:?}");
+        }
+        assert!(
+            hits > 600 && misses > 600,
+            "{n_tris} triangles: {hits} hits, {misses} misses"
         );
     }
 }
