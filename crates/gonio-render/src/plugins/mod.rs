@@ -73,6 +73,11 @@ pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
     &shape::ply::PLUGIN,
     &shape::serialized::PLUGIN,
     &shape::cylinder::PLUGIN,
+    &shape::shapegroup::PLUGIN,
+    &shape::instance::PLUGIN,
+    &shape::sdfgrid::PLUGIN,
+    &shape::linearcurve::PLUGIN,
+    &shape::bsplinecurve::PLUGIN,
 ];
 
 /// `<emitter>` plugins attached to a shape (nested in a `<shape>`).
