@@ -107,6 +107,12 @@ const SCENES: &[(&str, f64)] = &[
     ("shape_cylinder_onesided", 5.60e-4),
     ("shape_cylinder_twosided", 5.86e-4),
     ("bsdf_roughconductor_textured_carbon_cells_swapped", 7.88e-4),
+    ("shape_sdfgrid", 1.0),
+    ("shape_sdfgrid_analytic", 1.0),
+    ("shape_linearcurve_basic", 1.0),
+    ("shape_linearcurve_parameterization", 1.0),
+    ("shape_bsplinecurve_basic", 1.0),
+    ("shape_bsplinecurve_parameterization", 1.0),
 ];
 
 fn corpus() -> PathBuf {
