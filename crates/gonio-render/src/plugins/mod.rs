@@ -32,6 +32,10 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
     &integrator::path::PLUGIN,
     &integrator::direct::PLUGIN,
     &integrator::depth::PLUGIN,
+    &integrator::prb::PRB,
+    &integrator::prb::PRB_BASIC,
+    &integrator::prb::PRB_PROJECTIVE,
+    &integrator::prb::DIRECT_PROJECTIVE,
 ];
 
 /// `<sensor>` plugins.
