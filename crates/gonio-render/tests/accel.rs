@@ -537,6 +537,27 @@ mod instancing {
             }
         }
         assert!(hits > 800, "only {hits} hits");
+        // Any-hit queries see every hit inside an instance, as in the flat scene.
+        let mut crossings = 0;
+        for _ in 0..3000 {
+            let ray = Ray::new(rng.v3(-7.0, 7.0), rng.dir());
+            let count = |b: &dyn Intersect| {
+                let mut ts = Vec::new();
+                b.for_each_hit(&ray, &mut |si| {
+                    ts.push(si.t);
+                    false
+                });
+                ts.sort_by(f32::total_cmp);
+                ts
+            };
+            let (a, b) = (count(&inst), count(&flat));
+            assert_eq!(a.len(), b.len(), "{a:?} vs {b:?}");
+            for (x, y) in a.iter().zip(&b) {
+                assert!((x - y).abs() <= 2e-4 * x.max(1.0), "{a:?} vs {b:?}");
+            }
+            crossings += a.len();
+        }
+        assert!(crossings > 500, "{crossings}");
     }
 
     #[test]

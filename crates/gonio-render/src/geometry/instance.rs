@@ -16,9 +16,8 @@
 //! scaled by |det M|^(2/3), exact for similarities (it only enters the scene-area statistics, as
 //! instances cannot emit).
 //!
-//! Limitation: a shadow ray's any-hit query ([`crate::accel::Intersect::for_each_hit`]) sees
-//! the closest hit of each instanced member only, so two `thindielectric` sheets inside one
-//! instanced mesh attenuate a shadow ray once.
+//! Any-hit queries ([`crate::accel::Intersect::for_each_hit`], shadow rays through thin sheets)
+//! visit every hit inside an instance ([`Instance::for_each_hit`]).
 
 use super::shape::{GeometryError, PrimHit};
 use super::{Ray, SurfaceInteraction, WorldShape};
@@ -162,6 +161,28 @@ impl Instance {
                 prim: 0,
             },
         }
+    }
+
+    /// Calls `f` with the world record of every hit of the member in `(0, ray.tmax)` (shape
+    /// index `shape`) until it returns `true`; returns whether it stopped.
+    pub fn for_each_hit(
+        &self,
+        ray: &Ray,
+        shape: u32,
+        f: &mut dyn FnMut(&SurfaceInteraction) -> bool,
+    ) -> bool {
+        let Some((local, len)) = self.local_ray(ray) else {
+            return false;
+        };
+        self.inner.for_each_hit(&local, &mut |si| {
+            let t = si.t / len;
+            if !(t > 0.0 && t < ray.tmax) {
+                return false;
+            }
+            let mut w = self.to_world_record(si, t);
+            w.shape = shape;
+            f(&w)
+        })
     }
 
     /// A group-space record carried to the world.
