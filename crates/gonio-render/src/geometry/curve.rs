@@ -6,7 +6,9 @@
 //! r(s): the envelope of the spheres. At parameter s the envelope touches the sphere along the
 //! circle of centre and radius
 //!
-//!     c(s) − r r′ c′/|c′|²,    r √(1 − r′²/|c′|²),
+//! ```text
+//! c(s) − r r′ c′/|c′|²,    r √(1 − r′²/|c′|²),
+//! ```
 //!
 //! whose points p have the outward normal (p − c(s))/r(s) (for a constant radius, a cylinder of
 //! radius r around c).

@@ -8,7 +8,9 @@
 //! BVH is the top level over their world bounds, and a candidate ray is carried into the group's
 //! space and traced through the member's BVH:
 //!
-//!     o' = M⁻¹ o,   d' = M⁻¹ d / |M⁻¹ d|,   t = t' / |M⁻¹ d|
+//! ```text
+//! o' = M⁻¹ o,   d' = M⁻¹ d / |M⁻¹ d|,   t = t' / |M⁻¹ d|
+//! ```
 //!
 //! Hit points map back with `M`, tangents with `M`, normals with the inverse transpose `M⁻ᵀ`
 //! (renormalized), as Mitsuba's instance does. Mitsuba refuses emitters, sensors and nested

@@ -5,7 +5,9 @@
 //! Sample (i, j, k) sits at (i/(nx−1), j/(ny−1), k/(nz−1)). Inside voxel (i, j, k), with local
 //! coordinates q ∈ [0, 1]³ and corner values s₀…s₇ (index x + 2y + 4z),
 //!
-//!     f(q) = trilerp(s, q),
+//! ```text
+//! f(q) = trilerp(s, q),
+//! ```
 //!
 //! and along a ray q(t) = q₀ + t·d f is a cubic in t (Hansson-Söderlund, Evans and
 //! Akenine-Möller, "Ray Tracing of Signed Distance Function Grids", JCGT 11(3), 2022). Only
