@@ -100,6 +100,21 @@ fn prim_test(shapes: &[WorldShape], p: &Prim, ray: &Ray, tri: &TriRay) -> Option
     }
 }
 
+/// The instance behind a primitive, if it is one: any-hit queries visit every hit inside it.
+#[inline]
+fn instance_prim<'a>(
+    shapes: &'a [WorldShape],
+    p: &Prim,
+) -> Option<(u32, &'a crate::geometry::instance::Instance)> {
+    match *p {
+        Prim::Analytic { shape } => match &shapes[shape as usize].kind {
+            ShapeKind::Instance(i) => Some((shape, i)),
+            _ => None,
+        },
+        Prim::Tri { .. } => None,
+    }
+}
+
 #[inline]
 fn prim_ids(p: &Prim) -> (u32, u32) {
     match *p {
@@ -258,6 +273,10 @@ impl Intersect for Accel {
             if stopped {
                 return;
             }
+            if let Some((shape, inst)) = instance_prim(&self.shapes, &self.prims[id]) {
+                stopped = inst.for_each_hit(ray, shape, f);
+                return;
+            }
             if let Some(h) = prim_test(&self.shapes, &self.prims[id], ray, &tri) {
                 let (shape, prim) = prim_ids(&self.prims[id]);
                 let si = self.shapes[shape as usize].interaction(shape, prim as usize, ray, h);
@@ -313,6 +332,12 @@ impl Intersect for BruteForce {
     fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
         let tri = TriRay::new(ray);
         for p in &self.prims {
+            if let Some((shape, inst)) = instance_prim(&self.shapes, p) {
+                if inst.for_each_hit(ray, shape, f) {
+                    return true;
+                }
+                continue;
+            }
             if let Some(h) = prim_test(&self.shapes, p, ray, &tri) {
                 let (shape, prim) = prim_ids(p);
                 if f(&self.shapes[shape as usize].interaction(shape, prim as usize, ray, h)) {

@@ -369,6 +369,20 @@ pub enum Geometry {
     Disk,
     /// A triangle mesh (`obj`, `ply`, `cube`).
     Mesh(Arc<TriangleMesh>),
+    /// `shapegroup`: shapes made available for instancing, not rendered by themselves (the
+    /// scene reader leaves it out of [`Scene::shapes`]).
+    Group(Arc<crate::geometry::instance::ShapeGroup>),
+    /// `instance`: a [`Geometry::Group`] placed by `to_world`. The reader expands an instance
+    /// into one shape per member of its group (`member: Some(i)`, with that member's material),
+    /// all sharing the group's geometry and acceleration structure.
+    Instance {
+        /// The group.
+        group: Arc<crate::geometry::instance::ShapeGroup>,
+        /// The member this shape stands for (`None` before expansion).
+        member: Option<usize>,
+    },
+    /// `sdfgrid`: a signed distance function sampled on a grid over the unit cube.
+    SdfGrid(Arc<crate::geometry::sdfgrid::SdfGrid>),
 }
 
 /// An indexed triangle mesh in object space.

@@ -48,6 +48,9 @@ fn required(name: &str) -> &'static str {
         "bitmap" | "envmap" => "<string name=\"filename\" value=\"rgbw.png\"/>",
         "blackbody" => "<float name=\"temperature\" value=\"3000\"/>",
         "thinlens" => "<float name=\"aperture_radius\" value=\"0.1\"/>",
+        "instance" => "<shape type=\"shapegroup\"><shape type=\"sphere\"/></shape>",
+        "sdfgrid" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
+        "linearcurve" | "bsplinecurve" => "<string name=\"filename\" value=\"curve.txt\"/>",
         _ => "",
     }
 }

@@ -496,3 +496,113 @@ fn a_scene_version_newer_than_gonio_understands_is_an_error() {
     check(&e, ErrorKind::BadValue, at(t, "4.0.0"), &["4.0.0"]);
     assert!(e.to_string().contains("newer than gonio understands"), "{e}");
 }
+
+/// `shapegroup`, `instance`, `sdfgrid` and the curves: missing and corrupt files, instances of
+/// unknown or wrong objects, what a group may not hold.
+#[test]
+fn instancing_sdf_and_curve_errors() {
+    let group = "    <shape type=\"shapegroup\" id=\"g\"><shape type=\"sphere\"/></shape>\n";
+    let t = scene(&format!(
+        "{group}    <shape type=\"instance\"><ref id=\"nogroup\"/></shape>"
+    ));
+    let e = load_err(&t);
+    assert!(e.to_string().contains("nogroup"), "{e}");
+    assert_eq!(e.location.line, at(&t, "nogroup").0, "{e}");
+    let t =
+        scene("    <bsdf type=\"diffuse\" id=\"b\"/>\n    <shape type=\"instance\"><ref id=\"b\"/></shape>");
+    let e = load_err(&t);
+    assert!(e.to_string().contains("shapegroup"), "{e}");
+    let t =
+        scene("    <shape type=\"sphere\" id=\"s\"/>\n    <shape type=\"instance\"><ref id=\"s\"/></shape>");
+    check(
+        &load_err(&t),
+        ErrorKind::BadValue,
+        at(&t, "<ref id=\"s\""),
+        &["\"sphere\""],
+    );
+    let t = scene("    <shape type=\"instance\"/>");
+    check(
+        &load_err(&t),
+        ErrorKind::Grammar,
+        at(&t, "<shape type=\"instance\""),
+        &["shapegroup"],
+    );
+    let t = scene(&format!(
+        "{group}    <shape type=\"instance\"><ref id=\"g\"/><ref id=\"g\"/></shape>"
+    ));
+    let e = load_err(&t);
+    assert!(e.to_string().contains("single shapegroup"), "{e}");
+    let t = scene(&format!(
+        "{group}    <shape type=\"instance\"><ref id=\"g\"/><boolean name=\"flip_normals\" value=\"true\"/></shape>"
+    ));
+    check(
+        &load_err(&t),
+        ErrorKind::UnusedParameter,
+        at(&t, "<boolean"),
+        &["flip_normals"],
+    );
+    let t = scene(
+        "    <shape type=\"shapegroup\" id=\"g\"><shape type=\"sphere\"><emitter type=\"area\"/></shape></shape>",
+    );
+    let e = load_err(&t);
+    assert!(e.to_string().contains("instancing of emitters"), "{e}");
+    let t = scene(&format!(
+        "{group}    <shape type=\"shapegroup\" id=\"h\"><shape type=\"instance\"><ref id=\"g\"/></shape></shape>"
+    ));
+    let e = load_err(&t);
+    assert!(e.to_string().contains("nested instancing"), "{e}");
+    // A group and an instance load; the group alone adds no shape, the instance one per member.
+    let t = scene(&format!(
+        "{group}    <shape type=\"instance\"><ref id=\"g\"/></shape>\n    <shape type=\"instance\"><ref id=\"g\"/></shape>"
+    ));
+    assert_eq!(load_scene_str(&t, data(), &[]).unwrap().shapes.len(), 2);
+
+    let t = scene("    <shape type=\"sdfgrid\"><string name=\"filename\" value=\"missing.vol\"/></shape>");
+    check(
+        &load_err(&t),
+        ErrorKind::Io,
+        at(&t, "missing.vol"),
+        &["\"missing.vol\""],
+    );
+    let t = scene("    <shape type=\"sdfgrid\"><string name=\"filename\" value=\"quad.obj\"/></shape>");
+    check(
+        &load_err(&t),
+        ErrorKind::BadValue,
+        at(&t, "quad.obj"),
+        &["\"quad.obj\"", "VOL"],
+    );
+    let t = scene(
+        "    <shape type=\"sdfgrid\"><string name=\"filename\" value=\"sphere_sdf.vol\"/><string name=\"normals\" value=\"flat\"/></shape>",
+    );
+    check(
+        &load_err(&t),
+        ErrorKind::BadValue,
+        at(&t, "flat"),
+        &["\"flat\"", "analytic"],
+    );
+    let t = scene(
+        "    <shape type=\"sdfgrid\"><string name=\"filename\" value=\"sphere_sdf.vol\"/><emitter type=\"area\"/></shape>",
+    );
+    let e = load_err(&t);
+    assert!(e.to_string().contains("cannot be an area emitter"), "{e}");
+    for ty in ["linearcurve", "bsplinecurve"] {
+        let t = scene(&format!(
+            "    <shape type=\"{ty}\"><string name=\"filename\" value=\"missing.txt\"/></shape>"
+        ));
+        check(
+            &load_err(&t),
+            ErrorKind::Io,
+            at(&t, "missing.txt"),
+            &["\"missing.txt\""],
+        );
+        let t = scene(&format!(
+            "    <shape type=\"{ty}\"><string name=\"filename\" value=\"quad.obj\"/></shape>"
+        ));
+        check(
+            &load_err(&t),
+            ErrorKind::Mesh,
+            at(&t, "quad.obj"),
+            &["\"quad.obj\"", "line "],
+        );
+    }
+}

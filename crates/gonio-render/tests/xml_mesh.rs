@@ -248,3 +248,441 @@ fn a_mesh_named_in_an_included_fragment_resolves_against_the_scene_folder() {
         .expect_err("the fragment's copy");
     assert!(e.to_string().contains("fragments/meshes/quad.obj"), "{e}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// `sdfgrid`: intersections against closed forms and a dense march; `.vol` errors.
+
+mod sdfgrid {
+    use glam::Vec3;
+    use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
+    use gonio_render::geometry::sdfgrid::{SdfGrid, SdfNormals, VolGrid, read_vol};
+
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> f32 {
+            self.0 = self.0.wrapping_add(GOLDEN_GAMMA);
+            unit_f32(mix64(self.0))
+        }
+        fn v3(&mut self, a: f32, b: f32) -> Vec3 {
+            Vec3::new(self.next(), self.next(), self.next()) * (b - a) + Vec3::splat(a)
+        }
+        fn dir(&mut self) -> Vec3 {
+            let z = 1.0 - 2.0 * self.next();
+            let r = (1.0 - z * z).max(0.0).sqrt();
+            let phi = std::f32::consts::TAU * self.next();
+            Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        }
+    }
+
+    fn grid(n: [usize; 3], f: impl Fn(Vec3) -> f32, normals: SdfNormals) -> SdfGrid {
+        let mut data = Vec::new();
+        for z in 0..n[2] {
+            for y in 0..n[1] {
+                for x in 0..n[0] {
+                    let p = Vec3::new(
+                        x as f32 / (n[0] - 1) as f32,
+                        y as f32 / (n[1] - 1) as f32,
+                        z as f32 / (n[2] - 1) as f32,
+                    );
+                    data.push(f(p));
+                }
+            }
+        }
+        let vol = VolGrid {
+            res: n,
+            channels: 1,
+            bounds: (Vec3::ZERO, Vec3::ONE),
+            data,
+        };
+        SdfGrid::new(vol, normals).unwrap()
+    }
+
+    fn axis_dirs() -> Vec<Vec3> {
+        let mut v = Vec::new();
+        for a in 0..3 {
+            for s in [1.0f32, -1.0] {
+                let mut d = Vec3::splat(0.0);
+                d[a] = s;
+                v.push(d);
+                let mut e = Vec3::splat(-0.0);
+                e[a] = s;
+                v.push(e);
+            }
+        }
+        v
+    }
+
+    /// A plane's distance is linear, so the trilinear interpolant is the plane exactly: every
+    /// hit is the analytic one, normals (both kinds) are the plane's.
+    #[test]
+    fn plane_grid_hits_the_plane_exactly() {
+        let n = Vec3::new(0.3, -0.5, 0.8).normalize();
+        let d0 = n.dot(Vec3::splat(0.5)) + 0.03;
+        for normals in [SdfNormals::Analytic, SdfNormals::Smooth] {
+            let g = grid([9, 7, 12], |p| n.dot(p) - d0, normals);
+            let mut rng = Rng(3);
+            let mut dirs = axis_dirs();
+            for _ in 0..3000 {
+                dirs.push(rng.dir());
+            }
+            let mut hits = 0;
+            for d in dirs {
+                for _ in 0..3 {
+                    let o = rng.v3(-0.5, 1.5);
+                    let t_plane = (d0 - n.dot(o)) / n.dot(d);
+                    let p = o + d * t_plane;
+                    let expected = t_plane > 0.0 && p.cmpge(Vec3::ZERO).all() && p.cmple(Vec3::ONE).all();
+                    let margin = p.min_element().min((Vec3::ONE - p).min_element()).abs();
+                    let got = g.intersect(o, d, f32::INFINITY);
+                    if margin < 1e-3 || t_plane.abs() < 1e-3 || !t_plane.is_finite() {
+                        continue; // grazing the cube's faces or starting on the plane
+                    }
+                    match got {
+                        Some((t, voxel)) => {
+                            assert!(expected, "hit at {t} where the plane is missed (o {o}, d {d})");
+                            assert!(
+                                (t - t_plane).abs() < 1e-4 * t_plane.max(1.0),
+                                "t {t} vs {t_plane}"
+                            );
+                            let q = o + d * t;
+                            assert!(g.gradient(voxel, q).normalize().dot(n) > 0.9999);
+                            // Mitsuba's smooth normals blend in clamped (flat) differences
+                            // within a voxel of the grid's upper faces: checked inside.
+                            if q.min_element() > 0.25 && q.max_element() < 0.75 {
+                                assert!(g.smooth_normal(q).normalize().dot(n) > 0.9999);
+                            }
+                            hits += 1;
+                        }
+                        None => assert!(!expected, "missed the plane at t {t_plane} (o {o}, d {d})"),
+                    }
+                }
+            }
+            assert!(hits > 500, "{hits}");
+        }
+    }
+
+    /// A sphere's distance sampled on 33³ points: the first hit agrees with a dense march of the
+    /// same interpolant, and lies on the sphere within the interpolation error.
+    #[test]
+    fn sphere_grid_hits_agree_with_a_dense_march() {
+        let c = Vec3::new(0.5, 0.48, 0.52);
+        let r = 0.3;
+        let g = grid([33, 33, 33], |p| (p - c).length() - r, SdfNormals::Smooth);
+        let mut rng = Rng(11);
+        let mut dirs = axis_dirs();
+        for _ in 0..600 {
+            dirs.push(rng.dir());
+        }
+        let mut hits = 0;
+        for d in dirs {
+            let o = c - d * 1.2 + rng.v3(-0.25, 0.25);
+            let got = g.intersect(o, d, f32::INFINITY);
+            // March the same interpolant in steps of 2e-4 from where the ray enters [0, 1]³.
+            let (mut t, mut prev) = (0.0f32, None::<f32>);
+            let mut marched = None;
+            while t < 3.0 {
+                let p = o + d * t;
+                if p.cmpge(Vec3::ZERO).all() && p.cmple(Vec3::ONE).all() {
+                    let f = g.value(p);
+                    if let Some(fp) = prev
+                        && fp > 0.0
+                        && f <= 0.0
+                    {
+                        marched = Some(t);
+                        break;
+                    }
+                    prev = Some(f);
+                }
+                t += 2e-4;
+            }
+            match (got, marched) {
+                (Some((t, voxel)), Some(m)) => {
+                    hits += 1;
+                    assert!((t - m).abs() < 3e-4, "t {t} vs march {m}");
+                    let p = o + d * t;
+                    assert!(
+                        ((p - c).length() - r).abs() < 2e-3,
+                        "off the sphere by {}",
+                        (p - c).length() - r
+                    );
+                    let n = g.gradient(voxel, p).normalize();
+                    assert!(n.dot((p - c).normalize()) > 0.99, "{n}");
+                    assert!(g.smooth_normal(p).normalize().dot((p - c).normalize()) > 0.99);
+                }
+                (None, None) => {}
+                (a, b) => panic!("dir {d}: intersect {a:?} vs march {b:?}"),
+            }
+        }
+        assert!(hits > 300, "{hits}");
+    }
+
+    fn vol(header: [i32; 5], bounds: [f32; 6], data: &[f32]) -> Vec<u8> {
+        let mut b = b"VOL\x03".to_vec();
+        for v in header {
+            b.extend(v.to_le_bytes());
+        }
+        for v in bounds {
+            b.extend(v.to_le_bytes());
+        }
+        for v in data {
+            b.extend(v.to_le_bytes());
+        }
+        b
+    }
+
+    #[test]
+    fn vol_files_are_read_and_bad_ones_refused_with_a_reason() {
+        let data: Vec<f32> = (0..8).map(|i| if i == 0 { -1.0 } else { 1.0 }).collect();
+        let ok = vol([1, 2, 2, 2, 1], [0., 0., 0., 1., 1., 1.], &data);
+        let v = read_vol(&ok).unwrap();
+        assert_eq!((v.res, v.channels, v.data.len()), ([2, 2, 2], 1, 8));
+        assert!(SdfGrid::new(v, SdfNormals::Smooth).is_ok());
+        let msg = |b: &[u8]| read_vol(b).unwrap_err();
+        assert!(msg(&ok[..40]).contains("header"));
+        assert!(msg(&ok[..ok.len() - 4]).contains("bytes"));
+        let mut magic = ok.clone();
+        magic[0] = b'X';
+        assert!(msg(&magic).contains("VOL"));
+        let mut version = ok.clone();
+        version[3] = 2;
+        assert!(msg(&version).contains("version 2"));
+        assert!(msg(&vol([2, 2, 2, 2, 1], [0.; 6], &data)).contains("encoding 2"));
+        assert!(msg(&vol([1, 1 << 30, 1 << 30, 4, 1], [0.; 6], &data)).contains("needs more data"));
+        assert!(msg(&vol([1, -2, 2, 2, 1], [0.; 6], &data)).contains("resolution"));
+        let three = read_vol(&vol([1, 2, 2, 2, 3], [0.; 6], &[0.0; 24])).unwrap();
+        assert!(
+            SdfGrid::new(three, SdfNormals::Smooth)
+                .unwrap_err()
+                .contains("3 channels")
+        );
+        let flat = read_vol(&vol([1, 1, 2, 2, 1], [0.; 6], &[1.0; 4])).unwrap();
+        assert!(
+            SdfGrid::new(flat, SdfNormals::Smooth)
+                .unwrap_err()
+                .contains("at least 2")
+        );
+        let empty = read_vol(&vol([1, 2, 2, 2, 1], [0.; 6], &[1.0; 8])).unwrap();
+        assert!(
+            SdfGrid::new(empty, SdfNormals::Smooth)
+                .unwrap_err()
+                .contains("no voxel")
+        );
+        let nan = read_vol(&vol([1, 2, 2, 2, 1], [0.; 6], &[f32::NAN; 8])).unwrap();
+        assert!(
+            SdfGrid::new(nan, SdfNormals::Smooth)
+                .unwrap_err()
+                .contains("not a finite")
+        );
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// `linearcurve`, `bsplinecurve`: hits against Mitsuba 3.9.1 and errors.
+
+mod curves {
+    use glam::{Affine3A, Vec2, Vec3};
+    use gonio_render::accel::{BruteForce, Intersect};
+    use gonio_render::geometry::curve::{CurveKind, parse_curves, tessellate};
+    use gonio_render::geometry::{Ray, WorldShape};
+    use gonio_render::scene::{Geometry, ShapeDesc};
+    use std::sync::Arc;
+
+    fn curve(text: &str, kind: CurveKind) -> BruteForce {
+        let curves = parse_curves(text, kind, &Affine3A::IDENTITY).unwrap();
+        let desc = ShapeDesc {
+            geometry: Geometry::Mesh(Arc::new(tessellate(&curves, kind))),
+            to_world: Affine3A::IDENTITY,
+            flip_normals: false,
+            face_normals: false,
+            material: 0,
+            emitter: None,
+            id: None,
+        };
+        BruteForce::new(vec![WorldShape::from_scene(&desc, "curve").unwrap()])
+    }
+
+    /// (origin, direction, expected (t, uv, n) or a miss): Mitsuba 3.9.1 `scalar_spectral`'s
+    /// `ray_intersect` on the same files, printed by `testdata/mitsuba-corpus/probe_curves.py`.
+    type Case = ([f32; 3], [f32; 3], Option<(f32, [f32; 2], [f32; 3])>);
+
+    fn check(b: &BruteForce, cases: &[Case]) {
+        for (o, d, expected) in cases {
+            let ray = Ray::new(Vec3::from(*o), Vec3::from(*d));
+            let si = b.intersect(&ray);
+            match (si, expected) {
+                (None, None) => {}
+                (Some(si), Some((t, uv, n))) => {
+                    // The tessellation's chord error is r(1 − cos(π/64)) ≈ 1.2e-4 for r = 0.1.
+                    assert!((si.t - t).abs() < 3e-4, "{o:?}: t {} vs {t}", si.t);
+                    let du = (si.uv.x - uv[0]).abs();
+                    assert!(du.min(1.0 - du) < 0.02, "{o:?}: u {} vs {}", si.uv.x, uv[0]);
+                    assert!(
+                        (si.uv.y - uv[1]).abs() < 2e-3,
+                        "{o:?}: v {} vs {}",
+                        si.uv.y,
+                        uv[1]
+                    );
+                    assert!(
+                        si.shading.n.dot(Vec3::from(*n)) > 0.999,
+                        "{o:?}: n {} vs {n:?}",
+                        si.shading.n
+                    );
+                    assert!(si.n.dot(Vec3::from(*n)) > 0.99, "{o:?}: n {} vs {n:?}", si.n);
+                }
+                (a, b) => panic!("{o:?}: gonio {:?} vs Mitsuba {b:?}", a.map(|s| (s.t, s.uv))),
+            }
+        }
+    }
+
+    const STRAIGHT: &str = "0 0 0 0.1\n1 0 0 0.1\n2 0 0 0.1\n3 0 0 0.1\n4 0 0 0.1\n";
+
+    #[test]
+    fn linear_curve_matches_mitsuba() {
+        check(
+            &curve(STRAIGHT, CurveKind::Linear),
+            &[
+                (
+                    [1.5, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.9, [0.25, 0.375], [0., 0., 1.])),
+                ),
+                (
+                    [1.5, 5., 0.],
+                    [0., -1., 0.],
+                    Some((4.9, [0.0, 0.375], [0., 1., 0.])),
+                ),
+                (
+                    [1.5, 0., -5.],
+                    [0., 0., 1.],
+                    Some((4.9, [0.75, 0.375], [0., 0., -1.])),
+                ),
+                (
+                    [0.5, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.9, [0.25, 0.125], [0., 0., 1.])),
+                ),
+                (
+                    [2.5, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.9, [0.25, 0.625], [0., 0., 1.])),
+                ),
+                // The spherical end caps.
+                (
+                    [-0.05, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.913397, [0.25, 0.0], [-0.5, 0., 0.866026])),
+                ),
+                (
+                    [4.05, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.913398, [0.25, 1.0], [0.5, 0., 0.866024])),
+                ),
+            ],
+        );
+        // A radius growing from 0.1 to 0.2 and back: a cone tangent to the joint spheres.
+        check(
+            &curve("0 0 0 0.1\n1 0 0 0.2\n2 0 0 0.1\n", CurveKind::Linear),
+            &[
+                (
+                    [0.25, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.87437, [0.25, 0.131313], [-0.1, 0., 0.994987])),
+                ),
+                (
+                    [0.75, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.824118, [0.25, 0.383838], [-0.1, 0., 0.994987])),
+                ),
+                (
+                    [1.0, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.8, [0.25, 0.5], [0., 0., 1.])),
+                ),
+                (
+                    [1.5, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.849244, [0.25, 0.742424], [0.1, 0., 0.994987])),
+                ),
+            ],
+        );
+    }
+
+    #[test]
+    fn bspline_curve_matches_mitsuba() {
+        check(
+            &curve(STRAIGHT, CurveKind::BSpline),
+            &[
+                (
+                    [1.5, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.9, [0.25, 0.25], [0., 0., 1.])),
+                ),
+                (
+                    [1.5, 5., 0.],
+                    [0., -1., 0.],
+                    Some((4.9, [0.0, 0.25], [0., 1., 0.])),
+                ),
+                (
+                    [1.5, 0., -5.],
+                    [0., 0., 1.],
+                    Some((4.9, [0.75, 0.25], [0., 0., -1.])),
+                ),
+                (
+                    [2.5, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.9, [0.25, 0.75], [0., 0., 1.])),
+                ),
+                (
+                    [1.05, 0., 5.],
+                    [0., 0., -1.],
+                    Some((4.9, [0.25, 0.025], [0., 0., 1.])),
+                ),
+                // Open ends: the curve runs from x = 1 to x = 3, without caps.
+                ([0.95, 0., 5.], [0., 0., -1.], None),
+                ([3.05, 0., 5.], [0., 0., -1.], None),
+                ([-5., 0., 0.], [1., 0., 0.], None),
+            ],
+        );
+    }
+
+    #[test]
+    fn curve_points_lie_on_the_tube_and_face_outwards() {
+        let text = "-1 0 0 0.1\n-0.3 0 0.5 0.1\n0.3 0 -0.5 0.1\n1 0 0 0.1\n";
+        for kind in [CurveKind::Linear, CurveKind::BSpline] {
+            let curves = parse_curves(text, kind, &Affine3A::IDENTITY).unwrap();
+            let m = tessellate(&curves, kind);
+            assert!(!m.indices.is_empty());
+            for t in &m.indices {
+                let [a, b, c] = t.map(|i| m.positions[i as usize]);
+                let f = (b - a).cross(c - a);
+                let n = t.iter().map(|&i| m.normals[i as usize]).sum::<Vec3>();
+                assert!(f.dot(n) > 0.0, "{kind:?}: a triangle faces inwards");
+            }
+            assert!(
+                m.uvs
+                    .iter()
+                    .all(|uv| uv.cmpge(Vec2::ZERO).all() && uv.cmple(Vec2::ONE).all())
+            );
+        }
+    }
+
+    #[test]
+    fn curve_files_with_errors_are_refused_with_their_line() {
+        let err = |t: &str, k| parse_curves(t, k, &Affine3A::IDENTITY).unwrap_err();
+        assert!(err("0 0 0 0.1\n", CurveKind::Linear).contains("needs at least 2"));
+        assert!(err("0 0 0 1\n1 0 0 1\n2 0 0 1\n", CurveKind::BSpline).contains("needs at least 4"));
+        assert!(err("0 0 0 0.1\n1 0 zero 0.1\n", CurveKind::Linear).contains("line 2"));
+        assert!(err("0 0 0\n", CurveKind::Linear).contains("3 numbers"));
+        assert!(err("0 0 0 -1\n1 0 0 1\n", CurveKind::Linear).contains("radius"));
+        assert!(err("1e39 0 0 1\n1 0 0 1\n", CurveKind::Linear).contains("line 1"));
+        assert!(err("\n\n", CurveKind::Linear).contains("empty"));
+        // Two curves separated by an empty line: two separate tubes.
+        let two = parse_curves(
+            "0 0 0 1\n1 0 0 1\n\n0 1 0 1\n1 1 0 1\n",
+            CurveKind::Linear,
+            &Affine3A::IDENTITY,
+        )
+        .unwrap();
+        assert_eq!(two.len(), 2);
+    }
+}

@@ -544,3 +544,45 @@ fn cylinder_is_the_lateral_surface_between_its_end_points() {
     .to_string();
     assert!(e.contains("radius") && e.contains("positive"), "{e}");
 }
+
+/// Mitsuba's differentiable integrators render their primal image: `prb`, `prb_basic` and
+/// `prb_projective` as the path tracer with Mitsuba's default depth 6, `direct_projective` as
+/// `direct`; their derivative-only parameters are read and checked.
+#[test]
+fn differentiable_integrators_are_their_primal_integrators() {
+    let path6 =
+        load("<integrator type=\"path\"><integer name=\"max_depth\" value=\"6\"/></integrator>").integrator;
+    for ty in ["prb", "prb_basic", "prb_projective"] {
+        assert_eq!(
+            load(&format!("<integrator type=\"{ty}\"/>")).integrator,
+            path6,
+            "{ty}"
+        );
+    }
+    let custom = load(
+        "<integrator type=\"prb_projective\"><integer name=\"max_depth\" value=\"3\"/><integer name=\"rr_depth\" value=\"2\"/>\
+         <boolean name=\"hide_emitters\" value=\"true\"/><integer name=\"sppc\" value=\"4\"/><string name=\"guiding\" value=\"grid\"/>\
+         <string name=\"project_seed\" value=\"bsdf\"/></integrator>",
+    )
+    .integrator;
+    assert_eq!(
+        (custom.max_depth, custom.rr_depth, custom.hide_emitters),
+        (3, 2, true)
+    );
+    let direct = load("<integrator type=\"direct\"/>").integrator;
+    assert_eq!(
+        load("<integrator type=\"direct_projective\"/>").integrator,
+        direct
+    );
+    for bad in [
+        "<integrator type=\"prb\"><integer name=\"sppc\" value=\"4\"/></integrator>",
+        "<integrator type=\"prb_projective\"><string name=\"guiding\" value=\"tree\"/></integrator>",
+        "<integrator type=\"direct_projective\"><string name=\"project_seed\" value=\"all\"/></integrator>",
+        "<integrator type=\"prb\"><integer name=\"rr_depth\" value=\"0\"/></integrator>",
+    ] {
+        let text = format!(
+            "<scene version=\"3.0.0\"><sensor type=\"perspective\"><float name=\"fov\" value=\"40\"/></sensor>{bad}</scene>"
+        );
+        assert!(load_scene_str(&text, data(), &[]).is_err(), "{bad}");
+    }
+}

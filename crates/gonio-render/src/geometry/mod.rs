@@ -19,7 +19,10 @@
 //! onto the sphere. Compared with Mitsuba's fixed `(1 + max|p|)·8.9·10⁻⁵` it is six times
 //! tighter, which keeps contact shadows in corners, and it never fails at large coordinates.
 
+pub mod curve;
+pub mod instance;
 mod sampling_impl;
+pub mod sdfgrid;
 pub mod shape;
 
 pub use shape::{GeometryError, ShapeKind, WorldMesh, WorldShape};

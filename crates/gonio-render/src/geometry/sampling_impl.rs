@@ -72,6 +72,31 @@ pub fn sample_area(shape: &WorldShape, u: Vec2) -> ShapeSample {
             // b0 = 1 − b1 − b2 = su·(1 − u.y): uniform on the triangle.
             finish(shape, m.point(i, b1, b2, shape.face_normals), pdf)
         }
+        ShapeKind::Instance(inst) => {
+            // The member's point carried to the world; uniform in area under a similarity
+            // (instances cannot emit, so this serves only callers outside the renderer).
+            let local = sample_area(&crate::accel::Intersect::shapes(inst.inner.as_ref())[0], u);
+            let si = SurfaceInteraction {
+                p: local.p,
+                t: 0.0,
+                n: local.n,
+                shading: Frame::from_normal(local.ns),
+                uv: local.uv,
+                dpdu: Vec3::ZERO,
+                shape: 0,
+                prim: 0,
+            };
+            let w = inst.to_world_record(&si, 0.0);
+            finish(shape, w, pdf)
+        }
+        // No area and no sampling, as in Mitsuba (an SDF grid cannot emit): a zero density.
+        ShapeKind::SdfGrid { to_world, .. } => ShapeSample {
+            p: to_world.transform_point3(Vec3::splat(0.5)),
+            n: Vec3::Z,
+            ns: Vec3::Z,
+            uv: Vec2::ZERO,
+            pdf: 0.0,
+        },
     }
 }
 

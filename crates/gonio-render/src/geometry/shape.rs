@@ -138,6 +138,19 @@ pub enum ShapeKind {
     },
     /// A triangle mesh.
     Mesh(Arc<WorldMesh>),
+    /// One member of a `shapegroup` placed by an `instance` (the two-level BVH's lower level).
+    Instance(Box<super::instance::Instance>),
+    /// An `sdfgrid`: the zero set of a trilinearly interpolated grid over the object unit cube.
+    SdfGrid {
+        /// The grid (shared by every shape that reads the same file).
+        grid: Arc<super::sdfgrid::SdfGrid>,
+        /// Object → world.
+        to_world: Affine3A,
+        /// World → object.
+        to_object: Affine3A,
+        /// Normal matrix (inverse transpose of `to_world`'s linear part).
+        normal: Mat3,
+    },
 }
 
 /// A shape in world space.
@@ -374,6 +387,27 @@ impl WorldShape {
                 }
             }
             (Geometry::Mesh(mesh), _) => ShapeKind::Mesh(Arc::new(WorldMesh::new(mesh, &m, name)?)),
+            (
+                Geometry::Instance {
+                    group,
+                    member: Some(i),
+                },
+                _,
+            ) => ShapeKind::Instance(Box::new(super::instance::Instance::new(group.member(*i)?, m))),
+            (Geometry::Instance { member: None, .. } | Geometry::Group(_), _) => {
+                return Err(GeometryError::BadMesh {
+                    name: name.to_owned(),
+                    message: "a shapegroup or an unexpanded instance is not a shape to place \
+                              (the scene reader expands instances into their members)"
+                        .into(),
+                });
+            }
+            (Geometry::SdfGrid(grid), _) => ShapeKind::SdfGrid {
+                grid: grid.clone(),
+                to_world: m,
+                to_object: m.inverse(),
+                normal: Mat3::from(m.matrix3).inverse().transpose(),
+            },
         };
         Ok(Self {
             kind,
@@ -396,6 +430,9 @@ impl WorldShape {
             ShapeKind::Sphere { radius, .. } => 4.0 * PI * radius * radius,
             ShapeKind::Rectangle { area, .. } | ShapeKind::Disk { area, .. } => *area,
             ShapeKind::Mesh(m) => m.area,
+            ShapeKind::Instance(i) => i.area,
+            // Mitsuba gives an SDF grid no area (it cannot emit).
+            ShapeKind::SdfGrid { .. } => 0.0,
         }
     }
 
@@ -422,6 +459,17 @@ impl WorldShape {
                 let [a, b, c] = m.tri(prim);
                 (a.min(b).min(c), a.max(b).max(c))
             }
+            ShapeKind::Instance(i) => i.bounds,
+            ShapeKind::SdfGrid { to_world, .. } => {
+                let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+                for i in 0..8 {
+                    let c = Vec3::new((i & 1) as f32, ((i >> 1) & 1) as f32, (i >> 2) as f32);
+                    let w = to_world.transform_point3(c);
+                    lo = lo.min(w);
+                    hi = hi.max(w);
+                }
+                (lo, hi)
+            }
         }
     }
 
@@ -444,6 +492,18 @@ impl WorldShape {
                 let [p0, p1, p2] = m.tri(prim);
                 intersect_triangle(p0, p1, p2, tri, ray.tmax).map(|(t, a, b)| PrimHit { t, a, b })
             }
+            ShapeKind::Instance(i) => i.intersect(ray),
+            ShapeKind::SdfGrid { grid, to_object, .. } => {
+                // Object space with the direction unnormalized: t is the same in both spaces.
+                let o = to_object.transform_point3(ray.o);
+                let d = to_object.transform_vector3(ray.d);
+                let (t, voxel) = grid.intersect(o, d, ray.tmax)?;
+                Some(PrimHit {
+                    t,
+                    a: f32::from_bits(voxel),
+                    b: 0.0,
+                })
+            }
         }
     }
 
@@ -456,10 +516,21 @@ impl WorldShape {
             }
             ShapeKind::Rectangle { .. } | ShapeKind::Disk { .. } => self.planar_point(hit.a, hit.b),
             ShapeKind::Mesh(m) => m.point(prim, hit.a, hit.b, self.face_normals),
+            ShapeKind::Instance(i) => i.interaction(ray, hit.t),
+            ShapeKind::SdfGrid {
+                grid,
+                to_world,
+                to_object,
+                normal,
+            } => sdf_point(grid, to_world, to_object, normal, ray.at(hit.t), hit.a.to_bits()),
         };
         si.t = hit.t;
         si.shape = shape;
-        si.prim = prim as u32;
+        si.prim = match &self.kind {
+            // The member's primitive, as Mitsuba reports it for an instance.
+            ShapeKind::Instance(_) => si.prim,
+            _ => prim as u32,
+        };
         if self.flip_normals {
             si.n = -si.n;
             si.shading = flip_frame(si.shading);
@@ -543,6 +614,35 @@ impl WorldShape {
             }
             _ => unreachable!("planar_point on a non-planar shape"),
         }
+    }
+}
+
+/// The record (without `t`, `shape`, flip) of the world point `p` found in voxel `voxel` of an
+/// `sdfgrid`: geometric normal from the voxel's gradient, shading normal by the grid's method.
+fn sdf_point(
+    grid: &super::sdfgrid::SdfGrid,
+    to_world: &Affine3A,
+    to_object: &Affine3A,
+    normal: &Mat3,
+    p: Vec3,
+    voxel: u32,
+) -> SurfaceInteraction {
+    let local = to_object.transform_point3(p);
+    let n = (*normal * grid.gradient(voxel, local)).normalize_or_zero();
+    let ns = match grid.normals {
+        super::sdfgrid::SdfNormals::Analytic => n,
+        super::sdfgrid::SdfNormals::Smooth => (*normal * grid.smooth_normal(local)).normalize_or_zero(),
+    };
+    let ns = if ns == Vec3::ZERO { n } else { ns };
+    SurfaceInteraction {
+        p: to_world.transform_point3(local),
+        t: 0.0,
+        n,
+        shading: Frame::from_normal(ns),
+        uv: Vec2::ZERO,
+        dpdu: Vec3::ZERO,
+        shape: 0,
+        prim: voxel,
     }
 }
 

@@ -32,6 +32,10 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
     &integrator::path::PLUGIN,
     &integrator::direct::PLUGIN,
     &integrator::depth::PLUGIN,
+    &integrator::prb::PRB,
+    &integrator::prb::PRB_BASIC,
+    &integrator::prb::PRB_PROJECTIVE,
+    &integrator::prb::DIRECT_PROJECTIVE,
 ];
 
 /// `<sensor>` plugins.
@@ -73,6 +77,11 @@ pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
     &shape::ply::PLUGIN,
     &shape::serialized::PLUGIN,
     &shape::cylinder::PLUGIN,
+    &shape::shapegroup::PLUGIN,
+    &shape::instance::PLUGIN,
+    &shape::sdfgrid::PLUGIN,
+    &shape::linearcurve::PLUGIN,
+    &shape::bsplinecurve::PLUGIN,
 ];
 
 /// `<emitter>` plugins attached to a shape (nested in a `<shape>`).

@@ -39,6 +39,8 @@ pub enum ParamType {
     Sampler,
     /// A nested `<rfilter>`.
     Rfilter,
+    /// Nested or referenced `<shape>` objects (`shapegroup`, `instance`).
+    Shape,
 }
 
 impl ParamType {
@@ -59,6 +61,7 @@ impl ParamType {
             ParamType::Film => "film",
             ParamType::Sampler => "sampler",
             ParamType::Rfilter => "rfilter",
+            ParamType::Shape => "shape",
         }
     }
 }

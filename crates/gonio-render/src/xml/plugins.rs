@@ -10,7 +10,7 @@ use super::params::{ParamSpec, Params, Plugin, err, resolve_ref};
 use super::parse::{Doc, Obj, Tag, Value};
 use super::values::SpecValue;
 use crate::material::Material;
-use crate::plugins::{INTEGRATOR_PLUGINS, SENSOR_PLUGINS, SHAPE_PLUGINS, SPECTRUM_PLUGINS, TEXTURE_PLUGINS};
+use crate::plugins::{INTEGRATOR_PLUGINS, SENSOR_PLUGINS, SPECTRUM_PLUGINS, TEXTURE_PLUGINS};
 use crate::scene::{IntegratorDesc, Scene, SensorDesc, TriangleMesh};
 use crate::texture::Texture;
 use gonio_core::Ior;
@@ -39,6 +39,8 @@ pub(crate) struct Builder<'d> {
     /// one shape only).
     pub(crate) attached_emitters: HashMap<usize, Location>,
     pub warnings: Vec<String>,
+    /// Shape groups by object, built once however many instances place them.
+    pub(crate) groups: HashMap<usize, Arc<crate::geometry::instance::ShapeGroup>>,
 }
 
 fn kind_key(k: RgbKind) -> u8 {
@@ -76,6 +78,7 @@ impl<'d> Builder<'d> {
             role: RgbKind::Unbounded,
             attached_emitters: HashMap::new(),
             warnings: Vec::new(),
+            groups: HashMap::new(),
         }
     }
 
@@ -162,7 +165,7 @@ impl<'d> Builder<'d> {
                             .push(format!("{}: more than one sensor; rendering the first", obj.loc));
                     }
                 }
-                Tag::Shape => shapes.push(self.build_plugin(SHAPE_PLUGINS, idx)?),
+                Tag::Shape => crate::plugins::shape::instance::place(&mut self, idx, &mut shapes)?,
                 // An area emitter declared with an id and referenced by a shape (Mitsuba's
                 // `scenes/cbox`: `<shape ...><ref id="area-emitter"/></shape>`) is built there.
                 Tag::Emitter if referenced.contains(&idx) && crate::plugins::emitter::is_area(obj) => {}

@@ -6,13 +6,18 @@
 //! emitter), the similarity check of the analytic shapes and the loading of `obj`/`ply` meshes
 //! with the mesh cache (`mesh`).
 
+pub mod bsplinecurve;
 pub mod cube;
 pub mod cylinder;
 pub mod disk;
+pub mod instance;
+pub mod linearcurve;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;
+pub mod sdfgrid;
 pub mod serialized;
+pub mod shapegroup;
 pub mod sphere;
 
 use crate::mesh as meshes;
