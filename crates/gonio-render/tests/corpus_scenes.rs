@@ -61,6 +61,9 @@ const CI_SPP: u32 = 32;
 /// | shape_cylinder_onesided | 5.60e-4 | 4.01e-4 4.93e-4 4.89e-4 | |
 /// | shape_cylinder_twosided | 5.86e-4 | 4.19e-4 5.02e-4 4.79e-4 | |
 /// | bsdf_roughconductor_textured_carbon_cells_swapped | 7.88e-4 | 5.20e-4 6.51e-4 6.10e-4 | |
+/// | bsdf_pplastic | 6.11e-4 | 4.03e-4 4.83e-4 4.91e-4 | |
+/// | bsdf_pplastic_diffuse | 5.11e-4 | 3.94e-4 4.37e-4 4.54e-4 | |
+/// | bsdf_pplastic_specular | 5.99e-4 | 3.71e-4 4.69e-4 4.94e-4 | |
 ///
 /// The sensor scenes (Mitsuba's `sensor_thinlens.xml`, `sensor_orthographic.xml` over
 /// `include/sensor_scene.xml`, 120 × 90) take `$spp` from the caller, as in Mitsuba. The `direct`
@@ -107,6 +110,9 @@ const SCENES: &[(&str, f64)] = &[
     ("shape_cylinder_onesided", 5.60e-4),
     ("shape_cylinder_twosided", 5.86e-4),
     ("bsdf_roughconductor_textured_carbon_cells_swapped", 7.88e-4),
+    ("bsdf_pplastic", 6.11e-4),
+    ("bsdf_pplastic_diffuse", 5.11e-4),
+    ("bsdf_pplastic_specular", 5.99e-4),
 ];
 
 fn corpus() -> PathBuf {
@@ -298,4 +304,21 @@ fn roughdielectric_textured_differs_from_mitsuba_only_by_its_checkerboard_cells(
 #[test]
 fn roughconductor_textured_carbon_matches_mitsuba() {
     check("bsdf_roughconductor_textured_carbon_cells_swapped");
+}
+
+/// `pplastic` renders unpolarized here (the intensity of its Mueller matrices is `eval`), against
+/// Mitsuba's `scalar_spectral`; the two components as Mitsuba's documentation shows them.
+#[test]
+fn pplastic_matches_mitsuba() {
+    check("bsdf_pplastic");
+}
+
+#[test]
+fn pplastic_diffuse_component_matches_mitsuba() {
+    check("bsdf_pplastic_diffuse");
+}
+
+#[test]
+fn pplastic_specular_component_matches_mitsuba() {
+    check("bsdf_pplastic_specular");
 }
