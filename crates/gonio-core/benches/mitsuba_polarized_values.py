@@ -58,6 +58,10 @@ CONFIGS = [
     ("circular-right", X.format("circular", ''), "sample"),
     ("circular-left-0.8", X.format("circular", '<boolean name="left_handed" value="true"/><spectrum name="transmittance" value="0.8"/>'), "sample"),
     ("roughplastic-ggx-0.05-1.6", X.format("roughplastic", '<string name="distribution" value="ggx"/><float name="alpha" value="0.05"/><float name="int_ior" value="1.6"/>'), "eval"),
+    ("pplastic-default", X.format("pplastic", ''), "both"),
+    ("pplastic-ggx-0.3-1.6", X.format("pplastic", '<string name="distribution" value="ggx"/><float name="alpha" value="0.3"/><float name="int_ior" value="1.6"/><spectrum name="diffuse_reflectance" value="0.2"/>'), "eval"),
+    ("pplastic-beckmann-aniso-tinted", X.format("pplastic", '<float name="alpha_u" value="0.3"/><float name="alpha_v" value="0.05"/><spectrum name="specular_reflectance" value="0.7"/><spectrum name="diffuse_reflectance" value="0.8"/>'), "eval"),
+    ("pplastic-ggx-0.05-all-normals", X.format("pplastic", '<string name="distribution" value="ggx"/><float name="alpha" value="0.05"/><boolean name="sample_visible" value="false"/><float name="ext_ior" value="1.33"/>'), "both"),
 ]
 WAVELENGTHS = [450.0, 550.0, 650.0]
 

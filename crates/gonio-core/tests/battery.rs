@@ -212,6 +212,32 @@ fn roughplastic_ggx_mitsuba_averages_visible() {
     );
 }
 
+// ---- pplastic ----------------------------------------------------------------------------------
+
+#[test]
+fn pplastic_default() {
+    // Mitsuba's defaults: ρ = 0.5, polypropylene in air, Beckmann α = 0.1, visible normals.
+    assert_passes("pplastic default", &gonio_core::bsdfs::PPlastic::default());
+}
+
+#[test]
+fn pplastic_beckmann_rough_spectral_tinted_all_normals() {
+    let rho = piecewise(&[360.0, 0.9, 550.0, 0.1, 830.0, 1.0]);
+    let d = MicrofacetDistribution::new(MicrofacetKind::Beckmann, 0.6, 0.6, false);
+    let p = gonio_core::bsdfs::PPlastic::new(rho, Spectrum::Constant(0.5), d, 1.33);
+    assert_passes(
+        "pplastic beckmann α=0.6 all normals, spectral ρ, tint 0.5, η=1.33",
+        &p,
+    );
+}
+
+#[test]
+fn pplastic_ggx_anisotropic_visible_white() {
+    let d = MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.3, 0.08, true);
+    let p = gonio_core::bsdfs::PPlastic::new(Spectrum::Constant(1.0), Spectrum::Constant(1.0), d, 1.9);
+    assert_passes_anisotropic("pplastic ggx α=(0.3, 0.08) visible, ρ=1, η=1.9", &p);
+}
+
 // ---- roughdielectric (the battery's incidences include grazing and from inside) ----------------
 
 #[test]

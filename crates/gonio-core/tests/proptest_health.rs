@@ -124,6 +124,17 @@ enum Spec {
         coat: usize,
         s: Option<f32>,
     },
+    /// `pplastic`: ρ, tint, GGX or Beckmann, (α_u, α_v), visible normals, the index pair, s.
+    PPlastic {
+        rho: SpecSpectrum,
+        tint: f32,
+        ggx: bool,
+        alpha_u: f32,
+        alpha_v: f32,
+        visible: bool,
+        iors: (f32, f32),
+        s: Option<f32>,
+    },
     /// `principled`: base colour, roughness, the nine weights (anisotropic, metallic,
     /// spec_trans, spec_tint, sheen, sheen_tint, flatness, clearcoat, clearcoat_gloss), η and
     /// the three sampling rates.
@@ -360,6 +371,24 @@ fn leaf() -> impl Strategy<Value = Spec> {
                 coat,
                 s
             }),
+        (
+            (reflectance(), unit(), any::<bool>()),
+            (roughness(), roughness(), any::<bool>()),
+            ior_pair(),
+            proptest::option::of(unit())
+        )
+            .prop_map(
+                |((rho, tint, ggx), (alpha_u, alpha_v, visible), iors, s)| Spec::PPlastic {
+                    rho,
+                    tint,
+                    ggx,
+                    alpha_u,
+                    alpha_v,
+                    visible,
+                    iors,
+                    s
+                }
+            ),
         (
             reflectance(),
             roughness(),

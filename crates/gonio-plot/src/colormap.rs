@@ -1,5 +1,7 @@
 //! The viridis colour map (van der Walt & Smith, matplotlib's default): perceptually uniform,
-//! monotone in lightness, readable in grey and by colour-blind viewers.
+//! monotone in lightness, readable in grey and by colour-blind viewers; a diverging map for signed
+//! quantities (Moreland 2009, "Diverging color maps for scientific visualization": its cool–warm
+//! end points) and a cyclic one for angles (the hue circle).
 
 /// viridis at 17 evenly spaced points (from matplotlib's `_viridis_data`, every 16th entry).
 const VIRIDIS: [[f32; 3]; 17] = [
@@ -46,6 +48,52 @@ pub fn colormap(t: f32) -> [u8; 3] {
     ]
 }
 
+/// The cool–warm end points (Moreland 2009) and its grey midpoint, display RGB.
+const COOL: [f32; 3] = [0.230, 0.299, 0.754];
+const MID: [f32; 3] = [0.865, 0.865, 0.865];
+const WARM: [f32; 3] = [0.706, 0.016, 0.150];
+
+fn lerp3(a: [f32; 3], b: [f32; 3], f: f32) -> [f32; 3] {
+    [
+        a[0] + f * (b[0] - a[0]),
+        a[1] + f * (b[1] - a[1]),
+        a[2] + f * (b[2] - a[2]),
+    ]
+}
+
+/// A diverging map of `v` ∈ [−1, 1] (clamped; NaN is the midpoint): blue for −1, grey for 0,
+/// red for +1, linear in display RGB on each side.
+pub fn diverging(v: f32) -> [f32; 3] {
+    let v = if v.is_finite() { v.clamp(-1.0, 1.0) } else { 0.0 };
+    if v < 0.0 {
+        lerp3(MID, COOL, -v)
+    } else {
+        lerp3(MID, WARM, v)
+    }
+}
+
+/// A cyclic map of `t` (taken modulo 1): the hue circle at full saturation and value, red at 0,
+/// through yellow, green, cyan, blue and magenta back to red.
+pub fn cyclic(t: f32) -> [f32; 3] {
+    let t = if t.is_finite() { t.rem_euclid(1.0) } else { 0.0 };
+    let h = t * 6.0;
+    let k = (h as usize).min(5);
+    let f = h - k as f32;
+    match k {
+        0 => [1.0, f, 0.0],
+        1 => [1.0 - f, 1.0, 0.0],
+        2 => [0.0, 1.0, f],
+        3 => [0.0, 1.0 - f, 1.0],
+        4 => [f, 0.0, 1.0],
+        _ => [1.0, 0.0, 1.0 - f],
+    }
+}
+
+/// A display colour as 8-bit RGB.
+pub fn to_rgb8(c: [f32; 3]) -> [u8; 3] {
+    c.map(|x| (x.clamp(0.0, 1.0) * 255.0).round() as u8)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -58,5 +106,15 @@ mod tests {
         for k in 0..100 {
             assert!(lum(viridis((k + 1) as f32 / 100.0)) > lum(viridis(k as f32 / 100.0)));
         }
+    }
+
+    #[test]
+    fn diverging_and_cyclic_maps() {
+        assert_eq!(to_rgb8(diverging(-1.0)), [59, 76, 192]);
+        assert_eq!(to_rgb8(diverging(0.0)), [221, 221, 221]);
+        assert_eq!(to_rgb8(diverging(1.0)), [180, 4, 38]);
+        assert_eq!(to_rgb8(cyclic(0.0)), to_rgb8(cyclic(1.0)));
+        assert_eq!(to_rgb8(cyclic(0.5)), [0, 255, 255]);
+        assert_eq!(to_rgb8(cyclic(0.25)), [128, 255, 0]);
     }
 }

@@ -10,7 +10,8 @@ use gonio_core::bsdf::BsdfFlags;
 use gonio_core::instruments::DeltaLobe;
 use gonio_core::instruments::albedo::AlbedoPoint;
 use gonio_core::instruments::fresnel::{
-    brewster_angle_deg, conductor_vs_angle, conductor_vs_wavelength, critical_angle_deg, dielectric_vs_angle,
+    PolarizationCurves, brewster_angle_deg, conductor_polarization_vs_angle, conductor_vs_angle,
+    conductor_vs_wavelength, critical_angle_deg, dielectric_polarization_vs_angle, dielectric_vs_angle,
     dielectric_vs_wavelength, thin_slab_vs_angle,
 };
 use gonio_core::instruments::microfacet_albedo::RoughnessCurve;
@@ -75,6 +76,130 @@ pub fn thin_slab_panel(eta: f32) -> LinePlot {
     p
 }
 
+/// The finite points of a curve (NaN marks "no light": total internal reflection).
+fn finite_pts(x: &[f32], y: &[f32]) -> Vec<(f64, f64)> {
+    x.iter()
+        .zip(y)
+        .filter(|(_, b)| b.is_finite())
+        .map(|(&a, &b)| (a as f64, b as f64))
+        .collect()
+}
+
+const DOP: &str = "degree of polarization  [–]";
+const RETARDANCE: &str = "retardance δ = arg r_p − arg r_s  [deg]";
+
+/// Degree of polarization of reflected and transmitted light for unpolarized incident light,
+/// from both sides of a dielectric of relative index `eta` (> 1).
+pub fn dielectric_dop_panel(eta: f32) -> LinePlot {
+    let mut p = LinePlot::new(
+        format!("Polarization of unpolarized light, η = {eta}"),
+        ANGLE,
+        DOP,
+    );
+    p.x_range = Some((0.0, 90.0));
+    p.y_range = Some((0.0, 1.02));
+    p.note = "reflected: |R_s − R_p|/(R_s + R_p), transmitted: |T_s − T_p|/(T_s + T_p)".into();
+    let out = dielectric_polarization_vs_angle(eta, 361);
+    let inside = dielectric_polarization_vs_angle(1.0 / eta, 361);
+    let add =
+        |p: &mut LinePlot, label: &str, c: &PolarizationCurves, y: &[f32], color: usize, dashed: bool| {
+            let s = Series::new(label, finite_pts(&c.angles_deg, y)).color(color);
+            p.series.push(if dashed { s.dashed() } else { s });
+        };
+    add(&mut p, "reflected, outside", &out, &out.dop_reflected, 0, false);
+    add(
+        &mut p,
+        "transmitted, outside",
+        &out,
+        &out.dop_transmitted,
+        2,
+        false,
+    );
+    add(
+        &mut p,
+        "reflected, inside",
+        &inside,
+        &inside.dop_reflected,
+        1,
+        true,
+    );
+    add(
+        &mut p,
+        "transmitted, inside",
+        &inside,
+        &inside.dop_transmitted,
+        6,
+        true,
+    );
+    let b = brewster_angle_deg(eta);
+    p.vlines.push(VLine {
+        x: b as f64,
+        label: format!("Brewster {b:.1}°"),
+    });
+    p
+}
+
+/// Retardance of the reflection from both sides of a dielectric: 180° or 0° (a sign flip of r_p
+/// at Brewster's angle) outside total internal reflection, the continuous TIR phase past the
+/// critical angle.
+pub fn dielectric_retardance_panel(eta: f32) -> LinePlot {
+    let mut p = LinePlot::new(format!("Phase of reflection, η = {eta}"), ANGLE, RETARDANCE);
+    p.x_range = Some((0.0, 90.0));
+    p.y_range = Some((-5.0, 185.0));
+    p.note = "TIR: tan(δ/2) = cos θ √(sin²θ − η²)/sin²θ".into();
+    let out = dielectric_polarization_vs_angle(eta, 361);
+    let inside = dielectric_polarization_vs_angle(1.0 / eta, 361);
+    let abs = |v: &[f32]| v.iter().map(|x| x.abs()).collect::<Vec<f32>>();
+    p.series
+        .push(Series::new("|δ|, outside", pts(&out.angles_deg, &abs(&out.retardance_deg))).color(0));
+    p.series.push(
+        Series::new(
+            "|δ|, inside (TIR)",
+            pts(&inside.angles_deg, &abs(&inside.retardance_deg)),
+        )
+        .color(1)
+        .dashed(),
+    );
+    if let Some(c) = critical_angle_deg(1.0 / eta) {
+        p.vlines.push(VLine {
+            x: c as f64,
+            label: format!("critical {c:.1}°"),
+        });
+    }
+    p
+}
+
+/// Degree of polarization of the light a conductor reflects (unpolarized incident light) at
+/// three wavelengths.
+pub fn conductor_dop_panel(eta: &Spectrum, k: &Spectrum, name: &str) -> LinePlot {
+    let mut p = LinePlot::new(format!("{name}: polarization of reflected light"), ANGLE, DOP);
+    p.x_range = Some((0.0, 90.0));
+    p.y_range = Some((0.0, 1.02));
+    p.legend = LegendPosition::UpperLeft;
+    for (c, l) in [(0usize, 450.0f32), (2, 550.0), (1, 650.0)] {
+        let cv = conductor_polarization_vs_angle(eta.eval(l), k.eval(l), 361);
+        p.series
+            .push(Series::new(format!("{l} nm"), finite_pts(&cv.angles_deg, &cv.dop_reflected)).color(c));
+    }
+    p
+}
+
+/// Retardance of a conductor's reflection at three wavelengths: from 180° at normal incidence
+/// to 0° at grazing, through 90° near the principal angle.
+pub fn conductor_retardance_panel(eta: &Spectrum, k: &Spectrum, name: &str) -> LinePlot {
+    let mut p = LinePlot::new(format!("{name}: phase of reflection"), ANGLE, RETARDANCE);
+    p.x_range = Some((0.0, 90.0));
+    p.y_range = Some((-5.0, 185.0));
+    p.legend = LegendPosition::LowerLeft;
+    for (c, l) in [(0usize, 450.0f32), (2, 550.0), (1, 650.0)] {
+        let cv = conductor_polarization_vs_angle(eta.eval(l), k.eval(l), 361);
+        let d: Vec<f32> = cv.retardance_deg.iter().map(|x| x.abs()).collect();
+        p.series
+            .push(Series::new(format!("|δ|, {l} nm"), pts(&cv.angles_deg, &d)).color(c));
+    }
+    p
+}
+
 /// The three Fresnel panels of a dielectric of relative index `eta` (> 1): from outside, from
 /// inside, thin slab.
 pub fn fresnel_dielectric_figure(eta: f32, name: &str) -> Figure {
@@ -88,6 +213,8 @@ pub fn fresnel_dielectric_figure(eta: f32, name: &str) -> Figure {
                 &format!("From inside (η = 1/{eta})"),
             )),
             Panel::Line(thin_slab_panel(eta)),
+            Panel::Line(dielectric_dop_panel(eta)),
+            Panel::Line(dielectric_retardance_panel(eta)),
         ],
         columns: 3,
         panel_size: (560, 440),
@@ -187,7 +314,13 @@ pub fn fresnel_conductor_figure(eta: &Spectrum, k: &Spectrum, name: &str) -> Fig
         .push(Series::new("k", ls.iter().map(|&l| (l as f64, k.eval(l) as f64)).collect()).color(1));
     Figure {
         title: format!("Fresnel reflectance of a conductor: {name}"),
-        panels: vec![Panel::Line(pa), Panel::Line(pl), Panel::Line(pk)],
+        panels: vec![
+            Panel::Line(pa),
+            Panel::Line(pl),
+            Panel::Line(pk),
+            Panel::Line(conductor_dop_panel(eta, k, name)),
+            Panel::Line(conductor_retardance_panel(eta, k, name)),
+        ],
         columns: 3,
         panel_size: (560, 440),
     }

@@ -22,7 +22,7 @@ mod hemisphere;
 mod line;
 mod polar;
 
-pub use colormap::{colormap, viridis};
+pub use colormap::{colormap, cyclic, diverging, to_rgb8, viridis};
 pub use hemisphere::{DiskImage, DiskMarker, HemispherePlot, MarkerKind, Pixels};
 pub use line::{LegendPosition, LinePlot, Series, VLine};
 pub use polar::{PolarArrow, PolarCurve, PolarPlot};

@@ -322,6 +322,69 @@ pub struct ChannelImage {
 }
 
 impl ChannelImage {
+    /// Reads every channel of the first layer of an OpenEXR file, under its full name
+    /// (`S1.R`, ...); other formats and subsampled channels are errors naming the file.
+    pub fn read(path: impl AsRef<Path>) -> Result<Self, ImageError> {
+        use exr::prelude::*;
+        let path = path.as_ref();
+        let err = |message: String| ImageError::Decode {
+            path: path.to_owned(),
+            format: "OpenEXR",
+            message,
+        };
+        let bytes = std::fs::read(path).map_err(|source| ImageError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        if !bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
+            return Err(err(
+                "not an OpenEXR file (named channels are read from EXR only)".into()
+            ));
+        }
+        let image = read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .all_channels()
+            .first_valid_layer()
+            .all_attributes()
+            .from_buffered(Cursor::new(bytes))
+            .map_err(|e| err(e.to_string()))?;
+        let layer = image.layer_data;
+        let (width, height) = (layer.size.0, layer.size.1);
+        let list = &layer.channel_data.list;
+        let n = width * height;
+        if list.iter().any(|c| c.sample_data.len() != n) {
+            return Err(err(
+                "a channel has the wrong number of samples (subsampled channels are not supported)".into(),
+            ));
+        }
+        let names: Vec<String> = list.iter().map(|c| c.name.to_string()).collect();
+        let k = names.len();
+        let mut data = vec![0.0f32; n * k];
+        for (j, c) in list.iter().enumerate() {
+            for i in 0..n {
+                data[i * k + j] = c.sample_data.value_by_flat_index(i).to_f32();
+            }
+        }
+        Ok(Self {
+            width,
+            height,
+            names,
+            data,
+        })
+    }
+
+    /// The values of channel `name`, row-major; `None` when the image has no such channel.
+    pub fn channel(&self, name: &str) -> Option<Vec<f32>> {
+        let k = self.names.len();
+        let j = self.names.iter().position(|n| n == name)?;
+        Some(
+            (0..self.width * self.height)
+                .map(|i| self.data[i * k + j])
+                .collect(),
+        )
+    }
+
     /// The channels `R`, `G`, `B` as an RGB image (zero for a missing channel).
     pub fn rgb(&self) -> RgbImage {
         let n = self.names.len();
@@ -350,6 +413,37 @@ impl ChannelImage {
     fn encode_exr(&self) -> Result<Vec<u8>, String> {
         crate::develop::encode_exr(self, crate::scene::ComponentFormat::Float32, &[])
     }
+}
+
+/// Writes 8-bit RGB bytes (display colours, e.g. of a colour map; no transfer curve applied) as a
+/// PNG, atomically.
+pub fn write_png_rgb8(
+    path: impl AsRef<Path>,
+    width: usize,
+    height: usize,
+    rgb8: &[u8],
+) -> Result<(), ImageError> {
+    use ::image::ImageEncoder;
+    let path = path.as_ref();
+    let encode_err = |message: String| ImageError::Encode {
+        path: path.to_owned(),
+        message,
+    };
+    if rgb8.len() != width * height * 3 {
+        return Err(encode_err(format!(
+            "{} bytes for {width} × {height} RGB pixels",
+            rgb8.len()
+        )));
+    }
+    let (w, h) = (
+        u32::try_from(width).map_err(|e| encode_err(e.to_string()))?,
+        u32::try_from(height).map_err(|e| encode_err(e.to_string()))?,
+    );
+    let mut out = Vec::new();
+    ::image::codecs::png::PngEncoder::new(&mut out)
+        .write_image(rgb8, w, h, ::image::ExtendedColorType::Rgb8)
+        .map_err(|e| encode_err(e.to_string()))?;
+    write_atomically(path, &out)
 }
 
 /// Writes `bytes` through the one atomic writer ([`crate::output::write_atomically`]).

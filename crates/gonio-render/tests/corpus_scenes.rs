@@ -67,6 +67,9 @@ const CI_SPP: u32 = 32;
 /// | shape_linearcurve_parameterization | 5.38e-4 | 4.13e-4 4.82e-4 4.85e-4 | |
 /// | shape_bsplinecurve_basic | 5.36e-4 | 4.02e-4 4.94e-4 4.82e-4 | |
 /// | shape_bsplinecurve_parameterization | 5.38e-4 | 3.94e-4 4.89e-4 4.95e-4 | |
+/// | bsdf_pplastic | 6.11e-4 | 4.03e-4 4.83e-4 4.91e-4 | |
+/// | bsdf_pplastic_diffuse | 5.11e-4 | 3.94e-4 4.37e-4 4.54e-4 | |
+/// | bsdf_pplastic_specular | 5.99e-4 | 3.71e-4 4.69e-4 4.94e-4 | |
 ///
 /// The `sdfgrid` scenes (Mitsuba's torus grid in a `shapegroup`, placed by an `instance`) and the
 /// curve scenes (`linearcurve`, `bsplinecurve` over `meshes/curve_doc.txt`) use
@@ -125,6 +128,9 @@ const SCENES: &[(&str, f64)] = &[
     ("shape_linearcurve_parameterization", 5.38e-4),
     ("shape_bsplinecurve_basic", 5.36e-4),
     ("shape_bsplinecurve_parameterization", 5.38e-4),
+    ("bsdf_pplastic", 6.11e-4),
+    ("bsdf_pplastic_diffuse", 5.11e-4),
+    ("bsdf_pplastic_specular", 5.99e-4),
 ];
 
 fn corpus() -> PathBuf {
@@ -328,4 +334,21 @@ fn roughdielectric_textured_differs_from_mitsuba_only_by_its_checkerboard_cells(
 #[test]
 fn roughconductor_textured_carbon_matches_mitsuba() {
     check("bsdf_roughconductor_textured_carbon_cells_swapped");
+}
+
+/// `pplastic` renders unpolarized here (the intensity of its Mueller matrices is `eval`), against
+/// Mitsuba's `scalar_spectral`; the two components as Mitsuba's documentation shows them.
+#[test]
+fn pplastic_matches_mitsuba() {
+    check("bsdf_pplastic");
+}
+
+#[test]
+fn pplastic_diffuse_component_matches_mitsuba() {
+    check("bsdf_pplastic_diffuse");
+}
+
+#[test]
+fn pplastic_specular_component_matches_mitsuba() {
+    check("bsdf_pplastic_specular");
 }

@@ -58,13 +58,13 @@ fn malformed_xml() {
 
 #[test]
 fn unknown_plugin() {
-    let t = scene("    <shape type=\"sphere\"><bsdf type=\"pplastic\"/></shape>");
+    let t = scene("    <shape type=\"sphere\"><bsdf type=\"measuredpolarized\"/></shape>");
     let e = load_err(&t);
     check(
         &e,
         ErrorKind::UnknownPlugin,
-        at(&t, "pplastic"),
-        &["\"pplastic\"", "diffuse"],
+        at(&t, "measuredpolarized"),
+        &["\"measuredpolarized\"", "diffuse"],
     );
     let t = scene("    <shape type=\"torus\"/>");
     check(

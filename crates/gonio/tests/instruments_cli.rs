@@ -41,6 +41,8 @@ fn plot_fresnel_writes_png_and_svg_with_the_angles_marked() {
     assert!(o.status.success(), "{:?}", text(&o));
     let svg = std::fs::read_to_string(d.join("glass.svg")).unwrap();
     assert!(svg.contains("Brewster 56.3°") && svg.contains("critical 41.8°"));
+    // The polarization panels: degree of polarization on both sides, the phase of TIR.
+    assert!(svg.contains("degree of polarization") && svg.contains("|δ|, inside (TIR)"));
     let png = std::fs::read(d.join("glass.png")).unwrap();
     assert_eq!(&png[1..4], b"PNG");
     for args in [["--material", "Au"], ["--ior-spectrum", "N-BK7"]] {
@@ -312,5 +314,85 @@ fn measured_tables_match_the_analytic_bsdf_within_their_noise() {
     let o = gonio(&args("0"));
     assert!(!o.status.success());
     assert!(text(&o).1.contains("--alpha 0"), "{:?}", text(&o));
+    let _ = std::fs::remove_dir_all(d);
+}
+
+/// A synthetic Stokes EXR, written by the repository's own EXR writer with Mitsuba's channel
+/// names: four pixels of known Stokes vectors (equal in R, G, B) → known colours in each view.
+#[test]
+fn plot_stokes_false_colours_and_missing_layer() {
+    use gonio_render::image::{ChannelImage, Encoding, RgbImage};
+    let d = tmpdir("stokes");
+    // (S0, S1, S2, S3): horizontal; −45°; half right-circular; no light.
+    let pixels = [
+        [1.0f32, 1.0, 0.0, 0.0],
+        [2.0, 0.0, -2.0, 0.0],
+        [4.0, 0.0, 0.0, 2.0],
+        [0.0, 0.0, 0.0, 0.0],
+    ];
+    let write = |skip: Option<&str>, file: &str| {
+        let mut names: Vec<String> = ["R", "G", "B"].map(String::from).to_vec();
+        for k in 0..4 {
+            for c in ["R", "G", "B"] {
+                names.push(format!("S{k}.{c}"));
+            }
+        }
+        names.retain(|n| Some(n.as_str()) != skip);
+        let mut data = vec![];
+        for p in &pixels {
+            for n in &names {
+                data.push(match n.strip_prefix('S') {
+                    Some(rest) => p[rest[..1].parse::<usize>().unwrap()],
+                    None => p[0],
+                });
+            }
+        }
+        let img = ChannelImage {
+            width: 4,
+            height: 1,
+            names,
+            data,
+        };
+        let path = d.join(file);
+        img.write_exr(&path).unwrap();
+        path
+    };
+    let path = write(None, "stokes.exr");
+    let o = gonio(&["plot", "stokes", path.to_str().unwrap()]);
+    assert!(o.status.success(), "{:?}", text(&o));
+    assert_eq!(text(&o).0.lines().count(), 6, "six files listed");
+    let read = |suffix: &str| -> Vec<[u8; 3]> {
+        let img = RgbImage::read_with(d.join(format!("stokes_{suffix}.png")), Encoding::Raw).unwrap();
+        assert_eq!((img.width, img.height), (4, 1));
+        img.data
+            .iter()
+            .map(|p| p.map(|v| (v * 255.0).round() as u8))
+            .collect()
+    };
+    const BLACK: [u8; 3] = [0, 0, 0];
+    const RED_END: [u8; 3] = [180, 4, 38]; // diverging +1
+    const BLUE_END: [u8; 3] = [59, 76, 192]; // diverging −1
+    const GREY: [u8; 3] = [221, 221, 221]; // diverging 0
+    assert_eq!(read("s1"), [RED_END, GREY, GREY, BLACK]);
+    assert_eq!(read("s2"), [GREY, BLUE_END, GREY, BLACK]);
+    // S3/S0 = 0.5: halfway from grey to the red end.
+    assert_eq!(read("s3"), [GREY, GREY, [200, 112, 129], BLACK]);
+    // viridis: 1 → yellow, 0 → purple, 0.5 → teal.
+    assert_eq!(read("dolp"), [[253, 231, 37], [253, 231, 37], [68, 1, 84], BLACK]);
+    assert_eq!(
+        read("dop"),
+        [[253, 231, 37], [253, 231, 37], [33, 145, 140], BLACK]
+    );
+    // Hue circle over 180°: 0° red, −45° a quarter turn back (violet); no linear part: 0°.
+    assert_eq!(read("aolp"), [[255, 0, 0], [128, 0, 255], [255, 0, 0], BLACK]);
+
+    let broken = write(Some("S2.G"), "broken.exr");
+    let o = gonio(&["plot", "stokes", broken.to_str().unwrap()]);
+    assert!(!o.status.success());
+    let err = text(&o).1;
+    assert!(
+        err.contains("broken.exr") && err.contains("no channel S2.G"),
+        "the error names the file and the layer: {err}"
+    );
     let _ = std::fs::remove_dir_all(d);
 }

@@ -54,6 +54,8 @@ pub enum LeafBsdf<'a> {
     RoughDiffuse(super::RoughDiffuse<SampledSpectrum>),
     /// `roughplastic` (its coat's tables borrowed from the scene).
     RoughPlastic(RoughPlastic<SampledSpectrum, &'a RoughCoat>),
+    /// `pplastic`.
+    PPlastic(super::PPlastic<SampledSpectrum>),
     /// `roughdielectric`.
     RoughDielectric(RoughDielectric<SampledSpectrum, SampledIor>),
     /// `principled`.
@@ -85,6 +87,7 @@ macro_rules! with_leaf {
             LeafBsdf::RoughConductor($b) => $body,
             LeafBsdf::RoughDiffuse($b) => $body,
             LeafBsdf::RoughPlastic($b) => $body,
+            LeafBsdf::PPlastic($b) => $body,
             LeafBsdf::RoughDielectric($b) => $body,
             LeafBsdf::Principled($b) => $body,
             LeafBsdf::PrincipledThin($b) => $body,

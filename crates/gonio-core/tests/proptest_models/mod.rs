@@ -182,6 +182,29 @@ pub(crate) fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R 
             }
             f(&p)
         }
+        Spec::PPlastic {
+            rho,
+            tint,
+            ggx,
+            alpha_u,
+            alpha_v,
+            visible,
+            iors: (int, ext),
+            s,
+        } => {
+            let kind = if *ggx {
+                MicrofacetKind::Ggx
+            } else {
+                MicrofacetKind::Beckmann
+            };
+            let d = MicrofacetDistribution::new(kind, *alpha_u, *alpha_v, *visible);
+            let mut p =
+                gonio_core::bsdfs::PPlastic::new(rho.build(), Spectrum::Constant(*tint), d, int / ext);
+            if let Some(s) = s {
+                p = p.with_specular_sampling_weight(*s);
+            }
+            f(&p)
+        }
         Spec::Principled {
             rho,
             roughness,

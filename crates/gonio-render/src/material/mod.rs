@@ -23,6 +23,7 @@ pub mod diffuse;
 pub mod lambertsphere;
 pub mod plastic;
 pub mod polarizer;
+pub mod pplastic;
 pub mod principled;
 pub mod principledthin;
 pub mod retarder;
@@ -73,6 +74,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &roughconductor::PLUGIN,
     &roughdiffuse::PLUGIN,
     &roughplastic::PLUGIN,
+    &pplastic::PLUGIN,
     &roughdielectric::PLUGIN,
     &principled::PLUGIN,
     &principledthin::PLUGIN,

@@ -19,6 +19,13 @@
 //! `mitsuba_bsdf_values` and `mitsuba_roughplastic_values` undo and check, so here the shape
 //! M/M00 is compared (1e-4) and M00 is left to those tests.
 //!
+//! `pplastic` polarizes in Mitsuba 3.9.1 as in gonio (the Fresnel reflection matrix at the half
+//! vector plus the depolarized diffuse lobe between two Fresnel transmissions): all 16 elements are
+//! compared. Its sample rows are the Beckmann and the all-normals GGX configurations: gonio's GGX
+//! visible-normal sampler maps the unit square differently from Mitsuba's (Heitz 2018 from polar
+//! coordinates against Mitsuba's concentric disk), so the same (u1, u2) gives another direction;
+//! the GGX configurations with visible normals are compared by eval rows.
+//!
 //! **Deliberate deviation**: Mitsuba 3.9.1's `roughdielectric` has no polarized branch either (its
 //! Mueller matrices are `depolarizer(value)`, as the file shows: every element but M00 is 0),
 //! while gonio's applies the Fresnel Mueller matrix at the microfacet, as its `roughconductor` and
@@ -99,7 +106,7 @@ fn polarized_bsdfs_agree_with_mitsuba() {
     for config in data["configs"].as_array().unwrap() {
         let name = config["name"].as_str().unwrap();
         let xml = config["xml"].as_str().unwrap();
-        let plastic = name.contains("plastic");
+        let plastic = name.starts_with("plastic") || name.starts_with("roughplastic");
         let depolarized_in_mitsuba = name.starts_with("roughdielectric");
         let material = load_bsdf_str(xml).unwrap_or_else(|e| panic!("{name}: {e}"));
         let mut worst_here = 0.0f64;
@@ -175,5 +182,5 @@ fn polarized_bsdfs_agree_with_mitsuba() {
     for (n, d) in &worst {
         eprintln!("  {n:32} {d:.2e}");
     }
-    assert!(checked >= 370, "the reference file holds {checked} queries");
+    assert!(checked >= 429, "the reference file holds {checked} queries");
 }

@@ -6,5 +6,6 @@ pub mod compare;
 pub mod measure;
 pub mod plot;
 pub mod plot_diffuse;
+pub mod plot_stokes;
 pub mod relight;
 pub mod render;

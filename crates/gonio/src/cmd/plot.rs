@@ -1,5 +1,6 @@
 //! `gonio plot fresnel|slice|polar|albedo|microfacet-albedo`: the lecture's BRDF plots as PNG and
-//! SVG (`retroreflection` and `saturation` in [`super::plot_diffuse`]).
+//! SVG (`retroreflection` and `saturation` in [`super::plot_diffuse`], `stokes` in
+//! [`super::plot_stokes`]).
 //!
 //! Every subcommand takes `-o PATH`: `PATH.png` or `PATH.svg` writes that format, a path
 //! without an extension writes both. The written files are printed on stdout. A BSDF argument is
@@ -35,7 +36,9 @@ pub struct Args {
 #[derive(Subcommand)]
 enum Kind {
     /// Fresnel curves: R_s, R_p, R against angle (both sides, Brewster's and the critical angle
-    /// marked), thin slab; dispersion of a glass; conductors against angle and wavelength.
+    /// marked), thin slab; dispersion of a glass; conductors against angle and wavelength; the
+    /// degree of polarization of reflected and transmitted light and the retardance of
+    /// reflection (total internal reflection, metals) against angle.
     Fresnel(FresnelArgs),
     /// A 2D slice of the BSDF over the hemisphere: fix the light or the view, vary the other.
     Slice(SliceArgs),
@@ -55,6 +58,10 @@ enum Kind {
     /// Albedo against roughness of a white rough conductor and a rough dielectric, single
     /// scattering against `multiple_scattering` (Heitz et al. 2016).
     MultipleScattering(super::plot_diffuse::MultipleArgs),
+    /// False-colour PNGs of a Stokes EXR (channels S0.R … S3.B, Mitsuba's `stokes` integrator):
+    /// S1, S2, S3 over S0 (diverging), degrees of linear and total polarization, angle of linear
+    /// polarization (cyclic).
+    Stokes(super::plot_stokes::StokesArgs),
 }
 
 #[derive(ClapArgs)]
@@ -214,6 +221,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Kind::Retroreflection(a) => super::plot_diffuse::retroreflection(a),
         Kind::Saturation(a) => super::plot_diffuse::saturation(a),
         Kind::MultipleScattering(a) => super::plot_diffuse::multiple_scattering(a),
+        Kind::Stokes(a) => super::plot_stokes::stokes(a),
     }
 }
 
