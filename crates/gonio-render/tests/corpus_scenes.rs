@@ -107,6 +107,7 @@ const SCENES: &[(&str, f64)] = &[
     ("shape_cylinder_onesided", 5.60e-4),
     ("shape_cylinder_twosided", 5.86e-4),
     ("bsdf_roughconductor_textured_carbon_cells_swapped", 7.88e-4),
+    ("bsdf_mask_after", 5.07e-4),
 ];
 
 fn corpus() -> PathBuf {
@@ -298,4 +299,14 @@ fn roughdielectric_textured_differs_from_mitsuba_only_by_its_checkerboard_cells(
 #[test]
 fn roughconductor_textured_carbon_matches_mitsuba() {
     check("bsdf_roughconductor_textured_carbon_cells_swapped");
+}
+
+/// Mitsuba's `bsdf_mask_after` (`include/shape_scene.xml`, 120 × 90): a `mask` whose opacity is
+/// a leaf-shaped bitmap (`leaf_mask.png`, grey + alpha, read as its grey channel) over a diffuse
+/// rectangle. gonio crosses the transparent part as a null lobe (shadow rays pass it, the path
+/// does not count it as a bounce); Mitsuba's `path` samples it as a delta event and blocks shadow
+/// rays there. Both estimate the same image.
+#[test]
+fn mask_after_matches_mitsuba() {
+    check("bsdf_mask_after");
 }
