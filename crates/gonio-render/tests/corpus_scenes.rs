@@ -61,6 +61,9 @@ const CI_SPP: u32 = 32;
 /// | shape_cylinder_onesided | 5.60e-4 | 4.01e-4 4.93e-4 4.89e-4 | |
 /// | shape_cylinder_twosided | 5.86e-4 | 4.19e-4 5.02e-4 4.79e-4 | |
 /// | bsdf_roughconductor_textured_carbon_cells_swapped | 7.88e-4 | 5.20e-4 6.51e-4 6.10e-4 | |
+/// | bsdf_mask_after | 5.50e-4 | 4.56e-4 6.08e-4 5.41e-4 (see below) | 1.94e-3 |
+/// | bsdf_normalmap_with | 5.65e-4 | 4.08e-4 4.86e-4 5.28e-4 | 1.46e-3 |
+/// | bsdf_bumpmap_with | 6.06e-4 | 4.55e-4 4.48e-4 5.03e-4 | 1.43e-3 |
 ///
 /// The sensor scenes (Mitsuba's `sensor_thinlens.xml`, `sensor_orthographic.xml` over
 /// `include/sensor_scene.xml`, 120 × 90) take `$spp` from the caller, as in Mitsuba. The `direct`
@@ -107,9 +110,12 @@ const SCENES: &[(&str, f64)] = &[
     ("shape_cylinder_onesided", 5.60e-4),
     ("shape_cylinder_twosided", 5.86e-4),
     ("bsdf_roughconductor_textured_carbon_cells_swapped", 7.88e-4),
-    ("bsdf_mask_after", 5.07e-4),
-    ("bsdf_normalmap_with", 6.22e-4),
-    ("bsdf_bumpmap_with", 6.91e-4),
+    ("bsdf_mask_after", 5.50e-4),
+    ("bsdf_normalmap_with", 5.65e-4),
+    ("bsdf_bumpmap_with", 6.06e-4),
+    ("emitter_spot_texture", 6.48e-5),
+    ("emitter_projector_constant", 5.30e-4),
+    ("emitter_projector_textured", 5.30e-4),
 ];
 
 fn corpus() -> PathBuf {
@@ -307,7 +313,8 @@ fn roughconductor_textured_carbon_matches_mitsuba() {
 /// a leaf-shaped bitmap (`leaf_mask.png`, grey + alpha, read as its grey channel) over a diffuse
 /// rectangle. gonio crosses the transparent part as a null lobe (shadow rays pass it, the path
 /// does not count it as a bounce); Mitsuba's `path` samples it as a delta event and blocks shadow
-/// rays there. Both estimate the same image.
+/// rays there. Both estimate the same image. It sits at the noise level rather than below it
+/// (gonio's red mean is 1.5 % below Mitsuba's at this size; green and blue agree).
 #[test]
 fn mask_after_matches_mitsuba() {
     check("bsdf_mask_after");
@@ -328,4 +335,21 @@ fn normalmap_matches_mitsuba() {
 #[test]
 fn bumpmap_matches_mitsuba() {
     check("bsdf_bumpmap_with");
+}
+
+/// Mitsuba's `emitter_spot_texture` (`include/emitter_scene.xml`, 120 × 90): a `spot` whose
+/// intensity is multiplied by `noise_01.jpg` (reduced to 256 × 256) projected over its cone. The
+/// texture flipped in u or in v sits at 0.11–0.15 against this reference, untextured at 2.3.
+#[test]
+fn spot_texture_matches_mitsuba() {
+    check("emitter_spot_texture");
+}
+
+/// Mitsuba's `projector` scenes (`include/emitter_scene.xml`, 120 × 90, under `museum.exr`): a
+/// constant RGB irradiance, and `flower.bmp` (100 × 67, so the aspect ratio of the projection
+/// comes from the texture) with `scale` 85.8.
+#[test]
+fn projector_matches_mitsuba() {
+    check("emitter_projector_constant");
+    check("emitter_projector_textured");
 }
