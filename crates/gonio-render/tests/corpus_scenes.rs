@@ -113,7 +113,7 @@ const SCENES: &[(&str, f64)] = &[
     ("bsdf_mask_after", 5.50e-4),
     ("bsdf_normalmap_with", 5.65e-4),
     ("bsdf_bumpmap_with", 6.06e-4),
-    ("emitter_spot_texture", 6.48e-5),
+    ("emitter_spot_texture", 1.15e-4),
     ("emitter_projector_constant", 5.30e-4),
     ("emitter_projector_textured", 5.30e-4),
 ];
@@ -340,6 +340,10 @@ fn bumpmap_matches_mitsuba() {
 /// Mitsuba's `emitter_spot_texture` (`include/emitter_scene.xml`, 120 × 90): a `spot` whose
 /// intensity is multiplied by `noise_01.jpg` (reduced to 256 × 256) projected over its cone. The
 /// texture flipped in u or in v sits at 0.11–0.15 against this reference, untextured at 2.3.
+/// Under a spot gonio is 12× less noisy than Mitsuba at equal spp (gonio-vs-gonio 6.48e-5,
+/// Mitsuba-vs-Mitsuba 8.03e-4 at 32 spp), so the 256-spp reference's own noise against the
+/// converged image (8.03e-4/16 = 5.0e-5) is not negligible here: the threshold is the sum of the
+/// two, 1.15e-4 (gonio-vs-reference 8.74e-5 at seed 0).
 #[test]
 fn spot_texture_matches_mitsuba() {
     check("emitter_spot_texture");
