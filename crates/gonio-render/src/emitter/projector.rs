@@ -18,7 +18,8 @@
 //!
 //! with θ the angle between the projector's axis and p: a plane facing the projector at z = 1
 //! then receives π·scale·E·D65 wherever the texture is constant (Mitsuba's normalization, with
-//! its π). The texture E is looked up as an unbounded RGB spectrum.
+//! its π). The plugin decides how E's colours become spectra (a bitmap as a reflectance, a
+//! colour given in place unbounded).
 
 use crate::texture::Texture;
 use glam::{Affine3A, Vec2, Vec3};

@@ -2,13 +2,14 @@
 //! (Mitsuba 3 `src/emitters/projector.cpp`; runtime [`crate::emitter::ProjectorLight`], whose
 //! docs give the mapping and the radiance). The field of view is given as for `perspective`
 //! (`fov` along `fov_axis`, or `focal_length`), with the texture's resolution as the film's
-//! (a constant texture is 1 × 1).
+//! (a constant texture is 1 × 1). A bitmap is uplifted as a reflectance (Mitsuba's `bitmap`), a
+//! colour given in place as an unbounded spectrum; both are multiplied by scale·D65.
 
 use crate::plugins::sensor::perspective::{focal_length_mm, fov_to_x, fov_x_of_focal_length};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::EmitterDesc;
 use crate::texture::Texture;
-use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
+use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
 use gonio_core::spectra::RgbKind;
 
 const IRRADIANCE: ParamSpec = ParamSpec::new(
@@ -65,7 +66,25 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
             "projector needs an \"irradiance\" texture",
         ));
     }
-    let irradiance = b.texture(p, &IRRADIANCE, RgbKind::Unbounded)?;
+    // A texture object (a bitmap) is uplifted as Mitsuba's bitmap uplifts it (a reflectance-like
+    // spectrum per texel); a colour given in place is unbounded (Mitsuba's values exceed 1).
+    let nested = p.objects(Tag::Texture)?;
+    if let Some((_, other)) = nested.iter().find(|(_, x)| x.name != IRRADIANCE.name) {
+        return Err(err(
+            &other.loc,
+            ErrorKind::UnusedParameter,
+            format!(
+                "projector takes one texture, \"irradiance\"; \"{}\" is not used",
+                other.name
+            ),
+        ));
+    }
+    let kind = if nested.is_empty() {
+        RgbKind::Unbounded
+    } else {
+        RgbKind::Albedo
+    };
+    let irradiance = b.texture(p, &IRRADIANCE, kind)?;
     let scale = p.float(SCALE.name, SCALE.default.float())?;
     let (w, h) = match &irradiance {
         Texture::Bitmap(bm) => (bm.width(), bm.height()),
