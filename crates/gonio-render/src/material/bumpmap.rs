@@ -113,7 +113,7 @@ pub fn bumpmap_frame(at: &ShadingPoint, grad: Vec2) -> Frame {
     if at.n.dot(nb) < 0.0 {
         nb = -nb;
     }
-    Frame::from_normal_tangent(at.shading.to_local(nb), at.dpdu)
+    super::normalmap::tangent_frame(at.shading.to_local(nb), at.dpdu)
 }
 
 /// `bumpmap` in a scene.

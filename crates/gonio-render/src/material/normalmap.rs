@@ -107,6 +107,16 @@ pub fn normalmap_frame(rgb: [f32; 3], dpdu: Vec3) -> Frame {
     if n == Vec3::ZERO || !n.is_finite() {
         return Frame::from_normal_tangent(Vec3::Z, Vec3::X);
     }
+    tangent_frame(n, dpdu)
+}
+
+/// The frame of normal `n` with its tangent from `dpdu` by Gram–Schmidt; any tangent when
+/// `dpdu` is zero or (numerically) along `n`.
+pub(crate) fn tangent_frame(n: Vec3, dpdu: Vec3) -> Frame {
+    let s = dpdu - n * n.dot(dpdu);
+    if !(s.length_squared() > 1e-10 * dpdu.length_squared()) {
+        return Frame::from_normal(n);
+    }
     Frame::from_normal_tangent(n, dpdu)
 }
 
