@@ -731,3 +731,14 @@ fn minimal_glass_positive_control() {
         },
     );
 }
+
+#[test]
+fn null_and_masks() {
+    use gonio_core::bsdfs::NullBsdf;
+    assert_passes("null", &NullBsdf);
+    // `mask` (opacity α) is the blend (1 − α)·null + α·nested.
+    let d = Diffuse::new(Spectrum::Constant(0.6));
+    assert_passes("mask α=0.4 over diffuse 0.6", &BlendBsdf::new(0.6, &d, &NullBsdf));
+    let g = Dielectric::default();
+    assert_passes("mask α=0.7 over dielectric", &BlendBsdf::new(0.3, &g, &NullBsdf));
+}

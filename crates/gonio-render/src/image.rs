@@ -45,7 +45,7 @@ pub enum ImageError {
         source: std::io::Error,
     },
     /// The bytes are not an image format we read.
-    #[error("{}: not a recognized image (expected OpenEXR, PNG, JPEG or Radiance HDR)", path.display())]
+    #[error("{}: not a recognized image (expected OpenEXR, PNG, JPEG, BMP or Radiance HDR)", path.display())]
     UnknownFormat {
         /// The file.
         path: PathBuf,
@@ -141,6 +141,8 @@ impl RgbImage {
             (::image::ImageFormat::Jpeg, "JPEG")
         } else if bytes.starts_with(b"#?") {
             (::image::ImageFormat::Hdr, "Radiance HDR")
+        } else if bytes.starts_with(b"BM") {
+            (::image::ImageFormat::Bmp, "BMP")
         } else {
             return Err(ImageError::UnknownFormat {
                 path: path.to_owned(),

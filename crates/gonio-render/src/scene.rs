@@ -425,6 +425,21 @@ pub enum EmitterDesc {
         cutoff_angle_deg: f32,
         /// Full-intensity angle, degrees (default 3/4 of cutoff).
         beam_width_deg: f32,
+        /// Mitsuba's `texture`: a pattern projected over the cone (uv from the direction).
+        texture: Option<crate::texture::Texture>,
+    },
+    /// `projector`: a texture projected from a pinhole along +z of `to_world`.
+    Projector {
+        /// Light to world.
+        to_world: Affine3A,
+        /// E, the projected texture.
+        irradiance: crate::texture::Texture,
+        /// Multiplies E (and D65).
+        scale: f32,
+        /// Horizontal field of view, degrees.
+        fov_x_deg: f32,
+        /// The texture's width/height.
+        aspect: f32,
     },
     /// `directional`: light travelling along `direction`.
     Directional {

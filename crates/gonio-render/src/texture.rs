@@ -211,6 +211,39 @@ impl Bitmap {
         }
     }
 
+    /// The gradient (∂f/∂u, ∂f/∂v) of the scalar (luminance) lookup at `uv`, as Mitsuba's
+    /// `bitmap` gives it (`eval_1_grad`): the partial derivatives of the bilinear interpolation
+    /// in texels, scaled by the resolution and taken back through `to_uv` (its transposed
+    /// linear part); zero for `nearest`, which is piecewise constant.
+    pub fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
+        if self.filter == FilterType::Nearest {
+            return Vec2::ZERO;
+        }
+        let st = self.to_uv.transform_point2(uv);
+        let px = st.x * self.width as f32 - 0.5;
+        let py = st.y * self.height as f32 - 0.5;
+        if !(px.is_finite() && py.is_finite()) {
+            return Vec2::ZERO;
+        }
+        let (fx, fy) = (px.floor(), py.floor());
+        let (tx, ty) = (px - fx, py - fy);
+        let (w, h) = (self.width as i64, self.height as i64);
+        let (x0, y0) = (fx as i64, fy as i64);
+        let xs = [self.wrap.wrap(x0, w), self.wrap.wrap(x0 + 1, w)];
+        let ys = [self.wrap.wrap(y0, h), self.wrap.wrap(y0 + 1, h)];
+        let f = |x: usize, y: usize| luminance(self.texel(x, y));
+        let (f00, f10) = (f(xs[0], ys[0]), f(xs[1], ys[0]));
+        let (f01, f11) = (f(xs[0], ys[1]), f(xs[1], ys[1]));
+        let df_x = (1.0 - ty) * (f10 - f00) + ty * (f11 - f01);
+        let df_y = (1.0 - tx) * (f01 - f00) + tx * (f11 - f10);
+        let m = self.to_uv.matrix2;
+        let df_uv = Vec2::new(
+            m.x_axis.x * df_x + m.x_axis.y * df_y,
+            m.y_axis.x * df_x + m.y_axis.y * df_y,
+        );
+        df_uv * Vec2::new(self.width as f32, self.height as f32)
+    }
+
     /// Mean over the image (of the uplifted mean colour), for `plastic`'s sampling weight.
     pub fn mean(&self) -> f32 {
         self.mean
@@ -310,6 +343,37 @@ impl Texture {
         }
     }
 
+    /// Three values at `uv` as Mitsuba's `eval_3` reads them (a normal map): a bitmap's linear
+    /// (or `raw`) RGB, a constant's value three times; `None` for a spectrum that is no
+    /// constant and for a checkerboard.
+    pub fn eval_3(&self, uv: Vec2) -> Option<[f32; 3]> {
+        match self {
+            Texture::Spectrum(s) => s.as_constant().map(|v| [v; 3]),
+            Texture::Bitmap(b) => Some(b.eval_rgb(uv)),
+            Texture::Checkerboard { .. } => None,
+        }
+    }
+
+    /// The uv gradient of [`Texture::eval_1`] (Mitsuba `eval_1_grad`, for `bumpmap`): zero for a
+    /// constant and inside a checkerboard's cells, the bilinear derivative for a bitmap.
+    pub fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
+        match self {
+            Texture::Bitmap(b) => b.eval_1_grad(uv),
+            Texture::Spectrum(_) => Vec2::ZERO,
+            Texture::Checkerboard {
+                color0,
+                color1,
+                to_uv,
+            } => {
+                if checker_is_color0(*to_uv, uv) {
+                    color0.eval_1_grad(uv)
+                } else {
+                    color1.eval_1_grad(uv)
+                }
+            }
+        }
+    }
+
     /// Mean over the surface and over 360–830 nm (Mitsuba `Texture::mean`, used by `plastic`).
     pub fn mean(&self) -> f32 {
         match self {
@@ -340,6 +404,30 @@ fn checker_is_color0(to_uv: Affine2, uv: Vec2) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_gradient_of_a_ramp_is_its_slope_in_uv() {
+        // Texel i holds i/4 along u: the bilinear lookup rises by 1/4 per texel, 1 per unit of u.
+        let rgb: Vec<[f32; 3]> = (0..4).map(|i| [i as f32 / 4.0; 3]).collect();
+        let ramp = |to_uv: Affine2, filter: FilterType| {
+            Bitmap::new(4, 1, rgb.clone(), filter, WrapMode::Clamp, RgbKind::Albedo, to_uv).unwrap()
+        };
+        let b = ramp(Affine2::IDENTITY, FilterType::Bilinear);
+        let g = b.eval_1_grad(Vec2::new(0.5, 0.5));
+        assert!((g - Vec2::new(1.0, 0.0)).length() < 1e-5, "{g:?}");
+        // to_uv scaling u by ½ halves the slope per unit of the surface's u (chain rule).
+        let b = ramp(Affine2::from_scale(Vec2::new(0.5, 1.0)), FilterType::Bilinear);
+        let g = b.eval_1_grad(Vec2::new(1.0, 0.5));
+        assert!((g - Vec2::new(0.5, 0.0)).length() < 1e-5, "{g:?}");
+        // Nearest lookups are piecewise constant; constants have no gradient.
+        let b = ramp(Affine2::IDENTITY, FilterType::Nearest);
+        assert_eq!(b.eval_1_grad(Vec2::new(0.5, 0.5)), Vec2::ZERO);
+        assert_eq!(
+            Texture::constant(0.3).eval_1_grad(Vec2::new(0.5, 0.5)),
+            Vec2::ZERO
+        );
+        assert_eq!(Texture::constant(0.3).eval_3(Vec2::ZERO), Some([0.3; 3]));
+    }
 
     #[test]
     fn wrap_modes() {

@@ -77,6 +77,10 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
         "<bsdf type=\"polarizer\"><float name=\"theta\" value=\"30\"/><texture name=\"transmittance\" type=\"checkerboard\"/></bsdf>",
         "<bsdf type=\"retarder\"><float name=\"theta\" value=\"45\"/><float name=\"delta\" value=\"180\"/><texture name=\"transmittance\" type=\"checkerboard\"/></bsdf>",
         "<bsdf type=\"circular\"><boolean name=\"left_handed\" value=\"true\"/><texture name=\"transmittance\" type=\"checkerboard\"/></bsdf>",
+        "<bsdf type=\"null\"/>",
+        "<bsdf type=\"mask\"><texture name=\"opacity\" type=\"checkerboard\"/><bsdf type=\"twosided\"><bsdf type=\"roughconductor\"/></bsdf></bsdf>",
+        "<bsdf type=\"normalmap\"><float name=\"normalmap\" value=\"0.8\"/><bsdf type=\"plastic\"/></bsdf>",
+        "<bsdf type=\"bumpmap\"><float name=\"scale\" value=\"0.5\"/><texture name=\"h\" type=\"checkerboard\"/><bsdf type=\"diffuse\"/></bsdf>",
     ];
     let mut rng = Pcg32::new(11, 5);
     let mut dir = || {

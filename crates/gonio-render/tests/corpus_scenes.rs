@@ -76,6 +76,9 @@ const CI_SPP: u32 = 32;
 /// `include/shape_scene.xml` (120 × 90) too; CI renders `shape_sdfgrid` and
 /// `shape_linearcurve_parameterization` (whose checkerboard also tests the curve's uv),
 /// `measure` all six.
+/// | bsdf_mask_after | 5.50e-4 | 4.56e-4 6.08e-4 5.41e-4 (see below) | 1.94e-3 |
+/// | bsdf_normalmap_with | 5.65e-4 | 4.08e-4 4.86e-4 5.28e-4 | 1.46e-3 |
+/// | bsdf_bumpmap_with | 6.06e-4 | 4.55e-4 4.48e-4 5.03e-4 | 1.43e-3 |
 ///
 /// The sensor scenes (Mitsuba's `sensor_thinlens.xml`, `sensor_orthographic.xml` over
 /// `include/sensor_scene.xml`, 120 × 90) take `$spp` from the caller, as in Mitsuba. The `direct`
@@ -131,6 +134,11 @@ const SCENES: &[(&str, f64)] = &[
     ("bsdf_pplastic", 6.11e-4),
     ("bsdf_pplastic_diffuse", 5.11e-4),
     ("bsdf_pplastic_specular", 5.99e-4),
+    ("bsdf_mask_after", 5.50e-4),
+    ("bsdf_normalmap_with", 5.65e-4),
+    ("bsdf_bumpmap_with", 6.06e-4),
+    ("emitter_spot_texture", 1.15e-4),
+    ("emitter_projector_constant", 6.50e-4),
 ];
 
 fn corpus() -> PathBuf {
@@ -351,4 +359,55 @@ fn pplastic_diffuse_component_matches_mitsuba() {
 #[test]
 fn pplastic_specular_component_matches_mitsuba() {
     check("bsdf_pplastic_specular");
+}
+
+/// Mitsuba's `bsdf_mask_after` (`include/shape_scene.xml`, 120 × 90): a `mask` whose opacity is
+/// a leaf-shaped bitmap (`leaf_mask.png`, grey + alpha, read as its grey channel) over a diffuse
+/// rectangle. gonio crosses the transparent part as a null lobe (shadow rays pass it, the path
+/// does not count it as a bounce); Mitsuba's `path` samples it as a delta event and blocks shadow
+/// rays there. Both estimate the same image. It sits at the noise level rather than below it
+/// (gonio's red mean is 1.5 % below Mitsuba's; green and blue agree). The same deficit is in
+/// `bsdf_mask_before`, the scene without the mask (red −1.6 %), so it is not the mask's.
+#[test]
+fn mask_after_matches_mitsuba() {
+    check("bsdf_mask_after");
+}
+
+/// Mitsuba's `bsdf_normalmap_with` (material preview, 120 × 90): `roughplastic` under a
+/// `normalmap` (`floor_tiles_normalmap.jpg`, reduced to 256 × 256 for the repository; both
+/// renderers read the copy). The same scene without the map sits at 1.3e-3 against this
+/// reference, twice the threshold: the test sees the perturbed frames.
+#[test]
+fn normalmap_matches_mitsuba() {
+    check("bsdf_normalmap_with");
+}
+
+/// Mitsuba's `bsdf_bumpmap_with` (material preview, 120 × 90): `roughplastic` under a
+/// `bumpmap` of scale 0.02 (`floor_tiles_bumpmap.png`, reduced to 256 × 256). Without the bumps
+/// gonio sits at 2.1e-3 against this reference, with the scale doubled at 1.6e-3.
+#[test]
+fn bumpmap_matches_mitsuba() {
+    check("bsdf_bumpmap_with");
+}
+
+/// Mitsuba's `emitter_spot_texture` (`include/emitter_scene.xml`, 120 × 90): a `spot` whose
+/// intensity is multiplied by `noise_01.jpg` (reduced to 256 × 256) projected over its cone. The
+/// texture flipped in u or in v sits at 0.11–0.15 against this reference, untextured at 2.3.
+/// Under a spot gonio is 12× less noisy than Mitsuba at equal spp (gonio-vs-gonio 6.48e-5,
+/// Mitsuba-vs-Mitsuba 8.03e-4 at 32 spp), so the 256-spp reference's own noise against the
+/// converged image (8.03e-4/16 = 5.0e-5) is not negligible here: the threshold is the sum of the
+/// two, 1.15e-4 (gonio-vs-reference 8.74e-5 at seed 0).
+#[test]
+fn spot_texture_matches_mitsuba() {
+    check("emitter_spot_texture");
+}
+
+/// Mitsuba's `emitter_projector_constant` (`include/emitter_scene.xml`, 120 × 90, under
+/// `museum.exr`): a projector of constant RGB irradiance. Its textured sibling
+/// (`emitter_projector_textured.xml`, `flower.bmp`, 100 × 67, `scale` 85.8; copied with its
+/// reference) does not agree yet: 1.13e-3 against Mitsuba for a gonio-vs-gonio level of 5.85e-4,
+/// gonio's red mean 6 % low (green and blue 1–2 % high); it has no row until that is understood.
+#[test]
+fn projector_matches_mitsuba() {
+    check("emitter_projector_constant");
 }

@@ -510,3 +510,68 @@ fn light_samples_and_their_densities_agree_for_every_light_kind() {
     }
     assert!(seen.iter().all(|&n| n > 20), "every light sampled: {seen:?}");
 }
+
+/// Mitsuba's `spot` `texture`: looked up at uv = ½ + ½·(x, y)/(z·tan γ) of the local direction,
+/// so the texture's square spans the cutoff's tangent plane.
+#[test]
+fn spot_light_projects_its_texture_over_the_cone() {
+    use gonio_render::texture::Texture;
+    // A checkerboard (no to_uv) is 0.25 for u < ½ and 1 for u > ½ along v = ½.
+    let texture = Texture::Checkerboard {
+        color0: Box::new(Texture::constant(0.25)),
+        color1: Box::new(Texture::constant(1.0)),
+        to_uv: glam::Affine2::IDENTITY,
+    };
+    let spot =
+        SpotLight::new(Affine3A::IDENTITY, Spectrum::Constant(2.0), 30.0, 30.0).with_texture(Some(texture));
+    let tan = 30f32.to_radians().tan();
+    // The cutoff's edge along ±x maps to u = 1 and u = 0, the axis to the centre.
+    let uv = spot.texture_uv(Vec3::new(tan, 0.0, 1.0));
+    assert!((uv - Vec2::new(1.0, 0.5)).length() < 1e-6, "{uv:?}");
+    let uv = spot.texture_uv(Vec3::new(-0.5 * tan, 0.25 * tan, 1.0));
+    assert!((uv - Vec2::new(0.25, 0.625)).length() < 1e-6, "{uv:?}");
+    let wl = SampledWavelengths::sample_visible(0.3);
+    let i = |d: Vec3| spot.intensity_towards(d.normalize(), &wl)[0];
+    assert!((i(Vec3::new(-0.3, 0.0, 1.0)) - 0.5).abs() < 1e-6);
+    assert!((i(Vec3::new(0.3, 0.0, 1.0)) - 2.0).abs() < 1e-6);
+    // Outside the cone: nothing, whatever the texture.
+    assert_eq!(i(Vec3::new(1.0, 0.0, 1.0)), 0.0);
+}
+
+/// Mitsuba's `projector`: a constant texture projected on a plane facing it gives a constant
+/// irradiance π·scale·E·D65/z² (the closed form its normalization is built for), the image's
+/// edges are the field of view's, and nothing lands outside it or behind the light.
+#[test]
+fn projector_irradiance_on_a_facing_plane_is_constant() {
+    use gonio_render::texture::Texture;
+    let (scale, e, fov) = (3.0f32, 0.4f32, 40.0f32);
+    let light = ProjectorLight::new(Affine3A::IDENTITY, Texture::constant(e), scale, fov, 2.0);
+    let wl = SampledWavelengths::sample_visible(0.45);
+    let d65 = Spectrum::d65().sample(&wl)[0];
+    let t = (fov.to_radians() / 2.0).tan();
+    let z = 2.0;
+    let expected = PI * scale * e * d65 / (z * z);
+    for (x, y) in [
+        (0.0, 0.0),
+        (0.9 * t * z, 0.0),
+        (-0.5 * t * z, 0.2 * t * z),
+        (0.3, -0.4 * t * z),
+    ] {
+        let p = Vec3::new(x, y, z);
+        let cos = p.z / p.length();
+        let irradiance = light.li_at(p, &wl)[0] * cos;
+        assert!(
+            (irradiance - expected).abs() < 1e-4 * expected,
+            "{irradiance} vs {expected} at {p:?}"
+        );
+    }
+    // The horizontal edges of the image are at ±tan(φ/2)·z (u = 0 and 1, mirrored as in
+    // Mitsuba's camera); with aspect 2 the vertical ones at ±tan(φ/2)·z/2.
+    let uv = light.texture_uv(Vec3::new(-t * z, 0.0, z)).unwrap();
+    assert!((uv - Vec2::new(1.0, 0.5)).length() < 1e-5, "{uv:?}");
+    let uv = light.texture_uv(Vec3::new(0.0, 0.5 * t * z, z)).unwrap();
+    assert!((uv - Vec2::new(0.5, 0.0)).length() < 1e-5, "{uv:?}");
+    assert!(light.texture_uv(Vec3::new(0.0, 0.6 * t * z, z)).is_none());
+    assert_eq!(light.li_at(Vec3::new(1.1 * t * z, 0.0, z), &wl)[0], 0.0);
+    assert_eq!(light.li_at(Vec3::new(0.0, 0.0, -1.0), &wl)[0], 0.0);
+}

@@ -350,6 +350,7 @@ fn spawned_rays_do_not_self_intersect() {
                 shading: gonio_core::Frame::from_normal(p.ns),
                 uv: p.uv,
                 dpdu: Vec3::ZERO,
+                dpdv: Vec3::ZERO,
                 shape: 0,
                 prim: 0,
             };

@@ -51,6 +51,7 @@ fn required(name: &str) -> &'static str {
         "instance" => "<shape type=\"shapegroup\"><shape type=\"sphere\"/></shape>",
         "sdfgrid" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
         "linearcurve" | "bsplinecurve" => "<string name=\"filename\" value=\"curve.txt\"/>",
+        "projector" => "<float name=\"irradiance\" value=\"1\"/>",
         _ => "",
     }
 }

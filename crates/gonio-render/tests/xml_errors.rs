@@ -606,3 +606,51 @@ fn instancing_sdf_and_curve_errors() {
         );
     }
 }
+
+/// `mask`, `normalmap` and `bumpmap`: a missing or extra nested BSDF, a missing or unusable
+/// texture, each located and named.
+#[test]
+fn wrapper_bsdf_errors() {
+    let err = |t: &str| load_bsdf_str(t).expect_err(t);
+    let pos = |e: &SceneError| (e.location.line, e.location.column);
+    // mask without its nested BSDF, and with two.
+    let e = err("<bsdf type=\"mask\"><float name=\"opacity\" value=\"0.3\"/></bsdf>");
+    assert_eq!((e.kind, pos(&e)), (ErrorKind::Grammar, (1, 1)), "{e}");
+    assert!(e.to_string().contains("mask needs a nested BSDF"), "{e}");
+    let t = "<bsdf type=\"mask\">\n<bsdf type=\"diffuse\"/>\n<bsdf type=\"conductor\"/>\n</bsdf>";
+    let e = err(t);
+    assert_eq!((e.kind, pos(&e).0), (ErrorKind::Grammar, 3), "{e}");
+    assert!(e.to_string().contains("exactly one nested BSDF, found 2"), "{e}");
+    // normalmap without its map, with a map it cannot read as RGB, and without a BSDF.
+    let e = err("<bsdf type=\"normalmap\"><bsdf type=\"diffuse\"/></bsdf>");
+    assert_eq!(e.kind, ErrorKind::Grammar, "{e}");
+    assert!(e.to_string().contains("\"normalmap\" texture"), "{e}");
+    let t = "<bsdf type=\"normalmap\">\n<texture name=\"normalmap\" type=\"checkerboard\"/>\n<bsdf type=\"diffuse\"/></bsdf>";
+    let e = err(t);
+    assert_eq!((e.kind, pos(&e).0), (ErrorKind::BadValue, 2), "{e}");
+    assert!(e.to_string().contains("bitmap or a constant"), "{e}");
+    let e = err("<bsdf type=\"normalmap\"><float name=\"normalmap\" value=\"0.5\"/></bsdf>");
+    assert!(
+        e.to_string()
+            .contains("normalmap needs exactly one nested BSDF, found none"),
+        "{e}"
+    );
+    // bumpmap without a height texture, with two, with a non-finite scale.
+    let e = err("<bsdf type=\"bumpmap\"><bsdf type=\"diffuse\"/></bsdf>");
+    assert!(e.to_string().contains("bumpmap needs a nested texture"), "{e}");
+    let t = "<bsdf type=\"bumpmap\">\n<texture name=\"a\" type=\"checkerboard\"/>\n<texture name=\"b\" type=\"checkerboard\"/>\n<bsdf type=\"diffuse\"/></bsdf>";
+    let e = err(t);
+    assert_eq!(pos(&e).0, 3, "{e}");
+    assert!(
+        e.to_string().contains("exactly one nested texture, found 2"),
+        "{e}"
+    );
+    let e = err("<bsdf type=\"bumpmap\"><texture name=\"h\" type=\"checkerboard\"/></bsdf>");
+    assert!(
+        e.to_string().contains("bumpmap needs exactly one nested BSDF"),
+        "{e}"
+    );
+    // An unknown parameter is still an error.
+    let e = err("<bsdf type=\"null\"><float name=\"opacity\" value=\"1\"/></bsdf>");
+    assert!(e.to_string().contains("opacity"), "{e}");
+}

@@ -72,6 +72,8 @@ pub enum LeafBsdf<'a> {
     Retarder(Retarder<SampledSpectrum>),
     /// `circular`.
     CircularPolarizer(CircularPolarizer<SampledSpectrum>),
+    /// `null` (and the pass-through of `mask`).
+    Null(super::NullBsdf),
 }
 
 /// Calls `$body` with `$b: &dyn Bsdf` bound to the model inside a [`LeafBsdf`] (static dispatch
@@ -99,6 +101,7 @@ macro_rules! with_leaf {
             LeafBsdf::Polarizer($b) => $body,
             LeafBsdf::Retarder($b) => $body,
             LeafBsdf::CircularPolarizer($b) => $body,
+            LeafBsdf::Null($b) => $body,
         }
     };
 }
@@ -175,6 +178,8 @@ enum Node<'a> {
     Blend { weight: f32, a: u8, b: u8 },
     /// `twosided`: node `front` for cos θi ≥ 0, node `back` mirrored below.
     TwoSided { front: u8, back: u8 },
+    /// `normalmap`/`bumpmap`: node `child` in a perturbed shading frame.
+    Perturbed { frame: crate::frame::Frame, child: u8 },
 }
 
 /// The tree has no room for another node: the material nests more than [`MAX_NODES`] BSDFs.
@@ -271,6 +276,13 @@ impl<'a> SurfaceBsdf<'a> {
         self.push(Node::TwoSided { front, back })
     }
 
+    /// Adds node `child` (pushed before) seen through the perturbed shading frame `frame`
+    /// ([`super::PerturbedFrame`]); returns its index.
+    pub fn push_perturbed(&mut self, frame: crate::frame::Frame, child: u8) -> Result<u8, TooManyNodes> {
+        debug_assert!(child < self.len);
+        self.push(Node::Perturbed { frame, child })
+    }
+
     /// Empties the tree (keeping its storage): the next push is the first node.
     #[inline]
     pub fn clear(&mut self) {
@@ -315,6 +327,7 @@ impl NodeRef<'_, '_> {
             Some(Node::Leaf(l)) => with_leaf!(l, b => f(b)),
             Some(Node::Blend { weight, a, b }) => f(&BlendBsdf::new(*weight, &at(*a), &at(*b))),
             Some(Node::TwoSided { front, back }) => f(&TwoSided::with_back(&at(*front), &at(*back))),
+            Some(Node::Perturbed { frame, child }) => f(&super::PerturbedFrame::new(*frame, &at(*child))),
         }
     }
 }

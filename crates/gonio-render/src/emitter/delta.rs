@@ -13,7 +13,8 @@
 //!
 //! Emission spectra come uplifted from the scene reader (an RGB or float value is × D65).
 
-use glam::{Affine3A, Vec3};
+use crate::texture::Texture;
+use glam::{Affine3A, Vec2, Vec3};
 use gonio_core::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::f32::consts::PI;
 
@@ -46,6 +47,9 @@ pub struct SpotLight {
     beam_width: f32,
     cos_cutoff: f32,
     cos_beam_width: f32,
+    /// Mitsuba's projected `texture` and tan(cutoff), its uv scale.
+    texture: Option<Texture>,
+    uv_factor: f32,
 }
 
 impl SpotLight {
@@ -62,7 +66,21 @@ impl SpotLight {
             beam_width,
             cos_cutoff: cutoff.cos(),
             cos_beam_width: beam_width.cos(),
+            texture: None,
+            uv_factor: cutoff.tan(),
         }
+    }
+
+    /// The same light with Mitsuba's `texture` projected over the cone (`None`: untextured).
+    pub fn with_texture(mut self, texture: Option<Texture>) -> Self {
+        self.texture = texture;
+        self
+    }
+
+    /// The texture coordinates Mitsuba's `spot` looks its texture up at for the local
+    /// direction `local` (cone along +z): ½ + ½·(x, y)/(z·tan γ).
+    pub fn texture_uv(&self, local: Vec3) -> Vec2 {
+        Vec2::new(local.x, local.y) / (local.z * self.uv_factor) * 0.5 + Vec2::splat(0.5)
     }
 
     /// World position.
@@ -92,9 +110,15 @@ impl SpotLight {
     pub fn intensity_towards(&self, d: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         let f = self.falloff(d);
         if f == 0.0 {
-            SampledSpectrum::ZERO
-        } else {
-            self.intensity.sample(wl) * f
+            return SampledSpectrum::ZERO;
+        }
+        let i = self.intensity.sample(wl) * f;
+        match &self.texture {
+            None => i,
+            Some(t) => {
+                let local = self.to_local.transform_vector3(d).normalize_or_zero();
+                i * t.eval(self.texture_uv(local)).sample(wl)
+            }
         }
     }
 
@@ -108,7 +132,9 @@ impl SpotLight {
             let integral = (g - b) * b.cos() + b.sin() - g.sin();
             solid += 2.0 * PI * integral / (g - b);
         }
-        self.intensity.mean() * solid
+        // A texture scales it by about its mean (a selection weight, not an exact power).
+        let texture = self.texture.as_ref().map_or(1.0, Texture::mean);
+        self.intensity.mean() * solid * texture
     }
 }
 

@@ -63,15 +63,32 @@ impl Light {
                 intensity,
                 cutoff_angle_deg,
                 beam_width_deg,
+                texture,
             } => {
                 if to_world.matrix3.determinant() == 0.0 {
                     return Err("singular to_world".into());
                 }
-                Light::Spot(SpotLight::new(
+                Light::Spot(
+                    SpotLight::new(*to_world, intensity.clone(), *cutoff_angle_deg, *beam_width_deg)
+                        .with_texture(texture.clone()),
+                )
+            }
+            EmitterDesc::Projector {
+                to_world,
+                irradiance,
+                scale,
+                fov_x_deg,
+                aspect,
+            } => {
+                if to_world.matrix3.determinant() == 0.0 {
+                    return Err("singular to_world".into());
+                }
+                Light::Projector(super::ProjectorLight::new(
                     *to_world,
-                    intensity.clone(),
-                    *cutoff_angle_deg,
-                    *beam_width_deg,
+                    irradiance.clone(),
+                    *scale,
+                    *fov_x_deg,
+                    *aspect,
                 ))
             }
             EmitterDesc::Directional {

@@ -32,12 +32,14 @@ pub mod area;
 pub mod delta;
 mod from_scene;
 pub mod infinite;
+pub mod projector;
 
 pub use area::{AreaLight, SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE};
 pub use delta::{DirectionalLight, PointLight, SpotLight};
 pub use from_scene::EmitterError;
 pub use gonio_core::sampling::{Distribution1D, Distribution2D};
 pub use infinite::{ConstantLight, EnvMapLight};
+pub use projector::ProjectorLight;
 
 use crate::geometry::{SurfaceInteraction, WorldShape};
 use glam::{Vec2, Vec3};
@@ -97,12 +99,17 @@ pub enum Light {
     Constant(ConstantLight),
     /// `envmap`.
     EnvMap(EnvMapLight),
+    /// `projector`.
+    Projector(ProjectorLight),
 }
 
 impl Light {
     /// True for lights that rays never hit (point, spot, directional).
     pub fn is_delta(&self) -> bool {
-        matches!(self, Light::Point(_) | Light::Spot(_) | Light::Directional(_))
+        matches!(
+            self,
+            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Projector(_)
+        )
     }
 
     /// True for lights at infinity (constant, envmap), seen by rays that escape the scene.
@@ -175,6 +182,21 @@ impl Light {
                     normal: None,
                 }
             }
+            Light::Projector(l) => {
+                let d = l.position() - r.p;
+                let dist = d.length();
+                if !(dist > 0.0) {
+                    return None;
+                }
+                LightSample {
+                    wi: d / dist,
+                    dist,
+                    li: l.li_at(r.p, wl),
+                    pdf: 1.0,
+                    delta: true,
+                    normal: None,
+                }
+            }
             Light::Directional(l) => LightSample {
                 wi: -l.direction,
                 dist: f32::INFINITY,
@@ -226,6 +248,7 @@ impl Light {
             Light::Area(a) => a.mean_radiance,
             Light::Point(l) => l.intensity.mean(),
             Light::Spot(l) => l.intensity.mean(),
+            Light::Projector(l) => l.mean_emission(),
             Light::Directional(l) => l.irradiance.mean(),
             Light::Constant(c) => c.mean_radiance(),
             Light::EnvMap(e) => e.mean_radiance(),
@@ -272,6 +295,10 @@ impl Light {
                 let d = l.position() - r.p;
                 mean / d.length_squared().max(1e-12) * cos_towards(d, 0.0)
             }
+            Light::Projector(l) => {
+                let d = l.position() - r.p;
+                mean / d.length_squared().max(1e-12) * cos_towards(d, 0.0)
+            }
             Light::Directional(l) => mean * cos_towards(-l.direction, 0.0),
             Light::Constant(_) | Light::EnvMap(_) => std::f32::consts::PI * mean,
         };
@@ -290,6 +317,7 @@ impl Light {
             Light::Area(a) => a.power(),
             Light::Point(l) => l.power(),
             Light::Spot(l) => l.power(),
+            Light::Projector(l) => l.power(),
             Light::Directional(l) => l.power(bounds.radius),
             Light::Constant(c) => std::f32::consts::PI * c.mean_radiance() * infinite_area,
             Light::EnvMap(e) => std::f32::consts::PI * e.mean_radiance() * infinite_area,

@@ -80,6 +80,8 @@ pub struct SurfaceInteraction {
     pub uv: Vec2,
     /// ∂p/∂u (zero when the parameterization is degenerate).
     pub dpdu: Vec3,
+    /// ∂p/∂v (zero when the parameterization is degenerate).
+    pub dpdv: Vec3,
     /// Index of the shape in the accelerator's shape list.
     pub shape: u32,
     /// Primitive (triangle) index within the shape; 0 for analytic shapes.

@@ -558,6 +558,19 @@ impl WorldShape {
         let theta = local.z.clamp(-1.0, 1.0).acos();
         let uv = Vec2::new(phi / TAU, theta / PI);
         let dpdu = *to_world * Vec3::new(-local.y, local.x, 0.0) * TAU;
+        // ∂p/∂v = π (cos θ cos φ, cos θ sin φ, −sin θ) (zero at the poles).
+        let sin_theta = (local.x * local.x + local.y * local.y).sqrt();
+        let dpdv = if sin_theta > 0.0 {
+            *to_world
+                * Vec3::new(
+                    local.z * local.x / sin_theta,
+                    local.z * local.y / sin_theta,
+                    -sin_theta,
+                )
+                * PI
+        } else {
+            Vec3::ZERO
+        };
         SurfaceInteraction {
             p,
             t: 0.0,
@@ -565,6 +578,7 @@ impl WorldShape {
             shading: Frame::from_normal_tangent(n, dpdu),
             uv,
             dpdu,
+            dpdv,
             shape: 0,
             prim: 0,
         }
@@ -584,6 +598,7 @@ impl WorldShape {
                     shading: Frame::from_normal_tangent(*n, dpdu),
                     uv: Vec2::new(0.5 * (x + 1.0), 0.5 * (y + 1.0)),
                     dpdu,
+                    dpdv: Vec3::from(to_world.matrix3.y_axis) * 2.0,
                     shape: 0,
                     prim: 0,
                 }
@@ -608,6 +623,7 @@ impl WorldShape {
                     shading: Frame::from_normal_tangent(*n, dpdu),
                     uv: Vec2::new(r, v),
                     dpdu,
+                    dpdv: to_world.transform_vector3(Vec3::new(-y, x, 0.0)) * TAU,
                     shape: 0,
                     prim: 0,
                 }
@@ -769,20 +785,21 @@ impl WorldMesh {
         let b0 = 1.0 - b1 - b2;
         let p = b0 * p0 + b1 * p1 + b2 * p2;
         let n = (p1 - p0).cross(p2 - p0).normalize_or_zero();
-        let (uv, dpdu) = if self.uvs.is_empty() {
+        let (uv, dpdu, dpdv) = if self.uvs.is_empty() {
             // Mitsuba's convention without texture coordinates: uv = (b1, b2).
-            (Vec2::new(b1, b2), p1 - p0)
+            (Vec2::new(b1, b2), p1 - p0, p2 - p0)
         } else {
             let [t0, t1, t2] = idx.map(|v| self.uvs[v]);
             let uv = b0 * t0 + b1 * t1 + b2 * t2;
             let (d02, d12) = (t0 - t2, t1 - t2);
             let det = d02.x * d12.y - d02.y * d12.x;
-            let dpdu = if det.abs() > 1e-12 {
-                (d12.y * (p0 - p2) - d02.y * (p1 - p2)) / det
+            if det.abs() > 1e-12 {
+                let dpdu = (d12.y * (p0 - p2) - d02.y * (p1 - p2)) / det;
+                let dpdv = (d02.x * (p1 - p2) - d12.x * (p0 - p2)) / det;
+                (uv, dpdu, dpdv)
             } else {
-                Vec3::ZERO
-            };
-            (uv, dpdu)
+                (uv, Vec3::ZERO, Vec3::ZERO)
+            }
         };
         let ns = if self.normals.is_empty() || face_normals {
             n
@@ -798,6 +815,7 @@ impl WorldMesh {
             shading: Frame::from_normal_tangent(ns, dpdu),
             uv,
             dpdu,
+            dpdv,
             shape: 0,
             prim: i as u32,
         }

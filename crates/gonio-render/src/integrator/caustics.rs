@@ -335,7 +335,8 @@ pub struct LightVertex {
     /// Geometric normal.
     n: Vec3,
     shading: Frame,
-    uv: Vec2,
+    /// The hit as its material reads it (uv, derivatives).
+    at: crate::material::ShadingPoint,
     shape: u32,
     /// Direction towards the chain, in the shading frame.
     wi: Vec3,
@@ -585,7 +586,7 @@ impl PathTracer<'_> {
                 continue;
             }
             let wi_y = y.shading.to_local(-dir);
-            let Some((f_y, pdf_y)) = self.bsdf_at(y.shape, y.uv, &{ *wl }, |b: &SurfaceBsdf<'_>| {
+            let Some((f_y, pdf_y)) = self.bsdf_at(y.shape, &y.at, &{ *wl }, |b: &SurfaceBsdf<'_>| {
                 b.eval_pdf(&radiance, wi_y, y.wi, wl)
             }) else {
                 continue;

@@ -50,7 +50,7 @@ impl PathTracer<'_> {
             return l;
         };
         let mut bsdf = SurfaceBsdf::new();
-        material.fill_bsdf(si.uv, wl, &mut bsdf);
+        material.fill_bsdf_at(&crate::material::ShadingPoint::from(&si), wl, &mut bsdf);
         let v = Vertex {
             bsdf: &bsdf,
             si: &si,

@@ -79,7 +79,7 @@ use crate::camera::Camera;
 use crate::emitter::{Light, LightRef, LightSample, Lights};
 use crate::film::Channels;
 use crate::geometry::{Ray, SurfaceInteraction};
-use crate::material::Material;
+use crate::material::{Material, ShadingPoint};
 pub use crate::sampler::PathSampler;
 use crate::sampler::{PaddedSampler, Pcg32};
 use crate::scene::{IntegratorDesc, IntegratorKind};
@@ -310,17 +310,17 @@ impl<'a> PathTracer<'a> {
             .and_then(|&m| self.materials.get(m))
     }
 
-    /// Calls `f` with the BSDF of shape `shape`'s material at texture coordinates `uv` (`None`
-    /// when the shape has no material).
+    /// Calls `f` with the BSDF of shape `shape`'s material at the hit `at` (`None` when the
+    /// shape has no material).
     #[inline]
     fn bsdf_at<R>(
         &self,
         shape: u32,
-        uv: Vec2,
+        at: &ShadingPoint,
         wl: &SampledWavelengths,
         f: impl FnOnce(&SurfaceBsdf<'_>) -> R,
     ) -> Option<R> {
-        Some(f(&self.material_of(shape)?.bsdf_at(uv, wl)))
+        Some(f(&self.material_of(shape)?.bsdf_at_point(at, wl)))
     }
 
     fn is_thin(&self, shape: u32) -> bool {
@@ -382,7 +382,7 @@ impl<'a> PathTracer<'a> {
             let Some(material) = self.material_of(si.shape) else {
                 break;
             };
-            material.fill_bsdf(si.uv, wl, &mut bsdf);
+            material.fill_bsdf_at(&ShadingPoint::from(&si), wl, &mut bsdf);
             let v = Vertex {
                 bsdf: &bsdf,
                 si: &si,
@@ -655,7 +655,7 @@ impl<'a> PathTracer<'a> {
                 return W::ZERO;
             }
             let wi = h.shading.to_local(-ray.d);
-            let t = self.bsdf_at(h.shape, h.uv, wl, |bsdf: &SurfaceBsdf<'_>| {
+            let t = self.bsdf_at(h.shape, &ShadingPoint::from(&h), wl, |bsdf: &SurfaceBsdf<'_>| {
                 bsdf.null_transmission_weight(wi, wl)
             });
             match t.flatten() {

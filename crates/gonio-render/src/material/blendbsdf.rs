@@ -1,7 +1,7 @@
 //! `blendbsdf`: (1 − w)·bsdf0 + w·bsdf1 with a scalar or textured weight (core adapter
 //! [`gonio_core::bsdfs::BlendBsdf`]; Mitsuba 3 `src/bsdfs/blendbsdf.cpp`).
 
-use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};
+use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, ShadingPoint, SurfaceMaterial};
 use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag};
 use glam::Vec2;
@@ -102,6 +102,16 @@ impl SurfaceMaterial for BlendMaterial {
         let a = self.bsdf0.as_surface().push(uv, wl, tree)?;
         let b = self.bsdf1.as_surface().push(uv, wl, tree)?;
         tree.push_blend(self.weight_at(uv), a, b)
+    }
+    fn push_at<'a>(
+        &'a self,
+        at: &ShadingPoint,
+        wl: &SampledWavelengths,
+        tree: &mut SurfaceBsdf<'a>,
+    ) -> Result<u8, TooManyNodes> {
+        let a = self.bsdf0.as_surface().push_at(at, wl, tree)?;
+        let b = self.bsdf1.as_surface().push_at(at, wl, tree)?;
+        tree.push_blend(self.weight_at(at.uv), a, b)
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
         let w = self.weight_at(uv);

@@ -16,11 +16,15 @@
 //! `docs/adding-a-plugin.md` walks through one.
 
 pub mod blendbsdf;
+pub mod bumpmap;
 pub mod circular;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
 pub mod lambertsphere;
+pub mod mask;
+pub mod normalmap;
+pub mod null;
 pub mod plastic;
 pub mod polarizer;
 pub mod pplastic;
@@ -37,11 +41,15 @@ pub mod twosided;
 
 pub use crate::xml::{BsdfPlugin, DefaultValue, ParamSpec, ParamType};
 pub use blendbsdf::BlendMaterial;
+pub use bumpmap::BumpMapMaterial;
 pub use circular::CircularMaterial;
 pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
 pub use lambertsphere::LambertSphereMaterial;
+pub use mask::MaskMaterial;
+pub use normalmap::NormalMapMaterial;
+pub use null::NullMaterial;
 pub use plastic::PlasticMaterial;
 pub use polarizer::PolarizerMaterial;
 pub use principled::PrincipledMaterial;
@@ -55,8 +63,10 @@ pub use tabulated::TabulatedMaterial;
 pub use thindielectric::ThinDielectricMaterial;
 pub use twosided::TwoSidedMaterial;
 
+use crate::geometry::SurfaceInteraction;
 use crate::texture::Texture;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
+use gonio_core::Frame;
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::bsdfs::surface::TooManyNodes;
 use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths, Spectrum};
@@ -85,6 +95,10 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &polarizer::PLUGIN,
     &retarder::PLUGIN,
     &circular::PLUGIN,
+    &null::PLUGIN,
+    &mask::PLUGIN,
+    &normalmap::PLUGIN,
+    &bumpmap::PLUGIN,
 ];
 
 /// The registered plugin called `name`.
@@ -115,9 +129,62 @@ pub trait SurfaceMaterial: Send + Sync + Debug + Any {
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes>;
 
+    /// [`SurfaceMaterial::push`] at a hit whose geometry the material may read beyond its uv
+    /// (the frame-perturbing `normalmap` and `bumpmap`, and wrappers that may hold them). The
+    /// default is `push` at `at.uv`.
+    fn push_at<'a>(
+        &'a self,
+        at: &ShadingPoint,
+        wl: &SampledWavelengths,
+        tree: &mut SurfaceBsdf<'a>,
+    ) -> Result<u8, TooManyNodes> {
+        self.push(at.uv, wl, tree)
+    }
+
     /// Calls `f` exactly once with the BSDF at `uv`, valid for every wavelength (what the
     /// instruments and the battery use). Nothing is allocated.
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf));
+}
+
+/// The differential geometry of a hit, as a material sees it ([`SurfaceMaterial::push_at`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShadingPoint {
+    /// Texture coordinates.
+    pub uv: Vec2,
+    /// Geometric normal (world).
+    pub n: Vec3,
+    /// The unperturbed shading frame (world).
+    pub shading: Frame,
+    /// ∂p/∂u (world; zero when degenerate).
+    pub dpdu: Vec3,
+    /// ∂p/∂v (world; zero when degenerate).
+    pub dpdv: Vec3,
+}
+
+impl ShadingPoint {
+    /// A point known only by its uv: flat, shading frame = world axes, ∂p/∂u = x, ∂p/∂v = y
+    /// (what the instruments and `Material::bsdf_at` use).
+    pub fn flat(uv: Vec2) -> Self {
+        Self {
+            uv,
+            n: Vec3::Z,
+            shading: Frame::from_normal_tangent(Vec3::Z, Vec3::X),
+            dpdu: Vec3::X,
+            dpdv: Vec3::Y,
+        }
+    }
+}
+
+impl From<&SurfaceInteraction> for ShadingPoint {
+    fn from(si: &SurfaceInteraction) -> Self {
+        Self {
+            uv: si.uv,
+            n: si.n,
+            shading: si.shading,
+            dpdu: si.dpdu,
+            dpdv: si.dpdv,
+        }
+    }
 }
 
 /// A scene material: a shared [`SurfaceMaterial`].
@@ -166,6 +233,28 @@ impl Material {
         // The reader refuses materials of more than MAX_NODES nodes (`Builder::bsdf`), so this
         // cannot fail; an empty tree would be black.
         let _ = self.0.push(uv, wl, tree);
+    }
+
+    /// [`Material::fill_bsdf`] at a hit: the material may read its geometry beyond the uv
+    /// ([`SurfaceMaterial::push_at`]; normal and bump maps perturb the shading frame).
+    #[inline]
+    pub fn fill_bsdf_at<'a>(
+        &'a self,
+        at: &ShadingPoint,
+        wl: &SampledWavelengths,
+        tree: &mut SurfaceBsdf<'a>,
+    ) {
+        tree.clear();
+        // As in `fill_bsdf`: the reader bounds the node count.
+        let _ = self.0.push_at(at, wl, tree);
+    }
+
+    /// [`Material::bsdf_at`] at a hit ([`Material::fill_bsdf_at`]).
+    #[inline]
+    pub fn bsdf_at_point(&self, at: &ShadingPoint, wl: &SampledWavelengths) -> SurfaceBsdf<'_> {
+        let mut tree = SurfaceBsdf::new();
+        self.fill_bsdf_at(at, wl, &mut tree);
+        tree
     }
 
     /// Union of the lobe flags.

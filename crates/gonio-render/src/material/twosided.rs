@@ -1,7 +1,7 @@
 //! `twosided`: a one-sided BSDF on both faces, or one BSDF per face (core adapter
 //! [`gonio_core::bsdfs::TwoSided`]; Mitsuba 3 `src/bsdfs/twosided.cpp`).
 
-use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};
+use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, ShadingPoint, SurfaceMaterial};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag};
 use glam::Vec2;
 use gonio_core::bsdfs::surface::TooManyNodes;
@@ -89,6 +89,19 @@ impl SurfaceMaterial for TwoSidedMaterial {
         let front = self.front.as_surface().push(uv, wl, tree)?;
         let back = match &self.back {
             Some(b) => b.as_surface().push(uv, wl, tree)?,
+            None => front,
+        };
+        tree.push_two_sided(front, back)
+    }
+    fn push_at<'a>(
+        &'a self,
+        at: &ShadingPoint,
+        wl: &SampledWavelengths,
+        tree: &mut SurfaceBsdf<'a>,
+    ) -> Result<u8, TooManyNodes> {
+        let front = self.front.as_surface().push_at(at, wl, tree)?;
+        let back = match &self.back {
+            Some(b) => b.as_surface().push_at(at, wl, tree)?,
             None => front,
         };
         tree.push_two_sided(front, back)

@@ -91,6 +91,7 @@ pub static AREA_EMITTER_PLUGINS: &[&Plugin<AreaEmitterDesc>] = &[&emitter::area:
 pub static EMITTER_PLUGINS: &[&Plugin<EmitterDesc>] = &[
     &emitter::point::PLUGIN,
     &emitter::spot::PLUGIN,
+    &emitter::projector::PLUGIN,
     &emitter::directional::PLUGIN,
     &emitter::constant::PLUGIN,
     &emitter::envmap::PLUGIN,

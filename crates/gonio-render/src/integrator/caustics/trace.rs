@@ -164,25 +164,30 @@ impl PathTracer<'_> {
             wi: si.shading.to_local(wi_world),
             cos_in_g: si.n.dot(wi_world).abs(),
         };
-        let sample = self.bsdf_at(si.shape, si.uv, &{ *wl }, |bsdf: &SurfaceBsdf<'_>| {
-            let flags = bsdf.flags();
-            if walk.after_smooth && !flags.is_delta() {
-                // Two smooth vertices in a row (or light reaching a smooth surface directly):
-                // the path tracer's alone.
-                return None;
-            }
-            if !walk.after_smooth && flags.has_smooth() && hit.cos_in_g > 0.0 {
-                self.keep_light_vertex(sink, walk, &hit, bsdf, wl);
-            }
-            let bs = bsdf.sample(&BsdfContext::importance(), hit.wi, u_lobe, u_bsdf, wl)?;
-            // For a smooth bounce, the path tracer's density of the reverse direction.
-            let eye_pdf = if bs.flags.is_delta() {
-                0.0
-            } else {
-                bsdf.pdf(&BsdfContext::radiance(), bs.wo, hit.wi, wl)
-            };
-            Some((bs, eye_pdf))
-        });
+        let sample = self.bsdf_at(
+            si.shape,
+            &crate::material::ShadingPoint::from(si),
+            &{ *wl },
+            |bsdf: &SurfaceBsdf<'_>| {
+                let flags = bsdf.flags();
+                if walk.after_smooth && !flags.is_delta() {
+                    // Two smooth vertices in a row (or light reaching a smooth surface directly):
+                    // the path tracer's alone.
+                    return None;
+                }
+                if !walk.after_smooth && flags.has_smooth() && hit.cos_in_g > 0.0 {
+                    self.keep_light_vertex(sink, walk, &hit, bsdf, wl);
+                }
+                let bs = bsdf.sample(&BsdfContext::importance(), hit.wi, u_lobe, u_bsdf, wl)?;
+                // For a smooth bounce, the path tracer's density of the reverse direction.
+                let eye_pdf = if bs.flags.is_delta() {
+                    0.0
+                } else {
+                    bsdf.pdf(&BsdfContext::radiance(), bs.wo, hit.wi, wl)
+                };
+                Some((bs, eye_pdf))
+            },
+        );
         let Some(Some((bs, eye_pdf))) = sample else {
             return false;
         };
@@ -204,7 +209,7 @@ impl PathTracer<'_> {
             p: si.p,
             n: si.n,
             shading: si.shading,
-            uv: si.uv,
+            at: crate::material::ShadingPoint::from(si),
             shape: si.shape,
             wi: hit.wi,
             cos_chain: hit.cos_in_g,

@@ -1,5 +1,8 @@
 //! `spot`: a point light restricted to a cone, with a linear falloff at its edge (Mitsuba 3
-//! `src/emitters/spot.cpp`).
+//! `src/emitters/spot.cpp`), optionally multiplied by a texture projected over the cone: the
+//! local direction d (cone along +z, cutoff γ) looks up
+//! uv = (½ + ½·d_x/(d_z·tan γ), ½ + ½·d_y/(d_z·tan γ)), so the texture's square spans the
+//! cutoff's tangent plane.
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::EmitterDesc;
@@ -24,6 +27,12 @@ const BEAM_WIDTH: ParamSpec = ParamSpec::new(
     DefaultValue::Derived("¾ · `cutoff_angle`"),
     "half-angle in degrees of the full-intensity core, in (0, `cutoff_angle`]",
 );
+const TEXTURE: ParamSpec = ParamSpec::new(
+    "texture",
+    ParamType::Texture,
+    DefaultValue::None,
+    "optional pattern (a reflectance-like texture) multiplying the intensity, projected over the cone",
+);
 const TO_WORLD: ParamSpec = ParamSpec::new(
     "to_world",
     ParamType::Transform,
@@ -35,7 +44,7 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "spot",
     summary: "Spot light along +z of `to_world`: full intensity within `beam_width`, then linear in angle down to 0 at `cutoff_angle`.",
-    params: &[INTENSITY, CUTOFF_ANGLE, BEAM_WIDTH, TO_WORLD],
+    params: &[INTENSITY, CUTOFF_ANGLE, BEAM_WIDTH, TEXTURE, TO_WORLD],
     build,
 };
 
@@ -54,10 +63,17 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
         "must be in (0, cutoff_angle]",
     )?;
     let to_world = p.affine(TO_WORLD.name)?;
+    let has_texture = b.object(p).props.iter().any(|x| x.name == TEXTURE.name);
+    let texture = if has_texture {
+        Some(b.texture(p, &TEXTURE, RgbKind::Albedo)?)
+    } else {
+        None
+    };
     Ok(EmitterDesc::Spot {
         to_world,
         intensity,
         cutoff_angle_deg: cutoff as f32,
         beam_width_deg: beam as f32,
+        texture,
     })
 }

@@ -250,7 +250,7 @@ pub(crate) fn build_projective<'d>(
 }
 
 /// "50mm" (or "50") in millimetres; `None` unless positive and finite.
-fn focal_length_mm(s: &str) -> Option<f64> {
+pub(crate) fn focal_length_mm(s: &str) -> Option<f64> {
     let num = s.trim().strip_suffix("mm").unwrap_or(s.trim());
     num.trim()
         .parse()
@@ -260,7 +260,7 @@ fn focal_length_mm(s: &str) -> Option<f64> {
 
 /// The horizontal field of view of a 35 mm film camera (36 × 24 mm, diagonal
 /// sqrt(36² + 24²) mm) with focal length `mm`, on a film of the given aspect ratio.
-fn fov_x_of_focal_length(mm: f64, aspect: f64) -> f64 {
+pub(crate) fn fov_x_of_focal_length(mm: f64, aspect: f64) -> f64 {
     let diag = (36.0f64 * 36.0 + 24.0 * 24.0).sqrt();
     let fov_diag = 2.0 * (diag / (2.0 * mm)).atan().to_degrees();
     fov_to_x(fov_diag, "diagonal", aspect)

@@ -1,0 +1,108 @@
+//! `projector`: a pinhole that projects a texture into the scene, the reciprocal of a perspective
+//! camera (Mitsuba 3 `src/emitters/projector.cpp`).
+//!
+//! A point p in the light's frame (looking along +z, x and y as Mitsuba's camera) maps to the
+//! texture's
+//!
+//! ```text
+//!     u = ½ − x/(2 z tan(φx/2)),     v = ½ − a·y/(2 z tan(φx/2))
+//! ```
+//!
+//! (φx the horizontal field of view, a the texture's aspect ratio, width/height); outside
+//! [0, 1]² or behind the light (z ≤ 0) it is dark. The radiance arriving at p from the pinhole,
+//! as a delta light's Lᵢ (the 1/d² included), is
+//!
+//! ```text
+//!     Lᵢ = π · scale · D65(λ) · E(u, v)(λ) / (z² cos θ)
+//! ```
+//!
+//! with θ the angle between the projector's axis and p: a plane facing the projector at z = 1
+//! then receives π·scale·E·D65 wherever the texture is constant (Mitsuba's normalization, with
+//! its π). The plugin decides how E's colours become spectra (a bitmap as a reflectance, a
+//! colour given in place unbounded).
+
+use crate::texture::Texture;
+use glam::{Affine3A, Vec2, Vec3};
+use gonio_core::{SampledSpectrum, SampledWavelengths, Spectrum};
+use std::f32::consts::PI;
+
+/// `projector`: a textured pinhole light.
+#[derive(Clone, Debug)]
+pub struct ProjectorLight {
+    to_local: Affine3A,
+    position: Vec3,
+    axis: Vec3,
+    /// E, the texture projected.
+    pub irradiance: Texture,
+    /// scale · D65 (Mitsuba's intensity).
+    intensity: Spectrum,
+    tan_half_fov_x: f32,
+    aspect: f32,
+}
+
+impl ProjectorLight {
+    /// From light-to-world, the texture, its scale, the horizontal field of view (degrees) and
+    /// the texture's aspect ratio (width/height).
+    pub fn new(to_world: Affine3A, irradiance: Texture, scale: f32, fov_x_deg: f32, aspect: f32) -> Self {
+        let intensity = match Spectrum::d65() {
+            Spectrum::Rgb(mut s) => {
+                s.scale *= scale;
+                Spectrum::Rgb(s)
+            }
+            other => other,
+        };
+        Self {
+            to_local: to_world.inverse(),
+            position: to_world.transform_point3(Vec3::ZERO),
+            axis: to_world.transform_vector3(Vec3::Z).normalize_or_zero(),
+            irradiance,
+            intensity,
+            tan_half_fov_x: (fov_x_deg.to_radians() * 0.5).tan(),
+            aspect,
+        }
+    }
+
+    /// World position of the pinhole.
+    pub fn position(&self) -> Vec3 {
+        self.position
+    }
+
+    /// The texture coordinates a point at light-frame position `local` receives (`None` behind
+    /// the light or outside the image).
+    pub fn texture_uv(&self, local: Vec3) -> Option<Vec2> {
+        if !(local.z > 0.0) {
+            return None;
+        }
+        let k = 0.5 / (local.z * self.tan_half_fov_x);
+        let uv = Vec2::new(0.5 - local.x * k, 0.5 - self.aspect * local.y * k);
+        ((0.0..=1.0).contains(&uv.x) && (0.0..=1.0).contains(&uv.y)).then_some(uv)
+    }
+
+    /// Lᵢ at world point `p` (see the module docs), zero outside the projected image.
+    pub fn li_at(&self, p: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let local = self.to_local.transform_point3(p);
+        let Some(uv) = self.texture_uv(local) else {
+            return SampledSpectrum::ZERO;
+        };
+        let to_p = p - self.position;
+        let dist = to_p.length();
+        let cos = self.axis.dot(to_p) / dist;
+        if !(cos > 0.0) {
+            return SampledSpectrum::ZERO;
+        }
+        let e = self.irradiance.eval(uv).sample(wl);
+        e * self.intensity.sample(wl) * (PI / (local.z * local.z * cos))
+    }
+
+    /// Mean of scale·D65·E over 360–830 nm (selection weights).
+    pub fn mean_emission(&self) -> f32 {
+        self.intensity.mean() * self.irradiance.mean()
+    }
+
+    /// A power estimate for light selection: π·mean(scale·D65·E) times the image's area on the
+    /// plane z = 1 (4 tan²(φx/2)/a), the power that plane receives.
+    pub fn power(&self) -> f32 {
+        let area = 4.0 * self.tan_half_fov_x * self.tan_half_fov_x / self.aspect.max(1e-6);
+        PI * self.mean_emission() * area
+    }
+}
