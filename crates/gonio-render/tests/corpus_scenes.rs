@@ -70,15 +70,15 @@ const CI_SPP: u32 = 32;
 /// | bsdf_pplastic | 6.11e-4 | 4.03e-4 4.83e-4 4.91e-4 | |
 /// | bsdf_pplastic_diffuse | 5.11e-4 | 3.94e-4 4.37e-4 4.54e-4 | |
 /// | bsdf_pplastic_specular | 5.99e-4 | 3.71e-4 4.69e-4 4.94e-4 | |
+/// | bsdf_mask_after | 5.50e-4 | 4.56e-4 6.08e-4 5.41e-4 (see below) | 1.94e-3 |
+/// | bsdf_normalmap_with | 5.65e-4 | 4.08e-4 4.86e-4 5.28e-4 | 1.46e-3 |
+/// | bsdf_bumpmap_with | 6.06e-4 | 4.55e-4 4.48e-4 5.03e-4 | 1.43e-3 |
 ///
 /// The `sdfgrid` scenes (Mitsuba's torus grid in a `shapegroup`, placed by an `instance`) and the
 /// curve scenes (`linearcurve`, `bsplinecurve` over `meshes/curve_doc.txt`) use
 /// `include/shape_scene.xml` (120 × 90) too; CI renders `shape_sdfgrid` and
 /// `shape_linearcurve_parameterization` (whose checkerboard also tests the curve's uv),
 /// `measure` all six.
-/// | bsdf_mask_after | 5.50e-4 | 4.56e-4 6.08e-4 5.41e-4 (see below) | 1.94e-3 |
-/// | bsdf_normalmap_with | 5.65e-4 | 4.08e-4 4.86e-4 5.28e-4 | 1.46e-3 |
-/// | bsdf_bumpmap_with | 6.06e-4 | 4.55e-4 4.48e-4 5.03e-4 | 1.43e-3 |
 ///
 /// The sensor scenes (Mitsuba's `sensor_thinlens.xml`, `sensor_orthographic.xml` over
 /// `include/sensor_scene.xml`, 120 × 90) take `$spp` from the caller, as in Mitsuba. The `direct`
