@@ -488,6 +488,10 @@ fn small_scenes_agree_with_brute_force_on_both_sides_of_the_flat_list_limit() {
         assert!(
             hits > 600 && misses > 600,
             "{n_tris} triangles: {hits} hits, {misses} misses"
+        );
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Instancing (`shapegroup` + `instance`): the two-level BVH against the same geometry placed flat.
 

@@ -159,6 +159,7 @@ impl Instance {
                 shading: Frame::from_normal(-ray.d),
                 uv: glam::Vec2::ZERO,
                 dpdu: Vec3::ZERO,
+                dpdv: Vec3::ZERO,
                 shape: 0,
                 prim: 0,
             },
@@ -193,6 +194,7 @@ impl Instance {
         let ns = (self.normal * si.shading.n).normalize_or_zero();
         let ns = if ns == Vec3::ZERO { n } else { ns };
         let dpdu = self.to_world.transform_vector3(si.dpdu);
+        let dpdv = self.to_world.transform_vector3(si.dpdv);
         let tangent = if dpdu == Vec3::ZERO {
             self.to_world.transform_vector3(si.shading.s)
         } else {
@@ -205,6 +207,7 @@ impl Instance {
             shading: Frame::from_normal_tangent(ns, tangent),
             uv: si.uv,
             dpdu,
+            dpdv,
             shape: 0,
             prim: si.prim,
         }

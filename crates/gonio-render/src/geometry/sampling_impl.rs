@@ -83,6 +83,7 @@ pub fn sample_area(shape: &WorldShape, u: Vec2) -> ShapeSample {
                 shading: Frame::from_normal(local.ns),
                 uv: local.uv,
                 dpdu: Vec3::ZERO,
+                dpdv: Vec3::ZERO,
                 shape: 0,
                 prim: 0,
             };

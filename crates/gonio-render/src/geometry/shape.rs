@@ -657,6 +657,7 @@ fn sdf_point(
         shading: Frame::from_normal(ns),
         uv: Vec2::ZERO,
         dpdu: Vec3::ZERO,
+        dpdv: Vec3::ZERO,
         shape: 0,
         prim: voxel,
     }
