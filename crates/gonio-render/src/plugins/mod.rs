@@ -32,6 +32,7 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
     &integrator::path::PLUGIN,
     &integrator::direct::PLUGIN,
     &integrator::depth::PLUGIN,
+    &integrator::stokes::PLUGIN,
 ];
 
 /// `<sensor>` plugins.

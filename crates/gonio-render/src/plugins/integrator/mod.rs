@@ -3,3 +3,4 @@
 pub mod depth;
 pub mod direct;
 pub mod path;
+pub mod stokes;
