@@ -48,6 +48,7 @@ fn required(name: &str) -> &'static str {
         "bitmap" | "envmap" => "<string name=\"filename\" value=\"rgbw.png\"/>",
         "blackbody" => "<float name=\"temperature\" value=\"3000\"/>",
         "thinlens" => "<float name=\"aperture_radius\" value=\"0.1\"/>",
+        "stokes" => "<integrator type=\"path\"/>",
         _ => "",
     }
 }
