@@ -66,6 +66,13 @@
 //! path. The paths both can produce (an area light reached through a delta chain) are weighted
 //! by the power heuristic between the two; see that module for the densities.
 //!
+//! # Polarization
+//!
+//! In polarized mode (a `stokes` integrator, a polarizing BSDF, `gonio render --polarized`) the
+//! same estimators run with Mueller matrices ([`polarized`]): every BSDF weight is mapped to
+//! world space in the implicit bases of its beams, and the camera reads S0 (and, for `stokes`,
+//! S0..S3).
+//!
 //! # Shading normals
 //!
 //! BSDFs are evaluated in the shading frame (interpolated normals), as in Mitsuba; rays leave
@@ -73,7 +80,7 @@
 
 pub mod caustics;
 mod direct;
-mod polarized;
+pub mod polarized;
 
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
@@ -362,7 +369,8 @@ impl<'a> PathTracer<'a> {
     /// [`PathTracer::traces_caustics`] is false).
     ///
     /// Generic over the [`Weight`] the path carries (`SampledSpectrum` for the spectral
-    /// renderer); the light subpaths stay spectral and enter depolarized.
+    /// renderer, `Mueller` in polarized mode: see [`polarized`]); the light subpaths are
+    /// spectral and enter depolarized (a polarized `PathTracer` traces none).
     pub fn li<W: Weight>(
         &self,
         mut ray: Ray,
