@@ -47,6 +47,7 @@
 //! | diattenuator(x, y)          | [a b 0 0; b a 0 0; 0 0 c 0; 0 0 0 c], a,b = (x ± y)/2, c = √(xy) | |
 //! | rotated element M by θ      | R(θ)ᵀ M R(θ)                                               | Mitsuba `rotated_element` |
 
+use crate::frame::Frame;
 use crate::spectrum::SampledSpectrum;
 use crate::weight::Weight;
 use glam::Vec3;
@@ -732,6 +733,20 @@ impl Weight for Mueller {
     #[inline]
     fn intensity(self) -> SampledSpectrum {
         self.m.0[0][0]
+    }
+    /// Bases mapped by the (right-handed, orthonormal) `frame` and re-expressed in the implicit
+    /// world bases of the same beams ([`Mueller::in_implicit_bases`]).
+    #[inline]
+    fn local_to_world(self, frame: &Frame) -> Self {
+        match self.frames {
+            None => self,
+            Some(_) => self.transformed(|v| frame.to_world(v)).in_implicit_bases(),
+        }
+    }
+    /// `self · t · D(Lₑ)`: the source is unpolarized, so it enters last as a depolarizer.
+    #[inline]
+    fn through_then_source(self, t: Self, le: SampledSpectrum) -> Self {
+        self * t * Mueller::depolarizer(le)
     }
 }
 

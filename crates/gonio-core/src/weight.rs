@@ -14,6 +14,7 @@
 //! polarizing model adds its own implementation for Mueller matrices.
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfSample};
+use crate::frame::Frame;
 use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
@@ -48,6 +49,22 @@ pub trait Weight:
     /// True when nothing passes at any wavelength.
     fn is_black(self) -> bool {
         self.intensity().is_black()
+    }
+    /// A BSDF's weight, given in its local shading `frame` (normal = +z), as a renderer needs
+    /// it in world space. A weight without reference frames is unchanged (the default); a
+    /// Mueller matrix has its bases mapped to world and re-expressed in the implicit bases of
+    /// its own directions, so that consecutive vertices of a path share their bases.
+    #[inline]
+    fn local_to_world(self, _frame: &Frame) -> Self {
+        self
+    }
+    /// `self · t · Lₑ`: light of radiance `le` from an unpolarized source that crosses `t`
+    /// first and then `self`, in that order (next-event estimation: β·f, then the sheets a
+    /// shadow ray crossed, then the light). The default `self · Lₑ · t` is the same value for
+    /// weights that commute (spectra), multiplied in the order the spectral renderer always has.
+    #[inline]
+    fn through_then_source(self, t: Self, le: SampledSpectrum) -> Self {
+        self * Self::from_spectrum(le) * t
     }
 }
 

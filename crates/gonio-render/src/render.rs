@@ -207,16 +207,21 @@ impl PreparedScene {
         self.scene.sensor.film.image_size()
     }
 
-    /// The scene's integrator (`path`, with its settings), over this scene.
+    /// The scene's integrator (`path`, with its settings), over this scene. It renders
+    /// polarized when the settings ask for it (`polarized`, `stokes`) or when the scene has a
+    /// polarizing material ([`Scene::asks_for_polarization`]).
     pub fn integrator(&self) -> PathTracer<'_> {
+        let mut settings = self.scene.integrator.clone();
+        settings.polarized |= self.scene.asks_for_polarization();
         PathTracer::new(
-            &self.scene.integrator,
+            &settings,
             &self.accel,
             &self.lights,
             &self.scene.materials,
             &self.shape_material,
         )
         .with_camera_if_it_connects(self.camera.as_ref())
+        .with_sensor_up(self.scene.sensor.to_world.transform_vector3(glam::Vec3::Y))
     }
 
     /// An empty film of the sensor's size and filter with an integrator's channels, and `A`

@@ -31,6 +31,21 @@ pub struct Scene {
     pub materials: Vec<Material>,
 }
 
+impl Scene {
+    /// True when the scene asks for a polarized render without being told: a `stokes`
+    /// integrator, or a material that only polarization shows (`polarizer`, `retarder`,
+    /// `circular`; at the top level of a shape's BSDF).
+    pub fn asks_for_polarization(&self) -> bool {
+        use crate::material::{CircularMaterial, PolarizerMaterial, RetarderMaterial};
+        self.integrator.stokes
+            || self.materials.iter().any(|m| {
+                m.get::<PolarizerMaterial>().is_some()
+                    || m.get::<RetarderMaterial>().is_some()
+                    || m.get::<CircularMaterial>().is_some()
+            })
+    }
+}
+
 /// Description of the `<integrator>` (the `path` settings), as the scene file gives it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IntegratorDesc {
@@ -48,6 +63,13 @@ pub struct IntegratorDesc {
     pub caustic_paths: bool,
     /// Which algorithm: `path` (the fields above), `direct` or `depth`.
     pub kind: IntegratorKind,
+    /// Mitsuba's `stokes` wrapper around this integrator: also write the Stokes vector S0..S3
+    /// as the layers `S0.R` … `S3.B` (implies `polarized`).
+    pub stokes: bool,
+    /// Render polarized (paths carry Mueller matrices, `gonio render --polarized`; also set
+    /// by a scene with a `stokes` integrator or a polarizing BSDF, see
+    /// `render::PreparedScene::integrator`).
+    pub polarized: bool,
 }
 
 /// The integrator plugin a scene names; `path`'s settings are [`IntegratorDesc`]'s fields.
@@ -80,6 +102,8 @@ impl Default for IntegratorDesc {
             thin_shadows: true,
             caustic_paths: true,
             kind: IntegratorKind::Path,
+            stokes: false,
+            polarized: false,
         }
     }
 }

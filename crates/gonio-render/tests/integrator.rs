@@ -403,3 +403,8 @@ fn depth_is_the_distance_to_the_first_hit() {
         .replace(r#"target="0, 0, 0""#, r#"target="12, 10, 0""#);
     assert_eq!(mean(&render_xml(&sky, 4, 0)), [0.0; 3]);
 }
+
+// ---------------------------------------------------------------------------------------------
+// Polarized mode (`integrator/polarized.rs`): Malus's law, crossed polarizers, Brewster.
+#[path = "integrator/polarized.rs"]
+mod polarized;

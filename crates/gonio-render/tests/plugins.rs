@@ -52,6 +52,7 @@ fn required(name: &str) -> &'static str {
         "sdfgrid" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
         "linearcurve" | "bsplinecurve" => "<string name=\"filename\" value=\"curve.txt\"/>",
         "projector" => "<float name=\"irradiance\" value=\"1\"/>",
+        "stokes" => "<integrator type=\"path\"/>",
         _ => "",
     }
 }

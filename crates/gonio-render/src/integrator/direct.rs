@@ -17,26 +17,31 @@ use super::{PathState, PathTracer, PrevVertex, Vertex};
 use crate::accel::Intersect;
 use crate::geometry::Ray;
 use gonio_core::bsdfs::SurfaceBsdf;
-use gonio_core::{Bsdf, BsdfContext, SampledSpectrum};
+use gonio_core::weight::{BsdfWeight, Weight};
+use gonio_core::{Bsdf, BsdfContext};
 
 use super::{CameraSample, PathSampler};
 
 impl PathTracer<'_> {
-    /// The `direct` estimate for one camera sample (see the module documentation).
-    pub(super) fn li_direct(
+    /// The `direct` estimate for one camera sample (see the module documentation), carrying `W`
+    /// (a spectrum, or a Mueller matrix when polarized).
+    pub(super) fn li_direct<W: Weight>(
         &self,
         sample: &mut CameraSample<'_>,
         emitter_samples: u32,
         bsdf_samples: u32,
-    ) -> SampledSpectrum {
+    ) -> W
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
         let CameraSample {
             ray: camera_ray,
             wavelengths: wl,
             sampler,
             ..
         } = sample;
-        let camera = PathState::<SampledSpectrum>::CAMERA;
-        let mut l = SampledSpectrum::ZERO;
+        let camera = PathState::<W>::CAMERA;
+        let mut l = W::ZERO;
         let Some(si) = self.accel.intersect(&camera_ray) else {
             if !self.hide_emitters {
                 self.add_escaped(&mut l, &camera, camera_ray.d, wl);
@@ -61,24 +66,27 @@ impl PathTracer<'_> {
         let (n_l, n_b) = (emitter_samples as f32, bsdf_samples as f32);
 
         if flags.has_smooth() && emitter_samples > 0 {
-            let mut sum = SampledSpectrum::ZERO;
+            let mut sum = W::ZERO;
             for _ in 0..emitter_samples {
                 let u_sel = sampler.next_1d();
                 let u = sampler.next_2d();
-                sum += self.next_event(&v, &light_ref, SampledSpectrum::ONE, u_sel, u, wl, (n_l, n_b));
+                sum += self.next_event(&v, &light_ref, W::ONE, u_sel, u, wl, (n_l, n_b));
             }
             l += sum / n_l;
         }
 
         let ctx = BsdfContext::radiance();
-        let mut sum = SampledSpectrum::ZERO;
+        let mut sum = W::ZERO;
         for _ in 0..bsdf_samples {
             let u_lobe = sampler.next_1d();
             let u_dir = sampler.next_2d();
-            let Some(bs) = bsdf.sample(&ctx, v.wi, u_lobe, u_dir, &mut *wl) else {
+            let Some(bs) = bsdf.sample_weight(&ctx, v.wi, u_lobe, u_dir, &mut *wl) else {
                 continue;
             };
-            if bs.weight.is_black() || !bs.weight.0.is_finite() || !(bs.flags.is_delta() || bs.pdf > 0.0) {
+            if bs.weight.is_black()
+                || !bs.weight.intensity().is_finite()
+                || !(bs.flags.is_delta() || bs.pdf > 0.0)
+            {
                 continue;
             }
             // The light density is compared with the BSDF density scaled by n_B / n_L (the power
@@ -89,7 +97,7 @@ impl PathTracer<'_> {
                 bs.pdf * n_b / n_l
             };
             let state = PathState {
-                beta: bs.weight,
+                beta: bs.weight.local_to_world(&si.shading),
                 prev: Some(PrevVertex {
                     light_ref,
                     bsdf_pdf,
@@ -107,7 +115,7 @@ impl PathTracer<'_> {
         if bsdf_samples > 0 {
             l += sum / n_b;
         }
-        if l.0.is_finite() { l } else { SampledSpectrum::ZERO }
+        if l.intensity().is_finite() { l } else { W::ZERO }
     }
 
     /// The `depth` value of a camera ray: the hit distance, 0 on a miss.

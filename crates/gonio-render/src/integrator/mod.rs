@@ -66,6 +66,13 @@
 //! path. The paths both can produce (an area light reached through a delta chain) are weighted
 //! by the power heuristic between the two; see that module for the densities.
 //!
+//! # Polarization
+//!
+//! In polarized mode (a `stokes` integrator, a polarizing BSDF, `gonio render --polarized`) the
+//! same estimators run with Mueller matrices ([`polarized`]): every BSDF weight is mapped to
+//! world space in the implicit bases of its beams, and the camera reads S0 (and, for `stokes`,
+//! S0..S3).
+//!
 //! # Shading normals
 //!
 //! BSDFs are evaluated in the shading frame (interpolated normals), as in Mitsuba; rays leave
@@ -73,6 +80,7 @@
 
 pub mod caustics;
 mod direct;
+pub mod polarized;
 
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
@@ -165,6 +173,12 @@ pub struct PathTracer<'a> {
     camera: Option<&'a dyn Camera>,
     /// `path`, or `direct` and `depth` ([`direct`]), which reuse its light sampling and MIS.
     kind: IntegratorKind,
+    /// Paths carry Mueller matrices ([`polarized`]).
+    polarized: bool,
+    /// Also write the Stokes vector (Mitsuba's `stokes` integrator) as the layers `S0` … `S3`.
+    stokes: bool,
+    /// The sensor's up direction in world space: the Stokes vectors' x-axis is d × up.
+    sensor_up: Vec3,
 }
 
 /// The last real scattering vertex of a camera path, for the MIS weight of a light that the
@@ -255,7 +269,10 @@ impl<'a> PathTracer<'a> {
     ) -> Self {
         let thin: Vec<bool> = materials.iter().map(Material::has_null_transmission).collect();
         let any_thin = thin.iter().any(|&t| t);
-        let caustics = if settings.caustic_paths {
+        let polarized = settings.polarized || settings.stokes;
+        // The light subpaths are spectral: a polarized render leaves their paths to the path
+        // tracer (whose MIS weights are then 1), which finds them all, with more noise.
+        let caustics = if settings.caustic_paths && !polarized {
             caustics::EmissionSampler::new(lights, materials, shape_material, accel.shapes())
         } else {
             None
@@ -278,6 +295,9 @@ impl<'a> PathTracer<'a> {
             caustics,
             camera: None,
             kind: settings.kind,
+            polarized,
+            stokes: settings.stokes,
+            sensor_up: Vec3::Y,
         }
     }
 
@@ -296,6 +316,18 @@ impl<'a> PathTracer<'a> {
         } else {
             self
         }
+    }
+
+    /// The sensor's up direction in world space (its +y axis), which orients the Stokes vectors
+    /// of the `stokes` layers as Mitsuba does (x-axis d × up for a camera ray d).
+    pub fn with_sensor_up(mut self, up: Vec3) -> Self {
+        self.sensor_up = up;
+        self
+    }
+
+    /// True when paths carry Mueller matrices (the scene's `polarized`, or `stokes`).
+    pub fn is_polarized(&self) -> bool {
+        self.polarized
     }
 
     /// True when light subpaths ([`PathTracer::trace_light_path`]) take part: each camera sample
@@ -337,7 +369,8 @@ impl<'a> PathTracer<'a> {
     /// [`PathTracer::traces_caustics`] is false).
     ///
     /// Generic over the [`Weight`] the path carries (`SampledSpectrum` for the spectral
-    /// renderer); the light subpaths stay spectral and enter depolarized.
+    /// renderer, `Mueller` in polarized mode: see [`polarized`]); the light subpaths are
+    /// spectral and enter depolarized (a polarized `PathTracer` traces none).
     pub fn li<W: Weight>(
         &self,
         mut ray: Ray,
@@ -534,11 +567,18 @@ impl<'a> PathTracer<'a> {
             Vec2::splat(0.5)
         };
         let ctx = BsdfContext::radiance();
-        let sample = v.bsdf.sample_weight(&ctx, v.wi, u_lobe, u_dir, wl).filter(|bs| {
-            bs.weight.intensity().is_finite()
-                && !bs.weight.is_black()
-                && (bs.flags.is_delta() || bs.pdf > 0.0)
-        });
+        let sample = v
+            .bsdf
+            .sample_weight(&ctx, v.wi, u_lobe, u_dir, wl)
+            .filter(|bs| {
+                bs.weight.intensity().is_finite()
+                    && !bs.weight.is_black()
+                    && (bs.flags.is_delta() || bs.pdf > 0.0)
+            })
+            .map(|bs| BsdfSample {
+                weight: bs.weight.local_to_world(&v.si.shading),
+                ..bs
+            });
         // After a delta lobe, a smooth sample here needs the light tracer's density of the
         // reverse direction for the MIS ratio.
         let want_reverse = self.traces_caustics() && state.after_delta();
@@ -595,7 +635,9 @@ impl<'a> PathTracer<'a> {
         let wo = v.si.shading.to_local(ls.wi);
         let ctx = BsdfContext::radiance();
         let (f, bsdf_pdf): (W, f32) = (
-            v.bsdf.eval_weight(&ctx, v.wi, wo, wl),
+            v.bsdf
+                .eval_weight(&ctx, v.wi, wo, wl)
+                .local_to_world(&v.si.shading),
             v.bsdf.pdf(&ctx, v.wi, wo, wl),
         );
         if f.is_black() {
@@ -610,7 +652,9 @@ impl<'a> PathTracer<'a> {
         } else {
             mis_power(ls.pdf * counts.0, bsdf_pdf * counts.1)
         };
-        beta * f * W::from_spectrum(ls.li) * t * (wo.z.abs() * w / ls.pdf)
+        // Light order: the source, the sheets the shadow ray crossed, then f (a polarized path
+        // does not commute).
+        (beta * f).through_then_source(t, ls.li) * (wo.z.abs() * w / ls.pdf)
     }
 
     /// Visibility of a light sample from `si`: 0/1, or with thin shadows the transmittance of the
@@ -657,6 +701,7 @@ impl<'a> PathTracer<'a> {
             let wi = h.shading.to_local(-ray.d);
             let t = self.bsdf_at(h.shape, &ShadingPoint::from(&h), wl, |bsdf: &SurfaceBsdf<'_>| {
                 bsdf.null_transmission_weight(wi, wl)
+                    .map(|t| t.local_to_world(&h.shading))
             });
             match t.flatten() {
                 Some(t) => tr *= t,
@@ -690,7 +735,11 @@ impl<'a> PathTracer<'a> {
 /// camera.
 impl Integrator for PathTracer<'_> {
     fn channels(&self) -> Channels {
-        Channels::rgb()
+        if self.stokes {
+            polarized::stokes_channels()
+        } else {
+            Channels::rgb()
+        }
     }
 
     fn splats(&self) -> bool {
@@ -698,6 +747,10 @@ impl Integrator for PathTracer<'_> {
     }
 
     fn sample(&self, sample: &mut CameraSample<'_>, value: &mut [f32], splat: &mut dyn FnMut(Vec2, &[f32])) {
+        if self.polarized {
+            self.sample_polarized(sample, value);
+            return;
+        }
         match self.kind {
             IntegratorKind::Path => {}
             IntegratorKind::Direct {

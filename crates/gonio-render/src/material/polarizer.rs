@@ -15,9 +15,9 @@ use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths};
 
 pub(crate) const THETA: ParamSpec = ParamSpec::new(
     "theta",
-    ParamType::Float,
+    ParamType::Texture,
     DefaultValue::Float(0.0),
-    "angle of the transmission (polarizer) or fast (retarder) axis, degrees (a constant here)",
+    "angle of the transmission (polarizer) or fast (retarder) axis, degrees (a number, a constant spectrum or a texture: its scalar value per hit)",
 );
 pub(crate) const TRANSMITTANCE: ParamSpec = ParamSpec::new(
     "transmittance",
@@ -41,20 +41,42 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
-    let theta = p.float_checked(
-        THETA.name,
-        THETA.default.float(),
-        f64::is_finite,
-        "a finite angle",
-    )? as f32;
+    let theta = angle(b, p, &THETA)?;
     let transmittance = b.texture(p, &TRANSMITTANCE, RgbKind::Albedo)?;
     let polarizing = p.bool(POLARIZING.name, POLARIZING.default.bool())?;
     let model = Polarizer {
-        theta,
+        theta: theta.eval_1(Vec2::ZERO),
         transmittance: model_value(&transmittance),
         polarizing,
     };
-    Ok(Material::new(PolarizerMaterial { transmittance, model }))
+    Ok(Material::new(PolarizerMaterial {
+        transmittance,
+        theta,
+        model,
+    }))
+}
+
+/// An angle parameter in degrees (`theta`, `delta`) as Mitsuba accepts it: a float, a
+/// `<spectrum>` of one value, or a texture (read per hit as a scalar, Mitsuba's `eval_1`).
+/// A constant must be finite; the error names the file, line and value.
+pub(crate) fn angle<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+    spec: &ParamSpec,
+) -> Result<Texture, SceneError> {
+    let loc = p.obj.loc.clone();
+    let t = b.texture(p, spec, RgbKind::Unbounded)?;
+    if !t.is_textured() {
+        let v = t.eval_1(Vec2::ZERO);
+        if !v.is_finite() {
+            return Err(crate::xml::err(
+                &loc,
+                crate::xml::ErrorKind::BadValue,
+                format!("\"{}\" = {v}: expected a finite angle in degrees", spec.name),
+            ));
+        }
+    }
+    Ok(t)
 }
 
 /// `polarizer` in a scene.
@@ -62,7 +84,9 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
 pub struct PolarizerMaterial {
     /// t.
     pub transmittance: Texture,
-    /// The model (t's mean when textured).
+    /// θ, degrees.
+    pub theta: Texture,
+    /// The model (t's mean when textured; θ at uv = 0 when textured).
     pub model: Polarizer,
 }
 
@@ -71,7 +95,7 @@ impl SurfaceMaterial for PolarizerMaterial {
         self.model.flags()
     }
     fn is_textured(&self) -> bool {
-        self.transmittance.is_textured()
+        self.transmittance.is_textured() || self.theta.is_textured()
     }
     fn push<'a>(
         &'a self,
@@ -81,12 +105,16 @@ impl SurfaceMaterial for PolarizerMaterial {
     ) -> Result<u8, TooManyNodes> {
         let mut m = self.model.at(wl);
         retint_at(&mut m.transmittance, &self.transmittance, uv, wl);
+        if self.theta.is_textured() {
+            m.theta = self.theta.eval_1(uv);
+        }
         tree.push_leaf(LeafBsdf::Polarizer(m))
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
-        if self.transmittance.is_textured() {
+        if self.is_textured() {
             f(&Polarizer {
                 transmittance: self.transmittance.eval(uv),
+                theta: self.theta.eval_1(uv),
                 ..self.model.clone()
             })
         } else {

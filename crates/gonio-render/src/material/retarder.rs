@@ -2,7 +2,7 @@
 //! model [`gonio_core::bsdfs::Retarder`]; Mitsuba 3 `src/bsdfs/retarder.cpp`). Unpolarized
 //! renders see a clear filter of transmittance t.
 
-use super::polarizer::{THETA, TRANSMITTANCE};
+use super::polarizer::{THETA, TRANSMITTANCE, angle};
 use super::{
     BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
 };
@@ -16,9 +16,9 @@ use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths};
 
 const DELTA: ParamSpec = ParamSpec::new(
     "delta",
-    ParamType::Float,
+    ParamType::Texture,
     DefaultValue::Float(90.0),
-    "phase difference between the fast and slow axes at normal incidence, degrees (90: quarter-wave plate); falls off with |cos θi|",
+    "phase difference between the fast and slow axes at normal incidence, degrees (90: quarter-wave plate; a number, a constant spectrum or a texture); falls off with |cos θi|",
 );
 
 /// The `retarder` plugin.
@@ -30,24 +30,19 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
-    let theta = p.float_checked(
-        THETA.name,
-        THETA.default.float(),
-        f64::is_finite,
-        "a finite angle",
-    )? as f32;
-    let delta = p.float_checked(
-        DELTA.name,
-        DELTA.default.float(),
-        f64::is_finite,
-        "a finite angle",
-    )? as f32;
+    let theta = angle(b, p, &THETA)?;
+    let delta = angle(b, p, &DELTA)?;
     let transmittance = b.texture(p, &TRANSMITTANCE, RgbKind::Albedo)?;
     let model = Retarder {
         transmittance: model_value(&transmittance),
-        ..Retarder::new(theta, delta)
+        ..Retarder::new(theta.eval_1(Vec2::ZERO), delta.eval_1(Vec2::ZERO))
     };
-    Ok(Material::new(RetarderMaterial { transmittance, model }))
+    Ok(Material::new(RetarderMaterial {
+        transmittance,
+        theta,
+        delta,
+        model,
+    }))
 }
 
 /// `retarder` in a scene.
@@ -55,7 +50,11 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
 pub struct RetarderMaterial {
     /// t.
     pub transmittance: Texture,
-    /// The model (t's mean when textured).
+    /// θ, degrees.
+    pub theta: Texture,
+    /// δ, degrees.
+    pub delta: Texture,
+    /// The model (t's mean when textured; θ and δ at uv = 0 when textured).
     pub model: Retarder,
 }
 
@@ -64,7 +63,7 @@ impl SurfaceMaterial for RetarderMaterial {
         self.model.flags()
     }
     fn is_textured(&self) -> bool {
-        self.transmittance.is_textured()
+        self.transmittance.is_textured() || self.theta.is_textured() || self.delta.is_textured()
     }
     fn push<'a>(
         &'a self,
@@ -74,12 +73,20 @@ impl SurfaceMaterial for RetarderMaterial {
     ) -> Result<u8, TooManyNodes> {
         let mut m = self.model.at(wl);
         retint_at(&mut m.transmittance, &self.transmittance, uv, wl);
+        if self.theta.is_textured() {
+            m.theta = self.theta.eval_1(uv);
+        }
+        if self.delta.is_textured() {
+            m.delta = self.delta.eval_1(uv);
+        }
         tree.push_leaf(LeafBsdf::Retarder(m))
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
-        if self.transmittance.is_textured() {
+        if self.is_textured() {
             f(&Retarder {
                 transmittance: self.transmittance.eval(uv),
+                theta: self.theta.eval_1(uv),
+                delta: self.delta.eval_1(uv),
                 ..self.model.clone()
             })
         } else {

@@ -36,6 +36,7 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
     &integrator::prb::PRB_BASIC,
     &integrator::prb::PRB_PROJECTIVE,
     &integrator::prb::DIRECT_PROJECTIVE,
+    &integrator::stokes::PLUGIN,
 ];
 
 /// `<sensor>` plugins.

@@ -10,6 +10,9 @@
 //! * Without a scene, the embedded default scene (a gallery of the lecture's materials) is
 //!   rendered to `gonio.png` and `gonio.exr`; `--builtin NAME` renders another embedded scene
 //!   (`lambertian`, `lambertian-furnace`) to `NAME.png` and `NAME.exr`.
+//! * `--polarized` renders with Mueller matrices (automatic for a `stokes` integrator or a
+//!   `polarizer`/`retarder`/`circular` BSDF); a `stokes` integrator adds the layers
+//!   `S0.R` … `S3.B`, written to EXR outputs (`.png`/`.hdr`/`.pfm` get the main image only).
 //! * All cores by default; the same seed gives the same image whatever `--threads` says.
 //! * `--sampler independent` uses Mitsuba's own sampler; the default replaces it with scrambled
 //!   Sobol points (same expected image, less noise).
@@ -68,6 +71,12 @@ pub struct RenderArgs {
     /// No progress bar and no summary line.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Render polarized (paths carry Mueller matrices; the image is the intensity S0). Scenes
+    /// with a `stokes` integrator or a `polarizer`, `retarder` or `circular` BSDF render
+    /// polarized without it. A `stokes` integrator's S0..S3 layers go to `.exr` outputs only
+    /// (`.png`, `.hdr`, `.pfm` write the main image).
+    #[arg(long)]
+    pub polarized: bool,
 }
 
 static CANCEL: AtomicBool = AtomicBool::new(false);
@@ -179,7 +188,8 @@ pub fn run(args: RenderArgs) -> Result<ExitCode> {
 }
 
 /// Renders one scene to `outputs`.
-fn render_one(args: &RenderArgs, scene: Scene, outputs: Vec<PathBuf>) -> Result<ExitCode> {
+fn render_one(args: &RenderArgs, mut scene: Scene, outputs: Vec<PathBuf>) -> Result<ExitCode> {
+    scene.integrator.polarized |= args.polarized;
     for out in &outputs {
         if !matches!(extension(out).as_deref(), Some("exr" | "png" | "hdr" | "pfm")) {
             bail!(

@@ -4,3 +4,4 @@ pub mod depth;
 pub mod direct;
 pub mod path;
 pub mod prb;
+pub mod stokes;

@@ -85,5 +85,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         thin_shadows,
         caustic_paths,
         kind: IntegratorKind::Path,
+        stokes: false,
+        polarized: false,
     })
 }
