@@ -33,16 +33,14 @@ pub struct Scene {
 
 impl Scene {
     /// True when the scene asks for a polarized render without being told: a `stokes`
-    /// integrator, or a material that only polarization shows (`polarizer`, `retarder`,
-    /// `circular`; at the top level of a shape's BSDF).
+    /// integrator, or a material that asks for it (`polarizer`, `retarder`, `circular`,
+    /// `pplastic`, also inside `twosided`, `blendbsdf`, `mask`, `normalmap`, `bumpmap`).
     pub fn asks_for_polarization(&self) -> bool {
-        use crate::material::{CircularMaterial, PolarizerMaterial, RetarderMaterial};
         self.integrator.stokes
-            || self.materials.iter().any(|m| {
-                m.get::<PolarizerMaterial>().is_some()
-                    || m.get::<RetarderMaterial>().is_some()
-                    || m.get::<CircularMaterial>().is_some()
-            })
+            || self
+                .materials
+                .iter()
+                .any(|m| m.as_surface().asks_for_polarization())
     }
 }
 

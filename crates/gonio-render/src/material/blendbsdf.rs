@@ -93,6 +93,9 @@ impl SurfaceMaterial for BlendMaterial {
     fn node_count(&self) -> usize {
         1 + self.bsdf0.as_surface().node_count() + self.bsdf1.as_surface().node_count()
     }
+    fn asks_for_polarization(&self) -> bool {
+        self.bsdf0.as_surface().asks_for_polarization() || self.bsdf1.as_surface().asks_for_polarization()
+    }
     fn push<'a>(
         &'a self,
         uv: Vec2,

@@ -49,6 +49,9 @@ pub struct CircularMaterial {
 }
 
 impl SurfaceMaterial for CircularMaterial {
+    fn asks_for_polarization(&self) -> bool {
+        true
+    }
     fn flags(&self) -> BsdfFlags {
         self.model.flags()
     }

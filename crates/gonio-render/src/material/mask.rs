@@ -96,6 +96,9 @@ impl SurfaceMaterial for MaskMaterial {
     fn node_count(&self) -> usize {
         2 + self.nested.as_surface().node_count()
     }
+    fn asks_for_polarization(&self) -> bool {
+        self.nested.as_surface().asks_for_polarization()
+    }
     fn push<'a>(
         &'a self,
         uv: Vec2,

@@ -120,6 +120,13 @@ pub trait SurfaceMaterial: Send + Sync + Debug + Any {
         1
     }
 
+    /// True when a scene holding this material (at any depth of its wrappers) asks to be
+    /// rendered polarized, as Mitsuba users expect of `polarizer`, `retarder`, `circular` and
+    /// `pplastic`; wrappers answer for their children.
+    fn asks_for_polarization(&self) -> bool {
+        false
+    }
+
     /// Adds this material at surface coordinates `uv` and wavelengths `wl` to `tree`; returns
     /// the index of its root node.
     fn push<'a>(

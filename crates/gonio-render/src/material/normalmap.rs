@@ -145,6 +145,9 @@ impl SurfaceMaterial for NormalMapMaterial {
     fn node_count(&self) -> usize {
         1 + self.nested.as_surface().node_count()
     }
+    fn asks_for_polarization(&self) -> bool {
+        self.nested.as_surface().asks_for_polarization()
+    }
     fn push<'a>(
         &'a self,
         uv: Vec2,

@@ -6,7 +6,7 @@ use super::{
     BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
 };
 use crate::texture::Texture;
-use crate::xml::{Builder, Params, SceneError};
+use crate::xml::{Builder, Params, SceneError, SpecValue, Value};
 use glam::Vec2;
 use gonio_core::bsdfs::surface::TooManyNodes;
 use gonio_core::bsdfs::{LeafBsdf, Polarizer, SurfaceBsdf};
@@ -65,6 +65,28 @@ pub(crate) fn angle<'d>(
     spec: &ParamSpec,
 ) -> Result<Texture, SceneError> {
     let loc = p.obj.loc.clone();
+    // A plain number may be negative (an angle, unlike every quantity the shared spectrum reader
+    // serves, which rejects negatives as mistakes): read it here.
+    if let Some(prop) = p.get(spec.name) {
+        let v = match &prop.value {
+            Value::Float(v) => Some(*v),
+            Value::Int(v) => Some(*v as f64),
+            Value::Spectrum(SpecValue::Uniform(v)) => Some(*v),
+            _ => None,
+        };
+        if let Some(v) = v {
+            if !v.is_finite() {
+                return Err(crate::xml::err(
+                    &prop.value_loc,
+                    crate::xml::ErrorKind::BadValue,
+                    format!("\"{}\" = {v}: expected a finite angle in degrees", spec.name),
+                ));
+            }
+            return Ok(Texture::Spectrum(gonio_core::spectra::Spectrum::Constant(
+                v as f32,
+            )));
+        }
+    }
     let t = b.texture(p, spec, RgbKind::Unbounded)?;
     if !t.is_textured() {
         let v = t.eval_1(Vec2::ZERO);
@@ -91,6 +113,9 @@ pub struct PolarizerMaterial {
 }
 
 impl SurfaceMaterial for PolarizerMaterial {
+    fn asks_for_polarization(&self) -> bool {
+        true
+    }
     fn flags(&self) -> BsdfFlags {
         self.model.flags()
     }

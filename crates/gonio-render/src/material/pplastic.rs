@@ -162,6 +162,9 @@ impl PPlasticMaterial {
 }
 
 impl SurfaceMaterial for PPlasticMaterial {
+    fn asks_for_polarization(&self) -> bool {
+        true
+    }
     fn flags(&self) -> BsdfFlags {
         self.model.flags()
     }

@@ -59,6 +59,9 @@ pub struct RetarderMaterial {
 }
 
 impl SurfaceMaterial for RetarderMaterial {
+    fn asks_for_polarization(&self) -> bool {
+        true
+    }
     fn flags(&self) -> BsdfFlags {
         self.model.flags()
     }

@@ -80,6 +80,13 @@ impl SurfaceMaterial for TwoSidedMaterial {
         1 + self.front.as_surface().node_count()
             + self.back.as_ref().map_or(0, |b| b.as_surface().node_count())
     }
+    fn asks_for_polarization(&self) -> bool {
+        self.front.as_surface().asks_for_polarization()
+            || self
+                .back
+                .as_ref()
+                .is_some_and(|b| b.as_surface().asks_for_polarization())
+    }
     fn push<'a>(
         &'a self,
         uv: Vec2,

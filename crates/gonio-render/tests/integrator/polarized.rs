@@ -248,3 +248,70 @@ fn quarter_wave_plate_at_45_degrees_makes_circular_light() {
         );
     }
 }
+
+/// The scenes that render polarized without being told: a `stokes` integrator, or a material
+/// that asks for it, also when a wrapper holds it (Mitsuba's users wrap a `pplastic` in a
+/// `twosided`); a depolarizing scene does not.
+#[test]
+fn scenes_that_ask_for_polarization_are_recognised_through_wrappers() {
+    let asks = |bsdf: &str, integrator: &str| {
+        let sheet = format!(
+            r#"<shape type="rectangle"><transform name="to_world"><translate z="1"/></transform>{bsdf}</shape>"#
+        );
+        gonio_render::xml::load_scene_str(&sheets_scene(integrator, &sheet), ".", &[])
+            .expect("test scene loads")
+            .asks_for_polarization()
+    };
+    assert!(asks(r#"<bsdf type="pplastic"/>"#, PATH));
+    assert!(asks(
+        r#"<bsdf type="twosided"><bsdf type="pplastic"/></bsdf>"#,
+        PATH
+    ));
+    assert!(asks(
+        r#"<bsdf type="blendbsdf"><float name="weight" value="0.5"/><bsdf type="diffuse"/><bsdf type="retarder"/></bsdf>"#,
+        PATH
+    ));
+    assert!(asks(
+        r#"<bsdf type="mask"><float name="opacity" value="0.5"/><bsdf type="circular"/></bsdf>"#,
+        PATH
+    ));
+    assert!(asks(r#"<bsdf type="diffuse"/>"#, STOKES_PATH));
+    assert!(!asks(
+        r#"<bsdf type="twosided"><bsdf type="plastic"/></bsdf>"#,
+        PATH
+    ));
+}
+
+/// Angles are signed, as in Mitsuba: a retarder at θ = −30° is the one at 150° (a linear
+/// retarder's axis is defined modulo 180°), for a float and for a one-value spectrum alike.
+#[test]
+fn negative_angles_load_and_mean_the_same_axis() {
+    let sheet = |theta: &str| {
+        format!(
+            r#"<shape type="rectangle"><transform name="to_world"><scale value="10"/><translate z="1"/></transform>
+            <bsdf type="retarder">{theta}<float name="delta" value="90"/></bsdf></shape>{}"#,
+            polarizer_sheet(0.5, 0.0)
+        )
+    };
+    let a = render_channels(
+        &sheets_scene(STOKES_PATH, &sheet(r#"<float name="theta" value="-30"/>"#)),
+        4,
+        1,
+        true,
+    );
+    let b = render_channels(
+        &sheets_scene(STOKES_PATH, &sheet(r#"<spectrum name="theta" value="150"/>"#)),
+        4,
+        1,
+        true,
+    );
+    for ch in ["S0.G", "S1.G", "S2.G", "S3.G"] {
+        let (pa, pb) = (plane(&a, ch), plane(&b, ch));
+        for (x, y) in pa.iter().zip(&pb) {
+            assert!((x - y).abs() <= 1e-5 * (1.0 + x.abs()), "{ch}: {x} vs {y}");
+        }
+    }
+    // And the retarder does something: circular light after a quarter wave at 30° off the axis.
+    let s3 = plane(&a, "S3.G").iter().sum::<f64>().abs();
+    assert!(s3 > 0.1 * plane(&a, "S0.G").iter().sum::<f64>(), "S3 {s3}");
+}
