@@ -40,6 +40,24 @@ def read_exr(path):
     return np.array(mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
 
 
+def cpu_description():
+    """The CPU model and the vector extensions that decide Mitsuba's LLVM lane width (and ours)."""
+    model, flags = "unknown CPU", set()
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                key, _, value = line.partition(":")
+                if key.strip() == "model name" and model == "unknown CPU":
+                    model = value.strip()
+                elif key.strip() == "flags" and not flags:
+                    flags = set(value.split())
+    except OSError:
+        pass
+    ext = [e for e in ["sse4_2", "avx", "avx2", "fma", "avx512f", "avx512vl", "avx512bw"] if e in flags]
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    return f"{model}; vector extensions: {', '.join(ext) or 'none found'}; load average at start {load:.2f}"
+
+
 def relmse(a, b, block=1):
     import numpy as np
 
@@ -113,6 +131,8 @@ def main():
             img = read_exr(out)
             g["e"], g["eb"] = relmse(img, ref), relmse(img, ref, 8)
         result = {"scene": name, "gonio": g}
+        if can_read:
+            result["samples"] = ref.shape[0] * ref.shape[1] * a.spp
         if have_mi:
             for variant in ["scalar_spectral", "llvm_ad_spectral"]:
                 mout = os.path.join(tmp, f"{name}-{variant}.exr")
@@ -123,11 +143,13 @@ def main():
         rows.append(result)
         print(f"# {name}: {result}", file=sys.stderr, flush=True)
 
+    print(f"CPU: {cpu_description()}.")
     print(f"spp = {a.spp}, median of {a.runs} runs, render time only (scene loading excluded), "
-          f"{os.cpu_count()} cores.\n")
+          f"{os.cpu_count()} cores. Throughput: camera samples per second per core (gonio with its "
+          f"light subpaths for caustics on, as rendered).\n")
     print("| scene | gonio s | relMSE | block relMSE | scalar_spectral s | relMSE | equal-error ratio | "
-          "llvm_ad_spectral s | relMSE | equal-error ratio |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
+          "llvm_ad_spectral s | relMSE | equal-error ratio | throughput gonio / scalar / LLVM (k/s/core) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         g = r["gonio"]
         cells = [r["scene"], f"{g['t']:.2f}", f"{g.get('e', float('nan')):.2e}", f"{g.get('eb', float('nan')):.2e}"]
@@ -138,6 +160,9 @@ def main():
                 cells += [f"{m['t']:.2f}", f"{m['e']:.2e}", f"{ratio:.2f}"]
             else:
                 cells += ["-", "-", "-"]
+        n, cores = r.get("samples"), os.cpu_count() or 1
+        tp = [r.get(k) for k in ["gonio", "scalar_spectral", "llvm_ad_spectral"]]
+        cells.append(" / ".join(f"{n / (m['t'] * cores) / 1e3:.0f}" if (m and n) else "-" for m in tp))
         print("| " + " | ".join(cells) + " |")
 
 

@@ -161,6 +161,13 @@ impl FlatBoxes {
             while m != 0 {
                 let id = 4 * ci + m.trailing_zeros() as usize;
                 m &= m - 1;
+                // An instance: every hit inside it, as the BVH's any-hit query visits them.
+                if let Some((shape, inst)) = super::instance_prim(shapes, &prims[id]) {
+                    if inst.for_each_hit(ray, shape, f) {
+                        return true;
+                    }
+                    continue;
+                }
                 if let Some(h) = prim_test(shapes, &prims[id], ray, &tri) {
                     let (shape, prim) = prim_ids(&prims[id]);
                     if f(&shapes[shape as usize].interaction(shape, prim as usize, ray, h)) {
