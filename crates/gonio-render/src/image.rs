@@ -416,49 +416,6 @@ impl ChannelImage {
         crate::develop::encode_exr(self, crate::scene::ComponentFormat::Float32, &[])
     }
 
-    /// Reads every channel of an OpenEXR file's first layer by its full name (`R`, `S1.G`, ...,
-    /// in the file's order, which OpenEXR sorts by name), as `f32`.
-    pub fn read_exr(path: impl AsRef<Path>) -> Result<Self, ImageError> {
-        use exr::prelude::*;
-        let path = path.as_ref();
-        let err = |message: String| ImageError::Decode {
-            path: path.to_owned(),
-            format: "OpenEXR",
-            message,
-        };
-        let bytes = std::fs::read(path).map_err(|source| ImageError::Io {
-            path: path.to_owned(),
-            source,
-        })?;
-        let image = read()
-            .no_deep_data()
-            .largest_resolution_level()
-            .all_channels()
-            .first_valid_layer()
-            .all_attributes()
-            .from_buffered(Cursor::new(bytes))
-            .map_err(|e| err(e.to_string()))?;
-        let layer = image.layer_data;
-        let (width, height) = (layer.size.0, layer.size.1);
-        let list = &layer.channel_data.list;
-        if list.iter().any(|c| c.sample_data.len() != width * height) {
-            return Err(err(
-                "a channel has the wrong number of samples (subsampled channels are not supported)".into(),
-            ));
-        }
-        let names = list.iter().map(|c| c.name.to_string()).collect();
-        let mut data = Vec::with_capacity(width * height * list.len());
-        for i in 0..width * height {
-            data.extend(list.iter().map(|c| c.sample_data.value_by_flat_index(i).to_f32()));
-        }
-        Ok(Self {
-            width,
-            height,
-            names,
-            data,
-        })
-    }
-
     /// The three channels `layer.R`, `layer.G`, `layer.B` (`R`, `G`, `B` for the empty layer
     /// name) as an RGB image, or `None` when one is missing.
     pub fn layer_rgb(&self, layer: &str) -> Option<RgbImage> {

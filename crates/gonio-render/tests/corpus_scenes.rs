@@ -477,7 +477,7 @@ const STOKES_CBOX: [(&str, f64); 5] = [
 ];
 
 fn stokes_reference() -> ChannelImage {
-    ChannelImage::read_exr(corpus().join("reference/integrator_stokes_cbox.exr")).expect("reference reads")
+    ChannelImage::read(corpus().join("reference/integrator_stokes_cbox.exr")).expect("reference reads")
 }
 
 #[test]
