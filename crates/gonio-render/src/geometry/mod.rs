@@ -24,6 +24,7 @@ pub mod instance;
 mod sampling_impl;
 pub mod sdfgrid;
 pub mod shape;
+pub mod triangle;
 
 pub use shape::{GeometryError, ShapeKind, WorldMesh, WorldShape};
 
