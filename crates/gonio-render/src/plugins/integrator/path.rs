@@ -12,13 +12,13 @@ const MAX_DEPTH: ParamSpec = ParamSpec::new(
     DefaultValue::Int(-1),
     "longest path, in segments; −1 is unbounded",
 );
-const RR_DEPTH: ParamSpec = ParamSpec::new(
+pub(super) const RR_DEPTH: ParamSpec = ParamSpec::new(
     "rr_depth",
     ParamType::Integer,
     DefaultValue::Int(5),
     "path depth at which Russian roulette starts (≥ 1)",
 );
-const HIDE_EMITTERS: ParamSpec = ParamSpec::new(
+pub(super) const HIDE_EMITTERS: ParamSpec = ParamSpec::new(
     "hide_emitters",
     ParamType::Boolean,
     DefaultValue::Bool(false),
@@ -36,13 +36,13 @@ const CAUSTIC_PATHS: ParamSpec = ParamSpec::new(
     DefaultValue::Bool(true),
     "(ours) light subpaths for caustics, weighted by MIS against the path tracer",
 );
-const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
+pub(super) const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
     "samples_per_pass",
     ParamType::Integer,
     DefaultValue::Int(-1),
     "accepted and ignored (gonio renders in passes of its own)",
 );
-const TIMEOUT: ParamSpec = ParamSpec::new(
+pub(super) const TIMEOUT: ParamSpec = ParamSpec::new(
     "timeout",
     ParamType::Float,
     DefaultValue::Float(-1.0),

@@ -30,30 +30,6 @@ const MAX_DEPTH: ParamSpec = ParamSpec::new(
     DefaultValue::Int(6),
     "longest path, in segments; −1 is unbounded (Mitsuba's differentiable integrators default to 6)",
 );
-const RR_DEPTH: ParamSpec = ParamSpec::new(
-    "rr_depth",
-    ParamType::Integer,
-    DefaultValue::Int(5),
-    "path depth at which Russian roulette starts (≥ 1)",
-);
-const HIDE_EMITTERS: ParamSpec = ParamSpec::new(
-    "hide_emitters",
-    ParamType::Boolean,
-    DefaultValue::Bool(false),
-    "hide directly visible emitters",
-);
-const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
-    "samples_per_pass",
-    ParamType::Integer,
-    DefaultValue::Int(-1),
-    "accepted and ignored",
-);
-const TIMEOUT: ParamSpec = ParamSpec::new(
-    "timeout",
-    ParamType::Float,
-    DefaultValue::Float(-1.0),
-    "accepted and ignored",
-);
 const SPPC: ParamSpec = ParamSpec::new(
     "sppc",
     ParamType::Integer,
@@ -96,6 +72,9 @@ const PROJECT_SEED: ParamSpec = ParamSpec::new(
     DefaultValue::Str("both"),
     "`both`, `bsdf` or `emitter` (ignored)",
 );
+
+// `rr_depth`, `hide_emitters`, `samples_per_pass`, `timeout`: the rows of `path`.
+use super::path::{HIDE_EMITTERS, RR_DEPTH, SAMPLES_PER_PASS, TIMEOUT};
 
 const COMMON: [ParamSpec; 5] = [MAX_DEPTH, RR_DEPTH, HIDE_EMITTERS, SAMPLES_PER_PASS, TIMEOUT];
 const PROJECTIVE: [ParamSpec; 12] = [
