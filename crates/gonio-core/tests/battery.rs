@@ -22,10 +22,10 @@ use gonio_core::rng::Pcg32;
 use gonio_core::spectra::Spectrum;
 use gonio_core::{Bsdf, Ior};
 
-mod battery_support;
-use battery_support::*;
+use crate::battery_support::*;
 
 /// The models whose pdf is for MIS only (Heitz et al. 2016 walks): their own rows.
+#[path = "battery_stochastic/mod.rs"]
 mod battery_stochastic;
 
 // ---- diffuse ----------------------------------------------------------------------------------

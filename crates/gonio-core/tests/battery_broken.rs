@@ -7,8 +7,7 @@ use gonio_core::check::broken::{
     MislabelledLobe, NanAtGrazing, NonReciprocal, PdfOffByFactor, WrongSampler, WrongWeight,
 };
 
-mod battery_support;
-use battery_support::*;
+use crate::battery_support::*;
 
 // ---- negative controls: every check can fail --------------------------------------------------
 

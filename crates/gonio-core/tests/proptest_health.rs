@@ -536,8 +536,10 @@ proptest! {
 }
 
 /// Spec → model.
+#[path = "proptest_models/mod.rs"]
 mod proptest_models;
 use proptest_models::{ROUGH_COATS, with_bsdf};
 
 /// The polarized property: every model's Mueller values against its unpolarized ones.
+#[path = "proptest_polarized/mod.rs"]
 mod proptest_polarized;

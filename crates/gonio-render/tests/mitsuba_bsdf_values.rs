@@ -11,6 +11,7 @@
 //! * The deliberate deviation: Mitsuba's linear `plastic` gains energy at ρ = 1 (albedo ≈ 1.0011);
 //!   gonio's stays ≤ 1 (`plastic_at_unit_reflectance_conserves_energy_where_mitsuba_gains`).
 
+#[path = "mitsuba_polarized/mod.rs"]
 mod mitsuba_polarized;
 
 use glam::{Vec2, Vec3};

@@ -29,7 +29,7 @@ fn assert_passes_stochastic(name: &str, bsdf: &dyn Bsdf, evals_per_cell: usize) 
         health_queries: 5_000,
         sample_vs_eval_samples: 100_000,
         sample_vs_eval_evals_per_cell: evals_per_cell,
-        ..battery_support::config()
+        ..crate::battery_support::config()
     };
     let t = std::time::Instant::now();
     let rows = gonio_core::check::battery(bsdf, &config);

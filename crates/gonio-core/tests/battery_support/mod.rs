@@ -1,6 +1,6 @@
 //! Helpers shared by `battery.rs` (correct models) and `battery_broken.rs` (negative
 //! controls): the family-wise α, the report, and the pass/fail assertions.
-#![allow(dead_code)] // each test file uses its part
+#![allow(dead_code)] // each test module uses its part
 
 use gonio_core::Bsdf;
 use gonio_core::check::{CheckConfig, CheckResult, all_passed, battery, failures, sidak};
