@@ -16,8 +16,8 @@
 //! # Thresholds
 //!
 //! Each scene's threshold is the level two independent gonio renders at [`CI_SPP`] show against
-//! each other (seeds 1 and 2), printed by `cargo test --release --test corpus_scenes --
-//! --ignored --nocapture measure`: a correct renderer sits near half of it against a converged
+//! each other (seeds 1 and 2), printed by `cargo test --release -p gonio-render --test integration
+//! corpus_scenes::measure -- --ignored --nocapture`: a correct renderer sits near half of it against a converged
 //! reference. Adding a scene is one row in [`SCENES`] (and its reference from the script).
 
 use gonio_render::compare::block_relmse;

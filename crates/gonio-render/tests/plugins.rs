@@ -213,7 +213,7 @@ fn docs_plugins_md_is_generated_from_the_tables() {
     let have = std::fs::read_to_string(path).unwrap_or_default();
     assert!(
         have == want,
-        "docs/plugins.md is stale: run GONIO_BLESS=1 cargo test --release -p gonio-render --test plugins"
+        "docs/plugins.md is stale: run GONIO_BLESS=1 cargo test --release -p gonio-render --test integration plugins::"
     );
     for kind in all_kinds() {
         for (name, _, _) in &kind.plugins {
