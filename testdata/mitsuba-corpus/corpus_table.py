@@ -1,0 +1,168 @@
+#!/usr/bin/env python3
+"""The corpus table of issue #10: every scene of Mitsuba's corpus, rendered by gonio and by
+Mitsuba 3.9.1, with gonio's agreement figure.
+
+For each `docs/scenes/*.xml` and `scenes/*/*.xml` of a Mitsuba corpus folder (default
+`../shared/mitsuba-corpus`, as its users have it), on a copy whose films are reduced to WIDTH
+pixels across (width, height and crop values scaled by one factor per file, `$res`-style
+defaults too):
+
+* Mitsuba renders it at REF_SPP samples per pixel, seed 0 (`llvm_ad_spectral`, or
+  `llvm_ad_spectral_polarized` when the scene asks for polarization: the same estimator as the
+  scalar variants, faster); a scene Mitsuba fails to load or render is "Mitsuba fails" and left
+  out of the agreement count, with Mitsuba's first error line;
+* gonio renders it unchanged at SPP samples per pixel with seeds 1 and 2;
+* the figure is the 8x8-block relMSE of gonio (seed 1) against Mitsuba, and the threshold is
+  gonio seed 1 against seed 2: a renderer that agrees sits near (1 + SPP/REF_SPP)/2 of the
+  threshold; above the threshold is a disagreement (the same rule as
+  `crates/gonio-render/tests/corpus_scenes.rs`).
+
+Scenes that take `$spp` from the caller get `-D spp=SPP` for both renderers; a scene's own
+sampler count is overridden by `--spp`/`spp=`. Prints a Markdown table and writes JSON.
+
+Usage (takes about half an hour on two cores):
+    nice python3 corpus_table.py [--corpus DIR] [--gonio BIN] [--out table.json] [SCENE ...]
+"""
+import argparse
+import glob
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+WIDTH = 120
+SPP = 32
+REF_SPP = 256
+
+here = os.path.dirname(os.path.abspath(__file__))
+root = os.path.normpath(os.path.join(here, "..", ".."))
+
+p = argparse.ArgumentParser()
+p.add_argument("--corpus", default=os.path.join(root, "..", "shared", "mitsuba-corpus"))
+p.add_argument("--gonio", default=os.path.join(root, "target", "release", "gonio"))
+p.add_argument("--out", default="corpus_table.json")
+p.add_argument("--timeout", type=float, default=600.0)
+p.add_argument("scenes", nargs="*", help="scene names (file stems) to run; default: all")
+a = p.parse_args()
+
+POLARIZED = re.compile(r'type="(stokes|polarizer|retarder|circular|pplastic|measured_polarized)"')
+
+
+def reduce_films(tree):
+    """Scales every film in `tree` to WIDTH pixels across, one factor per file."""
+    for path in glob.glob(os.path.join(tree, "**", "*.xml"), recursive=True):
+        text = open(path).read()
+        m = re.search(r'<integer\s+name="width"\s+value="(\d+)"', text)
+        r = re.search(r'<default\s+name="res[x]?"\s+value="(\d+)"', text)
+        base = int(m.group(1)) if m else (int(r.group(1)) if r else None)
+        if not base or base <= WIDTH:
+            continue
+        s = WIDTH / base
+
+        def scale(mo):
+            return f'{mo.group(1)}{max(1, round(int(mo.group(2)) * s))}"'
+
+        text = re.sub(r'(<integer\s+name="(?:width|height|crop_width|crop_height|crop_offset_x|crop_offset_y)"\s+value=")(\d+)"', scale, text)
+        text = re.sub(r'(<default\s+name="res[xy]?"\s+value=")(\d+)"', scale, text)
+        open(path, "w").write(text)
+
+
+def block_relmse(test, ref):
+    out = subprocess.run([a.gonio, "compare", test, ref], capture_output=True, text=True)
+    m = re.search(r"relMSE 8x8\s+(\S+)", out.stdout)
+    if not m:
+        raise RuntimeError((out.stderr or out.stdout).strip().splitlines()[-1])
+    return float(m.group(1))
+
+
+def first_error(text):
+    lines = [l for l in text.strip().splitlines() if l.strip()]
+    for l in lines:
+        if "error" in l.lower() or "Error" in l:
+            return l.strip()[:160]
+    return (lines[-1] if lines else "?")[:160]
+
+
+MITSUBA = r'''
+import sys, mitsuba as mi
+variant, scene, out, spp, seed, takes_spp = sys.argv[1:7]
+mi.set_variant(variant)
+params = {"spp": spp} if takes_spp == "1" else {}
+sc = mi.load_file(scene, **params)
+mi.render(sc, spp=int(spp), seed=int(seed))
+# The film's bitmap keeps the channel names (R, G, B, S0.R, ..., AOVs) that gonio compare reads.
+sc.sensors()[0].film().bitmap(raw=False).write(out)
+'''
+
+work = tempfile.mkdtemp(prefix="gonio-corpus-")
+tree = os.path.join(work, "corpus")
+shutil.copytree(a.corpus, tree)
+reduce_films(tree)
+scenes = sorted(glob.glob(os.path.join(tree, "docs", "scenes", "*.xml"))) + sorted(
+    glob.glob(os.path.join(tree, "scenes", "*", "*.xml")))
+if a.scenes:
+    scenes = [s for s in scenes if os.path.basename(s)[:-4] in a.scenes]
+env = dict(os.environ)
+env.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
+
+rows = []
+for scene in scenes:
+    name = os.path.relpath(scene, tree)[:-4]
+    text = open(scene).read()
+    takes_spp = "$spp" in text
+    polarized = bool(POLARIZED.search(text))
+    row = {"scene": name, "polarized": polarized}
+    t = time.time()
+    ref = os.path.join(work, name.replace("/", "_") + ".mitsuba.exr")
+    variant = "llvm_ad_spectral_polarized" if polarized else "llvm_ad_spectral"
+    try:
+        r = subprocess.run([sys.executable, "-c", MITSUBA, variant, scene, ref, str(REF_SPP), "0",
+                            "1" if takes_spp else "0"], capture_output=True, text=True, env=env,
+                           timeout=a.timeout)
+        row["mitsuba"] = "ok" if r.returncode == 0 and os.path.exists(ref) else first_error(r.stderr)
+    except subprocess.TimeoutExpired:
+        row["mitsuba"] = "timeout"
+    outs = []
+    for seed in (1, 2):
+        out = os.path.join(work, f"{name.replace('/', '_')}.gonio{seed}.exr")
+        cmd = [a.gonio, "render", "-q", scene, "-o", out, "--spp", str(SPP), "--seed", str(seed)]
+        if takes_spp:
+            cmd += ["-D", f"spp={SPP}"]
+        try:
+            g = subprocess.run(cmd, capture_output=True, text=True, timeout=a.timeout)
+            ok = g.returncode == 0 and os.path.exists(out)
+        except subprocess.TimeoutExpired:
+            ok, g = False, None
+        if not ok:
+            row["gonio"] = first_error(g.stderr) if g else "timeout"
+            break
+        outs.append(out)
+    else:
+        row["gonio"] = "ok"
+    if row.get("gonio") == "ok":
+        row["threshold"] = block_relmse(outs[0], outs[1])
+        if row["mitsuba"] == "ok":
+            row["relmse"] = block_relmse(outs[0], ref)
+            row["agrees"] = row["relmse"] <= row["threshold"]
+    row["seconds"] = round(time.time() - t, 1)
+    rows.append(row)
+    print(json.dumps(row), file=sys.stderr, flush=True)
+
+json.dump(rows, open(a.out, "w"), indent=1)
+print(f"| scene | Mitsuba | gonio | block relMSE vs Mitsuba | gonio vs gonio | agrees |")
+print("|---|---|---|---|---|---|")
+for r in rows:
+    rel = f"{r['relmse']:.2e}" if "relmse" in r else "–"
+    thr = f"{r['threshold']:.2e}" if "threshold" in r else "–"
+    agrees = {True: "yes", False: "**no**"}.get(r.get("agrees"), "–")
+    print(f"| {r['scene']} | {r['mitsuba']} | {r['gonio']} | {rel} | {thr} | {agrees} |")
+n = len(rows)
+both = [r for r in rows if r["mitsuba"] == "ok"]
+print(f"\n{n} scenes; Mitsuba renders {len(both)}; gonio renders "
+      f"{sum(r['gonio'] == 'ok' for r in rows)} (of Mitsuba's: {sum(r['gonio'] == 'ok' for r in both)}); "
+      f"agree {sum(bool(r.get('agrees')) for r in both)}")
+shutil.rmtree(work)
