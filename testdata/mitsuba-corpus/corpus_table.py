@@ -7,9 +7,10 @@ For each `docs/scenes/*.xml` and `scenes/*/*.xml` of a Mitsuba corpus folder (de
 pixels across (width, height and crop values scaled by one factor per file, `$res`-style
 defaults too):
 
-* Mitsuba renders it at REF_SPP samples per pixel, seed 0 (`llvm_ad_spectral`, or
-  `llvm_ad_spectral_polarized` when the scene asks for polarization: the same estimator as the
-  scalar variants, faster); a scene Mitsuba fails to load or render is "Mitsuba fails" and left
+* Mitsuba renders it at REF_SPP samples per pixel, seed 0 (`scalar_spectral`, or
+  `scalar_spectral_polarized` when the scene asks for polarization; `--llvm` for the
+  `llvm_ad_*` variants, the same estimator, faster to render but slower to compile at this
+  film size); a scene Mitsuba fails to load or render is "Mitsuba fails" and left
   out of the agreement count, with Mitsuba's first error line;
 * gonio renders it unchanged at SPP samples per pixel with seeds 1 and 2;
 * the figure is the 8x8-block relMSE of gonio (seed 1) against Mitsuba, and the threshold is
@@ -34,9 +35,9 @@ import sys
 import tempfile
 import time
 
-WIDTH = 120
+WIDTH = 80
 SPP = 32
-REF_SPP = 256
+REF_SPP = 128
 
 here = os.path.dirname(os.path.abspath(__file__))
 root = os.path.normpath(os.path.join(here, "..", ".."))
@@ -46,6 +47,7 @@ p.add_argument("--corpus", default=os.path.join(root, "..", "shared", "mitsuba-c
 p.add_argument("--gonio", default=os.path.join(root, "target", "release", "gonio"))
 p.add_argument("--out", default="corpus_table.json")
 p.add_argument("--timeout", type=float, default=600.0)
+p.add_argument("--llvm", action="store_true", help="Mitsuba's llvm_ad_* variants")
 p.add_argument("scenes", nargs="*", help="scene names (file stems) to run; default: all")
 a = p.parse_args()
 
@@ -118,7 +120,7 @@ for scene in scenes:
     row = {"scene": name, "polarized": polarized}
     t = time.time()
     ref = os.path.join(work, name.replace("/", "_") + ".mitsuba.exr")
-    variant = "llvm_ad_spectral_polarized" if polarized else "llvm_ad_spectral"
+    variant = ("llvm_ad_" if a.llvm else "scalar_") + ("spectral_polarized" if polarized else "spectral")
     try:
         r = subprocess.run([sys.executable, "-c", MITSUBA, variant, scene, ref, str(REF_SPP), "0",
                             "1" if takes_spp else "0"], capture_output=True, text=True, env=env,
