@@ -167,4 +167,4 @@ both = [r for r in rows if r["mitsuba"] == "ok"]
 print(f"\n{n} scenes; Mitsuba renders {len(both)}; gonio renders "
       f"{sum(r['gonio'] == 'ok' for r in rows)} (of Mitsuba's: {sum(r['gonio'] == 'ok' for r in both)}); "
       f"agree {sum(bool(r.get('agrees')) for r in both)}")
-shutil.rmtree(work)
+print(work) if os.environ.get("KEEP") else shutil.rmtree(work)

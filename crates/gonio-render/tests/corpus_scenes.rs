@@ -73,6 +73,8 @@ const CI_SPP: u32 = 32;
 /// | bsdf_mask_after | 5.50e-4 | 4.56e-4 6.08e-4 5.41e-4 (see below) | 1.94e-3 |
 /// | bsdf_normalmap_with | 5.65e-4 | 4.08e-4 4.86e-4 5.28e-4 | 1.46e-3 |
 /// | bsdf_bumpmap_with | 6.06e-4 | 4.55e-4 4.48e-4 5.03e-4 | 1.43e-3 |
+/// | bsdf_blendbsdf | 1.57e-3 | 1.44e-2 1.39e-2 1.77e-2 (gonio exact, see below) | |
+/// | bsdf_blendbsdf_delta_pdf_mitsuba | 1.18e-3 | 8.10e-4 7.02e-4 6.78e-4 | |
 ///
 /// The `sdfgrid` scenes (Mitsuba's torus grid in a `shapegroup`, placed by an `instance`) and the
 /// curve scenes (`linearcurve`, `bsplinecurve` over `meshes/curve_doc.txt`) use
@@ -142,6 +144,8 @@ const SCENES: &[(&str, f64)] = &[
     ("bsdf_polarizer_aligned", POL_ALIGNED),
     ("bsdf_polarizer_middle", POL_MIDDLE),
     ("bsdf_polarizer_absorbing", POL_ABSORBING),
+    ("bsdf_blendbsdf", 1.57e-3),
+    ("bsdf_blendbsdf_delta_pdf_mitsuba", 1.18e-3),
 ];
 
 fn corpus() -> PathBuf {
@@ -171,8 +175,11 @@ fn render_channels(name: &str, spp: u32, seed: u64) -> ChannelImage {
     render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).channels
 }
 
+/// Mitsuba's render of `name`; a `_delta_pdf_mitsuba` copy (gonio's switch to Mitsuba's
+/// estimator, a parameter Mitsuba would reject) is compared with the original's render.
 fn reference(name: &str) -> RgbImage {
-    RgbImage::read(corpus().join("reference").join(format!("{name}.exr"))).expect("reference reads")
+    let source = name.strip_suffix("_delta_pdf_mitsuba").unwrap_or(name);
+    RgbImage::read(corpus().join("reference").join(format!("{source}.exr"))).expect("reference reads")
 }
 
 fn check(name: &str) {
@@ -350,6 +357,32 @@ fn roughdielectric_textured_differs_from_mitsuba_only_by_its_checkerboard_cells(
 #[test]
 fn roughconductor_textured_carbon_matches_mitsuba() {
     check("bsdf_roughconductor_textured_carbon_cells_swapped");
+}
+
+/// Mitsuba 3.9.1's `blendbsdf` adds a delta child's discrete probability to the other child's
+/// solid-angle density (`gonio_core::bsdfs::blendbsdf`: biased for delta + smooth mixes; its
+/// albedos reproduced there). Mitsuba's `bsdf_blendbsdf` blends a rough plastic with a smooth gold
+/// by a noise texture, so gonio's render of the file as it is differs from Mitsuba's beyond the
+/// noise (brighter: the gold keeps its share), and the copy with `delta_pdf="mitsuba"` agrees
+/// with Mitsuba's render of the original within it.
+#[test]
+fn blendbsdf_differs_from_mitsuba_only_by_its_delta_pdf() {
+    check("bsdf_blendbsdf_delta_pdf_mitsuba");
+    let name = "bsdf_blendbsdf";
+    let threshold = SCENES.iter().find(|s| s.0 == name).unwrap().1;
+    let (img, r) = (render_scene(name, CI_SPP, 0), reference(name));
+    let e = block_relmse(&img, &r, 8).unwrap();
+    assert!(
+        e > 2.0 * threshold,
+        "{name} as written now matches Mitsuba ({e:.3e}): has Mitsuba's blendbsdf bias been fixed?"
+    );
+    let mean = |im: &RgbImage| {
+        im.data
+            .iter()
+            .map(|p| p.iter().map(|&v| v as f64).sum::<f64>())
+            .sum::<f64>()
+    };
+    assert!(mean(&img) > mean(&r), "gonio's exact blend is the brighter one");
 }
 
 /// `pplastic` renders unpolarized here (the intensity of its Mueller matrices is `eval`), against

@@ -20,7 +20,16 @@
 //! **Deliberate deviation from Mitsuba 3.9.1**, which adds the delta child's discrete probability
 //! to the other child's density and so is biased for delta + smooth mixes: for a 50/50 blend of
 //! a perfect mirror and a black diffuse it returns albedo 0.379 = 0.5/(1 + 1/π) at normal
-//! incidence (0.408 at 45°, 0.474 at 80°) instead of 0.5.
+//! incidence (0.408 at 45°, 0.474 at 80°) instead of 0.5. [`BlendBsdf::mitsuba_delta_pdf`]
+//! restores Mitsuba's estimator for comparisons with its renders: a delta outcome of the chosen
+//! child c (blend factor w_c, the other child o evaluated at ωo) gets
+//!
+//! ```text
+//!     pdf = w_c P_c + (1 − w_c) p_o(ωo),   weight = [w_c f̂_c + (1 − w_c) f_o |cos θo|] / pdf
+//! ```
+//!
+//! with f̂_c = weight_c · P_c the child's delta value (Mitsuba's `blendbsdf::sample` after its
+//! PR #1681); smooth outcomes are the same in both.
 //!
 //! The mixture weight is unbiased because every child's `sample` returns a direction wherever its
 //! `pdf` says it does, zero weight included (the `Bsdf::sample` contract): a black diffuse child
@@ -49,12 +58,16 @@ pub struct BlendBsdf<'a> {
     pub bsdf0: &'a dyn Bsdf,
     /// The BSDF at w = 1.
     pub bsdf1: &'a dyn Bsdf,
+    /// Mitsuba 3.9.1's estimator for delta outcomes (module documentation): biased for delta +
+    /// smooth mixes, for comparisons only. `false` (the default) is the exact one.
+    pub mitsuba_delta_pdf: bool,
 }
 
 impl std::fmt::Debug for BlendBsdf<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("BlendBsdf")
             .field("weight", &self.weight)
+            .field("mitsuba_delta_pdf", &self.mitsuba_delta_pdf)
             .field("bsdf0_flags", &self.bsdf0.flags())
             .field("bsdf1_flags", &self.bsdf1.flags())
             .finish()
@@ -64,7 +77,26 @@ impl std::fmt::Debug for BlendBsdf<'_> {
 impl<'a> BlendBsdf<'a> {
     /// The blend (1 − weight)·bsdf0 + weight·bsdf1.
     pub fn new(weight: f32, bsdf0: &'a dyn Bsdf, bsdf1: &'a dyn Bsdf) -> Self {
-        Self { weight, bsdf0, bsdf1 }
+        Self {
+            weight,
+            bsdf0,
+            bsdf1,
+            mitsuba_delta_pdf: false,
+        }
+    }
+
+    /// The same blend with Mitsuba 3.9.1's estimator for delta outcomes when `on`.
+    pub fn with_mitsuba_delta_pdf(self, on: bool) -> Self {
+        Self {
+            mitsuba_delta_pdf: on,
+            ..self
+        }
+    }
+
+    /// The child not chosen when `chosen_is_1` says which was.
+    #[inline]
+    fn other(&self, chosen_is_1: bool) -> &'a dyn Bsdf {
+        if chosen_is_1 { self.bsdf0 } else { self.bsdf1 }
     }
 
     /// w clipped to [0, 1] (NaN counts as 0).
@@ -144,13 +176,26 @@ impl Bsdf for BlendBsdf<'_> {
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
         let w = self.w();
-        let (chosen, p_select, u1) = if u1 < w {
+        let chosen_is_1 = u1 < w;
+        let (chosen, p_select, u1) = if chosen_is_1 {
             (self.bsdf1, w, u1 / w)
         } else {
             (self.bsdf0, 1.0 - w, (u1 - w) / (1.0 - w))
         };
         let u1 = u1.clamp(0.0, 1.0 - f32::EPSILON / 2.0);
         let mut s = chosen.sample(ctx, wi, u1, u2, wl)?;
+        if s.flags.is_delta() && self.mitsuba_delta_pdf && p_select < 1.0 {
+            // Mitsuba's: the discrete probability added to the other child's density.
+            let (f_o, p_o) = self.other(chosen_is_1).eval_pdf(ctx, wi, s.wo, wl);
+            let pdf = p_select * s.pdf + (1.0 - p_select) * p_o;
+            if !(pdf > 0.0) {
+                return None;
+            }
+            s.weight =
+                (s.weight * (p_select * s.pdf) + f_o * ((1.0 - p_select) * s.wo.z.abs())) * (1.0 / pdf);
+            s.pdf = pdf;
+            return Some(s);
+        }
         if s.flags.is_delta() {
             // f_δ/P(select): the blend factor and the selection probability cancel.
             s.pdf *= p_select;
@@ -207,13 +252,27 @@ impl Bsdf for BlendBsdf<'_> {
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample<Mueller>> {
         let w = self.w();
-        let (chosen, p_select, u1) = if u1 < w {
+        let chosen_is_1 = u1 < w;
+        let (chosen, p_select, u1) = if chosen_is_1 {
             (self.bsdf1, w, u1 / w)
         } else {
             (self.bsdf0, 1.0 - w, (u1 - w) / (1.0 - w))
         };
         let u1 = u1.clamp(0.0, 1.0 - f32::EPSILON / 2.0);
         let mut s = chosen.sample_mueller(ctx, wi, u1, u2, wl)?;
+        if s.flags.is_delta() && self.mitsuba_delta_pdf && p_select < 1.0 {
+            // As in `sample`; both children answer in the same implicit bases.
+            let other = self.other(chosen_is_1);
+            let p_o = other.pdf(ctx, wi, s.wo, wl);
+            let pdf = p_select * s.pdf + (1.0 - p_select) * p_o;
+            if !(pdf > 0.0) {
+                return None;
+            }
+            let f_o = other.eval_mueller(ctx, wi, s.wo, wl);
+            s.weight = s.weight * (p_select * s.pdf / pdf) + f_o * ((1.0 - p_select) * s.wo.z.abs() / pdf);
+            s.pdf = pdf;
+            return Some(s);
+        }
         if s.flags.is_delta() {
             s.pdf *= p_select;
             return Some(s);
@@ -321,6 +380,43 @@ mod tests {
                 "{deg}°: {mean} ± {se} vs {expect}"
             );
         }
+    }
+
+    /// `mitsuba_delta_pdf` reproduces Mitsuba 3.9.1's measured albedos of the same blend and the
+    /// closed form of its estimator: the mirror outcome (probability ½) weighs
+    /// ½ / (½ + ½ cos θ/π), so the albedo is ½ / (1 + cos θ/π).
+    #[test]
+    fn mitsuba_delta_pdf_reproduces_mitsubas_biased_albedo() {
+        let mirror = Conductor::mirror();
+        let black = Diffuse::new(Spectrum::Constant(0.0));
+        let blend = BlendBsdf::new(0.5, &mirror, &black).with_mitsuba_delta_pdf(true);
+        let ctx = BsdfContext::radiance();
+        for (deg, mitsuba) in [(0.0f32, 0.379), (45.0, 0.408), (80.0, 0.474)] {
+            let closed_form = 0.5 / (1.0 + deg.to_radians().cos() as f64 * FRAC_1_PI as f64);
+            let (mean, se) = albedo(&blend, &ctx, dir(deg), 100_000, 3);
+            assert!(
+                (mean - closed_form).abs() < 4.0 * se,
+                "θ {deg}: {mean} ± {se} vs {closed_form}"
+            );
+            // Mitsuba's figures are given to three decimals.
+            assert!(
+                (mean - mitsuba).abs() < 4.0 * se + 5e-4,
+                "θ {deg}: {mean} vs Mitsuba {mitsuba}"
+            );
+        }
+        // Smooth outcomes are the exact blend's: the same sample as without the switch.
+        let mut wl = SampledWavelengths::fixed(550.0);
+        let grey = Diffuse::new(Spectrum::Constant(0.5));
+        let exact = BlendBsdf::new(0.5, &mirror, &grey);
+        let s0 = exact
+            .sample(&ctx, dir(30.0), 0.25, Vec2::new(0.3, 0.7), &mut wl)
+            .unwrap();
+        let s1 = exact
+            .with_mitsuba_delta_pdf(true)
+            .sample(&ctx, dir(30.0), 0.25, Vec2::new(0.3, 0.7), &mut wl)
+            .unwrap();
+        assert!(!s0.flags.is_delta());
+        assert_eq!((s0.wo, s0.weight[0], s0.pdf), (s1.wo, s1.weight[0], s1.pdf));
     }
 
     #[test]

@@ -175,7 +175,12 @@ enum Node<'a> {
     /// A model.
     Leaf(LeafBsdf<'a>),
     /// `blendbsdf`: (1 − weight)·node a + weight·node b.
-    Blend { weight: f32, a: u8, b: u8 },
+    Blend {
+        weight: f32,
+        a: u8,
+        b: u8,
+        mitsuba_delta_pdf: bool,
+    },
     /// `twosided`: node `front` for cos θi ≥ 0, node `back` mirrored below.
     TwoSided { front: u8, back: u8 },
     /// `normalmap`/`bumpmap`: node `child` in a perturbed shading frame.
@@ -266,8 +271,25 @@ impl<'a> SurfaceBsdf<'a> {
 
     /// Adds `(1 − weight)·a + weight·b` of two nodes pushed before; returns its index.
     pub fn push_blend(&mut self, weight: f32, a: u8, b: u8) -> Result<u8, TooManyNodes> {
+        self.push_blend_with(weight, a, b, false)
+    }
+
+    /// [`push_blend`](Self::push_blend), with Mitsuba 3.9.1's estimator for delta outcomes when
+    /// `mitsuba_delta_pdf` ([`BlendBsdf::mitsuba_delta_pdf`]).
+    pub fn push_blend_with(
+        &mut self,
+        weight: f32,
+        a: u8,
+        b: u8,
+        mitsuba_delta_pdf: bool,
+    ) -> Result<u8, TooManyNodes> {
         debug_assert!(a < self.len && b < self.len);
-        self.push(Node::Blend { weight, a, b })
+        self.push(Node::Blend {
+            weight,
+            a,
+            b,
+            mitsuba_delta_pdf,
+        })
     }
 
     /// Adds a two-sided wrapper of nodes pushed before; returns its index.
@@ -325,7 +347,12 @@ impl NodeRef<'_, '_> {
         match self.tree.node(self.i) {
             None => f(&Empty),
             Some(Node::Leaf(l)) => with_leaf!(l, b => f(b)),
-            Some(Node::Blend { weight, a, b }) => f(&BlendBsdf::new(*weight, &at(*a), &at(*b))),
+            Some(Node::Blend {
+                weight,
+                a,
+                b,
+                mitsuba_delta_pdf,
+            }) => f(&BlendBsdf::new(*weight, &at(*a), &at(*b)).with_mitsuba_delta_pdf(*mitsuba_delta_pdf)),
             Some(Node::TwoSided { front, back }) => f(&TwoSided::with_back(&at(*front), &at(*back))),
             Some(Node::Perturbed { frame, child }) => f(&super::PerturbedFrame::new(*frame, &at(*child))),
         }

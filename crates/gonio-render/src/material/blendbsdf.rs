@@ -16,6 +16,12 @@ const WEIGHT: ParamSpec = ParamSpec::new(
     DefaultValue::None,
     "w in [0, 1], the share of the second BSDF (required, as in Mitsuba 3.9.1)",
 );
+const DELTA_PDF: ParamSpec = ParamSpec::new(
+    "delta_pdf",
+    ParamType::String,
+    DefaultValue::Str("exact"),
+    "(ours) a delta child's sampled outcome: `exact` (weight f_δ/P(select)) or `mitsuba` (Mitsuba 3.9.1's estimator, which adds the discrete probability to the other child's density: biased for delta + smooth mixes, for comparisons)",
+);
 const NESTED: ParamSpec = ParamSpec::new(
     "(nested bsdf)",
     ParamType::Bsdf,
@@ -27,7 +33,7 @@ const NESTED: ParamSpec = ParamSpec::new(
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
     name: "blendbsdf",
     summary: "Linear blend of two BSDFs, (1 − w)·bsdf0 + w·bsdf1; the weight may be a texture.",
-    params: &[WEIGHT, NESTED],
+    params: &[WEIGHT, DELTA_PDF, NESTED],
     build,
 };
 
@@ -51,6 +57,8 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
             ));
         }
     }
+    let mitsuba_delta_pdf =
+        p.choice(DELTA_PDF.name, DELTA_PDF.default.str(), &["exact", "mitsuba"])? == "mitsuba";
     let kids = p.objects(Tag::Bsdf)?;
     if kids.len() != 2 {
         return Err(SceneError::new(
@@ -61,7 +69,12 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
     }
     let bsdf0 = b.bsdf(kids[0].0, &kids[0].1.value_loc)?;
     let bsdf1 = b.bsdf(kids[1].0, &kids[1].1.value_loc)?;
-    Ok(Material::new(BlendMaterial { weight, bsdf0, bsdf1 }))
+    Ok(Material::new(BlendMaterial {
+        weight,
+        bsdf0,
+        bsdf1,
+        mitsuba_delta_pdf,
+    }))
 }
 
 /// `blendbsdf` in a scene.
@@ -73,6 +86,9 @@ pub struct BlendMaterial {
     pub bsdf0: Material,
     /// Second child.
     pub bsdf1: Material,
+    /// `delta_pdf="mitsuba"`: Mitsuba 3.9.1's estimator for delta outcomes
+    /// ([`BlendBsdf::mitsuba_delta_pdf`]).
+    pub mitsuba_delta_pdf: bool,
 }
 
 impl BlendMaterial {
@@ -104,7 +120,7 @@ impl SurfaceMaterial for BlendMaterial {
     ) -> Result<u8, TooManyNodes> {
         let a = self.bsdf0.as_surface().push(uv, wl, tree)?;
         let b = self.bsdf1.as_surface().push(uv, wl, tree)?;
-        tree.push_blend(self.weight_at(uv), a, b)
+        tree.push_blend_with(self.weight_at(uv), a, b, self.mitsuba_delta_pdf)
     }
     fn push_at<'a>(
         &'a self,
@@ -114,17 +130,13 @@ impl SurfaceMaterial for BlendMaterial {
     ) -> Result<u8, TooManyNodes> {
         let a = self.bsdf0.as_surface().push_at(at, wl, tree)?;
         let b = self.bsdf1.as_surface().push_at(at, wl, tree)?;
-        tree.push_blend(self.weight_at(at.uv), a, b)
+        tree.push_blend_with(self.weight_at(at.uv), a, b, self.mitsuba_delta_pdf)
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
         let w = self.weight_at(uv);
         self.bsdf0.as_surface().visit(uv, &mut |b0: &dyn Bsdf| {
             self.bsdf1.as_surface().visit(uv, &mut |b1: &dyn Bsdf| {
-                f(&BlendBsdf {
-                    weight: w,
-                    bsdf0: b0,
-                    bsdf1: b1,
-                })
+                f(&BlendBsdf::new(w, b0, b1).with_mitsuba_delta_pdf(self.mitsuba_delta_pdf))
             })
         })
     }
