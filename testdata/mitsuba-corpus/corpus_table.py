@@ -13,10 +13,15 @@ defaults too):
   film size); a scene Mitsuba fails to load or render is "Mitsuba fails" and left
   out of the agreement count, with Mitsuba's first error line;
 * gonio renders it unchanged at SPP samples per pixel with seeds 1 and 2;
-* the figure is the 8x8-block relMSE of gonio against Mitsuba (the mean over seeds 1 and 2),
-  and the threshold is gonio seed 1 against seed 2: a renderer that agrees sits near
-  (1 + SPP/REF_SPP)/2 of the threshold; above the threshold is a disagreement (the rule of
-  `crates/gonio-render/tests/corpus_scenes.rs`, with the figure averaged over two seeds).
+* Mitsuba renders it a second time with seed 1, for its own noise;
+* the figure is the 8x8-block relMSE of gonio against Mitsuba's seed-0 render (the mean over
+  gonio's seeds 1 and 2). Two renderers that agree in expectation show
+  relMSE(gonio, Mitsuba) ≈ v_gonio + v_Mitsuba, half the sum of the two seed-to-seed levels
+  (gonio 1 vs 2, Mitsuba 0 vs 1); the table gives the ratio of the figure to that expected
+  level. Each level is estimated from about 80 blocks (relative error ≈ 16 %), so a ratio up to
+  1.3 is agreement and above it a disagreement (gonio's error per sample is several times lower
+  than Mitsuba's, so the CI rule "below gonio's own seed-to-seed level" needs references of many
+  more samples than this sweep renders).
 
 Scenes that take `$spp` from the caller get `-D spp=SPP` for both renderers; a scene's own
 sampler count is overridden by `--spp`/`spp=`. Prints a Markdown table and writes JSON.
@@ -119,15 +124,19 @@ for scene in scenes:
     polarized = bool(POLARIZED.search(text))
     row = {"scene": name, "polarized": polarized}
     t = time.time()
-    ref = os.path.join(work, name.replace("/", "_") + ".mitsuba.exr")
+    refs = [os.path.join(work, name.replace("/", "_") + f".mitsuba{seed}.exr") for seed in (0, 1)]
     variant = ("llvm_ad_" if a.llvm else "scalar_") + ("spectral_polarized" if polarized else "spectral")
-    try:
-        r = subprocess.run([sys.executable, "-c", MITSUBA, variant, scene, ref, str(REF_SPP), "0",
-                            "1" if takes_spp else "0"], capture_output=True, text=True, env=env,
-                           timeout=a.timeout)
-        row["mitsuba"] = "ok" if r.returncode == 0 and os.path.exists(ref) else first_error(r.stderr)
-    except subprocess.TimeoutExpired:
-        row["mitsuba"] = "timeout"
+    for seed, ref in enumerate(refs):
+        try:
+            r = subprocess.run([sys.executable, "-c", MITSUBA, variant, scene, ref, str(REF_SPP),
+                                str(seed), "1" if takes_spp else "0"], capture_output=True,
+                               text=True, env=env, timeout=a.timeout)
+            row["mitsuba"] = "ok" if r.returncode == 0 and os.path.exists(ref) else first_error(r.stderr)
+        except subprocess.TimeoutExpired:
+            row["mitsuba"] = "timeout"
+        if row["mitsuba"] != "ok":
+            break
+    ref = refs[0]
     outs = []
     for seed in (1, 2):
         out = os.path.join(work, f"{name.replace('/', '_')}.gonio{seed}.exr")
@@ -149,19 +158,24 @@ for scene in scenes:
         row["threshold"] = block_relmse(outs[0], outs[1])
         if row["mitsuba"] == "ok":
             row["relmse"] = (block_relmse(outs[0], ref) + block_relmse(outs[1], ref)) / 2
-            row["agrees"] = row["relmse"] <= row["threshold"]
+            row["mitsuba_noise"] = block_relmse(refs[1], refs[0])
+            expected = (row["threshold"] + row["mitsuba_noise"]) / 2
+            row["ratio"] = row["relmse"] / expected if expected > 0 else float("inf")
+            row["agrees"] = row["ratio"] <= 1.3
     row["seconds"] = round(time.time() - t, 1)
     rows.append(row)
     print(json.dumps(row), file=sys.stderr, flush=True)
 
 json.dump(rows, open(a.out, "w"), indent=1)
-print(f"| scene | Mitsuba | gonio | block relMSE vs Mitsuba | gonio vs gonio | agrees |")
-print("|---|---|---|---|---|---|")
+print("| scene | Mitsuba | gonio | block relMSE vs Mitsuba | gonio vs gonio | Mitsuba vs Mitsuba | ratio | agrees |")
+print("|---|---|---|---|---|---|---|---|")
 for r in rows:
     rel = f"{r['relmse']:.2e}" if "relmse" in r else "–"
     thr = f"{r['threshold']:.2e}" if "threshold" in r else "–"
+    mm = f"{r['mitsuba_noise']:.2e}" if "mitsuba_noise" in r else "–"
+    ratio = f"{r['ratio']:.2f}" if "ratio" in r else "–"
     agrees = {True: "yes", False: "**no**"}.get(r.get("agrees"), "–")
-    print(f"| {r['scene']} | {r['mitsuba']} | {r['gonio']} | {rel} | {thr} | {agrees} |")
+    print(f"| {r['scene']} | {r['mitsuba']} | {r['gonio']} | {rel} | {thr} | {mm} | {ratio} | {agrees} |")
 n = len(rows)
 both = [r for r in rows if r["mitsuba"] == "ok"]
 print(f"\n{n} scenes; Mitsuba renders {len(both)}; gonio renders "
