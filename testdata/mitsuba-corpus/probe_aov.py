@@ -68,3 +68,22 @@ for spp in (1, 4):
                   "prim.I"]:
             v = a[..., names.index(n)][sel]
             print(f"  {n}: min {v.min():.6f} max {v.max():.6f}")
+
+# `sample_border` on the two-plane scene of `sample_border_feeds_the_edge_pixels_through_the_filter`:
+# the mean depth of the two left columns without and with the border (the test's closed form:
+# the far plane's depth minus 0.28125 and 0.03125 with it).
+for border in ("false", "true"):
+    s = mi.load_string(f'''<scene version="3.0.0">
+ <integrator type="aov"><string name="aovs" value="dd:depth"/></integrator>
+ <sensor type="orthographic">
+  <transform name="to_world"><lookat origin="0,0,5" target="0,0,0" up="0,1,0"/></transform>
+  <sampler type="independent"><integer name="sample_count" value="1024"/></sampler>
+  <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/>
+   <boolean name="sample_border" value="{border}"/><rfilter type="tent"><float name="radius" value="2"/></rfilter></film></sensor>
+ <shape type="rectangle"><transform name="to_world"><scale x="5" y="5"/><translate x="-6"/></transform></shape>
+ <shape type="rectangle"><transform name="to_world"><scale x="5" y="5"/><translate x="4" z="-1"/></transform></shape>
+</scene>''')
+    mi.render(s, spp=1024)
+    b = s.sensors()[0].film().bitmap(raw=False)
+    d = np.array(b)[..., [f.name for f in b.struct_()].index("dd.T")]
+    print(f"sample_border {border}: far-plane depth {d[4, 4]:.5f}, columns 0, 1: {d[:, 0].mean():.5f} {d[:, 1].mean():.5f}")

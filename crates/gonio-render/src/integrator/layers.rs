@@ -28,8 +28,10 @@
 //! | `shape_index` | `name.I` | index of the shape in the scene's shapes (document order) |
 //!
 //! `duv_dx`, `duv_dy` follow Mitsuba's `SurfaceInteraction::compute_uv_partials`: the ray
-//! differentials (the camera rays one pixel to the right and one pixel down, scaled towards the
-//! ray by 1/√spp as Mitsuba's `render_sample` scales them) are intersected with the tangent
+//! differentials (the directions of the camera rays one pixel to the right and one pixel down,
+//! leaving from the ray's own origin on the near plane as Mitsuba's do, or for the orthographic
+//! camera its shifted origins; scaled towards the ray by 1/√spp as Mitsuba's `render_sample`
+//! scales them) are intersected with the tangent
 //! plane at the hit, p_x − p = dp/dx, and dp/dx = ∂p/∂u·du/dx + ∂p/∂v·dv/dx is solved in the least-squares
 //! sense. For a thin lens the differentials of the lens centre are added to the sampled ray.
 //!
@@ -56,7 +58,7 @@ use crate::camera::Camera;
 use crate::film::Channels;
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::render::PreparedScene;
-use crate::scene::{AovType, IntegratorDesc, IntegratorKind, LayersDesc};
+use crate::scene::{AovType, IntegratorDesc, IntegratorKind, LayersDesc, Projection};
 use glam::{Vec2, Vec3};
 use gonio_core::color::xyz_from_linear_srgb;
 
@@ -110,6 +112,8 @@ pub struct Layered<'a> {
     prepared: &'a PreparedScene,
     /// 1/√spp: Mitsuba's scale of the ray differentials.
     diff_scale: f32,
+    /// The camera is orthographic (its ray differentials are in the origin).
+    orthographic: bool,
 }
 
 /// `desc` with the light subpaths for caustics off, at every depth of wrappers.
@@ -184,6 +188,7 @@ impl<'a> Layered<'a> {
             channels,
             prepared,
             diff_scale: 1.0 / (spp.max(1) as f32).sqrt(),
+            orthographic: prepared.scene.sensor.projection == Projection::Orthographic,
         }
     }
 
@@ -241,7 +246,13 @@ impl<'a> Layered<'a> {
         let centre = camera.generate_ray(sample.film);
         let differential = |step: Vec2| -> Option<Vec3> {
             let shifted = camera.generate_ray(sample.film + step);
-            let o = ray.o + (shifted.o - centre.o) * self.diff_scale;
+            // Mitsuba's differential rays leave from the ray's own origin (on the near plane)
+            // except for the orthographic camera, whose rays differ by their origins.
+            let o = if self.orthographic {
+                ray.o + (shifted.o - centre.o) * self.diff_scale
+            } else {
+                ray.o
+            };
             let d = ray.d + (shifted.d - centre.d) * self.diff_scale;
             let t = (si.n.dot(si.p) - si.n.dot(o)) / si.n.dot(d);
             t.is_finite().then(|| o + d * t - si.p)
