@@ -217,6 +217,12 @@ impl Film {
         }
     }
 
+    /// How many pixels beyond the image the filter reaches (Mitsuba's `border_size`,
+    /// ⌈radius − ½⌉): the width of the band `hdrfilm`'s `sample_border` samples around it.
+    pub fn border(&self) -> u32 {
+        self.kernel.margin()
+    }
+
     /// The channels.
     pub fn channels(&self) -> &Channels {
         &self.channels

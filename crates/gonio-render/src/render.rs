@@ -40,9 +40,10 @@ use crate::emitter::Lights;
 use crate::film::{Film, FilmTile, SplatFilm};
 use crate::geometry::WorldShape;
 use crate::image::{ChannelImage, RgbImage};
+use crate::integrator::layers::Layered;
 use crate::integrator::{CameraSample, Integrator, PathTracer};
 use crate::sampler::{Pattern, Sampler};
-use crate::scene::Scene;
+use crate::scene::{IntegratorDesc, Scene};
 use glam::{UVec2, Vec2};
 use gonio_core::spectrum::VisibleWavelengthTable;
 use rayon::prelude::*;
@@ -211,7 +212,14 @@ impl PreparedScene {
     /// polarized when the settings ask for it (`polarized`, `stokes`) or when the scene has a
     /// polarizing material ([`Scene::asks_for_polarization`]).
     pub fn integrator(&self) -> PathTracer<'_> {
-        let mut settings = self.scene.integrator.clone();
+        self.integrator_for(&self.scene.integrator)
+    }
+
+    /// The path tracer (`path`, `direct` or `depth`) with the settings `desc` over this scene,
+    /// polarized as [`PreparedScene::integrator`] decides (used for the integrators nested in
+    /// `aov` and `moment`).
+    pub fn integrator_for(&self, desc: &IntegratorDesc) -> PathTracer<'_> {
+        let mut settings = desc.clone();
         settings.polarized |= self.scene.asks_for_polarization();
         PathTracer::new(
             &settings,
@@ -333,7 +341,8 @@ pub struct RenderOutput {
     pub cancelled: bool,
 }
 
-/// Renders the scene with its own integrator (`path`). `progress(done, total)` counts samples;
+/// Renders the scene with its own integrator (`path`, `direct`, `depth`, or the `aov` and
+/// `moment` wrappers of [`Layered`] around them). `progress(done, total)` counts samples;
 /// `cancel` stops early.
 pub fn render(
     prepared: &PreparedScene,
@@ -341,7 +350,13 @@ pub fn render(
     progress: &(dyn Fn(u64, u64) + Sync),
     cancel: &AtomicBool,
 ) -> RenderOutput {
-    render_with(prepared, &prepared.integrator(), options, progress, cancel)
+    match &prepared.scene.integrator.layers {
+        None => render_with(prepared, &prepared.integrator(), options, progress, cancel),
+        Some(layers) => {
+            let layered = Layered::new(prepared, layers, options.spp);
+            render_with(prepared, &layered, options, progress, cancel)
+        }
+    }
 }
 
 /// Renders the scene with `integrator`. `progress(done, total)` counts samples; `cancel` stops
@@ -375,7 +390,21 @@ pub fn render_with<I: Integrator + ?Sized>(
         .then(|| SplatFilm::with_channels(width, height, prepared.scene.sensor.film.filter, n_channels));
     let light_paths = AtomicU64::new(0);
     let blocks: Vec<(UVec2, UVec2)> = film.tiles(TILE).iter().map(|t| t.block()).collect();
-    let total = width as u64 * height as u64 * spp as u64;
+    // `sample_border`: the pixels within the filter's reach outside the image are sampled too
+    // (by the tiles at the image's edges), their samples reaching the edge pixels through the
+    // filter, as in Mitsuba's `SamplingIntegrator::render`.
+    let border = if prepared.scene.sensor.film.sample_border {
+        film.border() as i64
+    } else {
+        0
+    };
+    let sampled = |lo: u32, hi: u32, size: u32| -> (i64, i64) {
+        (
+            if lo == 0 { -border } else { lo as i64 },
+            if hi == size { hi as i64 + border } else { hi as i64 },
+        )
+    };
+    let total = (width as i64 + 2 * border) as u64 * (height as i64 + 2 * border) as u64 * spp as u64;
     let inv_light_paths = 1.0 / total as f32;
     let done = AtomicU64::new(0);
     let mut complete_spp = 0;
@@ -403,17 +432,20 @@ pub fn render_with<I: Integrator + ?Sized>(
                         splats.splat(p, &scaled);
                     }
                 };
-                for py in lo.y..hi.y {
-                    for px in lo.x..hi.x {
+                let (y0, y1) = sampled(lo.y, hi.y, height);
+                let (x0, x1) = sampled(lo.x, hi.x, width);
+                for py in y0..y1 {
+                    for px in x0..x1 {
                         for s in start..start + count {
                             // Keyed by the full film's pixel: a crop window renders exactly
                             // those pixels of the full image (light paths aside). The film
                             // position is the window's, computed from the full film's (exact:
-                            // the cropped camera adds the offset back bit for bit).
-                            let full = UVec2::new(px, py) + crop_offset;
-                            sampler.start_pixel_sample(full, s);
-                            let film_pos =
-                                Vec2::new(full.x as f32, full.y as f32) + sampler.next_2d() - crop_shift;
+                            // the cropped camera adds the offset back bit for bit). A border
+                            // pixel left of or above the film is keyed by its coordinate
+                            // wrapped to 32 bits.
+                            let (fx, fy) = (px + crop_offset.x as i64, py + crop_offset.y as i64);
+                            sampler.start_pixel_sample(UVec2::new(fx as u32, fy as u32), s);
+                            let film_pos = Vec2::new(fx as f32, fy as f32) + sampler.next_2d() - crop_shift;
                             let wl = wavelengths.sample(sampler.next_1d());
                             let ray = if prepared.camera.needs_lens_sample() {
                                 prepared.camera.generate_ray_lens(film_pos, sampler.next_2d())
@@ -434,7 +466,7 @@ pub fn render_with<I: Integrator + ?Sized>(
                         }
                     }
                 }
-                let n = ((hi.x - lo.x) * (hi.y - lo.y) * count) as u64;
+                let n = ((x1 - x0) * (y1 - y0)) as u64 * count as u64;
                 light_paths.fetch_add(n, Ordering::Relaxed);
                 progress(done.fetch_add(n, Ordering::Relaxed) + n, total);
                 Some(tile)

@@ -68,6 +68,94 @@ pub struct IntegratorDesc {
     /// by a scene with a `stokes` integrator or a polarizing BSDF, see
     /// `render::PreparedScene::integrator`).
     pub polarized: bool,
+    /// Mitsuba's `aov` or `moment` wrapper: film layers written beside the image by nested
+    /// integrators (`integrator::layers`); `None` for a plain integrator. The other fields are
+    /// then those of the first nested integrator (its image is the film's `R`, `G`, `B`).
+    pub layers: Option<Box<LayersDesc>>,
+}
+
+/// The integrators Mitsuba's `aov` and `moment` wrap, and what they add to the film.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LayersDesc {
+    /// `aov`: per nested integrator the layer `name.R, .G, .B, .A`, then the nested integrators'
+    /// own layers (`name.<layer>`), then each AOV's channels (`name.T`, `name.X`, ...).
+    Aov {
+        /// Nested integrators, in document order (as Mitsuba 3.9.1 takes them).
+        nested: Vec<NestedIntegrator>,
+        /// The `aovs` list: (layer name, what it records), in the order written.
+        aovs: Vec<(String, AovType)>,
+    },
+    /// `moment`: per nested integrator its own layers and its image in CIE XYZ (`name.X, .Y,
+    /// .Z`), then the square of every one of those channels (`m2_<channel>`).
+    Moment {
+        /// Nested integrators, in document order.
+        nested: Vec<NestedIntegrator>,
+    },
+}
+
+/// An integrator nested in `aov` or `moment`, with the name its layers carry (`_arg_N` for an
+/// unnamed one, as Mitsuba names it).
+#[derive(Clone, Debug, PartialEq)]
+pub struct NestedIntegrator {
+    /// Layer name.
+    pub name: String,
+    /// Its settings.
+    pub desc: IntegratorDesc,
+}
+
+/// What an `aov` output records at the first surface a camera ray hits (Mitsuba 3
+/// `src/integrators/aov.cpp`); every channel is 0 where the ray escapes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AovType {
+    /// `depth`: distance along the camera ray (`name.T`).
+    Depth,
+    /// `position`: world-space hit point (`name.X, .Y, .Z`).
+    Position,
+    /// `uv`: texture coordinates (`name.U, .V`).
+    Uv,
+    /// `geo_normal`: geometric normal (`name.X, .Y, .Z`).
+    GeoNormal,
+    /// `sh_normal`: shading normal (`name.X, .Y, .Z`).
+    ShNormal,
+    /// `dp_du`: ∂p/∂u (`name.X, .Y, .Z`).
+    DpDu,
+    /// `dp_dv`: ∂p/∂v (`name.X, .Y, .Z`).
+    DpDv,
+    /// `duv_dx`: change of uv per pixel step in x, scaled by 1/√spp (`name.U, .V`).
+    DuvDx,
+    /// `duv_dy`: change of uv per pixel step in y, scaled by 1/√spp (`name.U, .V`).
+    DuvDy,
+    /// `prim_index`: triangle index within its mesh, 0 for an analytic shape (`name.I`).
+    PrimIndex,
+    /// `shape_index`: index of the shape in the scene's shape list (`name.I`).
+    ShapeIndex,
+}
+
+impl AovType {
+    /// Every type with its name in the `aovs` string.
+    pub const ALL: [(&'static str, AovType); 11] = [
+        ("depth", AovType::Depth),
+        ("position", AovType::Position),
+        ("uv", AovType::Uv),
+        ("geo_normal", AovType::GeoNormal),
+        ("sh_normal", AovType::ShNormal),
+        ("dp_du", AovType::DpDu),
+        ("dp_dv", AovType::DpDv),
+        ("duv_dx", AovType::DuvDx),
+        ("duv_dy", AovType::DuvDy),
+        ("prim_index", AovType::PrimIndex),
+        ("shape_index", AovType::ShapeIndex),
+    ];
+
+    /// The channel suffixes Mitsuba gives this type's layer.
+    pub fn channels(self) -> &'static [&'static str] {
+        match self {
+            AovType::Depth => &["T"],
+            AovType::Uv | AovType::DuvDx | AovType::DuvDy => &["U", "V"],
+            AovType::PrimIndex | AovType::ShapeIndex => &["I"],
+            _ => &["X", "Y", "Z"],
+        }
+    }
 }
 
 /// The integrator plugin a scene names; `path`'s settings are [`IntegratorDesc`]'s fields.
@@ -102,6 +190,7 @@ impl Default for IntegratorDesc {
             kind: IntegratorKind::Path,
             stokes: false,
             polarized: false,
+            layers: None,
         }
     }
 }
@@ -158,6 +247,9 @@ pub struct FilmDesc {
     /// The part of the film that is rendered and written (Mitsuba's `crop_offset_x`, ...,
     /// `crop_height`; default the whole film).
     pub crop: Option<CropWindow>,
+    /// Mitsuba's `sample_border`: also sample the band of pixels outside the image that the
+    /// filter reaches, so the edge pixels see samples from both sides (default false).
+    pub sample_border: bool,
 }
 
 /// A crop window: the rendered image is the `size` pixels of the full film starting at
@@ -185,6 +277,7 @@ impl Default for FilmDesc {
             filter: FilterDesc::default(),
             output: FilmOutput::default(),
             crop: None,
+            sample_border: false,
         }
     }
 }

@@ -17,6 +17,7 @@ mod furnace;
 mod geometry;
 mod image;
 mod integrator;
+mod layers;
 mod mitsuba_bsdf_values;
 mod mitsuba_principled_values;
 mod mitsuba_roughconductor_values;

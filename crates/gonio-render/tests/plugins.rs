@@ -53,6 +53,7 @@ fn required(name: &str) -> &'static str {
         "linearcurve" | "bsplinecurve" => "<string name=\"filename\" value=\"curve.txt\"/>",
         "projector" => "<float name=\"irradiance\" value=\"1\"/>",
         "stokes" => "<integrator type=\"path\"/>",
+        "aov" => "<string name=\"aovs\" value=\"d:depth\"/>",
         _ => "",
     }
 }

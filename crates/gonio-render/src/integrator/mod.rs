@@ -13,10 +13,10 @@
 //!
 //! * `direct` (Mitsuba's direct-illumination integrator): the same as `path` with one bounce;
 //!   channels `R`, `G`, `B`.
-//! * `aov` (depth, normals, positions, albedo): no spectra at all; channels such as `depth.Z`,
-//!   `nn.X`, `albedo.R` written straight from the first hit.
-//! * `moment`: an inner integrator's value and its square, `R, G, B, m2.R, m2.G, m2.B`, so the
-//!   film gives the per-pixel variance.
+//! * `aov` ([`layers`]): nested integrators' images as layers `name.R` … `name.A`, and values
+//!   read at the first hit (`depth.T`, `nn.X`, ...).
+//! * `moment` ([`layers`]): nested integrators' values in XYZ and their squares (`p.X`,
+//!   `m2_p.X`, ...), so the film gives the per-pixel variance.
 //! * `ptracer` (light tracing): splats every light-path vertex's connection to the camera
 //!   ([`crate::camera::Camera::connect`]) and writes nothing in place; the loop divides splats by
 //!   the number of camera samples, which is the number of light paths.
@@ -80,6 +80,7 @@
 
 pub mod caustics;
 mod direct;
+pub mod layers;
 pub mod polarized;
 
 use crate::accel::{Accel, Intersect};

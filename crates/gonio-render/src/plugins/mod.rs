@@ -37,6 +37,8 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
     &integrator::prb::PRB_PROJECTIVE,
     &integrator::prb::DIRECT_PROJECTIVE,
     &integrator::stokes::PLUGIN,
+    &integrator::aov::PLUGIN,
+    &integrator::moment::PLUGIN,
 ];
 
 /// `<sensor>` plugins.

@@ -4,8 +4,10 @@
 //! camera rays that hit a surface or see an environment), `component_format` the EXR number type,
 //! and `file_format` the default output's format and extension (an explicit `-o name.ext` wins).
 //! A crop window renders and writes only its part of the film, seen as the full film sees it.
-//! `sample_border` is accepted and ignored: gonio's edge pixels take the samples inside the film
-//! only (normalized by their filter weights, so unbiased, slightly noisier at the border).
+//! `sample_border` also samples the band of ⌈radius − ½⌉ pixels around the image (around the
+//! crop window), whose samples reach the edge pixels through the filter, as Mitsuba's
+//! `SamplingIntegrator::render` does; without it an edge pixel's filter sees the samples inside
+//! the image only.
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin, RFILTER_PLUGINS};
 use crate::scene::{ComponentFormat, CropWindow, FileFormat, FilmDesc, FilmOutput, PixelFormat};
@@ -45,7 +47,7 @@ const SAMPLE_BORDER: ParamSpec = ParamSpec::new(
     "sample_border",
     ParamType::Boolean,
     DefaultValue::Bool(false),
-    "accepted and ignored",
+    "also sample the pixels outside the image that the filter reaches (⌈radius − ½⌉ of them), so edge pixels get samples from both sides",
 );
 const BANNER: ParamSpec = ParamSpec::new(
     "banner",
@@ -148,7 +150,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneE
         "uint32" => ComponentFormat::Uint32,
         _ => ComponentFormat::Float16,
     };
-    p.bool(SAMPLE_BORDER.name, SAMPLE_BORDER.default.bool())?;
+    let sample_border = p.bool(SAMPLE_BORDER.name, SAMPLE_BORDER.default.bool())?;
     p.bool(BANNER.name, BANNER.default.bool())?;
     p.bool(COMPENSATE.name, COMPENSATE.default.bool())?;
     let (w, h) = (width as i64, height as i64);
@@ -189,5 +191,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneE
             file_format,
         },
         crop,
+        sample_border,
     })
 }

@@ -87,5 +87,6 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         kind: IntegratorKind::Path,
         stokes: false,
         polarized: false,
+        layers: None,
     })
 }

@@ -39,6 +39,13 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
             "<integrator type=\"stokes\"> cannot nest another stokes integrator",
         ));
     }
+    if inner.layers.is_some() {
+        return Err(err(
+            &p.obj.loc,
+            ErrorKind::BadValue,
+            "<integrator type=\"stokes\"> cannot wrap an aov or moment integrator (nest stokes inside them instead)",
+        ));
+    }
     Ok(IntegratorDesc {
         stokes: true,
         polarized: true,
