@@ -37,6 +37,7 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
     &integrator::prb::PRB_PROJECTIVE,
     &integrator::prb::DIRECT_PROJECTIVE,
     &integrator::stokes::PLUGIN,
+    &integrator::ptracer::PLUGIN,
 ];
 
 /// `<sensor>` plugins.

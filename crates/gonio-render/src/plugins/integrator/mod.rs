@@ -4,4 +4,5 @@ pub mod depth;
 pub mod direct;
 pub mod path;
 pub mod prb;
+pub mod ptracer;
 pub mod stokes;
