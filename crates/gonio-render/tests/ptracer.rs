@@ -113,7 +113,7 @@ fn same_image_whatever_the_thread_count() {
     };
     let (one, two, three) = (run(1), run(2), run(3));
     assert!(
-        one.data.iter().any(|&v| v > 0.0),
+        one.data.iter().flatten().any(|&v| v > 0.0),
         "the light tracer lights the box"
     );
     assert!(
