@@ -41,6 +41,16 @@ pub trait Camera: std::fmt::Debug + Send + Sync {
     /// outside the clip range, off the film).
     fn connect(&self, p: Vec3) -> Option<CameraConnection>;
 
+    /// [`Camera::connect`] through the lens point `u_lens` ∈ [0, 1)² (uniform on a thin lens's
+    /// aperture; cameras without a lens ignore it): light tracing's connection to the sensor
+    /// (Mitsuba's `Sensor::sample_direction`). The contribution of a point to the pixel at
+    /// [`CameraConnection::film`] is its radiance towards the camera times
+    /// `|cos θ_p|/d²·`[`CameraConnection::importance`].
+    fn connect_lens(&self, p: Vec3, u_lens: Vec2) -> Option<CameraConnection> {
+        let _ = u_lens;
+        self.connect(p)
+    }
+
     /// True when rays depend on a lens sample ([`Camera::generate_ray_lens`]): the render loop
     /// then draws one for each camera sample.
     fn needs_lens_sample(&self) -> bool {
@@ -307,9 +317,37 @@ impl Camera for OrthographicCamera {
         self.to_world.transform_point3(Vec3::ZERO)
     }
 
-    /// Never: a point is seen along one direction only (a delta), which light tracing cannot hit.
-    fn connect(&self, _p: Vec3) -> Option<CameraConnection> {
-        None
+    /// The film position straight along the camera axis. A pixel's value is the mean radiance
+    /// over its footprint `A_pix` on the near plane (world area, `to_world`'s scale included),
+    /// and each footprint point sees along the axis only, so a surface element contributes
+    /// `L·|cos θ_p|·dA/A_pix`: [`CameraConnection::importance`] is `d²/A_pix` (the caller's
+    /// `1/d²` cancels). `film_pdf` is 0: the direction is a delta, which the caustic light paths'
+    /// MIS cannot weigh ([`Camera::connects`] stays false).
+    fn connect(&self, p: Vec3) -> Option<CameraConnection> {
+        let c = self.to_camera.transform_point3(p);
+        if !(c.z >= self.near && c.z <= self.far) {
+            return None;
+        }
+        let film = Vec2::new(
+            0.5 * (1.0 - c.x) * self.width,
+            0.5 * (1.0 - self.aspect * c.y) * self.height,
+        );
+        if !(film.x >= 0.0 && film.x < self.width && film.y >= 0.0 && film.y < self.height) {
+            return None;
+        }
+        let m = self.to_world.matrix3;
+        let film_area = Vec3::from(m.x_axis).cross(Vec3::from(m.y_axis)).length() * 4.0 / self.aspect;
+        let pixel_area = film_area / (self.width * self.height);
+        let near_point = self.to_world.transform_point3(Vec3::new(c.x, c.y, self.near));
+        let dist2 = (p - near_point).length_squared().max(f32::MIN_POSITIVE);
+        (pixel_area > 0.0).then_some(CameraConnection {
+            film,
+            near_point,
+            dir: -self.forward,
+            dist2,
+            importance: dist2 / pixel_area,
+            film_pdf: 0.0,
+        })
     }
 
     fn connects(&self) -> bool {
@@ -394,9 +432,48 @@ impl Camera for ThinLensCamera {
         self.pinhole.position()
     }
 
-    /// Not implemented for a lens (it would sample the aperture).
+    /// Not without a lens sample ([`Camera::connect_lens`]).
     fn connect(&self, _p: Vec3) -> Option<CameraConnection> {
         None
+    }
+
+    /// The connection to the lens point A = r·concentric(`u_lens`) (uniform on the aperture,
+    /// density 1/(πr²)). The ray from A through `p` meets the focus plane at F, and the film
+    /// position is the pinhole's projection of F (the inverse of [`Camera::generate_ray_lens`]).
+    /// A pixel's value is the mean over the pixel and the aperture of the radiance along these
+    /// rays; from a fixed A, an image-plane element dA spans dω = cos³θ·dA (θ the ray's angle to
+    /// the axis) exactly as for the pinhole, so with A sampled uniformly the importance is the
+    /// pinhole's `1/(cos³θ·A_pix)` seen from A (the aperture's density and area cancel).
+    fn connect_lens(&self, p: Vec3, u_lens: Vec2) -> Option<CameraConnection> {
+        let c = &self.pinhole;
+        let pc = c.to_camera.transform_point3(p);
+        if !(pc.z >= c.near && pc.z <= c.far) {
+            return None;
+        }
+        let a = gonio_core::warp::square_to_uniform_disk_concentric(u_lens) * self.aperture_radius;
+        let lens = Vec3::new(a.x, a.y, 0.0);
+        let v = pc - lens;
+        let f = lens + v * (self.focus_distance / v.z);
+        let s = 0.5 * (1.0 - f.x / (f.z * c.tan_half));
+        let t = 0.5 * (1.0 - c.aspect * f.y / (f.z * c.tan_half));
+        let film = Vec2::new(s * c.width, t * c.height);
+        if !(film.x >= 0.0 && film.x < c.width && film.y >= 0.0 && film.y < c.height) {
+            return None;
+        }
+        let cos = v.z / v.length();
+        let plane_area = 4.0 * c.tan_half * c.tan_half / c.aspect;
+        let pixel_area = plane_area / (c.width * c.height);
+        let origin = c.to_world.transform_point3(lens);
+        let to_p = p - origin;
+        let world_dist = to_p.length();
+        Some(CameraConnection {
+            film,
+            near_point: origin + to_p * (c.near / v.z),
+            dir: -to_p / world_dist,
+            dist2: world_dist * world_dist,
+            importance: 1.0 / (cos * cos * cos * pixel_area),
+            film_pdf: 1.0 / (cos * cos * cos * plane_area),
+        })
     }
 
     fn connects(&self) -> bool {

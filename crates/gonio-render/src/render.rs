@@ -267,6 +267,16 @@ struct CroppedCamera {
     area_ratio: f32,
 }
 
+impl CroppedCamera {
+    /// A connection of the full film seen through the window (`None` outside it).
+    fn crop(&self, mut c: crate::camera::CameraConnection) -> Option<crate::camera::CameraConnection> {
+        c.film -= self.offset;
+        c.film_pdf *= self.area_ratio;
+        let inside = c.film.x >= 0.0 && c.film.y >= 0.0 && c.film.x < self.size.x && c.film.y < self.size.y;
+        inside.then_some(c)
+    }
+}
+
 impl Camera for CroppedCamera {
     fn generate_ray(&self, film: Vec2) -> crate::geometry::Ray {
         self.full.generate_ray(film + self.offset)
@@ -281,11 +291,23 @@ impl Camera for CroppedCamera {
     }
 
     fn connect(&self, p: glam::Vec3) -> Option<crate::camera::CameraConnection> {
-        let mut c = self.full.connect(p)?;
-        c.film -= self.offset;
-        c.film_pdf *= self.area_ratio;
-        let inside = c.film.x >= 0.0 && c.film.y >= 0.0 && c.film.x < self.size.x && c.film.y < self.size.y;
-        inside.then_some(c)
+        self.crop(self.full.connect(p)?)
+    }
+
+    fn connect_lens(&self, p: glam::Vec3, u_lens: Vec2) -> Option<crate::camera::CameraConnection> {
+        self.crop(self.full.connect_lens(p, u_lens)?)
+    }
+
+    fn connects(&self) -> bool {
+        self.full.connects()
+    }
+
+    fn needs_lens_sample(&self) -> bool {
+        self.full.needs_lens_sample()
+    }
+
+    fn generate_ray_lens(&self, film: Vec2, u_lens: Vec2) -> crate::geometry::Ray {
+        self.full.generate_ray_lens(film + self.offset, u_lens)
     }
 }
 

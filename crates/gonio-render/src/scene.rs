@@ -176,6 +176,9 @@ pub enum IntegratorKind {
     /// `depth` (Mitsuba 3 `src/integrators/depth.cpp`): the distance along the camera ray to
     /// the first hit, 0 where the ray escapes, in every colour channel.
     Depth,
+    /// `ptracer` (Mitsuba 3 `src/integrators/ptracer.cpp`): light tracing, every light-path
+    /// vertex joined to the camera and splatted (`max_depth`, `rr_depth`, `hide_emitters`).
+    PTracer,
 }
 
 impl Default for IntegratorDesc {

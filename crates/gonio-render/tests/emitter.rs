@@ -575,3 +575,6 @@ fn projector_irradiance_on_a_facing_plane_is_constant() {
     assert_eq!(light.li_at(Vec3::new(1.1 * t * z, 0.0, z), &wl)[0], 0.0);
     assert_eq!(light.li_at(Vec3::new(0.0, 0.0, -1.0), &wl)[0], 0.0);
 }
+
+/// `Light::sample_ray` (in its own file: this one is long).
+mod emission;

@@ -25,6 +25,7 @@ mod mitsuba_roughdielectric_values;
 mod mitsuba_roughplastic_values;
 mod path_weight;
 mod plugins;
+mod ptracer;
 mod reference_scenes;
 mod render;
 mod sampler;

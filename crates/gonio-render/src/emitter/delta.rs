@@ -88,6 +88,11 @@ impl SpotLight {
         self.position
     }
 
+    /// cos γ of the cutoff angle γ (no light leaves outside that cone).
+    pub fn cos_cutoff(&self) -> f32 {
+        self.cos_cutoff
+    }
+
     /// Falloff towards world direction `d` (leaving the light): 1 in the beam, linear in angle to 0
     /// at the cutoff.
     pub fn falloff(&self, d: Vec3) -> f32 {

@@ -30,12 +30,14 @@
 
 pub mod area;
 pub mod delta;
+mod emission;
 mod from_scene;
 pub mod infinite;
 pub mod projector;
 
 pub use area::{AreaLight, SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE};
 pub use delta::{DirectionalLight, PointLight, SpotLight};
+pub use emission::EmittedRay;
 pub use from_scene::EmitterError;
 pub use gonio_core::sampling::{Distribution1D, Distribution2D};
 pub use infinite::{ConstantLight, EnvMapLight};

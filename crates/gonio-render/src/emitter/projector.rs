@@ -29,6 +29,7 @@ use std::f32::consts::PI;
 /// `projector`: a textured pinhole light.
 #[derive(Clone, Debug)]
 pub struct ProjectorLight {
+    to_world: Affine3A,
     to_local: Affine3A,
     position: Vec3,
     axis: Vec3,
@@ -52,6 +53,7 @@ impl ProjectorLight {
             other => other,
         };
         Self {
+            to_world,
             to_local: to_world.inverse(),
             position: to_world.transform_point3(Vec3::ZERO),
             axis: to_world.transform_vector3(Vec3::Z).normalize_or_zero(),
@@ -92,6 +94,22 @@ impl ProjectorLight {
         }
         let e = self.irradiance.eval(uv).sample(wl);
         e * self.intensity.sample(wl) * (PI / (local.z * local.z * cos))
+    }
+
+    /// A direction leaving the pinhole, uniform over the image rectangle on the plane z = 1
+    /// (x ∈ ±tan(φx/2), y ∈ ±tan(φx/2)/a, area `A_img`), and its weight I(ω)/p(ω). The plane
+    /// element dA at direction θ off the axis spans dω = cos³θ·dA, so p(ω) = 1/(cos³θ·A_img),
+    /// and I(ω) = Lᵢ·d² = π·scale·D65·E/cos³θ (module docs): the weight
+    /// π·scale·D65·E(uv)·A_img has no angular factor left. `None` where the texture is black.
+    pub fn sample_direction(&self, u: Vec2, wl: &SampledWavelengths) -> Option<(Vec3, SampledSpectrum)> {
+        let t = self.tan_half_fov_x;
+        let aspect = self.aspect.max(1e-6);
+        let local = Vec3::new((2.0 * u.x - 1.0) * t, (2.0 * u.y - 1.0) * t / aspect, 1.0);
+        let d = self.to_world.transform_vector3(local).normalize_or_zero();
+        let uv = self.texture_uv(local)?;
+        let area = 4.0 * t * t / aspect;
+        let w = self.irradiance.eval(uv).sample(wl) * self.intensity.sample(wl) * (PI * area);
+        (d != Vec3::ZERO && !w.is_black()).then_some((d, w))
     }
 
     /// Mean of scale·D65·E over 360–830 nm (selection weights).

@@ -82,6 +82,7 @@ pub mod caustics;
 mod direct;
 pub mod layers;
 pub mod polarized;
+mod ptracer;
 
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
@@ -270,7 +271,8 @@ impl<'a> PathTracer<'a> {
     ) -> Self {
         let thin: Vec<bool> = materials.iter().map(Material::has_null_transmission).collect();
         let any_thin = thin.iter().any(|&t| t);
-        let polarized = settings.polarized || settings.stokes;
+        // `ptracer`'s light paths are spectral.
+        let polarized = (settings.polarized || settings.stokes) && settings.kind != IntegratorKind::PTracer;
         // The light subpaths are spectral: a polarized render leaves their paths to the path
         // tracer (whose MIS weights are then 1), which finds them all, with more noise.
         let caustics = if settings.caustic_paths && !polarized {
@@ -312,7 +314,7 @@ impl<'a> PathTracer<'a> {
     /// [`PathTracer::with_camera`] when the camera can join points to its film
     /// ([`Camera::connects`]); otherwise no light tracing.
     pub fn with_camera_if_it_connects(self, camera: &'a dyn Camera) -> Self {
-        if camera.connects() {
+        if camera.connects() || self.kind == IntegratorKind::PTracer {
             self.with_camera(camera)
         } else {
             self
@@ -744,7 +746,7 @@ impl Integrator for PathTracer<'_> {
     }
 
     fn splats(&self) -> bool {
-        self.traces_caustics()
+        self.traces_caustics() || self.kind == IntegratorKind::PTracer
     }
 
     fn sample(&self, sample: &mut CameraSample<'_>, value: &mut [f32], splat: &mut dyn FnMut(Vec2, &[f32])) {
@@ -766,6 +768,10 @@ impl Integrator for PathTracer<'_> {
                 let l = SampledSpectrum::splat(self.depth(&sample.ray));
                 value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
                 return;
+            }
+            IntegratorKind::PTracer => {
+                value.fill(0.0);
+                return self.sample_ptracer(sample, splat);
             }
         }
         let mut light = caustics::LightSubpath::new();

@@ -87,6 +87,8 @@ impl PathTracer<'_> {
                 bsdf_samples,
             } => self.li_direct(sample, emitter_samples, bsdf_samples),
             IntegratorKind::Depth => Mueller::from_spectrum(SampledSpectrum::splat(self.depth(&sample.ray))),
+            // Never polarized (`PathTracer::new`).
+            IntegratorKind::PTracer => Mueller::from_spectrum(SampledSpectrum::ZERO),
         };
         let wl = &sample.wavelengths;
         value[..3].copy_from_slice(&linear_srgb_from_sampled(l.intensity(), wl).to_array());

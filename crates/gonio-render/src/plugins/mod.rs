@@ -39,6 +39,7 @@ pub static INTEGRATOR_PLUGINS: &[&Plugin<IntegratorDesc>] = &[
     &integrator::stokes::PLUGIN,
     &integrator::aov::PLUGIN,
     &integrator::moment::PLUGIN,
+    &integrator::ptracer::PLUGIN,
 ];
 
 /// `<sensor>` plugins.

@@ -6,4 +6,5 @@ pub mod direct;
 pub mod moment;
 pub mod path;
 pub mod prb;
+pub mod ptracer;
 pub mod stokes;

@@ -1,0 +1,52 @@
+//! `ptracer`: light (particle) tracing (Mitsuba 3 `src/integrators/ptracer.cpp`): paths start at
+//! the emitters and every vertex is joined to the camera (`crate::integrator`'s `ptracer`
+//! module). `spp` counts light paths per pixel, as in Mitsuba.
+//!
+//! | parameter | default | meaning |
+//! |---|---|---|
+//! | `max_depth` | −1 | longest path in segments, camera segment included; −1 unbounded |
+//! | `rr_depth` | 5 | depth at which Russian roulette starts |
+//! | `hide_emitters` | false | no emitters seen directly |
+//! | `samples_per_pass` | −1 | accepted and ignored (gonio renders in passes of its own) |
+
+use super::path::{HIDE_EMITTERS, RR_DEPTH, SAMPLES_PER_PASS};
+use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
+use crate::scene::{IntegratorDesc, IntegratorKind};
+use crate::xml::{Builder, Params, SceneError};
+
+const MAX_DEPTH: ParamSpec = ParamSpec::new(
+    "max_depth",
+    ParamType::Integer,
+    DefaultValue::Int(-1),
+    "longest path, in segments (1: emitters seen directly, 2: direct lighting); −1 is unbounded",
+);
+
+/// The `ptracer` plugin.
+pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
+    name: "ptracer",
+    summary: "Light tracing: paths from the emitters, each vertex joined to the camera and splatted; spp counts light paths per pixel.",
+    params: &[MAX_DEPTH, RR_DEPTH, HIDE_EMITTERS, SAMPLES_PER_PASS],
+    build,
+};
+
+fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
+    let max_depth = p.int_in(MAX_DEPTH.name, MAX_DEPTH.default.int(), -1, i32::MAX as i64)? as i32;
+    let rr_depth = p.int_in(RR_DEPTH.name, RR_DEPTH.default.int(), 1, u32::MAX as i64)? as u32;
+    let hide_emitters = p.bool(HIDE_EMITTERS.name, HIDE_EMITTERS.default.bool())?;
+    p.int_in(
+        SAMPLES_PER_PASS.name,
+        SAMPLES_PER_PASS.default.int(),
+        -1,
+        i64::MAX,
+    )?;
+    Ok(IntegratorDesc {
+        max_depth,
+        rr_depth,
+        hide_emitters,
+        thin_shadows: false,
+        caustic_paths: false,
+        kind: IntegratorKind::PTracer,
+        stokes: false,
+        polarized: false,
+    })
+}
