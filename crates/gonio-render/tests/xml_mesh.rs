@@ -686,3 +686,54 @@ mod curves {
         assert_eq!(two.len(), 2);
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// `mesh_attribute`: the errors of a texture that finds no attribute.
+
+#[test]
+fn mesh_attribute_errors_name_the_file_the_line_and_the_attribute() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("tri.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nproperty float r\nproperty float g\nproperty float b\nelement face 1\n\
+         property list uchar int vertex_indices\nend_header\n0 0 0 1 0 0\n1 0 0 0 1 0\n\
+         0 1 0 0 0 1\n3 0 1 2\n",
+    )
+    .unwrap();
+    let scene = |shape: &str, name: &str| {
+        format!(
+            "<scene version=\"3.0.0\">\n<bsdf type=\"diffuse\" id=\"m\">\n\
+             <texture type=\"mesh_attribute\" name=\"reflectance\">\n\
+             <string name=\"name\" value=\"{name}\"/>\n</texture>\n</bsdf>\n{shape}\n</scene>\n"
+        )
+    };
+    let ply = r#"<shape type="ply"><string name="filename" value="tri.ply"/><ref id="m"/></shape>"#;
+    let load = |text: String| {
+        let path = dir.path().join("scene.xml");
+        std::fs::write(&path, text).unwrap();
+        gonio_render::xml::load_scene_file(&path, &[])
+    };
+    // The attribute exists: the shape's material is bound to the mesh.
+    let s = load(scene(ply, "vertex_color")).expect("loads");
+    assert_eq!(s.shapes.len(), 1);
+    // Not on the mesh: the texture's line, the name and what the mesh has.
+    let e = load(scene(ply, "face_color"))
+        .expect_err("no face colours")
+        .to_string();
+    assert!(
+        e.contains("scene.xml:4") && e.contains("\"face_color\"") && e.contains("vertex_color"),
+        "{e}"
+    );
+    // On a shape that is no mesh.
+    let e = load(scene(
+        r#"<shape type="sphere"><ref id="m"/></shape>"#,
+        "vertex_color",
+    ))
+    .expect_err("a sphere")
+    .to_string();
+    assert!(e.contains("scene.xml:4") && e.contains("not a mesh"), "{e}");
+    // A name Mitsuba refuses.
+    let e = load(scene(ply, "color")).expect_err("no prefix").to_string();
+    assert!(e.contains("scene.xml:4") && e.contains("\"vertex_\""), "{e}");
+}

@@ -99,7 +99,11 @@ pub static EMITTER_PLUGINS: &[&Plugin<EmitterDesc>] = &[
 ];
 
 /// `<texture>` plugins.
-pub static TEXTURE_PLUGINS: &[&Plugin<Texture>] = &[&texture::checkerboard::PLUGIN, &texture::bitmap::PLUGIN];
+pub static TEXTURE_PLUGINS: &[&Plugin<Texture>] = &[
+    &texture::checkerboard::PLUGIN,
+    &texture::bitmap::PLUGIN,
+    &texture::mesh_attribute::PLUGIN,
+];
 
 /// `<spectrum type="...">` plugins.
 pub static SPECTRUM_PLUGINS: &[&Plugin<Texture>] = &[

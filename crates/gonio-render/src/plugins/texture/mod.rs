@@ -4,3 +4,4 @@
 
 pub mod bitmap;
 pub mod checkerboard;
+pub mod mesh_attribute;
