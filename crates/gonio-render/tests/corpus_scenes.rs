@@ -73,6 +73,8 @@ const CI_SPP: u32 = 32;
 /// | bsdf_mask_after | 5.50e-4 | 4.56e-4 6.08e-4 5.41e-4 (see below) | 1.94e-3 |
 /// | bsdf_normalmap_with | 5.65e-4 | 4.08e-4 4.86e-4 5.28e-4 | 1.46e-3 |
 /// | bsdf_bumpmap_with | 6.06e-4 | 4.55e-4 4.48e-4 5.03e-4 | 1.43e-3 |
+/// | texture_mesh_attribute_face | 8.16e-4 | 5.37e-4 5.72e-4 5.59e-4 | 1.60e-3 |
+/// | texture_mesh_attribute_vertex | 6.63e-4 | 4.94e-4 5.10e-4 5.07e-4 | 1.47e-3 |
 ///
 /// The `sdfgrid` scenes (Mitsuba's torus grid in a `shapegroup`, placed by an `instance`) and the
 /// curve scenes (`linearcurve`, `bsplinecurve` over `meshes/curve_doc.txt`) use
@@ -142,6 +144,8 @@ const SCENES: &[(&str, f64)] = &[
     ("bsdf_polarizer_aligned", POL_ALIGNED),
     ("bsdf_polarizer_middle", POL_MIDDLE),
     ("bsdf_polarizer_absorbing", POL_ABSORBING),
+    ("texture_mesh_attribute_face", 8.16e-4),
+    ("texture_mesh_attribute_vertex", 6.63e-4),
 ];
 
 fn corpus() -> PathBuf {
@@ -535,4 +539,12 @@ fn measure_stokes() {
             e(&c, &r)
         );
     }
+}
+
+/// Mitsuba's `mesh_attribute` scenes: the bunny with a random colour per face and per vertex
+/// (`meshes/bunny_attribute_color.ply`), over `include/shape_scene.xml` (120 × 90).
+#[test]
+fn mesh_attribute_face_and_vertex_colours_match_mitsuba() {
+    check("texture_mesh_attribute_face");
+    check("texture_mesh_attribute_vertex");
 }
