@@ -35,6 +35,7 @@ fn scene_with(kind: &str, name: &str, params: &str) -> String {
             "<bsdf type=\"diffuse\"><spectrum name=\"reflectance\" type=\"{name}\">{params}</spectrum></bsdf>"
         ),
         "bsdf" => object("bsdf"),
+        "volume" => object("volume"),
         k => panic!("unknown kind {k}"),
     }
 }
@@ -53,6 +54,11 @@ fn required(name: &str) -> &'static str {
         "linearcurve" | "bsplinecurve" => "<string name=\"filename\" value=\"curve.txt\"/>",
         "projector" => "<float name=\"irradiance\" value=\"1\"/>",
         "stokes" => "<integrator type=\"path\"/>",
+        "mesh_attribute" => "<string name=\"name\" value=\"vertex_color\"/>",
+        "gridvolume" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
+        "volume" => {
+            "<volume type=\"gridvolume\"><string name=\"filename\" value=\"sphere_sdf.vol\"/></volume>"
+        }
         _ => "",
     }
 }

@@ -202,6 +202,10 @@ impl<'d> Builder<'d> {
                 Tag::Bsdf => {
                     self.bsdf(idx, &obj.loc)?;
                 }
+                Tag::Volume if referenced.contains(&idx) => {}
+                Tag::Volume => {
+                    self.build_plugin(crate::plugins::VOLUME_PLUGINS, idx)?;
+                }
                 Tag::Texture | Tag::Spectrum => {
                     // Referenced textures are built where they are used, in their role (a
                     // colour above 1 is fine for an emitter); others are built once to check them.

@@ -5,3 +5,4 @@
 pub mod bitmap;
 pub mod checkerboard;
 pub mod mesh_attribute;
+pub mod volume;
