@@ -12,7 +12,9 @@ its `type="Sphere"`/`"Rectangle"` (which Mitsuba itself rejects) lower-cased, th
 The sensor and `direct` scenes (`sensor_thinlens`, `sensor_orthographic`,
 `integrator_direct_both`, `_lum`), the cylinder scenes (`shape_cylinder_onesided`,
 `_twosided`), the sdfgrid scenes (`shape_sdfgrid`, `_analytic`) and the curve scenes
-(`shape_linearcurve_basic`, `_parameterization`, `shape_bsplinecurve_basic`, `_parameterization`) have their films reduced to 120 x 90 (the direct ones 120 x 80); they
+(`shape_linearcurve_basic`, `_parameterization`, `shape_bsplinecurve_basic`, `_parameterization`) and the
+`mesh_attribute` scenes (`texture_mesh_attribute_face`, `_vertex`, over `include/shape_scene.xml`)
+have their films reduced to 120 x 90 (the direct ones 120 x 80); they
 are rendered when named on the command line. Scenes that use `$spp` get SPP as that parameter.
 
 Usage (from this folder; takes minutes per scene):

@@ -9,13 +9,17 @@
 //!   here we read exactly the properties we use straight into the mesh arrays and report errors
 //!   with the element and property involved. Vertex `x y z`, optional `nx ny nz` and
 //!   `u v` / `s t` / `texture_u texture_v` / `texture_s texture_t`; faces as `vertex_indices` (or
-//!   `vertex_index`) lists, fan-triangulated; other elements and properties are skipped.
+//!   `vertex_index`) lists, fan-triangulated; other vertex and face properties become mesh
+//!   attributes as Mitsuba names them ([`attributes`], [`load_ply_with_attributes`]); other
+//!   elements are skipped.
 //!
 //! Every error names the file.
 
+pub mod attributes;
 pub mod serialized;
 
 use crate::scene::TriangleMesh;
+use attributes::{AttributeKind, MeshAttribute, MeshAttributes, attribute_value, group_properties};
 use glam::{Vec2, Vec3};
 use std::path::{Path, PathBuf};
 
@@ -272,6 +276,18 @@ impl PlyType {
             _ => return None,
         })
     }
+    /// The divisor Mitsuba 3.9.1 normalizes an attribute of this type by (`None`: stored as is).
+    fn attribute_max(self) -> Option<f64> {
+        match self {
+            PlyType::I8 => Some(i8::MAX as f64),
+            PlyType::I16 => Some(i16::MAX as f64),
+            PlyType::U16 => Some(u16::MAX as f64),
+            PlyType::I32 => Some(i32::MAX as f64),
+            PlyType::U32 => Some(u32::MAX as f64),
+            PlyType::U8 | PlyType::F32 | PlyType::F64 => None,
+        }
+    }
+
     fn size(self) -> usize {
         match self {
             PlyType::I8 | PlyType::U8 => 1,
@@ -372,14 +388,66 @@ fn ply_header(bytes: &[u8]) -> Option<(&str, &[u8])> {
 
 /// Reads a PLY file, ASCII or binary.
 pub fn load_ply(path: &Path, flip_tex_coords: bool) -> Result<TriangleMesh, MeshError> {
+    load_ply_with_attributes(path, flip_tex_coords).map(|(m, _)| m)
+}
+
+/// Reads a PLY file with its extra vertex and face properties as Mitsuba's mesh attributes.
+pub fn load_ply_with_attributes(
+    path: &Path,
+    flip_tex_coords: bool,
+) -> Result<(TriangleMesh, MeshAttributes), MeshError> {
     let bytes = std::fs::read(path).map_err(|source| MeshError::Io {
         path: path.to_owned(),
         source,
     })?;
-    parse_ply(&bytes, flip_tex_coords).map_err(|m| format_err(path, m))
+    parse_ply_with_attributes(&bytes, flip_tex_coords).map_err(|m| format_err(path, m))
 }
 
+#[cfg(test)]
 fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String> {
+    parse_ply_with_attributes(bytes, flip_tex_coords).map(|(m, _)| m)
+}
+
+/// The vertex properties that are the mesh's own, never attributes.
+const VERTEX_RESERVED: &[&str] = &[
+    "x",
+    "y",
+    "z",
+    "nx",
+    "ny",
+    "nz",
+    "u",
+    "v",
+    "s",
+    "t",
+    "texture_u",
+    "texture_v",
+    "texture_s",
+    "texture_t",
+];
+
+/// The attributes `groups` of an element with properties `props`, with room for `count` elements.
+fn new_attributes(
+    groups: &[attributes::AttributeGroup],
+    kind: AttributeKind,
+    count: usize,
+    cap: usize,
+) -> Vec<MeshAttribute> {
+    groups
+        .iter()
+        .map(|g| MeshAttribute {
+            name: g.name.clone(),
+            kind,
+            dim: g.props.len(),
+            data: Vec::with_capacity((count * g.props.len()).min(cap)),
+        })
+        .collect()
+}
+
+fn parse_ply_with_attributes(
+    bytes: &[u8],
+    flip_tex_coords: bool,
+) -> Result<(TriangleMesh, MeshAttributes), String> {
     if !bytes.starts_with(b"ply") {
         return Err("not a PLY file (missing the \"ply\" magic line)".into());
     }
@@ -440,6 +508,7 @@ fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String
         pos: 0,
     };
     let mut mesh = TriangleMesh::default();
+    let mut attrs = MeshAttributes::default();
     let mut n_vertices = None;
     for el in &elements {
         let find = |names: &[&str]| {
@@ -459,6 +528,13 @@ fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String
                 let v = find(&["v", "t", "texture_v", "texture_t"]);
                 let has_uv = u.is_some() && v.is_some();
                 mesh.positions.reserve(el.count.min(body.bytes.len()));
+                let prop_names: Vec<Option<&str>> = el
+                    .props
+                    .iter()
+                    .map(|p| p.list.is_none().then_some(p.name.as_str()))
+                    .collect();
+                let groups = group_properties("vertex_", &prop_names, VERTEX_RESERVED);
+                let mut va = new_attributes(&groups, AttributeKind::Vertex, el.count, body.bytes.len());
                 let mut vals = vec![0f64; el.props.len()];
                 for i in 0..el.count {
                     for (k, p) in el.props.iter().enumerate() {
@@ -484,7 +560,15 @@ fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String
                         mesh.uvs
                             .push(Vec2::new(uu, if flip_tex_coords { 1.0 - vv } else { vv }));
                     }
+                    for (g, a) in groups.iter().zip(&mut va) {
+                        a.data.extend(
+                            g.props
+                                .iter()
+                                .map(|&k| attribute_value(vals[k], el.props[k].ty.attribute_max())),
+                        );
+                    }
                 }
+                attrs.list.extend(va);
                 n_vertices = Some(el.count);
             }
             "face" => {
@@ -494,8 +578,17 @@ fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String
                     return Err("the face element lacks a vertex_indices list".into());
                 };
                 mesh.indices.reserve(el.count.min(body.bytes.len()));
+                let prop_names: Vec<Option<&str>> = el
+                    .props
+                    .iter()
+                    .map(|p| p.list.is_none().then_some(p.name.as_str()))
+                    .collect();
+                let groups = group_properties("face_", &prop_names, &[]);
+                let mut fa = new_attributes(&groups, AttributeKind::Face, el.count, body.bytes.len());
+                let mut vals = vec![0f64; el.props.len()];
                 let mut poly: Vec<u32> = Vec::with_capacity(8);
                 for f in 0..el.count {
+                    let first = mesh.indices.len();
                     for (k, p) in el.props.iter().enumerate() {
                         if let Some(ct) = p.list {
                             let n = body.read(ct).map_err(|e| format!("face {f}: {e}"))?;
@@ -524,10 +617,21 @@ fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String
                                 }
                             }
                         } else {
-                            body.read(p.ty).map_err(|e| format!("face {f}: {e}"))?;
+                            vals[k] = body.read(p.ty).map_err(|e| format!("face {f}: {e}"))?;
+                        }
+                    }
+                    // Each triangle of the face's fan gets the face's attributes.
+                    for _ in first..mesh.indices.len() {
+                        for (g, a) in groups.iter().zip(&mut fa) {
+                            a.data.extend(
+                                g.props
+                                    .iter()
+                                    .map(|&k| attribute_value(vals[k], el.props[k].ty.attribute_max())),
+                            );
                         }
                     }
                 }
+                attrs.list.extend(fa);
             }
             _ => {
                 for i in 0..el.count {
@@ -552,7 +656,7 @@ fn parse_ply(bytes: &[u8], flip_tex_coords: bool) -> Result<TriangleMesh, String
         MeshError::Format { message, .. } => message,
         MeshError::Io { source, .. } => source.to_string(),
     })?;
-    Ok(mesh)
+    Ok((mesh, attrs))
 }
 
 #[cfg(test)]

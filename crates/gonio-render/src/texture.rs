@@ -19,6 +19,9 @@ use gonio_core::rgb2spec::srgb_to_sigmoid;
 use gonio_core::spectra::{RgbKind, RgbSpectrum};
 use std::sync::Arc;
 
+pub mod hit;
+pub mod volume;
+
 /// A reflectance or radiance that may vary over a surface.
 #[derive(Clone, Debug)]
 pub enum Texture {
@@ -35,6 +38,10 @@ pub enum Texture {
     },
     /// Mitsuba `bitmap`.
     Bitmap(Arc<Bitmap>),
+    /// Mitsuba `mesh_attribute`: a vertex or face attribute of the mesh hit ([`hit`]).
+    MeshAttribute(Arc<hit::AttributeTexture>),
+    /// Mitsuba `volume`: a grid evaluated at the hit's world position ([`volume`]).
+    Volume(Arc<volume::GridVolume>),
 }
 
 /// Texel lookup for [`Bitmap`].
@@ -320,6 +327,12 @@ impl Texture {
                 }
             }
             Texture::Bitmap(b) => b.eval(uv),
+            Texture::MeshAttribute(a) => a.eval(),
+            Texture::Volume(g) => match hit::hit_point() {
+                None => Spectrum::Constant(0.0),
+                Some(p) if g.channels == 1 => Spectrum::Constant(g.eval(p)[0]),
+                Some(p) => Spectrum::rgb_unbounded(g.eval(p)),
+            },
         }
     }
 
@@ -340,6 +353,11 @@ impl Texture {
                 }
             }
             Texture::Bitmap(b) => luminance(b.eval_rgb(uv)),
+            Texture::MeshAttribute(a) => a.eval_1(),
+            Texture::Volume(g) => hit::hit_point().map_or(0.0, |p| {
+                let v = g.eval(p);
+                if g.channels == 1 { v[0] } else { luminance(v) }
+            }),
         }
     }
 
@@ -351,6 +369,8 @@ impl Texture {
             Texture::Spectrum(s) => s.as_constant().map(|v| [v; 3]),
             Texture::Bitmap(b) => Some(b.eval_rgb(uv)),
             Texture::Checkerboard { .. } => None,
+            Texture::MeshAttribute(a) => Some(a.eval_3()),
+            Texture::Volume(g) => Some(hit::hit_point().map_or([0.0; 3], |p| g.eval(p))),
         }
     }
 
@@ -359,7 +379,7 @@ impl Texture {
     pub fn eval_1_grad(&self, uv: Vec2) -> Vec2 {
         match self {
             Texture::Bitmap(b) => b.eval_1_grad(uv),
-            Texture::Spectrum(_) => Vec2::ZERO,
+            Texture::Spectrum(_) | Texture::MeshAttribute(_) | Texture::Volume(_) => Vec2::ZERO,
             Texture::Checkerboard {
                 color0,
                 color1,
@@ -380,6 +400,12 @@ impl Texture {
             Texture::Spectrum(s) => s.mean(),
             Texture::Checkerboard { color0, color1, .. } => 0.5 * (color0.mean() + color1.mean()),
             Texture::Bitmap(b) => b.mean(),
+            // Mitsuba 3.9.1 has no mean for it (a `plastic` over one fails to load); the value
+            // of a colour half-way ([0, 1] after its clamp) stands in.
+            Texture::MeshAttribute(a) => 0.5 * a.scale,
+            Texture::Volume(g) => {
+                g.data.iter().map(|&v| v as f64).sum::<f64>() as f32 / g.data.len().max(1) as f32
+            }
         }
     }
 
@@ -389,6 +415,15 @@ impl Texture {
             Texture::Spectrum(s) => s.max_value(),
             Texture::Checkerboard { color0, color1, .. } => color0.max_value().max(color1.max_value()),
             Texture::Bitmap(b) => b.max,
+            // A colour attribute is clamped to [0, 1]; other attributes are not bounded.
+            Texture::MeshAttribute(a) => {
+                if a.name.contains("color") {
+                    a.scale.abs()
+                } else {
+                    f32::INFINITY
+                }
+            }
+            Texture::Volume(g) => g.max(),
         }
     }
 }

@@ -75,6 +75,8 @@ const CI_SPP: u32 = 32;
 /// | bsdf_bumpmap_with | 6.06e-4 | 4.55e-4 4.48e-4 5.03e-4 | 1.43e-3 |
 /// | bsdf_blendbsdf | 1.57e-3 | 1.44e-2 1.39e-2 1.77e-2 (gonio exact, see below) | |
 /// | bsdf_blendbsdf_delta_pdf_mitsuba | 1.18e-3 | 8.10e-4 7.02e-4 6.78e-4 | |
+/// | texture_mesh_attribute_face | 8.16e-4 | 5.37e-4 5.72e-4 5.59e-4 | 1.60e-3 |
+/// | texture_mesh_attribute_vertex | 6.63e-4 | 4.94e-4 5.10e-4 5.07e-4 | 1.47e-3 |
 ///
 /// The `sdfgrid` scenes (Mitsuba's torus grid in a `shapegroup`, placed by an `instance`) and the
 /// curve scenes (`linearcurve`, `bsplinecurve` over `meshes/curve_doc.txt`) use
@@ -146,6 +148,8 @@ const SCENES: &[(&str, f64)] = &[
     ("bsdf_polarizer_absorbing", POL_ABSORBING),
     ("bsdf_blendbsdf", 1.57e-3),
     ("bsdf_blendbsdf_delta_pdf_mitsuba", 1.18e-3),
+    ("texture_mesh_attribute_face", 8.16e-4),
+    ("texture_mesh_attribute_vertex", 6.63e-4),
 ];
 
 fn corpus() -> PathBuf {
@@ -568,4 +572,12 @@ fn measure_stokes() {
             e(&c, &r)
         );
     }
+}
+
+/// Mitsuba's `mesh_attribute` scenes: the bunny with a random colour per face and per vertex
+/// (`meshes/bunny_attribute_color.ply`), over `include/shape_scene.xml` (120 × 90).
+#[test]
+fn mesh_attribute_face_and_vertex_colours_match_mitsuba() {
+    check("texture_mesh_attribute_face");
+    check("texture_mesh_attribute_vertex");
 }

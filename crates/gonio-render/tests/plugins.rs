@@ -35,6 +35,7 @@ fn scene_with(kind: &str, name: &str, params: &str) -> String {
             "<bsdf type=\"diffuse\"><spectrum name=\"reflectance\" type=\"{name}\">{params}</spectrum></bsdf>"
         ),
         "bsdf" => object("bsdf"),
+        "volume" => object("volume"),
         k => panic!("unknown kind {k}"),
     }
 }
@@ -54,6 +55,11 @@ fn required(name: &str) -> &'static str {
         "projector" => "<float name=\"irradiance\" value=\"1\"/>",
         "stokes" => "<integrator type=\"path\"/>",
         "aov" => "<string name=\"aovs\" value=\"d:depth\"/>",
+        "mesh_attribute" => "<string name=\"name\" value=\"vertex_color\"/>",
+        "gridvolume" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
+        "volume" => {
+            "<volume type=\"gridvolume\"><string name=\"filename\" value=\"sphere_sdf.vol\"/></volume>"
+        }
         _ => "",
     }
 }

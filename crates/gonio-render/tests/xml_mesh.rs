@@ -686,3 +686,121 @@ mod curves {
         assert_eq!(two.len(), 2);
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// `mesh_attribute`: the errors of a texture that finds no attribute.
+
+#[test]
+fn mesh_attribute_errors_name_the_file_the_line_and_the_attribute() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("tri.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n\
+         property float z\nproperty float r\nproperty float g\nproperty float b\nelement face 1\n\
+         property list uchar int vertex_indices\nend_header\n0 0 0 1 0 0\n1 0 0 0 1 0\n\
+         0 1 0 0 0 1\n3 0 1 2\n",
+    )
+    .unwrap();
+    let scene = |shape: &str, name: &str| {
+        format!(
+            "<scene version=\"3.0.0\">\n<bsdf type=\"diffuse\" id=\"m\">\n\
+             <texture type=\"mesh_attribute\" name=\"reflectance\">\n\
+             <string name=\"name\" value=\"{name}\"/>\n</texture>\n</bsdf>\n{shape}\n</scene>\n"
+        )
+    };
+    let ply = r#"<shape type="ply"><string name="filename" value="tri.ply"/><ref id="m"/></shape>"#;
+    let load = |text: String| {
+        let path = dir.path().join("scene.xml");
+        std::fs::write(&path, text).unwrap();
+        gonio_render::xml::load_scene_file(&path, &[])
+    };
+    // The attribute exists: the shape's material is bound to the mesh.
+    let s = load(scene(ply, "vertex_color")).expect("loads");
+    assert_eq!(s.shapes.len(), 1);
+    // Not on the mesh: the texture's line, the name and what the mesh has.
+    let e = load(scene(ply, "face_color"))
+        .expect_err("no face colours")
+        .to_string();
+    assert!(
+        e.contains("scene.xml:4") && e.contains("\"face_color\"") && e.contains("vertex_color"),
+        "{e}"
+    );
+    // On a shape that is no mesh.
+    let e = load(scene(
+        r#"<shape type="sphere"><ref id="m"/></shape>"#,
+        "vertex_color",
+    ))
+    .expect_err("a sphere")
+    .to_string();
+    assert!(e.contains("scene.xml:4") && e.contains("not a mesh"), "{e}");
+    // A name Mitsuba refuses.
+    let e = load(scene(ply, "color")).expect_err("no prefix").to_string();
+    assert!(e.contains("scene.xml:4") && e.contains("\"vertex_\""), "{e}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// `volume` textures over a `gridvolume`: the value a surface sees, and the errors.
+
+#[test]
+fn a_volume_texture_is_its_grid_at_the_hit_and_bad_grids_are_refused() {
+    use gonio_core::{Bsdf, BsdfContext, SampledWavelengths};
+    use gonio_render::material::ShadingPoint;
+    // A 2 × 1 × 1 grid (values 0.2, 0.6 along x), `channels` channels.
+    let vol = |channels: i32| {
+        let mut b = b"VOL\x03".to_vec();
+        for v in [1, 2, 1, 1, channels] {
+            b.extend_from_slice(&(v as i32).to_le_bytes());
+        }
+        for v in [0f32, 0., 0., 1., 1., 1.] {
+            b.extend_from_slice(&v.to_le_bytes());
+        }
+        for x in [0.2f32, 0.6] {
+            for _ in 0..channels {
+                b.extend_from_slice(&x.to_le_bytes());
+            }
+        }
+        b
+    };
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("g1.vol"), vol(1)).unwrap();
+    std::fs::write(dir.path().join("g2.vol"), vol(2)).unwrap();
+    let scene = |file: &str| {
+        format!(
+            "<scene version=\"3.0.0\">\n<shape type=\"rectangle\">\n<bsdf type=\"diffuse\">\n\
+             <texture type=\"volume\" name=\"reflectance\">\n<volume type=\"gridvolume\" name=\"volume\">\n\
+             <string name=\"filename\" value=\"{file}\"/>\n\
+             <transform name=\"to_world\"><scale value=\"4\"/><translate x=\"-2\" y=\"-2\" z=\"-2\"/></transform>\n\
+             </volume>\n</texture>\n</bsdf>\n</shape>\n</scene>\n"
+        )
+    };
+    let load = |text: String| {
+        let path = dir.path().join("scene.xml");
+        std::fs::write(&path, text).unwrap();
+        gonio_render::xml::load_scene_file(&path, &[])
+    };
+    let s = load(scene("g1.vol")).expect("loads");
+    let m = &s.materials[s.shapes[0].material];
+    // The grid spans [−2, 2]³; sample centres at x = −1 (0.2) and x = 1 (0.6); half-way between
+    // them (x = 0) the trilinear value is 0.4; beyond the centres it is clamped.
+    let wl = SampledWavelengths::sample_visible(0.5);
+    for (x, want) in [(0.0f32, 0.4f32), (-0.5, 0.3), (1.5, 0.6), (-1.8, 0.2)] {
+        let at = ShadingPoint {
+            p: Vec3::new(x, 0.3, 0.0),
+            ..ShadingPoint::flat(Vec2::ZERO)
+        };
+        let f = m
+            .bsdf_at_point(&at, &wl)
+            .eval(&BsdfContext::radiance(), Vec3::Z, Vec3::Z, &wl);
+        let got = f[0] * std::f32::consts::PI;
+        assert!((got - want).abs() < 1e-5, "x = {x}: {got} vs {want}");
+    }
+    // Two channels: refused, naming the file, line and value.
+    let e = load(scene("g2.vol")).expect_err("2 channels").to_string();
+    assert!(
+        e.contains("scene.xml:6") && e.contains("g2.vol") && e.contains("2 channels"),
+        "{e}"
+    );
+    // A missing file.
+    let e = load(scene("none.vol")).expect_err("no file").to_string();
+    assert!(e.contains("scene.xml:6") && e.contains("none.vol"), "{e}");
+}

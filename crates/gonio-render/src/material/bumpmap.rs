@@ -178,6 +178,7 @@ mod tests {
             shading: Frame::from_normal_tangent(Vec3::Z, Vec3::X),
             dpdu,
             dpdv,
+            ..ShadingPoint::flat(Vec2::ZERO)
         }
     }
 
@@ -209,6 +210,7 @@ mod tests {
             shading,
             dpdu: shading.s,
             dpdv: shading.t,
+            ..ShadingPoint::flat(Vec2::ZERO)
         };
         let f = bumpmap_frame(&at, Vec2::new(0.25, 0.0));
         let expected = Vec3::new(-0.25, 0.0, 1.0).normalize();

@@ -166,6 +166,10 @@ pub struct ShadingPoint {
     pub dpdu: Vec3,
     /// ∂p/∂v (world; zero when degenerate).
     pub dpdv: Vec3,
+    /// The point (world), for textures defined in space (`volume`).
+    pub p: Vec3,
+    /// The triangle hit on a mesh (0 otherwise), for `mesh_attribute` textures.
+    pub prim: u32,
 }
 
 impl ShadingPoint {
@@ -178,6 +182,8 @@ impl ShadingPoint {
             shading: Frame::from_normal_tangent(Vec3::Z, Vec3::X),
             dpdu: Vec3::X,
             dpdv: Vec3::Y,
+            p: Vec3::ZERO,
+            prim: 0,
         }
     }
 }
@@ -190,6 +196,8 @@ impl From<&SurfaceInteraction> for ShadingPoint {
             shading: si.shading,
             dpdu: si.dpdu,
             dpdv: si.dpdv,
+            p: si.p,
+            prim: si.prim,
         }
     }
 }

@@ -18,6 +18,7 @@ pub mod sensor;
 pub mod shape;
 pub mod spectrum;
 pub mod texture;
+pub mod volume;
 
 pub use crate::material::BSDF_PLUGINS;
 pub use crate::xml::{DefaultValue, ParamSpec, ParamType, Plugin};
@@ -102,7 +103,16 @@ pub static EMITTER_PLUGINS: &[&Plugin<EmitterDesc>] = &[
 ];
 
 /// `<texture>` plugins.
-pub static TEXTURE_PLUGINS: &[&Plugin<Texture>] = &[&texture::checkerboard::PLUGIN, &texture::bitmap::PLUGIN];
+pub static TEXTURE_PLUGINS: &[&Plugin<Texture>] = &[
+    &texture::checkerboard::PLUGIN,
+    &texture::bitmap::PLUGIN,
+    &texture::mesh_attribute::PLUGIN,
+    &texture::volume::PLUGIN,
+];
+
+/// `<volume>` plugins.
+pub static VOLUME_PLUGINS: &[&Plugin<std::sync::Arc<crate::texture::volume::GridVolume>>] =
+    &[&volume::gridvolume::PLUGIN];
 
 /// `<spectrum type="...">` plugins.
 pub static SPECTRUM_PLUGINS: &[&Plugin<Texture>] = &[
@@ -142,6 +152,7 @@ pub fn all_kinds() -> Vec<KindTable> {
         table("emitter", "Emitters (`<emitter>`)", &[AREA_EMITTER_PLUGINS]),
         table("emitter", "Emitters (`<emitter>`)", &[EMITTER_PLUGINS]),
         table("texture", "Textures (`<texture>`)", &[TEXTURE_PLUGINS]),
+        table("volume", "Volumes (`<volume>`)", &[VOLUME_PLUGINS]),
         table(
             "spectrum",
             "Spectra (`<spectrum type=\"...\">`)",

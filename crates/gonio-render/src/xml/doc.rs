@@ -22,6 +22,8 @@ pub(crate) enum Tag {
     Texture,
     /// `<spectrum type="…">`: a spectrum object (d65, blackbody, …).
     Spectrum,
+    /// `<volume>`: data over space (`gridvolume`), read by the `volume` texture.
+    Volume,
 }
 
 impl Tag {
@@ -38,6 +40,7 @@ impl Tag {
             Tag::Shape => "shape",
             Tag::Texture => "texture",
             Tag::Spectrum => "spectrum",
+            Tag::Volume => "volume",
         }
     }
 
@@ -52,6 +55,7 @@ impl Tag {
             "sensor" => Tag::Sensor,
             "shape" => Tag::Shape,
             "texture" => Tag::Texture,
+            "volume" => Tag::Volume,
             _ => return None,
         })
     }

@@ -41,6 +41,8 @@ pub enum ParamType {
     Rfilter,
     /// Nested or referenced `<shape>` objects (`shapegroup`, `instance`).
     Shape,
+    /// A nested or referenced `<volume>`.
+    Volume,
 }
 
 impl ParamType {
@@ -62,6 +64,7 @@ impl ParamType {
             ParamType::Sampler => "sampler",
             ParamType::Rfilter => "rfilter",
             ParamType::Shape => "shape",
+            ParamType::Volume => "volume",
         }
     }
 }

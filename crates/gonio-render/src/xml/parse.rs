@@ -348,7 +348,7 @@ impl Parser {
         }
         match tag {
             "scene" => Err(SceneError::new(loc, ErrorKind::Grammar, "nested <scene> element")),
-            "medium" | "phase" | "volume" => Err(SceneError::new(
+            "medium" | "phase" => Err(SceneError::new(
                 loc,
                 ErrorKind::UnknownPlugin,
                 format!("<{tag}> (participating media) is not supported"),

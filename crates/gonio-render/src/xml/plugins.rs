@@ -41,6 +41,14 @@ pub(crate) struct Builder<'d> {
     pub warnings: Vec<String>,
     /// Shape groups by object, built once however many instances place them.
     pub(crate) groups: HashMap<usize, Arc<crate::geometry::instance::ShapeGroup>>,
+    /// The textures that read the hit (`mesh_attribute`: the attribute's name; `volume`: `None`)
+    /// met so far, in order; with the slices of it each cached texture and BSDF object added, so
+    /// that a reuse adds them again (a shape's material is bound to its mesh by them).
+    pub(crate) hit_log: Vec<(Option<String>, Location)>,
+    hit_textures: HashMap<(usize, u8), Vec<(Option<String>, Location)>>,
+    pub(crate) hit_bsdfs: HashMap<usize, Vec<(Option<String>, Location)>>,
+    /// The attributes of the PLY meshes loaded (by the address of their cached mesh).
+    pub(crate) mesh_attributes: HashMap<usize, crate::mesh::attributes::MeshAttributes>,
 }
 
 fn kind_key(k: RgbKind) -> u8 {
@@ -79,7 +87,27 @@ impl<'d> Builder<'d> {
             attached_emitters: HashMap::new(),
             warnings: Vec::new(),
             groups: HashMap::new(),
+            hit_log: Vec::new(),
+            hit_textures: HashMap::new(),
+            hit_bsdfs: HashMap::new(),
+            mesh_attributes: HashMap::new(),
         }
+    }
+
+    /// The scene material number `i`.
+    pub(crate) fn material(&self, i: usize) -> Material {
+        self.materials[i].clone()
+    }
+
+    /// Adds a scene material; returns its number.
+    pub(crate) fn add_material(&mut self, m: Material) -> usize {
+        self.materials.push(m);
+        self.materials.len() - 1
+    }
+
+    /// Records a texture that reads the hit (`attribute`: a `mesh_attribute`'s name).
+    pub(crate) fn note_hit_texture(&mut self, attribute: Option<&str>, loc: &Location) {
+        self.hit_log.push((attribute.map(str::to_owned), loc.clone()));
     }
 
     /// Marks object `idx` as being built; an object that contains itself is an error.
@@ -173,6 +201,10 @@ impl<'d> Builder<'d> {
                 // Definitions: built (and so checked) even when nothing refers to them.
                 Tag::Bsdf => {
                     self.bsdf(idx, &obj.loc)?;
+                }
+                Tag::Volume if referenced.contains(&idx) => {}
+                Tag::Volume => {
+                    self.build_plugin(crate::plugins::VOLUME_PLUGINS, idx)?;
                 }
                 Tag::Texture | Tag::Spectrum => {
                     // Referenced textures are built where they are used, in their role (a
@@ -391,8 +423,12 @@ impl<'d> Builder<'d> {
     pub(crate) fn texture_object(&mut self, idx: usize, kind: RgbKind, loc: &Location) -> Result<Texture> {
         let key = (idx, kind_key(kind));
         if let Some(t) = self.textures.get(&key) {
+            if let Some(h) = self.hit_textures.get(&key) {
+                self.hit_log.extend(h.iter().cloned());
+            }
             return Ok(t.clone());
         }
+        let hits_before = self.hit_log.len();
         let doc = self.doc;
         let obj = &doc.objs[idx];
         if obj.tag != Tag::Texture && obj.tag != Tag::Spectrum {
@@ -420,6 +456,10 @@ impl<'d> Builder<'d> {
         self.role = outer;
         self.leave();
         self.textures.insert(key, t.clone());
+        if self.hit_log.len() > hits_before {
+            self.hit_textures
+                .insert(key, self.hit_log[hits_before..].to_vec());
+        }
         Ok(t)
     }
 
@@ -492,8 +532,12 @@ impl<'d> Builder<'d> {
     /// Builds a `<bsdf>` object (cached) with its registered plugin ([`crate::material`]).
     pub(crate) fn bsdf(&mut self, idx: usize, loc: &Location) -> Result<Material> {
         if let Some(m) = self.bsdfs.get(&idx) {
+            if let Some(h) = self.hit_bsdfs.get(&idx) {
+                self.hit_log.extend(h.iter().cloned());
+            }
             return Ok(m.clone());
         }
+        let hits_before = self.hit_log.len();
         let doc = self.doc;
         let obj = &doc.objs[idx];
         if obj.tag != Tag::Bsdf {
@@ -524,6 +568,9 @@ impl<'d> Builder<'d> {
             ));
         }
         self.bsdfs.insert(idx, m.clone());
+        if self.hit_log.len() > hits_before {
+            self.hit_bsdfs.insert(idx, self.hit_log[hits_before..].to_vec());
+        }
         Ok(m)
     }
 

@@ -123,6 +123,14 @@ pub(crate) fn assemble<'d>(
         }
     };
     let material = b.shape_material(bsdf, emitter.is_some())?;
+    let material = super::texture::mesh_attribute::bind(
+        b,
+        material,
+        bsdf.map(|(i, _)| i),
+        &geometry,
+        &common.to_world,
+        &p.obj.ty,
+    )?;
     let desc = ShapeDesc {
         geometry,
         to_world: common.to_world,
@@ -202,10 +210,14 @@ pub(crate) fn mesh<'d>(
         MeshFormat::Serialized { shape_index } => shape_index,
         MeshFormat::Obj | MeshFormat::Ply => 0,
     };
-    b.cached_mesh((path.clone(), index, flip_tex_coords, face_normals), || {
+    let mut attributes = None;
+    let m = b.cached_mesh((path.clone(), index, flip_tex_coords, face_normals), || {
         let r = match format {
             MeshFormat::Obj => meshes::load_obj(&path, flip_tex_coords),
-            MeshFormat::Ply => meshes::load_ply(&path, flip_tex_coords),
+            MeshFormat::Ply => meshes::load_ply_with_attributes(&path, flip_tex_coords).map(|(m, a)| {
+                attributes = Some(a);
+                m
+            }),
             MeshFormat::Serialized { shape_index } => {
                 meshes::serialized::load_serialized(&path, shape_index, face_normals)
             }
@@ -218,7 +230,12 @@ pub(crate) fn mesh<'d>(
             m.normals = meshes::vertex_normals(&m);
         }
         Ok(m)
-    })
+    })?;
+    // The file's attributes, kept while the scene is read (a shape keeps those it uses).
+    if let Some(a) = attributes.filter(|a| !a.list.is_empty()) {
+        b.mesh_attributes.insert(Arc::as_ptr(&m) as usize, a);
+    }
+    Ok(m)
 }
 
 /// The builder of a shape read from a mesh file (`obj`, `ply`): the common shape parameters,

@@ -4,3 +4,5 @@
 
 pub mod bitmap;
 pub mod checkerboard;
+pub mod mesh_attribute;
+pub mod volume;
