@@ -48,5 +48,6 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         kind: IntegratorKind::PTracer,
         stokes: false,
         polarized: false,
+        layers: None,
     })
 }
