@@ -106,7 +106,7 @@ pub trait BsdfWeight<W: Weight> {
     #[inline]
     fn eval_pdf_weight(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> (W, f32)
     where
-        Self: Bsdf,
+        Self: Sized + Bsdf,
     {
         (self.eval_weight(ctx, wi, wo, wl), self.pdf(ctx, wi, wo, wl))
     }
@@ -141,7 +141,7 @@ impl<B: Bsdf + ?Sized> BsdfWeight<SampledSpectrum> for B {
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32)
     where
-        Self: Bsdf,
+        Self: Sized + Bsdf,
     {
         self.eval_pdf(ctx, wi, wo, wl)
     }
