@@ -11,11 +11,19 @@ equal-error time ratio gonio/Mitsuba = (t_gonio * relMSE_gonio) / (t_mitsuba * r
 for unbiased Monte Carlo relMSE ~ 1/spp, so that ratio is how much of Mitsuba's time gonio needs to
 reach Mitsuba's error.
 
+Polarized rows (`--polarized`): the scenes are the corpus's polarized ones
+(testdata/mitsuba-corpus/docs/scenes: `integrator_stokes_cbox` and `bsdf_pplastic_specular_stokes`
+by default), rendered by gonio in its polarized mode (the scenes ask for it) and by Mitsuba's
+`scalar_spectral_polarized` and `llvm_ad_spectral_polarized`; relMSE is taken on the main image
+(R, G, B = S0) against the 256-spp `scalar_spectral_polarized` references of
+testdata/mitsuba-corpus/reference (made by make_polarized_references.py), whose own noise is then
+part of every relMSE (compare the ratios, not the absolute errors).
+
 Usage (from the repository root, after `cargo build --release -p gonio`):
     python3 -m venv .venv-mitsuba && .venv-mitsuba/bin/pip install mitsuba==3.9.1 numpy
     apt-get install -y libllvm19    # for llvm_ad_spectral
     .venv-mitsuba/bin/python bench/bench.py [--spp 64] [--runs 3] [--scenes materials furnace]
-        [--mitsuba-tool ../shared/tools/mitsuba-render.py] [--no-mitsuba]
+        [--mitsuba-tool ../shared/tools/mitsuba-render.py] [--no-mitsuba] [--polarized]
 
 Images are read with the `mitsuba` module's Bitmap; without it only gonio's timings are reported.
 Run it on an otherwise idle machine: the table compares wall-clock times.
@@ -30,6 +38,9 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCENES = ["materials", "cornell-spheres", "thin-vs-thick", "furnace"]
+POLARIZED_SCENES = ["integrator_stokes_cbox", "bsdf_pplastic_specular_stokes"]
+VARIANTS = ["scalar_spectral", "llvm_ad_spectral"]
+POLARIZED_VARIANTS = ["scalar_spectral_polarized", "llvm_ad_spectral_polarized"]
 
 
 def read_exr(path):
@@ -37,7 +48,16 @@ def read_exr(path):
     import numpy as np
 
     mi.set_variant("scalar_rgb")
-    return np.array(mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
+    bmp = mi.Bitmap(path)
+    if bmp.channel_count() > 4:
+        # A `stokes` image: the main layer (R, G, B = S0) is the image. gonio names its layers;
+        # Mitsuba's render tool writes unnamed channels ch00.. in its film's order, R, G, B first.
+        names = [bmp.struct_()[i].name for i in range(bmp.channel_count())]
+        if "R" in names:
+            bmp = dict(bmp.split())["<root>"]
+        else:
+            return np.array(bmp, dtype=np.float64)[..., :3]
+    return np.array(bmp.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32), dtype=np.float64)
 
 
 def cpu_description():
@@ -105,11 +125,21 @@ def main():
     p = argparse.ArgumentParser()
     p.add_argument("--spp", type=int, default=64)
     p.add_argument("--runs", type=int, default=3)
-    p.add_argument("--scenes", nargs="*", default=SCENES)
+    p.add_argument("--scenes", nargs="*", default=None)
+    p.add_argument("--polarized", action="store_true",
+                   help="the polarized corpus scenes against Mitsuba's *_polarized variants")
     p.add_argument("--gonio", default=os.path.join(ROOT, "target", "release", "gonio"))
     p.add_argument("--mitsuba-tool", default=os.path.join(ROOT, "..", "shared", "tools", "mitsuba-render.py"))
     p.add_argument("--no-mitsuba", action="store_true")
     a = p.parse_args()
+    if a.polarized:
+        scene_dir = os.path.join(ROOT, "testdata", "mitsuba-corpus", "docs", "scenes")
+        ref_dir = os.path.join(ROOT, "testdata", "mitsuba-corpus", "reference")
+        variants, scenes = POLARIZED_VARIANTS, a.scenes or POLARIZED_SCENES
+    else:
+        scene_dir = os.path.join(ROOT, "testdata", "mitsuba", "scenes")
+        ref_dir = os.path.join(ROOT, "testdata", "mitsuba", "reference")
+        variants, scenes = VARIANTS, a.scenes or SCENES
 
     try:
         import mitsuba  # noqa: F401
@@ -121,9 +151,9 @@ def main():
 
     tmp = tempfile.mkdtemp(prefix="gonio-bench-")
     rows = []
-    for name in a.scenes:
-        scene = os.path.join(ROOT, "testdata", "mitsuba", "scenes", name + ".xml")
-        ref = read_exr(os.path.join(ROOT, "testdata", "mitsuba", "reference", name + ".exr")) if can_read else None
+    for name in scenes:
+        scene = os.path.join(scene_dir, name + ".xml")
+        ref = read_exr(os.path.join(ref_dir, name + ".exr")) if can_read else None
         out = os.path.join(tmp, f"{name}-gonio.exr")
         times = [run_gonio(a.gonio, scene, a.spp, seed, out) for seed in range(a.runs)]
         g = {"t": statistics.median(times)}
@@ -134,7 +164,7 @@ def main():
         if can_read:
             result["samples"] = ref.shape[0] * ref.shape[1] * a.spp
         if have_mi:
-            for variant in ["scalar_spectral", "llvm_ad_spectral"]:
+            for variant in variants:
                 mout = os.path.join(tmp, f"{name}-{variant}.exr")
                 ts = run_mitsuba(sys.executable, a.mitsuba_tool, scene, a.spp, variant, a.runs, mout)
                 if ts:
@@ -147,13 +177,13 @@ def main():
     print(f"spp = {a.spp}, median of {a.runs} runs, render time only (scene loading excluded), "
           f"{os.cpu_count()} cores. Throughput: camera samples per second per core (gonio with its "
           f"light subpaths for caustics on, as rendered).\n")
-    print("| scene | gonio s | relMSE | block relMSE | scalar_spectral s | relMSE | equal-error ratio | "
-          "llvm_ad_spectral s | relMSE | equal-error ratio | throughput gonio / scalar / LLVM (k/s/core) |")
+    print(f"| scene | gonio s | relMSE | block relMSE | {variants[0]} s | relMSE | equal-error ratio | "
+          f"{variants[1]} s | relMSE | equal-error ratio | throughput gonio / scalar / LLVM (k/s/core) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         g = r["gonio"]
         cells = [r["scene"], f"{g['t']:.2f}", f"{g.get('e', float('nan')):.2e}", f"{g.get('eb', float('nan')):.2e}"]
-        for v in ["scalar_spectral", "llvm_ad_spectral"]:
+        for v in variants:
             m = r.get(v)
             if m and "e" in g:
                 ratio = (g["t"] * g["e"]) / (m["t"] * m["e"])
@@ -161,7 +191,7 @@ def main():
             else:
                 cells += ["-", "-", "-"]
         n, cores = r.get("samples"), os.cpu_count() or 1
-        tp = [r.get(k) for k in ["gonio", "scalar_spectral", "llvm_ad_spectral"]]
+        tp = [r.get(k) for k in ["gonio"] + variants]
         cells.append(" / ".join(f"{n / (m['t'] * cores) / 1e3:.0f}" if (m and n) else "-" for m in tp))
         print("| " + " | ".join(cells) + " |")
 

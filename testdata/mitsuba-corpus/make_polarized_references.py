@@ -5,7 +5,8 @@ with Mitsuba 3.9.1 `scalar_spectral_polarized`.
 Scenes (copies of Mitsuba's documentation scenes in `docs/scenes/`): `bsdf_polarizer_aligned`,
 `_middle`, `_absorbing` (over `include/shape_scene.xml`, whose film is reduced to 120 x 90) and
 `integrator_stokes_cbox` (its `res` default reduced to 48, the `spp` default to 32; the other
-defaults are Mitsuba's). Each is rendered at SPP samples per pixel with seed 0 into
+defaults are Mitsuba's), `bsdf_pplastic_diffuse_stokes` and `bsdf_pplastic_specular_stokes`
+(`include/matpreview_stokes.xml`, film reduced to 120 x 90). Each is rendered at SPP samples per pixel with seed 0 into
 `reference/<scene>.exr` (all film channels: R, G, B and, for `stokes`, S0.R ... S3.B), and, with
 `--noise`, twice at NOISE_SPP with seeds 1 and 2 into `/tmp` to print the block relMSE of
 Mitsuba against itself per channel group (the level quoted in the test).
@@ -23,7 +24,9 @@ import numpy as np
 SPP = 256
 NOISE_SPP = 32
 SCENES = ["bsdf_polarizer_aligned", "bsdf_polarizer_middle", "bsdf_polarizer_absorbing",
-          "integrator_stokes_cbox"]
+          "integrator_stokes_cbox",
+          # pplastic under `stokes` (include/matpreview_stokes.xml, film reduced to 120 x 90).
+          "bsdf_pplastic_diffuse_stokes", "bsdf_pplastic_specular_stokes"]
 
 mi.set_variant("scalar_spectral_polarized")
 here = os.path.dirname(os.path.abspath(__file__))

@@ -101,6 +101,15 @@ pub trait BsdfWeight<W: Weight> {
     ) -> Option<BsdfSample<W>>;
     /// [`Bsdf::null_transmission`] as a `W`.
     fn null_transmission_weight(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<W>;
+    /// [`BsdfWeight::eval_weight`] and [`Bsdf::pdf`] together ([`Bsdf::eval_pdf`] for spectra,
+    /// where models share work).
+    #[inline]
+    fn eval_pdf_weight(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> (W, f32)
+    where
+        Self: Sized + Bsdf,
+    {
+        (self.eval_weight(ctx, wi, wo, wl), self.pdf(ctx, wi, wo, wl))
+    }
 }
 
 impl<B: Bsdf + ?Sized> BsdfWeight<SampledSpectrum> for B {
@@ -122,6 +131,19 @@ impl<B: Bsdf + ?Sized> BsdfWeight<SampledSpectrum> for B {
     #[inline]
     fn null_transmission_weight(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
         self.null_transmission(wi, wl)
+    }
+    #[inline]
+    fn eval_pdf_weight(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32)
+    where
+        Self: Sized + Bsdf,
+    {
+        self.eval_pdf(ctx, wi, wo, wl)
     }
 }
 

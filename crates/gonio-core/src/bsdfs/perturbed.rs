@@ -19,11 +19,18 @@
 //!
 //! The frame comes from the plugin at each hit (`normalmap`: n = 2·rgb − 1 of the map;
 //! `bumpmap`: the normal of the displaced surface p + scale·h(u, v)·n).
+//!
+//! **Polarization** (Mitsuba 3's polarized variants do the same through `to_world_mueller`): the
+//! nested BSDF's Mueller matrix answers between the implicit Stokes bases of the directions in
+//! the perturbed frame; its bases are carried by F (a rotation) into the unperturbed local frame
+//! and re-expressed in the implicit bases there, `M = R_out · M'(F⁻¹ωi, F⁻¹ωo) · R_inᵀ`
+//! ([`Weight::local_to_world`] with F), so a polarizing nested model stays polarizing.
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::frame::Frame;
 use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::weight::Weight;
 use glam::{Vec2, Vec3};
 
 /// `bsdf` seen through the perturbed shading frame `frame` (local coordinates of the shading
@@ -115,8 +122,42 @@ impl Bsdf for PerturbedFrame<'_> {
         self.bsdf.null_transmission(self.frame.to_local(wi), wl)
     }
 
+    /// The nested matrix, its bases carried from the perturbed frame to the shading frame.
+    fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
+        match self.wo_local(wo) {
+            Some(p) => self
+                .bsdf
+                .eval_mueller(ctx, self.frame.to_local(wi), p, wl)
+                .local_to_world(&self.frame),
+            None => Mueller::ZERO,
+        }
+    }
+
+    /// [`Bsdf::sample`] with the nested Mueller weight, bases carried as in `eval_mueller`.
+    fn sample_mueller(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample<Mueller>> {
+        let mut s = self
+            .bsdf
+            .sample_mueller(ctx, self.frame.to_local(wi), u1, u2, wl)?;
+        let wo = self.frame.to_world(s.wo);
+        if !(s.wo.z * wo.z > 0.0) {
+            return None;
+        }
+        s.wo = wo;
+        s.weight = s.weight.local_to_world(&self.frame);
+        Some(s)
+    }
+
     fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
-        self.bsdf.null_transmission_mueller(self.frame.to_local(wi), wl)
+        self.bsdf
+            .null_transmission_mueller(self.frame.to_local(wi), wl)
+            .map(|m| m.local_to_world(&self.frame))
     }
 }
 

@@ -92,7 +92,9 @@ use arrayvec::ArrayVec;
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::frame::Frame;
-use gonio_core::{Bsdf, BsdfContext, BsdfSample, SampledSpectrum, SampledWavelengths, warp};
+use gonio_core::mueller::Mueller;
+use gonio_core::weight::{BsdfWeight, Weight};
+use gonio_core::{BsdfContext, BsdfSample, SampledSpectrum, SampledWavelengths, warp};
 
 /// Most delta vertices a light subpath crosses (longer ones are the path tracer's alone).
 pub const MAX_CHAIN: u32 = 8;
@@ -328,9 +330,12 @@ impl DeltaTargets {
 }
 
 /// A vertex of a light subpath that camera-path vertices connect to: a point with a smooth lobe
-/// whose neighbour towards the light is a delta vertex.
+/// whose neighbour towards the light is a delta vertex. `L` is what the subpath carries: a
+/// spectrum, or in polarized mode a Mueller matrix (the emitter's depolarizer followed by the
+/// importance-mode matrices of the delta vertices, in light order, so its first column is the
+/// Stokes vector of the light arriving here, in the implicit basis of its direction).
 #[derive(Clone, Copy, Debug)]
-pub struct LightVertex {
+pub struct LightVertex<L = SampledSpectrum> {
     p: Vec3,
     /// Geometric normal.
     n: Vec3,
@@ -344,7 +349,7 @@ pub struct LightVertex {
     cos_chain: f32,
     /// Throughput arriving at the vertex (emitted radiance over the sampling densities, times
     /// the chain's weights).
-    beta: SampledSpectrum,
+    beta: L,
     /// `p_sel·p_A/π` of the light the subpath started from, times Π over the smooth vertices `d`
     /// between the light and this vertex of `p_d,light·cos_d,light / (p_d,eye·cos_d,eye)`.
     light_density: f32,
@@ -354,7 +359,7 @@ pub struct LightVertex {
     segments: u32,
 }
 
-impl LightVertex {
+impl<L> LightVertex<L> {
     /// The connection's MIS weight `1/(1 + r²)` for a camera-side density `arrival` = `p_x(z)`
     /// per unit area and the BSDF density `pdf_z` at this vertex of the direction towards the
     /// light (the ratio `r` of the module documentation, from this end).
@@ -366,22 +371,33 @@ impl LightVertex {
 /// The kept vertices of one light subpath (at most [`MAX_CHAIN`]: each follows its own delta
 /// vertex), on the stack. An `ArrayVec`, so that making an empty one per camera sample costs
 /// nothing (no initialization of the unused slots).
+///
+/// `L` is what the subpath carries ([`LightVertex`]): a spectrum (the default) or a Mueller
+/// matrix in polarized mode.
 #[derive(Clone, Debug)]
-pub struct LightSubpath {
-    vertices: ArrayVec<LightVertex, { MAX_CHAIN as usize }>,
+pub struct LightSubpath<L = SampledSpectrum> {
+    vertices: ArrayVec<LightVertex<L>, { MAX_CHAIN as usize }>,
 }
 
-impl Default for LightSubpath {
+impl<L> Default for LightSubpath<L> {
     fn default() -> Self {
-        Self::new()
+        Self::empty()
     }
 }
 
 impl LightSubpath {
+    /// A spectral subpath with no vertices (see [`LightSubpath::empty`]).
+    #[inline]
+    pub fn new() -> Self {
+        Self::empty()
+    }
+}
+
+impl<L> LightSubpath<L> {
     /// No vertices. A function, not a constant: a constant's unused slots are materialized as
     /// zeros (a 1 KB memset per camera sample), a fresh `ArrayVec` writes nothing.
     #[inline]
-    pub fn new() -> Self {
+    pub fn empty() -> Self {
         Self {
             vertices: ArrayVec::new(),
         }
@@ -403,11 +419,11 @@ impl LightSubpath {
     }
 
     /// Keeps a vertex (beyond [`MAX_CHAIN`] vertices, drops it).
-    fn push(&mut self, v: LightVertex) {
+    fn push(&mut self, v: LightVertex<L>) {
         let _ = self.vertices.try_push(v);
     }
 
-    fn iter(&self) -> impl Iterator<Item = &LightVertex> {
+    fn iter(&self) -> impl Iterator<Item = &LightVertex<L>> {
         self.vertices.iter()
     }
 }
@@ -557,18 +573,23 @@ impl PathTracer<'_> {
 
     /// Σ over the light subpath's vertices of the connection from camera-path vertex `si`
     /// (BSDF `bsdf_x`, incoming `wi_x` in its shading frame, `depth` real vertices before it),
-    /// MIS-weighted, not yet multiplied by the camera path's throughput.
-    pub(super) fn connect_light_vertices(
+    /// MIS-weighted, not yet multiplied by the camera path's throughput. In light order the
+    /// connection is `f_x · T · f_z · β_z` (T: the sheets crossed between the two vertices), each
+    /// factor in the implicit world bases of its beams.
+    pub(super) fn connect_light_vertices<W: Weight, L: LightWeight<W>>(
         &self,
-        bsdf_x: &dyn Bsdf,
+        bsdf_x: &SurfaceBsdf<'_>,
         si: &SurfaceInteraction,
         wi_x: Vec3,
         depth: u32,
-        light: &LightSubpath,
+        light: &LightSubpath<L>,
         wl: &SampledWavelengths,
-    ) -> SampledSpectrum {
+    ) -> W
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
         let radiance = BsdfContext::radiance();
-        let mut sum = SampledSpectrum::ZERO;
+        let mut sum = W::ZERO;
         for y in light.iter() {
             // Segments: depth + 1 to x, one to y, the light subpath's to the light.
             if depth as u64 + y.segments as u64 + 2 > self.max_depth as u64 {
@@ -581,13 +602,15 @@ impl PathTracer<'_> {
             }
             let dir = v / d2.sqrt();
             let wo_x = si.shading.to_local(dir);
-            let (f_x, pdf_x) = bsdf_x.eval_pdf(&radiance, wi_x, wo_x, wl);
+            let (f_x, pdf_x): (W, f32) = bsdf_x.eval_pdf_weight(&radiance, wi_x, wo_x, wl);
+            let f_x = f_x.local_to_world(&si.shading);
             if f_x.is_black() {
                 continue;
             }
             let wi_y = y.shading.to_local(-dir);
             let Some((f_y, pdf_y)) = self.bsdf_at(y.shape, &y.at, &{ *wl }, |b: &SurfaceBsdf<'_>| {
-                b.eval_pdf(&radiance, wi_y, y.wi, wl)
+                let (f, pdf): (W, f32) = b.eval_pdf_weight(&radiance, wi_y, y.wi, wl);
+                (f.local_to_world(&y.shading), pdf)
             }) else {
                 continue;
             };
@@ -596,20 +619,44 @@ impl PathTracer<'_> {
             }
             let cos_y = y.n.dot(dir).abs();
             let g = wo_x.z.abs() * cos_y / d2 * y.wi.z.abs() / y.cos_chain;
-            let c = f_x * f_y * y.beta * g;
-            if c.is_black() || !c.is_finite() {
+            // Light order: the light subpath, then f at y, (the sheets,) then f at x.
+            let c = f_y * y.beta.into_weight() * g;
+            if c.is_black() || !c.intensity().is_finite() || (f_x * c).is_black() {
                 continue;
             }
             let w = y.connection_weight(pdf_x * cos_y / d2, pdf_y);
             if !(w > 0.0) {
                 continue;
             }
-            let vis: SampledSpectrum = self.visibility(spawn_ray_between(si.p, si.n, y.p, Some(y.n)), wl);
+            // The shadow ray leaves x; light travels along it backwards, towards x.
+            let vis: W = self.visibility(spawn_ray_between(si.p, si.n, y.p, Some(y.n)), wl, false);
             if !vis.is_black() {
-                sum += c * vis * w;
+                sum += f_x * vis * c * w;
             }
         }
         sum
+    }
+}
+
+/// What a light subpath carries, as the weight `W` of the camera path it joins: a spectrum
+/// enters any path depolarized ([`Weight::from_spectrum`]); a Mueller matrix joins a polarized
+/// path as it is.
+pub trait LightWeight<W: Weight>: Copy {
+    /// The subpath's throughput as a camera-path weight.
+    fn into_weight(self) -> W;
+}
+
+impl<W: Weight> LightWeight<W> for SampledSpectrum {
+    #[inline]
+    fn into_weight(self) -> W {
+        W::from_spectrum(self)
+    }
+}
+
+impl LightWeight<Mueller> for Mueller {
+    #[inline]
+    fn into_weight(self) -> Mueller {
+        self
     }
 }
 

@@ -71,7 +71,8 @@
 //! In polarized mode (a `stokes` integrator, a polarizing BSDF, `gonio render --polarized`) the
 //! same estimators run with Mueller matrices ([`polarized`]): every BSDF weight is mapped to
 //! world space in the implicit bases of its beams, and the camera reads S0 (and, for `stokes`,
-//! S0..S3).
+//! S0..S3). The caustic light subpaths carry Mueller matrices as well (importance mode, light
+//! order).
 //!
 //! # Shading normals
 //!
@@ -273,9 +274,8 @@ impl<'a> PathTracer<'a> {
         let any_thin = thin.iter().any(|&t| t);
         // `ptracer`'s light paths are spectral.
         let polarized = (settings.polarized || settings.stokes) && settings.kind != IntegratorKind::PTracer;
-        // The light subpaths are spectral: a polarized render leaves their paths to the path
-        // tracer (whose MIS weights are then 1), which finds them all, with more noise.
-        let caustics = if settings.caustic_paths && !polarized {
+        // In polarized mode the light subpaths carry Mueller matrices ([`polarized`]).
+        let caustics = if settings.caustic_paths {
             caustics::EmissionSampler::new(lights, materials, shape_material, accel.shapes())
         } else {
             None
@@ -372,14 +372,15 @@ impl<'a> PathTracer<'a> {
     /// [`PathTracer::traces_caustics`] is false).
     ///
     /// Generic over the [`Weight`] the path carries (`SampledSpectrum` for the spectral
-    /// renderer, `Mueller` in polarized mode: see [`polarized`]); the light subpaths are
-    /// spectral and enter depolarized (a polarized `PathTracer` traces none).
-    pub fn li<W: Weight>(
+    /// renderer, `Mueller` in polarized mode: see [`polarized`]); the light subpath carries `L`
+    /// (the same Mueller matrices in polarized mode; a spectral subpath enters any path
+    /// depolarized, [`caustics::LightWeight`]).
+    pub fn li<W: Weight, L: caustics::LightWeight<W>>(
         &self,
         mut ray: Ray,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
-        light: &caustics::LightSubpath,
+        light: &caustics::LightSubpath<L>,
     ) -> W
     where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
@@ -533,11 +534,11 @@ impl<'a> PathTracer<'a> {
 
     /// Next-event estimation, light-subpath connections and BSDF sampling at one vertex, while
     /// the BSDF exists.
-    fn scatter<W: Weight>(
+    fn scatter<W: Weight, L: caustics::LightWeight<W>>(
         &self,
         v: &Vertex,
         state: &PathState<W>,
-        light: &caustics::LightSubpath,
+        light: &caustics::LightSubpath<L>,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
     ) -> VertexOutcome<W>
@@ -558,8 +559,8 @@ impl<'a> PathTracer<'a> {
             let u_light = sampler.next_2d();
             nee = self.next_event(v, &light_ref, state.beta, u_sel, u_light, wl, (1.0, 1.0));
             if !light.is_empty() {
-                let c = self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
-                nee += state.beta * W::from_spectrum(c);
+                let c: W = self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
+                nee += state.beta * c;
             }
         }
 
@@ -676,12 +677,14 @@ impl<'a> PathTracer<'a> {
         } else {
             si.spawn_ray(ls.wi)
         };
-        self.visibility(ray, wl)
+        self.visibility(ray, wl, false)
     }
 
     /// Visibility along a shadow ray: 0/1, or with thin shadows the transmittance of the sheets
-    /// crossed.
-    fn visibility<W: Weight>(&self, ray: Ray, wl: &SampledWavelengths) -> W
+    /// crossed, for light travelling towards the ray's origin, or along the ray when
+    /// `light_along_ray` (a light vertex's connection to the camera). The direction matters only
+    /// for the Stokes bases of a polarized transmittance.
+    fn visibility<W: Weight>(&self, ray: Ray, wl: &SampledWavelengths, light_along_ray: bool) -> W
     where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
@@ -701,12 +704,14 @@ impl<'a> PathTracer<'a> {
             if !self.is_thin(h.shape) {
                 return W::ZERO;
             }
-            let wi = h.shading.to_local(-ray.d);
+            let wi = h.shading.to_local(if light_along_ray { ray.d } else { -ray.d });
             let t = self.bsdf_at(h.shape, &ShadingPoint::from(&h), wl, |bsdf: &SurfaceBsdf<'_>| {
                 bsdf.null_transmission_weight(wi, wl)
                     .map(|t| t.local_to_world(&h.shading))
             });
             match t.flatten() {
+                // Light order: a sheet nearer the light first.
+                Some(t) if light_along_ray => tr = t * tr,
                 Some(t) => tr *= t,
                 None => return W::ZERO,
             }
@@ -751,7 +756,7 @@ impl Integrator for PathTracer<'_> {
 
     fn sample(&self, sample: &mut CameraSample<'_>, value: &mut [f32], splat: &mut dyn FnMut(Vec2, &[f32])) {
         if self.polarized {
-            self.sample_polarized(sample, value);
+            self.sample_polarized(sample, value, splat);
             return;
         }
         match self.kind {

@@ -22,8 +22,14 @@
 //! are the spectral ones: polarization changes weights, never densities), and for the straight
 //! passes through sheets.
 //!
-//! The light subpaths for caustics are spectral and are not traced in polarized mode: their
-//! paths are left to the path tracer alone (weight 1), unbiased and noisier.
+//! The light subpaths for caustics ([`super::caustics`]) carry Mueller matrices in polarized
+//! mode: the emitter's depolarizer D(Lₑ), then at each vertex the BSDF's importance-mode matrix
+//! (light arriving along −ωᵢ, leaving along ωₒ), mapped to world and applied after what came
+//! before, β_z = M_k ⋯ M₁ D(Lₑ). A camera-path vertex x joins a light vertex z as
+//! β_x · f_x · T · f_z · β_z (f in radiance mode, T the sheets between them, light along the
+//! connection towards x); a connection to the camera is f_z·β_z followed by the sheets towards
+//! the camera, read in the sensor basis like any camera sample. The MIS weights are the
+//! spectral ones (densities do not depend on polarization).
 //!
 //! # What the camera reads
 //!
@@ -33,13 +39,14 @@
 //! camera ray's implicit basis into Mitsuba's sensor-aligned one (beam −d, x-axis d × up), each
 //! component through the same wavelength estimator into the layers `S0.R` … `S3.B`.
 
-use super::{CameraSample, PathTracer};
+use super::{CameraSample, LIGHT_PATH_KEY, PathTracer};
 use crate::film::Channels;
-use glam::Vec3;
-use gonio_core::SampledSpectrum;
+use crate::sampler::Pcg32;
+use glam::{Vec2, Vec3};
 use gonio_core::color::linear_srgb_from_sampled;
 use gonio_core::mueller::{Mueller, Stokes, StokesBasis, StokesComponents};
 use gonio_core::weight::Weight;
+use gonio_core::{SampledSpectrum, SampledWavelengths};
 
 use super::caustics::LightSubpath;
 use crate::scene::IntegratorKind;
@@ -75,11 +82,32 @@ pub fn stokes_at_sensor(l: &Mueller, d: Vec3, up: Vec3) -> StokesComponents {
 }
 
 impl PathTracer<'_> {
-    /// One camera sample in polarized mode: the image is S0; with `stokes`, S0..S3 follow.
-    pub(super) fn sample_polarized(&self, sample: &mut CameraSample<'_>, value: &mut [f32]) {
+    /// One camera sample in polarized mode: the image is S0; with `stokes`, S0..S3 follow. With
+    /// caustic light paths, the light subpath carries Mueller matrices too and its connections
+    /// to the camera are splatted in the same channels.
+    pub(super) fn sample_polarized(
+        &self,
+        sample: &mut CameraSample<'_>,
+        value: &mut [f32],
+        splat: &mut dyn FnMut(Vec2, &[f32]),
+    ) {
         let l: Mueller = match self.kind {
             IntegratorKind::Path => {
-                let light = LightSubpath::new();
+                let mut light = LightSubpath::<Mueller>::empty();
+                if self.traces_caustics() {
+                    // As the spectral sample does: the same independent stream, traced first.
+                    let key = sample.sampler.key();
+                    let mut rng = Pcg32::new(key ^ LIGHT_PATH_KEY, key.rotate_left(29));
+                    let n = value.len();
+                    let mut to_film = |p: Vec2, m: Mueller, wl: &SampledWavelengths| {
+                        // The beam arrives at the camera along the matrix's output direction.
+                        let d = m.frames().map_or(Vec3::Z, |(_, out)| -out.forward());
+                        let mut buf = [0.0f32; STOKES_CHANNELS];
+                        self.write_channels(&m, d, wl, &mut buf[..n]);
+                        splat(p, &buf[..n]);
+                    };
+                    self.trace_light_path(&mut rng, &mut sample.wavelengths, &mut to_film, &mut light);
+                }
                 self.li(sample.ray, &mut sample.sampler, &mut sample.wavelengths, &light)
             }
             IntegratorKind::Direct {
@@ -90,10 +118,15 @@ impl PathTracer<'_> {
             // Never polarized (`PathTracer::new`).
             IntegratorKind::PTracer => Mueller::from_spectrum(SampledSpectrum::ZERO),
         };
-        let wl = &sample.wavelengths;
+        self.write_channels(&l, sample.ray.d, &sample.wavelengths, value);
+    }
+
+    /// The channels of a path's accumulated matrix `l` seen along the camera ray `d`: S0 as
+    /// `R, G, B`, and with `stokes` S0..S3 in the sensor basis.
+    fn write_channels(&self, l: &Mueller, d: Vec3, wl: &SampledWavelengths, value: &mut [f32]) {
         value[..3].copy_from_slice(&linear_srgb_from_sampled(l.intensity(), wl).to_array());
         if self.stokes {
-            let s = stokes_at_sensor(&l, sample.ray.d, self.sensor_up);
+            let s = stokes_at_sensor(l, d, self.sensor_up);
             for (k, sk) in s.iter().enumerate() {
                 let rgb = if sk.is_finite() {
                     linear_srgb_from_sampled(*sk, wl)
@@ -105,3 +138,6 @@ impl PathTracer<'_> {
         }
     }
 }
+
+/// Channels of the `stokes` integrator (`R, G, B` and four layers of three).
+const STOKES_CHANNELS: usize = 15;

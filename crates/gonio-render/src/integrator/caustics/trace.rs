@@ -4,6 +4,12 @@
 //! camera ([`PathTracer::keep_light_vertex`]), sample the BSDF in importance mode, then
 //! [`PathTracer::advance_light_walk`] (shading-normal correction, sheets, MIS densities, Russian
 //! roulette).
+//!
+//! Generic over what the subpath carries (`L`): a spectrum, or in polarized mode a Mueller
+//! matrix. The emitter is unpolarized (a depolarizer), and each vertex's importance-mode matrix
+//! (light arriving along −ωᵢ, leaving along ωₒ: [`gonio_core::bsdf::light_directions`]) is
+//! mapped to the implicit world bases of its beams and applied after what came before:
+//! β ← M·β, so β's first column is the Stokes vector of the light travelling along the walk.
 
 use super::super::{MAX_NULL_CROSSINGS, PathSampler, PathTracer};
 use super::{EmissionSampler, LightSubpath, LightVertex, MAX_CHAIN};
@@ -14,16 +20,17 @@ use crate::geometry::sampling::sample_area;
 use crate::geometry::{Ray, SurfaceInteraction, offset_ray_origin, spawn_ray_between};
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
-use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
+use gonio_core::weight::{BsdfWeight, Weight};
+use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledWavelengths};
 
 /// A light subpath being traced: where it goes and what it carries.
 #[derive(Clone, Copy, Debug)]
-struct LightWalk {
+struct LightWalk<L> {
     ray: Ray,
     /// Emitted radiance over the sampling densities, times the vertices' weights.
-    beta: SampledSpectrum,
-    /// The vertices' weights alone (Russian roulette looks at them).
-    throughput: SampledSpectrum,
+    beta: L,
+    /// The vertices' weights alone (Russian roulette looks at their intensity).
+    throughput: L,
     /// Product of the relative indices crossed since the light.
     eta: f32,
     /// The light-side density of the MIS ratio ([`LightVertex`]'s `light_density`).
@@ -40,11 +47,11 @@ struct LightWalk {
 
 /// What a light subpath needs besides its state: the emission sampler, the camera, and where
 /// its vertices and camera connections go.
-struct LightPathSink<'c, F> {
+struct LightPathSink<'c, F, L> {
     emission: &'c EmissionSampler,
     camera: &'c dyn Camera,
     splat: &'c mut F,
-    out: &'c mut LightSubpath,
+    out: &'c mut LightSubpath<L>,
 }
 
 /// A surface hit of a light subpath.
@@ -61,14 +68,18 @@ impl PathTracer<'_> {
     /// `out` (cleared first) for [`PathTracer::li`] and hands each connection to the camera to
     /// `splat` as (film position, unnormalized pixel estimate, wavelengths); the caller sums
     /// those into an image and divides by the number of light subpaths. Does nothing unless
-    /// [`PathTracer::traces_caustics`].
-    pub fn trace_light_path(
+    /// [`PathTracer::traces_caustics`]. In polarized mode (`L = Mueller`) a splatted matrix's
+    /// output basis is the implicit basis of the beam towards the camera and its first column
+    /// the Stokes vector that arrives.
+    pub fn trace_light_path<L: Weight>(
         &self,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
-        splat: &mut impl FnMut(Vec2, SampledSpectrum, &SampledWavelengths),
-        out: &mut LightSubpath,
-    ) {
+        splat: &mut impl FnMut(Vec2, L, &SampledWavelengths),
+        out: &mut LightSubpath<L>,
+    ) where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<L>,
+    {
         out.clear();
         let (Some(emission), Some(camera)) = (&self.caustics, self.camera) else {
             return;
@@ -92,12 +103,12 @@ impl PathTracer<'_> {
     /// The start of a light subpath: a light chosen by power (for a fraction `rate` of the
     /// camera samples), a uniform point on it, a direction aimed at the delta shapes;
     /// `β = Lₑ·cos θ_l/(p_sel·p_A·p_ω)`. `None` when this sample traces no light subpath.
-    fn emit_light_path(
+    fn emit_light_path<L: Weight>(
         &self,
         emission: &EmissionSampler,
         sampler: &mut impl PathSampler,
         wl: &SampledWavelengths,
-    ) -> Option<LightWalk> {
+    ) -> Option<LightWalk<L>> {
         let u_sel = sampler.next_1d();
         let u_pos = sampler.next_2d();
         let u_dir = sampler.next_2d();
@@ -126,8 +137,9 @@ impl PathTracer<'_> {
         }
         Some(LightWalk {
             ray: Ray::new(offset_ray_origin(s.p, s.n, dir), dir),
-            beta: le * (cos_l / (p_sel * s.pdf * dir_pdf)),
-            throughput: SampledSpectrum::ONE,
+            // Emitters are unpolarized: a depolarizer.
+            beta: L::from_spectrum(le * (cos_l / (p_sel * s.pdf * dir_pdf))),
+            throughput: L::ONE,
             eta: 1.0,
             light_density: p_sel * s.pdf * dir_pdf / cos_l,
             deltas: 0,
@@ -139,14 +151,17 @@ impl PathTracer<'_> {
     }
 
     /// One surface hit `si` of the light subpath: false when the subpath ends there.
-    fn light_path_vertex<F: FnMut(Vec2, SampledSpectrum, &SampledWavelengths)>(
+    fn light_path_vertex<L: Weight, F: FnMut(Vec2, L, &SampledWavelengths)>(
         &self,
-        sink: &mut LightPathSink<'_, F>,
-        walk: &mut LightWalk,
+        sink: &mut LightPathSink<'_, F, L>,
+        walk: &mut LightWalk<L>,
         si: &SurfaceInteraction,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
-    ) -> bool {
+    ) -> bool
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<L>,
+    {
         let Some(&m) = self.shape_material.get(si.shape as usize) else {
             return false;
         };
@@ -178,7 +193,8 @@ impl PathTracer<'_> {
                 if !walk.after_smooth && flags.has_smooth() && hit.cos_in_g > 0.0 {
                     self.keep_light_vertex(sink, walk, &hit, bsdf, wl);
                 }
-                let bs = bsdf.sample(&BsdfContext::importance(), hit.wi, u_lobe, u_bsdf, wl)?;
+                let bs: BsdfSample<L> =
+                    bsdf.sample_weight(&BsdfContext::importance(), hit.wi, u_lobe, u_bsdf, wl)?;
                 // For a smooth bounce, the path tracer's density of the reverse direction.
                 let eye_pdf = if bs.flags.is_delta() {
                     0.0
@@ -196,14 +212,16 @@ impl PathTracer<'_> {
 
     /// Keeps the smooth vertex `hit` (BSDF `bsdf`) for the camera path's connections and
     /// connects it to the camera.
-    fn keep_light_vertex<F: FnMut(Vec2, SampledSpectrum, &SampledWavelengths)>(
+    fn keep_light_vertex<L: Weight, F: FnMut(Vec2, L, &SampledWavelengths)>(
         &self,
-        sink: &mut LightPathSink<'_, F>,
-        walk: &LightWalk,
+        sink: &mut LightPathSink<'_, F, L>,
+        walk: &LightWalk<L>,
         hit: &LightHit,
-        bsdf: &dyn Bsdf,
+        bsdf: &SurfaceBsdf<'_>,
         wl: &SampledWavelengths,
-    ) {
+    ) where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<L>,
+    {
         let si = hit.si;
         let vertex = LightVertex {
             p: si.p,
@@ -225,11 +243,11 @@ impl PathTracer<'_> {
     /// After a BSDF sample at `hit`: the weight with the shading-normal correction, sheets
     /// crossed, the light-side MIS density, the chain bounds and Russian roulette. False when the
     /// subpath ends.
-    fn advance_light_walk(
+    fn advance_light_walk<L: Weight>(
         &self,
-        walk: &mut LightWalk,
+        walk: &mut LightWalk<L>,
         hit: &LightHit,
-        bs: &BsdfSample,
+        bs: &BsdfSample<L>,
         eye_pdf: f32,
         u_rr: f32,
     ) -> bool {
@@ -246,12 +264,13 @@ impl PathTracer<'_> {
         } else {
             0.0
         };
-        let weight = bs.weight * correction;
-        if !weight.is_finite() || weight.is_black() {
+        let weight = bs.weight.local_to_world(&si.shading) * correction;
+        if !weight.intensity().is_finite() || weight.is_black() {
             return false;
         }
-        walk.beta *= weight;
-        walk.throughput *= weight;
+        // Light order: this vertex acts after everything before it.
+        walk.beta = weight * walk.beta;
+        walk.throughput = weight * walk.throughput;
         walk.ray = si.spawn_ray(wo_world);
 
         if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
@@ -276,7 +295,7 @@ impl PathTracer<'_> {
             return false;
         }
         if walk.segments > self.rr_depth {
-            let q = walk.throughput.max_component().min(0.95);
+            let q = walk.throughput.intensity().max_component().min(0.95);
             if !(u_rr < q) {
                 return false;
             }
@@ -287,35 +306,40 @@ impl PathTracer<'_> {
     }
 
     /// The connection of light vertex `y` (BSDF `bsdf`) to the camera.
-    fn splat_to_camera(
+    fn splat_to_camera<L: Weight>(
         &self,
         camera: &dyn Camera,
-        bsdf: &dyn Bsdf,
-        y: &LightVertex,
+        bsdf: &SurfaceBsdf<'_>,
+        y: &LightVertex<L>,
         wl: &SampledWavelengths,
-        splat: &mut impl FnMut(Vec2, SampledSpectrum, &SampledWavelengths),
-    ) {
+        splat: &mut impl FnMut(Vec2, L, &SampledWavelengths),
+    ) where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<L>,
+    {
         let Some(c) = camera.connect(y.p) else {
             return;
         };
         let wo_cam = y.shading.to_local(c.dir);
-        let (f, pdf_y) = bsdf.eval_pdf(&BsdfContext::radiance(), wo_cam, y.wi, wl);
+        // Radiance mode with wi towards the camera: light arrives along −y.wi, leaves to the camera.
+        let (f, pdf_y): (L, f32) = bsdf.eval_pdf_weight(&BsdfContext::radiance(), wo_cam, y.wi, wl);
         if f.is_black() {
             return;
         }
+        let f = f.local_to_world(&y.shading);
         let cos_cam = y.n.dot(c.dir).abs();
         let g = y.wi.z.abs() / y.cos_chain * cos_cam / c.dist2;
-        let value = y.beta * f * (g * c.importance);
-        if value.is_black() || !value.is_finite() {
+        let value = f * y.beta * (g * c.importance);
+        if value.is_black() || !value.intensity().is_finite() {
             return;
         }
         let w = y.connection_weight(c.film_pdf * cos_cam / c.dist2, pdf_y);
         if !(w > 0.0) {
             return;
         }
-        let v: SampledSpectrum = self.visibility(spawn_ray_between(y.p, y.n, c.near_point, None), wl);
+        // The shadow ray leaves y and light travels along it, towards the camera.
+        let v: L = self.visibility(spawn_ray_between(y.p, y.n, c.near_point, None), wl, true);
         if !v.is_black() {
-            splat(c.film, value * v * w, wl);
+            splat(c.film, v * value * w, wl);
         }
     }
 }
