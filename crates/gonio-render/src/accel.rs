@@ -119,7 +119,9 @@ impl Iterator for PrimIter<'_> {
 }
 
 fn all_prims(shapes: &[WorldShape]) -> Vec<Prim> {
-    PrimIter::new(shapes).collect()
+    let mut prims = Vec::with_capacity(shapes.iter().map(prim_count).sum());
+    prims.extend(PrimIter::new(shapes));
+    prims
 }
 
 fn prim_aabb(shapes: &[WorldShape], p: &Prim) -> Aabb {
@@ -232,7 +234,8 @@ impl Accel {
         let start = std::time::Instant::now();
         let params = obvhs::BvhBuildParams::medium_build();
         let mut bvh2 = {
-            let aabbs: Vec<Aabb> = PrimIter::new(&shapes).map(|p| prim_aabb(&shapes, &p)).collect();
+            let mut aabbs: Vec<Aabb> = Vec::with_capacity(count);
+            aabbs.extend(PrimIter::new(&shapes).map(|p| prim_aabb(&shapes, &p)));
             let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(aabbs.len()).build(
                 params.ploc_search_distance,
                 &aabbs,
