@@ -206,7 +206,7 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         g = r["gonio"]
-        cells = [r["scene"], f"{g['t']:.2f}", f"{g.get('e', float('nan')):.2e}", f"{g.get('eb', float('nan')):.2e}"]
+        cells = [r["scene"], f"{g['t']:.2f}"] + [f"{g[k]:.2e}" if k in g else "-" for k in ["e", "eb"]]
         for v in ["scalar_spectral", "llvm_ad_spectral"]:
             m = r.get(v)
             if m and "e" in g and "e" in m:
