@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Render time of two gonio binaries on the shared scenes, interleaved (A B A B ...), same spp and
+"""Render time of two gonio binaries on the shared scenes (or any of bench.py's), interleaved (A B A B ...), same spp and
 seed: for refactors that must not slow anything down. Prints the median times and the ratio B/A
 with the spread of the per-pair ratios.
 
@@ -14,8 +14,8 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENES = ["materials", "cornell-spheres", "thin-vs-thick", "furnace"]
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from bench import SHARED_SCENES as SCENES, scene_files  # noqa: E402  (any bench scene may be named)
 
 
 def render_time(gonio, scene, spp, out):
@@ -38,7 +38,7 @@ def main():
     print("|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as tmp:
         for name in a.scenes:
-            scene = os.path.join(ROOT, "testdata", "mitsuba", "scenes", name + ".xml")
+            scene = scene_files(name)[0]
             render_time(a.new, scene, a.spp, os.path.join(tmp, "warm.exr"))
             old, new = [], []
             for _ in range(a.pairs):

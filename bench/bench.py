@@ -1,15 +1,29 @@
 #!/usr/bin/env python3
-"""Whole-render timing: gonio against Mitsuba 3.9.1 on the shared scenes, at the same spp.
+"""Whole-render timing: gonio against Mitsuba 3.9.1 on the bench scenes, at the same spp.
 
-For each scene of testdata/mitsuba/scenes this renders with
+Scenes (all by default):
+  * the shared scenes, `testdata/mitsuba/scenes/*.xml`, against the 4096-spp references of
+    `testdata/mitsuba/reference/`;
+  * the corpus's material previews `bsdf_roughplastic_ggx`, `bsdf_roughconductor_copper`,
+    `bsdf_roughdielectric_glass` (Mitsuba's documentation scenes at 240 x 180, mesh and
+    environment map from `testdata/mitsuba-corpus/common/`) and `terrain-1m` (1 008 200
+    triangles, its PLY written by `bench/make_terrain.py` on first use), all in `bench/scenes/`,
+    against the references `bench/make_references.py` renders into `bench/reference/`.
+
+Each scene is rendered with
   * gonio (`target/release/gonio render`, all cores, our default Sobol sampler),
-  * Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` (through ../shared/tools/mitsuba-render.py,
-    if a Python with `mitsuba` is given),
-several runs each at the same spp, and prints a Markdown table: median render time (scene loading
-excluded for both), relMSE against the 4096-spp reference (pixels, and 8x8-block means), and the
-equal-error time ratio gonio/Mitsuba = (t_gonio * relMSE_gonio) / (t_mitsuba * relMSE_mitsuba):
-for unbiased Monte Carlo relMSE ~ 1/spp, so that ratio is how much of Mitsuba's time gonio needs to
-reach Mitsuba's error.
+  * Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` (through `bench/mitsuba_render.py`,
+    if this Python has `mitsuba`),
+several runs each at the same spp, and prints two Markdown tables. The first: median render time
+(scene loading excluded for both), relMSE against the reference (pixels, and 8x8-block means),
+the equal-error time ratio gonio/Mitsuba = (t_gonio * relMSE_gonio) / (t_mitsuba *
+relMSE_mitsuba) (for unbiased Monte Carlo relMSE ~ 1/spp, so that ratio is how much of Mitsuba's
+time gonio needs to reach Mitsuba's error) and the throughput. The second: loading time (gonio:
+the process's wall-clock time minus its render time, i.e. parsing, mesh reading, BVH build and
+the image write; Mitsuba: `mi.load_file`, i.e. parsing, mesh reading and BVH build) and peak
+memory, the maximum resident set size of each renderer's process (`wait4`'s `ru_maxrss`; for
+Mitsuba that includes the Python interpreter and its libraries, measured alone as the
+"mitsuba import" figure).
 
 Polarized rows (`--polarized`): the scenes are the corpus's polarized ones
 (testdata/mitsuba-corpus/docs/scenes: `integrator_stokes_cbox` and `bsdf_pplastic_specular_stokes`
@@ -23,7 +37,9 @@ Usage (from the repository root, after `cargo build --release -p gonio`):
     python3 -m venv .venv-mitsuba && .venv-mitsuba/bin/pip install mitsuba==3.9.1 numpy
     apt-get install -y libllvm19    # for llvm_ad_spectral
     .venv-mitsuba/bin/python bench/bench.py [--spp 64] [--runs 3] [--scenes materials furnace]
-        [--mitsuba-tool ../shared/tools/mitsuba-render.py] [--no-mitsuba] [--polarized]
+        [--mitsuba-tool bench/mitsuba_render.py] [--no-mitsuba] [--polarized]
+    # once, for the relMSE columns of the bench-only scenes (minutes per scene):
+    .venv-mitsuba/bin/python bench/make_references.py
 
 Images are read with the `mitsuba` module's Bitmap; without it only gonio's timings are reported.
 Run it on an otherwise idle machine: the table compares wall-clock times.
@@ -37,10 +53,42 @@ import sys
 import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SCENES = ["materials", "cornell-spheres", "thin-vs-thick", "furnace"]
+BENCH = os.path.join(ROOT, "bench")
+SHARED_SCENES = ["materials", "cornell-spheres", "thin-vs-thick", "furnace"]
+BENCH_SCENES = ["bsdf_roughplastic_ggx", "bsdf_roughconductor_copper", "bsdf_roughdielectric_glass", "terrain-1m"]
+SCENES = SHARED_SCENES + BENCH_SCENES
 POLARIZED_SCENES = ["integrator_stokes_cbox", "bsdf_pplastic_specular_stokes"]
 VARIANTS = ["scalar_spectral", "llvm_ad_spectral"]
 POLARIZED_VARIANTS = ["scalar_spectral_polarized", "llvm_ad_spectral_polarized"]
+
+
+def scene_files(name):
+    """The scene's XML and its reference image (which may not exist yet)."""
+    if name in POLARIZED_SCENES:
+        d = os.path.join(ROOT, "testdata", "mitsuba-corpus")
+        return os.path.join(d, "docs", "scenes", name + ".xml"), os.path.join(d, "reference", name + ".exr")
+    if name in SHARED_SCENES:
+        d = os.path.join(ROOT, "testdata", "mitsuba")
+        return os.path.join(d, "scenes", name + ".xml"), os.path.join(d, "reference", name + ".exr")
+    if name == "terrain-1m" and not os.path.exists(os.path.join(BENCH, "scenes", "generated", "terrain-1m.ply")):
+        subprocess.run([sys.executable, os.path.join(BENCH, "make_terrain.py")], check=True)
+    return os.path.join(BENCH, "scenes", name + ".xml"), os.path.join(BENCH, "reference", name + ".exr")
+
+
+def run_measured(cmd, env=None):
+    """Runs `cmd`; returns (return code, stdout, stderr, wall seconds, peak RSS in MB) of that
+    process alone (`os.wait4`, not the cumulative RUSAGE_CHILDREN)."""
+    import time
+
+    with tempfile.TemporaryFile() as out, tempfile.TemporaryFile() as err:
+        t0 = time.perf_counter()
+        proc = subprocess.Popen(cmd, stdout=out, stderr=err, env=env)
+        _, status, usage = os.wait4(proc.pid, 0)
+        wall = time.perf_counter() - t0
+        proc.returncode = os.waitstatus_to_exitcode(status)
+        out.seek(0)
+        err.seek(0)
+        return proc.returncode, out.read().decode(), err.read().decode(), wall, usage.ru_maxrss / 1024.0
 
 
 def read_exr(path):
@@ -89,15 +137,12 @@ def relmse(a, b, block=1):
 
 
 def run_gonio(gonio, scene, spp, seed, out):
-    r = subprocess.run(
-        [gonio, "render", scene, "--spp", str(spp), "--seed", str(seed), "-o", out],
-        capture_output=True,
-        text=True,
-    )
-    if r.returncode != 0:
-        sys.exit(f"gonio failed on {scene}: {r.stderr}")
-    m = re.search(r"rendered in ([0-9.]+) s", r.stderr)
-    return float(m.group(1))
+    """(render seconds, loading seconds, peak RSS MB) of one gonio run."""
+    code, _, err, wall, rss = run_measured([gonio, "render", scene, "--spp", str(spp), "--seed", str(seed), "-o", out])
+    if code != 0:
+        sys.exit(f"gonio failed on {scene}: {err}")
+    t = float(re.search(r"rendered in ([0-9.]+) s", err).group(1))
+    return t, wall - t, rss
 
 
 def run_mitsuba(python, tool, scene, spp, variant, runs, out):
@@ -108,17 +153,21 @@ def run_mitsuba(python, tool, scene, spp, variant, runs, out):
                 env["DRJIT_LIBLLVM_PATH"] = cand
                 break
     # One extra run first: the LLVM variant compiles its kernels on the first render.
-    r = subprocess.run(
-        [python, tool, scene, out, "--variant", variant, "--spp", str(spp), "--repeat", str(runs + 1)],
-        capture_output=True,
-        text=True,
-        env=env,
+    code, stdout, stderr, _, rss = run_measured(
+        [python, tool, scene, out, "--variant", variant, "--spp", str(spp), "--repeat", str(runs + 1)], env
     )
-    if r.returncode != 0:
-        print(f"# mitsuba {variant} failed on {scene}: {r.stderr.strip().splitlines()[-1:]}", file=sys.stderr)
+    if code != 0:
+        print(f"# mitsuba {variant} failed on {scene}: {stderr.strip().splitlines()[-1:]}", file=sys.stderr)
         return None
-    times = [float(t) for t in re.findall(r"render=([0-9.]+)s", r.stdout)]
-    return times[1:]
+    times = [float(t) for t in re.findall(r"render=([0-9.]+)s", stdout)]
+    load = float(re.search(r"load=([0-9.]+)s", stdout).group(1))
+    return {"times": times[1:], "load": load, "rss": rss}
+
+
+def python_baseline_rss(python, variant):
+    """Peak RSS (MB) of a Python process that only imports mitsuba and sets the variant."""
+    code, _, _, _, rss = run_measured([python, "-c", f"import mitsuba as mi; mi.set_variant({variant!r})"])
+    return rss if code == 0 else None
 
 
 def main():
@@ -129,16 +178,12 @@ def main():
     p.add_argument("--polarized", action="store_true",
                    help="the polarized corpus scenes against Mitsuba's *_polarized variants")
     p.add_argument("--gonio", default=os.path.join(ROOT, "target", "release", "gonio"))
-    p.add_argument("--mitsuba-tool", default=os.path.join(ROOT, "..", "shared", "tools", "mitsuba-render.py"))
+    p.add_argument("--mitsuba-tool", default=os.path.join(BENCH, "mitsuba_render.py"))
     p.add_argument("--no-mitsuba", action="store_true")
     a = p.parse_args()
     if a.polarized:
-        scene_dir = os.path.join(ROOT, "testdata", "mitsuba-corpus", "docs", "scenes")
-        ref_dir = os.path.join(ROOT, "testdata", "mitsuba-corpus", "reference")
         variants, scenes = POLARIZED_VARIANTS, a.scenes or POLARIZED_SCENES
     else:
-        scene_dir = os.path.join(ROOT, "testdata", "mitsuba", "scenes")
-        ref_dir = os.path.join(ROOT, "testdata", "mitsuba", "reference")
         variants, scenes = VARIANTS, a.scenes or SCENES
 
     try:
@@ -152,24 +197,32 @@ def main():
     tmp = tempfile.mkdtemp(prefix="gonio-bench-")
     rows = []
     for name in scenes:
-        scene = os.path.join(scene_dir, name + ".xml")
-        ref = read_exr(os.path.join(ref_dir, name + ".exr")) if can_read else None
+        scene, ref_path = scene_files(name)
+        ref = read_exr(ref_path) if can_read and os.path.exists(ref_path) else None
+        if can_read and ref is None:
+            print(f"# {name}: no reference {ref_path} (bench/make_references.py): no relMSE", file=sys.stderr)
         out = os.path.join(tmp, f"{name}-gonio.exr")
-        times = [run_gonio(a.gonio, scene, a.spp, seed, out) for seed in range(a.runs)]
-        g = {"t": statistics.median(times)}
-        if can_read:
-            img = read_exr(out)
+        runs = [run_gonio(a.gonio, scene, a.spp, seed, out) for seed in range(a.runs)]
+        g = {
+            "t": statistics.median(r[0] for r in runs),
+            "load": statistics.median(r[1] for r in runs),
+            "rss": max(r[2] for r in runs),
+        }
+        img = read_exr(out) if can_read else None
+        if ref is not None:
             g["e"], g["eb"] = relmse(img, ref), relmse(img, ref, 8)
         result = {"scene": name, "gonio": g}
-        if can_read:
-            result["samples"] = ref.shape[0] * ref.shape[1] * a.spp
+        if img is not None:
+            result["samples"] = img.shape[0] * img.shape[1] * a.spp
         if have_mi:
             for variant in variants:
                 mout = os.path.join(tmp, f"{name}-{variant}.exr")
-                ts = run_mitsuba(sys.executable, a.mitsuba_tool, scene, a.spp, variant, a.runs, mout)
-                if ts:
-                    img = read_exr(mout)
-                    result[variant] = {"t": statistics.median(ts), "e": relmse(img, ref), "eb": relmse(img, ref, 8)}
+                m = run_mitsuba(sys.executable, a.mitsuba_tool, scene, a.spp, variant, a.runs, mout)
+                if m:
+                    result[variant] = {"t": statistics.median(m["times"]), "load": m["load"], "rss": m["rss"]}
+                    if ref is not None:
+                        mimg = read_exr(mout)
+                        result[variant].update(e=relmse(mimg, ref), eb=relmse(mimg, ref, 8))
         rows.append(result)
         print(f"# {name}: {result}", file=sys.stderr, flush=True)
 
@@ -182,18 +235,49 @@ def main():
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     for r in rows:
         g = r["gonio"]
-        cells = [r["scene"], f"{g['t']:.2f}", f"{g.get('e', float('nan')):.2e}", f"{g.get('eb', float('nan')):.2e}"]
+        cells = [r["scene"], f"{g['t']:.2f}"] + [f"{g[k]:.2e}" if k in g else "-" for k in ["e", "eb"]]
         for v in variants:
             m = r.get(v)
-            if m and "e" in g:
+            if m and "e" in g and "e" in m:
                 ratio = (g["t"] * g["e"]) / (m["t"] * m["e"])
                 cells += [f"{m['t']:.2f}", f"{m['e']:.2e}", f"{ratio:.2f}"]
+            elif m:
+                cells += [f"{m['t']:.2f}", "-", "-"]
             else:
                 cells += ["-", "-", "-"]
         n, cores = r.get("samples"), os.cpu_count() or 1
         tp = [r.get(k) for k in ["gonio"] + variants]
         cells.append(" / ".join(f"{n / (m['t'] * cores) / 1e3:.0f}" if (m and n) else "-" for m in tp))
         print("| " + " | ".join(cells) + " |")
+
+    print("\nLoading (gonio: process wall time minus render time, image write included; Mitsuba: "
+          "`mi.load_file`) and peak memory (max RSS of the process).")
+    if have_mi:
+        base = {v: python_baseline_rss(sys.executable, v) for v in variants}
+        print("Python importing mitsuba alone: " + ", ".join(
+            f"{v} {m:.0f} MB" for v, m in base.items() if m is not None) + ".")
+    print()
+    print("| scene | triangles | gonio load s | scalar load s | LLVM load s | gonio peak MB | scalar peak MB | "
+          "LLVM peak MB | memory gonio / min(Mitsuba) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        ms = [r.get(k) for k in ["gonio"] + variants]
+        mis = [m["rss"] for m in ms[1:] if m]
+        cells = [r["scene"], triangle_count(r["scene"])]
+        cells += [f"{m['load']:.2f}" if m else "-" for m in ms]
+        cells += [f"{m['rss']:.0f}" if m else "-" for m in ms]
+        cells.append(f"{ms[0]['rss'] / min(mis):.2f}" if mis else "-")
+        print("| " + " | ".join(cells) + " |")
+
+
+def triangle_count(name):
+    """Triangles of the generated terrain (from its PLY header); '-' for the other scenes."""
+    if name != "terrain-1m":
+        return "-"
+    with open(os.path.join(BENCH, "scenes", "generated", "terrain-1m.ply"), "rb") as f:
+        head = f.read(512).decode("ascii", "replace")
+    m = re.search(r"element face (\d+)", head)
+    return f"{int(m.group(1)):,}".replace(",", " ") if m else "?"
 
 
 if __name__ == "__main__":

@@ -65,18 +65,62 @@ impl std::fmt::Debug for Accel {
     }
 }
 
-fn all_prims(shapes: &[WorldShape]) -> Vec<Prim> {
-    let mut prims = Vec::new();
-    for (s, shape) in shapes.iter().enumerate() {
-        match &shape.kind {
-            ShapeKind::Mesh(m) => prims.extend((0..m.indices.len()).map(|i| Prim::Tri {
-                p: m.tri(i),
-                shape: s as u32,
-                prim: i as u32,
-            })),
-            _ => prims.push(Prim::Analytic { shape: s as u32 }),
+/// How many primitives `shape` contributes: its triangles, or 1 for an analytic shape.
+fn prim_count(shape: &WorldShape) -> usize {
+    match &shape.kind {
+        ShapeKind::Mesh(m) => m.indices.len(),
+        _ => 1,
+    }
+}
+
+/// Primitive `i` of shape `s`.
+fn make_prim(shapes: &[WorldShape], s: usize, i: usize) -> Prim {
+    match &shapes[s].kind {
+        ShapeKind::Mesh(m) => Prim::Tri {
+            p: m.tri(i),
+            shape: s as u32,
+            prim: i as u32,
+        },
+        _ => Prim::Analytic { shape: s as u32 },
+    }
+}
+
+/// The primitives of all shapes in scene order, made on the fly.
+struct PrimIter<'a> {
+    shapes: &'a [WorldShape],
+    shape: usize,
+    prim: usize,
+}
+
+impl<'a> PrimIter<'a> {
+    fn new(shapes: &'a [WorldShape]) -> Self {
+        Self {
+            shapes,
+            shape: 0,
+            prim: 0,
         }
     }
+}
+
+impl Iterator for PrimIter<'_> {
+    type Item = Prim;
+    fn next(&mut self) -> Option<Prim> {
+        while self.shape < self.shapes.len() {
+            if self.prim < prim_count(&self.shapes[self.shape]) {
+                let p = make_prim(self.shapes, self.shape, self.prim);
+                self.prim += 1;
+                return Some(p);
+            }
+            self.shape += 1;
+            self.prim = 0;
+        }
+        None
+    }
+}
+
+fn all_prims(shapes: &[WorldShape]) -> Vec<Prim> {
+    let mut prims = Vec::with_capacity(shapes.iter().map(prim_count).sum());
+    prims.extend(PrimIter::new(shapes));
     prims
 }
 
@@ -163,36 +207,78 @@ fn to_obvhs(ray: &Ray) -> obvhs::ray::Ray {
 
 impl Accel {
     /// Builds the BVH (obvhs PLOC with reinsertion, `medium_build` settings, then CWBVH).
+    ///
+    /// The steps of `obvhs::cwbvh::builder::build_cwbvh`, in the same order with the same
+    /// parameters (so the same tree), but arranged for peak memory, which a 1M-triangle mesh
+    /// makes matter: the primitive records are made only after the tree, directly in leaf order,
+    /// and the input boxes are dropped before the conversion to CWBVH (whose cost table,
+    /// 7 entries per binary node, is the largest allocation of the build). Before: 389 MB peak
+    /// resident for the 1 008 200-triangle `bench/scenes/terrain-1m.xml` (see bench/RESULTS.md).
     pub fn new(shapes: Vec<WorldShape>) -> Self {
-        let prims = all_prims(&shapes);
+        let count: usize = shapes.iter().map(prim_count).sum();
         let mut build_time = Duration::ZERO;
-        if prims.is_empty() {
+        if count <= flat::MAX_PRIMS {
+            let prims = all_prims(&shapes);
+            let flat = (!prims.is_empty()).then(|| {
+                let aabbs: Vec<Aabb> = prims.iter().map(|p| prim_aabb(&shapes, p)).collect();
+                flat::FlatBoxes::new(&aabbs)
+            });
             return Self {
                 shapes,
                 bvh: None,
-                flat: None,
-                prims,
-                build_time,
-            };
-        }
-        let aabbs: Vec<Aabb> = prims.iter().map(|p| prim_aabb(&shapes, p)).collect();
-        if prims.len() <= flat::MAX_PRIMS {
-            return Self {
-                shapes,
-                bvh: None,
-                flat: Some(flat::FlatBoxes::new(&aabbs)),
+                flat,
                 prims,
                 build_time,
             };
         }
         let start = std::time::Instant::now();
-        let bvh = obvhs::cwbvh::builder::build_cwbvh(
-            &aabbs,
-            obvhs::BvhBuildParams::medium_build(),
-            &mut Duration::default(),
+        let params = obvhs::BvhBuildParams::medium_build();
+        let mut bvh2 = {
+            let mut aabbs: Vec<Aabb> = Vec::with_capacity(count);
+            aabbs.extend(PrimIter::new(&shapes).map(|p| prim_aabb(&shapes, &p)));
+            let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(aabbs.len()).build(
+                params.ploc_search_distance,
+                &aabbs,
+                (0..aabbs.len() as u32).collect(),
+                params.sort_precision,
+                params.search_depth_threshold,
+            );
+            obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
+                &mut bvh2,
+                params.reinsertion_batch_ratio,
+                None,
+            );
+            bvh2
+        };
+        // Parent links and other side tables are not needed by the conversion.
+        bvh2.parents = Vec::new();
+        bvh2.primitives_to_nodes = Vec::new();
+        let bvh = obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(
+            &bvh2,
+            params.max_prims_per_leaf.clamp(1, 3),
+            true,
+            false,
         );
+        drop(bvh2);
         build_time = start.elapsed();
-        let prims = bvh.primitive_indices.iter().map(|&i| prims[i as usize]).collect();
+        // Primitive records in leaf order, from each leaf's scene-order number.
+        let firsts: Vec<usize> = shapes
+            .iter()
+            .scan(0, |n, s| {
+                let first = *n;
+                *n += prim_count(s);
+                Some(first)
+            })
+            .collect();
+        let prims = bvh
+            .primitive_indices
+            .iter()
+            .map(|&i| {
+                let i = i as usize;
+                let s = firsts.partition_point(|&f| f <= i) - 1;
+                make_prim(&shapes, s, i - firsts[s])
+            })
+            .collect();
         Self {
             shapes,
             bvh: Some(bvh),
