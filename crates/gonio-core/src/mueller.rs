@@ -256,6 +256,18 @@ impl MuellerMatrix {
         m
     }
 
+    /// True when every output is unpolarized (rows S1..S3 exactly zero at every wavelength, as a
+    /// depolarizer's and every product that ends in one): the output basis carries no meaning.
+    fn output_unpolarized(&self) -> bool {
+        self.0[1..].iter().all(|row| row.iter().all(|v| v.is_black()))
+    }
+
+    /// True when the output depends on the input's intensity only (columns S1..S3 exactly zero):
+    /// the input basis carries no meaning.
+    fn reads_intensity_only(&self) -> bool {
+        self.0.iter().all(|row| row[1..].iter().all(|v| v.is_black()))
+    }
+
     /// True when M commutes with every rotator (frame-free elements).
     fn rotation_invariant(&self) -> bool {
         let r = Self::rotator(0.37);
@@ -550,12 +562,15 @@ impl Mueller {
     }
 
     /// `self * b` (b first), or the mismatch of `b`'s output basis and `self`'s input basis.
+    /// The bases need not meet where one side makes them meaningless: `b`'s light leaves
+    /// unpolarized (a depolarizer's product: light order after a diffuse vertex), or `self` reads
+    /// its intensity only.
     #[inline]
     pub fn try_mul(&self, b: &Mueller) -> Result<Mueller, FrameMismatch> {
         let frames = match (self.frames, b.frames) {
             (None, f) | (f, None) => f,
             (Some((ai, ao)), Some((bi, bo))) => {
-                if !ai.same_as(&bo) {
+                if !ai.same_as(&bo) && !b.m.output_unpolarized() && !self.m.reads_intensity_only() {
                     return Err(FrameMismatch {
                         expected: ai,
                         found: bo,
@@ -597,7 +612,7 @@ impl Mueller {
     pub fn try_apply(&self, s: &Stokes) -> Result<Stokes, FrameMismatch> {
         match (self.frames, s.basis) {
             (Some((i, o)), Some(b)) => {
-                if !i.same_as(&b) {
+                if !i.same_as(&b) && !self.m.reads_intensity_only() {
                     return Err(FrameMismatch {
                         expected: i,
                         found: b,

@@ -76,6 +76,40 @@ fn a_product_with_mismatched_frames_is_an_error() {
     assert!(a.try_mul(&b.in_bases(beam(), beam())).is_ok());
 }
 
+/// Light that leaves an element unpolarized has no basis to match: a framed product ending in a
+/// depolarizer (a diffuse vertex after a thin sheet, in light order) composes with an element
+/// stated in any basis, and so does one that reads intensity only; a polarizing junction still
+/// has to match.
+#[test]
+fn bases_need_not_meet_where_the_light_is_unpolarized() {
+    let one = SampledSpectrum::ONE;
+    let sheet = Mueller::linear_polarizer(one, turned(0.4));
+    let diffuse_after_sheet = Mueller::depolarizer(one * 0.3) * sheet;
+    let next = Mueller::linear_polarizer(one, beam());
+    let product = next
+        .try_mul(&diffuse_after_sheet)
+        .expect("the junction carries unpolarized light");
+    // Intensity: 0.3 · ½ (the sheet) · ½ (the second polarizer on unpolarized light).
+    let out = product.apply(&Stokes::unpolarized(one));
+    assert!(
+        close(out.components()[0][0], 0.075, 1e-7),
+        "{:?}",
+        out.components()
+    );
+    let reads_intensity = Mueller::depolarizer(one) * Mueller::linear_polarizer(one, beam());
+    assert!(
+        reads_intensity.try_mul(&sheet).is_err(),
+        "the polarizer reads the polarization"
+    );
+    let detector =
+        Mueller::depolarizer(one * 2.0) * Mueller::linear_polarizer(one, beam()).in_bases(beam(), beam());
+    assert!(detector.try_apply(&Stokes::new([one; 4], turned(0.4))).is_err());
+    assert!(
+        next.try_mul(&sheet).is_err(),
+        "a polarizing junction still has to match"
+    );
+}
+
 #[test]
 #[cfg(debug_assertions)]
 #[should_panic(expected = "Stokes frames differ")]

@@ -174,7 +174,23 @@ fn orthographic_rays_are_parallel_from_the_scaled_near_plane() {
         let back = c.project(r.o + r.d * 3.0).unwrap();
         assert!((back - film).length() < 1e-3, "{back:?} vs {film:?}");
     }
-    assert!(!c.connects() && c.connect(Vec3::ZERO).is_none());
+    // Light tracing connects a point straight along the axis (`ptracer`); the caustic light
+    // paths' MIS cannot weigh that delta direction, so the camera does not offer it to them.
+    assert!(!c.connects());
+    let k = c.connect(Vec3::new(1.0, 0.5, 0.0)).expect("in front of the film");
+    assert!((k.film - Vec2::new(150.0, 25.0)).length() < 1e-3, "{:?}", k.film);
+    assert!(
+        (k.dir - Vec3::Z).length() < 1e-6 && k.film_pdf == 0.0,
+        "{:?}",
+        k.dir
+    );
+    // Importance d²/A_pix: the film spans 4 × 2 world units over 200 × 100 pixels.
+    assert!(
+        (k.importance / k.dist2 - 1.0 / (8.0 / 20_000.0)).abs() < 1e-2 * 2500.0,
+        "{}",
+        k.importance
+    );
+    assert!(c.connect(Vec3::new(0.0, 0.0, 6.0)).is_none(), "behind the camera");
 }
 
 #[test]
