@@ -21,15 +21,13 @@
 //! | `scale`          | float   | 1       |
 //! | (nested plugin)  | bsdf    | required, exactly one |
 
-use super::normalmap::one_nested;
-use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, ShadingPoint, SurfaceMaterial};
+use super::normalmap::{FramePerturbation, one_nested};
+use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, ShadingPoint};
 use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag};
 use glam::{Vec2, Vec3};
-use gonio_core::bsdfs::surface::TooManyNodes;
-use gonio_core::bsdfs::{PerturbedFrame, SurfaceBsdf};
+use gonio_core::Frame;
 use gonio_core::spectra::RgbKind;
-use gonio_core::{Bsdf, BsdfFlags, Frame, SampledWavelengths};
 
 const SCALE: ParamSpec = ParamSpec::new(
     "scale",
@@ -127,43 +125,12 @@ pub struct BumpMapMaterial {
     pub nested: Material,
 }
 
-impl SurfaceMaterial for BumpMapMaterial {
-    fn flags(&self) -> BsdfFlags {
-        self.nested.flags()
+impl FramePerturbation for BumpMapMaterial {
+    fn nested(&self) -> &Material {
+        &self.nested
     }
-    fn is_textured(&self) -> bool {
-        true
-    }
-    fn node_count(&self) -> usize {
-        1 + self.nested.as_surface().node_count()
-    }
-    fn asks_for_polarization(&self) -> bool {
-        self.nested.as_surface().asks_for_polarization()
-    }
-    fn push<'a>(
-        &'a self,
-        uv: Vec2,
-        wl: &SampledWavelengths,
-        tree: &mut SurfaceBsdf<'a>,
-    ) -> Result<u8, TooManyNodes> {
-        self.push_at(&ShadingPoint::flat(uv), wl, tree)
-    }
-    fn push_at<'a>(
-        &'a self,
-        at: &ShadingPoint,
-        wl: &SampledWavelengths,
-        tree: &mut SurfaceBsdf<'a>,
-    ) -> Result<u8, TooManyNodes> {
-        let child = self.nested.as_surface().push_at(at, wl, tree)?;
-        let frame = bumpmap_frame(at, self.scale * self.height.eval_1_grad(at.uv));
-        tree.push_perturbed(frame, child)
-    }
-    fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
-        let at = ShadingPoint::flat(uv);
-        let frame = bumpmap_frame(&at, self.scale * self.height.eval_1_grad(uv));
-        self.nested
-            .as_surface()
-            .visit(uv, &mut |b: &dyn Bsdf| f(&PerturbedFrame::new(frame, b)))
+    fn frame_at(&self, at: &ShadingPoint) -> Frame {
+        bumpmap_frame(at, self.scale * self.height.eval_1_grad(at.uv))
     }
 }
 

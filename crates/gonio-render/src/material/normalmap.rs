@@ -135,18 +135,36 @@ impl NormalMapMaterial {
     }
 }
 
-impl SurfaceMaterial for NormalMapMaterial {
+impl FramePerturbation for NormalMapMaterial {
+    fn nested(&self) -> &Material {
+        &self.nested
+    }
+    fn frame_at(&self, at: &ShadingPoint) -> Frame {
+        self.frame(at.uv, at.dpdu)
+    }
+}
+
+/// A material that shows its nested BSDF through a perturbed shading frame (`normalmap`,
+/// `bumpmap`): the frame at a shading point is all that differs.
+pub(super) trait FramePerturbation: Send + Sync + std::fmt::Debug + 'static {
+    /// The BSDF seen through the frame.
+    fn nested(&self) -> &Material;
+    /// The perturbed shading frame at `at`.
+    fn frame_at(&self, at: &ShadingPoint) -> Frame;
+}
+
+impl<T: FramePerturbation> SurfaceMaterial for T {
     fn flags(&self) -> BsdfFlags {
-        self.nested.flags()
+        self.nested().flags()
     }
     fn is_textured(&self) -> bool {
         true
     }
     fn node_count(&self) -> usize {
-        1 + self.nested.as_surface().node_count()
+        1 + self.nested().as_surface().node_count()
     }
     fn asks_for_polarization(&self) -> bool {
-        self.nested.as_surface().asks_for_polarization()
+        self.nested().as_surface().asks_for_polarization()
     }
     fn push<'a>(
         &'a self,
@@ -162,12 +180,12 @@ impl SurfaceMaterial for NormalMapMaterial {
         wl: &SampledWavelengths,
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes> {
-        let child = self.nested.as_surface().push_at(at, wl, tree)?;
-        tree.push_perturbed(self.frame(at.uv, at.dpdu), child)
+        let child = self.nested().as_surface().push_at(at, wl, tree)?;
+        tree.push_perturbed(self.frame_at(at), child)
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
-        let frame = self.frame(uv, ShadingPoint::flat(uv).dpdu);
-        self.nested
+        let frame = self.frame_at(&ShadingPoint::flat(uv));
+        self.nested()
             .as_surface()
             .visit(uv, &mut |b: &dyn Bsdf| f(&PerturbedFrame::new(frame, b)))
     }
