@@ -586,3 +586,64 @@ fn differentiable_integrators_are_their_primal_integrators() {
         assert!(load_scene_str(&text, data(), &[]).is_err(), "{bad}");
     }
 }
+
+/// `LoadOptions::mitsuba_estimators` (`gonio render --mitsuba-estimators`) turns every default of
+/// ours that departs from Mitsuba's estimator to Mitsuba's value, and only the defaults: a value
+/// written in the scene still wins.
+#[test]
+fn mitsuba_estimators_restore_mitsubas_defaults_only() {
+    use gonio_core::bsdfs::roughplastic::CoatAverages;
+    use gonio_render::material::roughplastic::RoughPlasticMaterial;
+    use gonio_render::xml::{LoadOptions, load_scene_file_with};
+    let scene = |integrator: &str, coat: &str, delta: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+                 <integrator type="path">{integrator}</integrator>
+                 <bsdf type="roughplastic" id="rp">{coat}</bsdf>
+                 <bsdf type="blendbsdf" id="bl"><float name="weight" value="0.5"/>{delta}
+                   <bsdf type="diffuse"/><bsdf type="conductor"/></bsdf>
+                 <shape type="sphere"><ref id="rp"/></shape>
+                 <shape type="sphere"><ref id="bl"/></shape>
+               </scene>"#
+        )
+    };
+    let dir = std::env::temp_dir().join(format!("gonio-mitsuba-estimators-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let load = |text: String, mitsuba: bool| {
+        let path = dir.join("scene.xml");
+        std::fs::write(&path, text).unwrap();
+        let options = LoadOptions {
+            mitsuba_estimators: mitsuba,
+            ..LoadOptions::default()
+        };
+        let s = load_scene_file_with(&path, &options).unwrap().scene;
+        let coat = s
+            .materials
+            .iter()
+            .find_map(|m| m.get::<RoughPlasticMaterial>())
+            .unwrap()
+            .model
+            .coat
+            .averages();
+        let delta = s
+            .materials
+            .iter()
+            .find_map(|m| m.get::<BlendMaterial>())
+            .unwrap()
+            .mitsuba_delta_pdf;
+        (s.integrator.thin_shadows, s.integrator.caustic_paths, coat, delta)
+    };
+    let bare = scene("", "", "");
+    assert_eq!(
+        load(bare.clone(), false),
+        (true, true, CoatAverages::Exact, false)
+    );
+    assert_eq!(load(bare, true), (false, false, CoatAverages::Mitsuba, true));
+    let written = scene(
+        r#"<boolean name="thin_shadows" value="true"/><boolean name="caustic_paths" value="true"/>"#,
+        r#"<string name="coat_averages" value="exact"/>"#,
+        r#"<string name="delta_pdf" value="exact"/>"#,
+    );
+    assert_eq!(load(written, true), (true, true, CoatAverages::Exact, false));
+    let _ = std::fs::remove_dir_all(&dir);
+}

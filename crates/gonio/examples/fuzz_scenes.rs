@@ -64,6 +64,10 @@ const HOSTILE: &[&str] = &[
 /// Applies one random mutation to `text`.
 fn mutate(text: &str, rng: &mut Rng) -> String {
     let lines: Vec<&str> = text.lines().collect();
+    if lines.is_empty() {
+        // An earlier mutation truncated the scene to nothing: nothing left to mutate.
+        return text.to_string();
+    }
     match rng.below(8) {
         // Flip a byte to a random printable character.
         0 => {
@@ -212,6 +216,37 @@ fn message_kind(msg: &str) -> String {
         .join(" ")
 }
 
+/// The seed's relative `<path value="…"/>` search paths made absolute, and the seed's own folder
+/// added as one: mutants are written to a scratch folder, and a seed whose meshes and textures
+/// are not found would only ever test the "file not found" error.
+fn anchor_paths(text: &str, dir: &Path) -> String {
+    let dir = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    let mut out = String::with_capacity(text.len() + 100);
+    let mut rest = text;
+    const KEY: &str = "<path value=\"";
+    while let Some(i) = rest.find(KEY) {
+        out.push_str(&rest[..i + KEY.len()]);
+        rest = &rest[i + KEY.len()..];
+        let end = rest.find('"').unwrap_or(rest.len());
+        let value = &rest[..end];
+        if Path::new(value).is_relative() {
+            out.push_str(&dir.join(value).to_string_lossy());
+        } else {
+            out.push_str(value);
+        }
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    // The seed's own folder, right after the opening `<scene …>` tag.
+    match out
+        .find("<scene")
+        .and_then(|i| out[i..].find('>').map(|j| i + j + 1))
+    {
+        Some(k) => format!("{}<path value=\"{}\"/>{}", &out[..k], dir.display(), &out[k..]),
+        None => out,
+    }
+}
+
 fn main() {
     let mut args = std::env::args().skip(1);
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -242,9 +277,10 @@ fn main() {
         for e in std::fs::read_dir(d).unwrap_or_else(|e| panic!("{}: {e}", d.display())) {
             let p = e.unwrap().path();
             if p.extension().is_some_and(|x| x == "xml") {
+                let text = std::fs::read_to_string(&p).unwrap();
                 seeds.push((
                     p.file_stem().unwrap().to_string_lossy().into(),
-                    std::fs::read_to_string(&p).unwrap(),
+                    anchor_paths(&text, d),
                 ));
             }
         }
@@ -253,6 +289,13 @@ fn main() {
     std::fs::create_dir_all(&corpus).unwrap();
     let work = std::env::temp_dir().join(format!("gonio-fuzz-{}", std::process::id()));
     std::fs::create_dir_all(&work).unwrap();
+    // Saved cases live in `testdata/fuzz/<corpus|findings>/`: their absolute search paths become
+    // relative to that folder, so the replay test finds the seeds' files in any clone.
+    let root_abs = std::fs::canonicalize(&root)
+        .unwrap()
+        .to_string_lossy()
+        .into_owned();
+    let portable = |m: &str| m.replace(&root_abs, "../../..");
     let mut rng = Rng(seed);
     let mut kinds: BTreeSet<String> = BTreeSet::new();
     let (mut rendered, mut refused, mut timed_out, mut found) = (0, 0, 0, 0);
@@ -274,7 +317,7 @@ fn main() {
             Outcome::Refused(msg) => {
                 refused += 1;
                 if kinds.insert(message_kind(&msg)) && m.len() < 20_000 {
-                    std::fs::write(corpus.join(format!("{name}-s{seed}-{case}.xml")), &m).unwrap();
+                    std::fs::write(corpus.join(format!("{name}-s{seed}-{case}.xml")), portable(&m)).unwrap();
                 }
             }
             Outcome::TimedOut => {
@@ -292,7 +335,7 @@ fn main() {
                 found += 1;
                 std::fs::create_dir_all(&findings).unwrap();
                 let f = findings.join(format!("{name}-s{seed}-{case}.xml"));
-                std::fs::write(&f, &m).unwrap();
+                std::fs::write(&f, portable(&m)).unwrap();
                 eprintln!("FINDING case {case}: {why} ({})", f.display());
             }
         }

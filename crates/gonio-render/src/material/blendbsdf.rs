@@ -21,7 +21,8 @@ const DELTA_PDF: ParamSpec = ParamSpec::new(
     ParamType::String,
     DefaultValue::Str("exact"),
     "(ours) a delta child's sampled outcome: `exact` (weight f_δ/P(select)) or `mitsuba` (Mitsuba 3.9.1's estimator, which adds the discrete probability to the other child's density: biased for delta + smooth mixes, for comparisons)",
-);
+)
+.mitsuba(DefaultValue::Str("mitsuba"));
 const NESTED: ParamSpec = ParamSpec::new(
     "(nested bsdf)",
     ParamType::Bsdf,
@@ -57,8 +58,11 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
             ));
         }
     }
-    let mitsuba_delta_pdf =
-        p.choice(DELTA_PDF.name, DELTA_PDF.default.str(), &["exact", "mitsuba"])? == "mitsuba";
+    let mitsuba_delta_pdf = p.choice(
+        DELTA_PDF.name,
+        p.default_of(&DELTA_PDF).str(),
+        &["exact", "mitsuba"],
+    )? == "mitsuba";
     let kids = p.objects(Tag::Bsdf)?;
     if kids.len() != 2 {
         return Err(SceneError::new(

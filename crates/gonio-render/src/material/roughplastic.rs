@@ -45,7 +45,8 @@ const COAT_AVERAGES: ParamSpec = ParamSpec::new(
     ParamType::String,
     DefaultValue::Str("exact"),
     "(ours) the coat's transmittance table and internal reflectance: `exact` (energy ≤ 1) or `mitsuba` (Mitsuba 3.9.1's 64-node tables)",
-);
+)
+.mitsuba(DefaultValue::Str("mitsuba"));
 
 /// The `roughplastic` plugin.
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
@@ -139,7 +140,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
     let sample_visible = p.bool(SAMPLE_VISIBLE.name, SAMPLE_VISIBLE.default.bool())?;
     let averages = match p.choice(
         COAT_AVERAGES.name,
-        COAT_AVERAGES.default.str(),
+        p.default_of(&COAT_AVERAGES).str(),
         &["exact", "mitsuba"],
     )? {
         "mitsuba" => CoatAverages::Mitsuba,

@@ -179,7 +179,9 @@ pub fn plugins_markdown() -> String {
     let mut s = String::from(
         "# Plugins\n\nGenerated from the plugins' parameter tables (`crates/gonio-render/src/plugins/` and,\n\
          for BSDFs, `crates/gonio-render/src/material/`); a test keeps this file in step with them.\n\
-         Names, types and defaults are Mitsuba 3's unless marked (ours).\n",
+         Names, types and defaults are Mitsuba 3's unless marked (ours). Where a default of ours\n\
+         departs from Mitsuba's estimator, \"Mitsuba:\" gives the value that restores it, the default\n\
+         under `gonio render --mitsuba-estimators`.\n",
     );
     let mut last = "";
     for kind in all_kinds() {

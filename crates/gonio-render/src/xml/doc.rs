@@ -138,6 +138,9 @@ pub(crate) struct Doc {
     pub search_paths: Vec<PathBuf>,
     /// The folder of the scene file itself (None for a lone `<bsdf>` document).
     pub scene_dir: Option<PathBuf>,
+    /// Parameters of ours that depart from Mitsuba's estimators default to Mitsuba's values
+    /// ([`super::LoadOptions::mitsuba_estimators`]).
+    pub mitsuba_estimators: bool,
 }
 
 impl Doc {

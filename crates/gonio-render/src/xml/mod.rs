@@ -43,6 +43,38 @@ pub struct LoadedScene {
     pub warnings: Vec<String>,
 }
 
+/// How a scene file is read, beyond its text.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct LoadOptions {
+    /// `-D name=value` overrides of `<default>` parameters; a define the scene never uses is an
+    /// error.
+    pub defines: Vec<(String, String)>,
+    /// Mitsuba 3.9.1's estimators where gonio's defaults depart from them to keep the physics
+    /// right (`gonio render --mitsuba-estimators`): every parameter of ours whose table row has a
+    /// [`ParamSpec::mitsuba`] value defaults to it (thin glass blocks shadow rays, no caustic
+    /// light subpaths, `roughplastic` with Mitsuba's coat tables, `blendbsdf` with Mitsuba's delta
+    /// pdf). A value written in the scene still wins. For side-by-side comparisons with Mitsuba.
+    pub mitsuba_estimators: bool,
+}
+
+/// Reads a scene file with [`LoadOptions`], also returning the warnings.
+pub fn load_scene_file_with(
+    path: impl AsRef<Path>,
+    options: &LoadOptions,
+) -> Result<LoadedScene, SceneError> {
+    let path = path.as_ref();
+    let name: Arc<str> = path.display().to_string().into();
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        SceneError::new(
+            Location::file_only(name.clone()),
+            ErrorKind::Io,
+            format!("cannot read scene file: {e}"),
+        )
+    })?;
+    let dir = path.parent().map(Path::to_owned).unwrap_or_default();
+    load(&text, name, dir, path.canonicalize().ok(), options)
+}
+
 /// Reads a scene file. `defines` are `-D name=value` overrides of `<default>` parameters; a
 /// define the scene never uses is an error. Relative file names resolve against the scene's
 /// folder.
@@ -55,17 +87,13 @@ pub fn load_scene_file_with_warnings(
     path: impl AsRef<Path>,
     defines: &[(String, String)],
 ) -> Result<LoadedScene, SceneError> {
-    let path = path.as_ref();
-    let name: Arc<str> = path.display().to_string().into();
-    let text = std::fs::read_to_string(path).map_err(|e| {
-        SceneError::new(
-            Location::file_only(name.clone()),
-            ErrorKind::Io,
-            format!("cannot read scene file: {e}"),
-        )
-    })?;
-    let dir = path.parent().map(Path::to_owned).unwrap_or_default();
-    load(&text, name, dir, path.canonicalize().ok(), defines)
+    load_scene_file_with(
+        path,
+        &LoadOptions {
+            defines: defines.to_vec(),
+            ..LoadOptions::default()
+        },
+    )
 }
 
 /// Reads a scene from text; relative file names resolve against `base_dir`.
@@ -88,7 +116,10 @@ pub fn load_scene_str_with_warnings(
         "<string>".into(),
         base_dir.as_ref().to_owned(),
         None,
-        defines,
+        &LoadOptions {
+            defines: defines.to_vec(),
+            ..LoadOptions::default()
+        },
     )
 }
 
@@ -97,9 +128,10 @@ fn load(
     name: Arc<str>,
     dir: std::path::PathBuf,
     canonical: Option<std::path::PathBuf>,
-    defines: &[(String, String)],
+    options: &LoadOptions,
 ) -> Result<LoadedScene, SceneError> {
-    let mut parser = Parser::new(defines);
+    let mut parser = Parser::new(&options.defines);
+    parser.doc.mitsuba_estimators = options.mitsuba_estimators;
     parser.parse_scene_text(text, name.clone(), dir, canonical)?;
     parser.check_defines_used(&name)?;
     let (scene, warnings) = plugins::Builder::new(&parser.doc).scene()?;

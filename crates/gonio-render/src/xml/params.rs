@@ -139,6 +139,10 @@ pub struct ParamSpec {
     pub default: DefaultValue,
     /// What it means.
     pub doc: &'static str,
+    /// For a parameter of ours where gonio's default departs from Mitsuba 3.9.1's estimator
+    /// (to keep the physics right): the value that restores Mitsuba's, the default under
+    /// [`crate::xml::LoadOptions::mitsuba_estimators`].
+    pub mitsuba: Option<DefaultValue>,
 }
 
 impl ParamSpec {
@@ -149,6 +153,15 @@ impl ParamSpec {
             ty,
             default,
             doc,
+            mitsuba: None,
+        }
+    }
+
+    /// The row with the value that restores Mitsuba's estimator (see [`ParamSpec::mitsuba`]).
+    pub const fn mitsuba(self, value: DefaultValue) -> Self {
+        Self {
+            mitsuba: Some(value),
+            ..self
         }
     }
 }
@@ -198,11 +211,15 @@ impl<T> Plugin<T> {
         let mut s = format!("\n### `{}`\n\n{}\n\n", self.name, self.summary);
         s.push_str("| parameter | type | default | meaning |\n|---|---|---|---|\n");
         for p in self.params {
+            let default = match p.mitsuba {
+                Some(m) => format!("{} (Mitsuba: {m})", p.default),
+                None => p.default.to_string(),
+            };
             s.push_str(&format!(
                 "| `{}` | {} | {} | {} |\n",
                 p.name,
                 p.ty.name(),
-                p.default,
+                default,
                 p.doc
             ));
         }
@@ -231,6 +248,15 @@ impl<'d> Params<'d> {
             obj,
             used: vec![false; obj.props.len()],
             specs: &[],
+        }
+    }
+
+    /// The default of a table row for this document: [`ParamSpec::mitsuba`] when the scene is
+    /// read with Mitsuba's estimators and the row has one, else [`ParamSpec::default`].
+    pub(crate) fn default_of(&self, spec: &ParamSpec) -> DefaultValue {
+        match spec.mitsuba {
+            Some(m) if self.doc.mitsuba_estimators => m,
+            _ => spec.default,
         }
     }
 

@@ -77,6 +77,12 @@ pub struct RenderArgs {
     /// (`.png`, `.hdr`, `.pfm` write the main image).
     #[arg(long)]
     pub polarized: bool,
+    /// Mitsuba 3.9.1's estimators where gonio departs from them to keep the physics right, for
+    /// side-by-side comparisons: thin glass blocks shadow rays, no caustic light subpaths,
+    /// `roughplastic` with Mitsuba's coat tables, `blendbsdf` with Mitsuba's delta pdf (the
+    /// parameters marked "Mitsuba:" in docs/plugins.md; a value written in the scene still wins).
+    #[arg(long)]
+    pub mitsuba_estimators: bool,
 }
 
 static CANCEL: AtomicBool = AtomicBool::new(false);
@@ -165,7 +171,11 @@ pub fn run(args: RenderArgs) -> Result<ExitCode> {
     }
     let mut status = ExitCode::SUCCESS;
     for path in &args.scene {
-        let loaded = gonio_render::xml::load_scene_file_with_warnings(path, &defines)
+        let options = gonio_render::xml::LoadOptions {
+            defines: defines.clone(),
+            mitsuba_estimators: args.mitsuba_estimators,
+        };
+        let loaded = gonio_render::xml::load_scene_file_with(path, &options)
             .with_context(|| format!("loading {}", path.display()))?;
         for w in &loaded.warnings {
             eprintln!("gonio: warning: {w}");

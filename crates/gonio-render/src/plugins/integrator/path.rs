@@ -29,13 +29,15 @@ const THIN_SHADOWS: ParamSpec = ParamSpec::new(
     ParamType::Boolean,
     DefaultValue::Bool(true),
     "(ours) shadow rays cross `thindielectric` sheets, attenuated by their transmittance",
-);
+)
+.mitsuba(DefaultValue::Bool(false));
 const CAUSTIC_PATHS: ParamSpec = ParamSpec::new(
     "caustic_paths",
     ParamType::Boolean,
     DefaultValue::Bool(true),
     "(ours) light subpaths for caustics, weighted by MIS against the path tracer",
-);
+)
+.mitsuba(DefaultValue::Bool(false));
 pub(super) const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
     "samples_per_pass",
     ParamType::Integer,
@@ -69,8 +71,8 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     let max_depth = p.int_in(MAX_DEPTH.name, MAX_DEPTH.default.int(), -1, i32::MAX as i64)? as i32;
     let rr_depth = p.int_in(RR_DEPTH.name, RR_DEPTH.default.int(), 1, u32::MAX as i64)? as u32;
     let hide_emitters = p.bool(HIDE_EMITTERS.name, HIDE_EMITTERS.default.bool())?;
-    let thin_shadows = p.bool(THIN_SHADOWS.name, THIN_SHADOWS.default.bool())?;
-    let caustic_paths = p.bool(CAUSTIC_PATHS.name, CAUSTIC_PATHS.default.bool())?;
+    let thin_shadows = p.bool(THIN_SHADOWS.name, p.default_of(&THIN_SHADOWS).bool())?;
+    let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
     p.int_in(
         SAMPLES_PER_PASS.name,
         SAMPLES_PER_PASS.default.int(),
