@@ -103,17 +103,22 @@ pub struct MicrofacetDistribution {
 /// The smallest roughness (Mitsuba 3 clamps α to 10⁻⁴).
 pub const MIN_ALPHA: f32 = 1e-4;
 
+/// The largest roughness: α beyond it (up to ∞, from a texture of hostile values) is clamped to
+/// it, where the lobe is already flat to single precision, so that stretching a direction by α
+/// stays finite.
+pub const MAX_ALPHA: f32 = 1e4;
+
 /// 1/√π.
 const INV_SQRT_PI: f64 = 0.564_189_583_547_756_3;
 
 impl MicrofacetDistribution {
-    /// A distribution with roughness (`alpha_u`, `alpha_v`), each clamped to ≥ [`MIN_ALPHA`]
-    /// (NaN becomes [`MIN_ALPHA`] too).
+    /// A distribution with roughness (`alpha_u`, `alpha_v`), each clamped to
+    /// [[`MIN_ALPHA`], [`MAX_ALPHA`]] (NaN becomes [`MIN_ALPHA`]).
     pub fn new(kind: MicrofacetKind, alpha_u: f32, alpha_v: f32, sample_visible: bool) -> Self {
         Self {
             kind,
-            alpha_u: alpha_u.max(MIN_ALPHA),
-            alpha_v: alpha_v.max(MIN_ALPHA),
+            alpha_u: alpha_u.max(MIN_ALPHA).min(MAX_ALPHA),
+            alpha_v: alpha_v.max(MIN_ALPHA).min(MAX_ALPHA),
             sample_visible,
         }
     }
@@ -434,6 +439,10 @@ fn erf_inv(x: f64) -> f64 {
 /// exp(−cot²θ)) in b = erf(slope).
 fn beckmann_visible_slope_x_11(cos_theta: f64, sin_theta: f64, u1: f32) -> f32 {
     let u1 = (u1 as f64).clamp(1e-6, 1.0 - 1e-6);
+    if !(cos_theta.is_finite() && sin_theta.is_finite()) {
+        // A degenerate direction (the erf below must not see NaN): no slope.
+        return 0.0;
+    }
     if sin_theta < 1e-7 {
         // Normal incidence: Gaussian.
         return erf_inv(2.0 * u1 - 1.0) as f32;

@@ -322,3 +322,27 @@ fn rough_interface_loses_energy_never_gains_it() {
     assert_eq!(rough_reflectance(&rough, wi, 1.0), 0.0);
     assert!(rough_transmittance(&rough, wi, 1.0) < rough_transmittance(&smooth, wi, 1.0));
 }
+
+/// Regression (fuzzing: a float checkerboard of 1e308 as `alpha`, infinite in single precision,
+/// made Beckmann's visible-normal sampler hand NaN to erf, which panics): roughness is clamped to
+/// [`MIN_ALPHA`, `MAX_ALPHA`], NaN included, and every query stays finite.
+#[test]
+fn hostile_roughness_is_clamped_and_stays_finite() {
+    for a in [f32::INFINITY, f32::NAN, 1e30, MAX_ALPHA, 0.0, -1.0] {
+        for kind in [Beckmann, Ggx] {
+            for visible in [true, false] {
+                let d = MicrofacetDistribution::new(kind, a, 0.5, visible);
+                assert!((MIN_ALPHA..=MAX_ALPHA).contains(&d.alpha_u), "{a}: {}", d.alpha_u);
+                for (t, u) in [(0.0, 0.3), (45.0, 0.7), (89.9, 0.01)] {
+                    let wi = dir(t, 30.0);
+                    let (m, pdf) = d.sample(wi, Vec2::new(u, 1.0 - u));
+                    assert!(
+                        m.is_finite() && pdf.is_finite(),
+                        "{kind:?} α {a}: m {m} pdf {pdf}"
+                    );
+                    assert!(d.d(m).is_finite() && d.pdf(wi, m).is_finite(), "{kind:?} α {a}");
+                }
+            }
+        }
+    }
+}
