@@ -521,6 +521,9 @@ pub struct TriangleMesh {
 pub struct AreaEmitterDesc {
     /// Emitted radiance (`radiance`, default 1 × D65 in spectral mode).
     pub radiance: Texture,
+    /// The shape's mesh attributes, when `radiance` reads the hit (`mesh_attribute`, `volume`):
+    /// set by the reader once the shape is known.
+    pub hit: Option<Arc<crate::texture::hit::HitBinding>>,
 }
 
 /// Description of an `<emitter>` not attached to a shape.

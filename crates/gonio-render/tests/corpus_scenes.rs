@@ -157,6 +157,8 @@ const SCENES: &[(&str, f64)] = &[
     ("texture_mesh_attribute_vertex", 6.63e-4),
     ("shape_sphere_light_analytic", SPHERE_LIGHT),
     ("shape_sphere_light_analytic+mitsuba_estimators", SPHERE_LIGHT),
+    ("texture_mesh_attribute_instance", INSTANCE_THRESHOLD),
+    ("emitter_area_mesh_attribute", EMITTER_ATTRIBUTE_THRESHOLD),
 ];
 
 /// A row whose name ends so renders its scene (the name without it) with Mitsuba's estimators
@@ -206,6 +208,12 @@ fn render_channels(name: &str, spp: u32, seed: u64) -> ChannelImage {
 fn reference(name: &str) -> RgbImage {
     let name = name.strip_suffix(MITSUBA_ESTIMATORS).unwrap_or(name);
     let source = name.strip_suffix("_delta_pdf_mitsuba").unwrap_or(name);
+    // Mitsuba 3.9.1 renders the instanced bunny wrong (see `mesh_attribute_instance_...`): its
+    // render of the bunny placed directly is the reference.
+    let source = match source {
+        "texture_mesh_attribute_instance" => "texture_mesh_attribute_vertex",
+        s => s,
+    };
     RgbImage::read(corpus().join("reference").join(format!("{source}.exr"))).expect("reference reads")
 }
 
@@ -731,4 +739,41 @@ fn sphere_light_over_roughplastic_differs_from_mitsuba_only_by_its_coat_tables()
     }
     println!("floor, exact / Mitsuba's tables: {:.5}", a / b);
     assert!(a / b > 1.005 && a / b < 1.0204, "{}", a / b);
+}
+
+// ---------------------------------------------------------------------------------------------
+// `mesh_attribute` in instances and as an area emitter's radiance (references and Mitsuba's
+// noise by `testdata/mitsuba-corpus/make_attr_references.py`), measured as the rows above:
+//
+// | scene | gonio-gonio | gonio-reference (seeds 1 2 0) | Mitsuba-Mitsuba |
+// |---|---|---|---|
+// | texture_mesh_attribute_instance | 6.62e-4 | 4.94e-4 5.10e-4 5.07e-4 (vs Mitsuba's direct placement) | (Mitsuba renders it wrong) |
+// | emitter_area_mesh_attribute | 2.96e-5 | 2.03e-5 2.00e-5 1.88e-5 | 1.44e-3 (BSDF samples only) |
+
+/// `texture_mesh_attribute_instance`: the bunny of `texture_mesh_attribute_vertex` placed by a
+/// `shapegroup` + `instance`; threshold: its gonio-vs-gonio level.
+const INSTANCE_THRESHOLD: f64 = 6.62e-4;
+
+/// `emitter_area_mesh_attribute`: gonio-vs-gonio at [`CI_SPP`] (seeds 1, 2) plus the level of
+/// the 4096-spp BSDF-sampled reference, which is not negligible here (Mitsuba-vs-Mitsuba at 32
+/// spp / 128 = 1.13e-5): 4.09e-5.
+const EMITTER_ATTRIBUTE_THRESHOLD: f64 = 4.09e-5;
+
+/// Mitsuba's `texture_mesh_attribute_vertex` with its bunny placed by a `shapegroup` (scale,
+/// first rotations) and an `instance` (the other rotations, the translation), compared with
+/// Mitsuba's render of the bunny placed directly. Mitsuba 3.9.1 itself renders this file wrong
+/// (mean pixel ≈ 10¹⁶: it recomputes the barycentrics from the world-space point against the
+/// group-space vertices, right only for an identity instance; checked with the group holding
+/// the whole placement, which Mitsuba renders as the direct file to 5e-6).
+#[test]
+fn mesh_attribute_instance_matches_mitsubas_direct_placement() {
+    check("texture_mesh_attribute_instance");
+}
+
+/// A mesh emitter whose radiance is a `vertex_color` attribute over a diffuse floor, rendered by
+/// the path tracer (camera hits, NEE and BSDF hits with MIS), against Mitsuba's render with BSDF
+/// samples only (Mitsuba 3.9.1 crashes when it samples such an emitter for NEE).
+#[test]
+fn area_emitter_mesh_attribute_matches_mitsuba() {
+    check("emitter_area_mesh_attribute");
 }

@@ -353,6 +353,7 @@ fn spawned_rays_do_not_self_intersect() {
                 dpdv: Vec3::ZERO,
                 shape: 0,
                 prim: 0,
+                bary: glam::Vec2::ZERO,
             };
             let mut d = rng.dir();
             if d.dot(p.n) < 0.0 {

@@ -598,3 +598,9 @@ fn a_volume_texture_is_its_grid_at_the_hit_and_bad_grids_are_refused() {
     let e = load(scene("none.vol")).expect_err("no file").to_string();
     assert!(e.contains("scene.xml:6") && e.contains("none.vol"), "{e}");
 }
+
+// ---------------------------------------------------------------------------------------------
+// `mesh_attribute` in instances and as an area emitter's radiance: renders against renders,
+// constants and errors.
+
+mod attributes;

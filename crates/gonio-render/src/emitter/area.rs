@@ -3,7 +3,11 @@
 //! # Mitsuba parameters
 //!
 //! * `radiance`: spectrum or texture (default 1; an RGB or float value is uplifted as an
-//!   illuminant, × D65, by the scene reader). Evaluated at the surface's uv.
+//!   illuminant, × D65, by the scene reader). Evaluated at the surface's uv; a texture that reads
+//!   the hit (`mesh_attribute`, `volume`, or one nesting them) is evaluated with the point's
+//!   triangle, barycentrics and position on the light's shape made known to it
+//!   ([`crate::texture::hit::with_hit_point`]), on every path that evaluates emission (camera and
+//!   BSDF-sampled hits, next-event estimation's sampled points, light paths' origins).
 //! * One-sided: light leaves on the side the (possibly flipped, `flip_normals`) geometric normal
 //!   points to; seen from behind the shape is dark.
 //!
@@ -17,11 +21,13 @@
 //! BSDF sampling) always agree. This file also evaluates emission at ray hits.
 
 use super::{LightRef, LightSample};
-use crate::geometry::sampling::{pdf_solid_angle, sample_area, sample_solid_angle};
+use crate::geometry::sampling::{ShapeSample, pdf_solid_angle, sample_area, sample_solid_angle};
 use crate::geometry::{ShapeKind, SurfaceInteraction, WorldShape};
 use crate::texture::Texture;
+use crate::texture::hit::{HitBinding, with_hit_point};
 use glam::{Vec2, Vec3};
 use gonio_core::{SampledSpectrum, SampledWavelengths};
+use std::sync::Arc;
 
 /// Below this solid angle (estimated as A/d² from the light's bounding-sphere centre) a rectangle
 /// light is sampled uniformly by area: spherical-rectangle sampling (Ureña et al. 2013) costs a
@@ -44,6 +50,45 @@ fn area_pdf_to_solid_angle(pdf_area: f32, r: Vec3, p: Vec3, n: Vec3) -> f32 {
     }
 }
 
+/// A point of an area light's surface, as its radiance reads it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightPoint {
+    /// The point (world).
+    pub p: Vec3,
+    /// Geometric normal (after `flip_normals`): light leaves on its side.
+    pub n: Vec3,
+    /// Texture coordinates.
+    pub uv: Vec2,
+    /// The mesh triangle the point lies on (0 for other shapes).
+    pub prim: u32,
+    /// Barycentric coordinates (b₁, b₂) on that triangle (zero for other shapes).
+    pub bary: Vec2,
+}
+
+impl From<&SurfaceInteraction> for LightPoint {
+    fn from(si: &SurfaceInteraction) -> Self {
+        Self {
+            p: si.p,
+            n: si.n,
+            uv: si.uv,
+            prim: si.prim,
+            bary: si.bary,
+        }
+    }
+}
+
+impl From<&ShapeSample> for LightPoint {
+    fn from(s: &ShapeSample) -> Self {
+        Self {
+            p: s.p,
+            n: s.n,
+            uv: s.uv,
+            prim: s.prim,
+            bary: s.bary,
+        }
+    }
+}
+
 /// An area light on shape `shape`.
 #[derive(Clone, Debug)]
 pub struct AreaLight {
@@ -59,6 +104,8 @@ pub struct AreaLight {
     pub center: Vec3,
     /// Radius of that sphere.
     pub radius: f32,
+    /// The shape's mesh attributes when `radiance` reads the hit (`mesh_attribute`, `volume`).
+    pub hit: Option<Arc<HitBinding>>,
 }
 
 impl AreaLight {
@@ -67,16 +114,17 @@ impl AreaLight {
         std::f32::consts::PI * self.area * self.mean_radiance
     }
 
-    /// Radiance leaving a point with geometric normal `n` and texture coordinates `uv` towards
-    /// `w` (a unit direction away from the surface): zero behind the surface.
+    /// Radiance leaving the point `at` towards `w` (a unit direction away from the surface):
+    /// zero behind the surface.
     #[inline]
-    pub fn le(&self, n: Vec3, uv: Vec2, w: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        if n.dot(w) <= 0.0 {
+    pub fn le(&self, at: &LightPoint, w: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        if at.n.dot(w) <= 0.0 {
             return SampledSpectrum::ZERO;
         }
-        match &self.radiance {
-            Texture::Spectrum(s) => s.sample(wl),
-            t => t.eval(uv).sample(wl),
+        match (&self.radiance, &self.hit) {
+            (Texture::Spectrum(s), _) => s.sample(wl),
+            (t, None) => t.eval(at.uv).sample(wl),
+            (t, Some(b)) => with_hit_point(b, at.p, at.prim, at.bary, || t.eval(at.uv).sample(wl)),
         }
     }
 
@@ -100,10 +148,10 @@ impl AreaLight {
         if self.by_area(shape, r.p) {
             let s = sample_area(shape, u);
             let pdf = area_pdf_to_solid_angle(s.pdf, r.p, s.p, s.n);
-            self.sample_from_point(r.p, s.p, s.n, s.uv, pdf, wl)
+            self.sample_from_point(r.p, &LightPoint::from(&s), pdf, wl)
         } else {
             let s = sample_solid_angle(shape, r.p, u)?;
-            self.sample_from_point(r.p, s.p, s.n, s.uv, s.pdf, wl)
+            self.sample_from_point(r.p, &LightPoint::from(&s), s.pdf, wl)
         }
     }
 
@@ -118,24 +166,22 @@ impl AreaLight {
         }
     }
 
-    /// The light sample for a point `p_light` (normal `n`, uv) drawn on the shape from reference
-    /// point `p_ref` with solid-angle density `pdf`.
+    /// The light sample for a point `at` drawn on the shape from reference point `p_ref` with
+    /// solid-angle density `pdf`.
     pub fn sample_from_point(
         &self,
         p_ref: Vec3,
-        p_light: Vec3,
-        n: Vec3,
-        uv: Vec2,
+        at: &LightPoint,
         pdf: f32,
         wl: &SampledWavelengths,
     ) -> Option<LightSample> {
-        let d = p_light - p_ref;
+        let d = at.p - p_ref;
         let dist = d.length();
         if !(dist > 0.0) || !(pdf > 0.0) || !pdf.is_finite() {
             return None;
         }
         let wi = d / dist;
-        let li = self.le(n, uv, -wi, wl);
+        let li = self.le(at, -wi, wl);
         if li.is_black() {
             return None;
         }
@@ -145,7 +191,7 @@ impl AreaLight {
             li,
             pdf,
             delta: false,
-            normal: Some(n),
+            normal: Some(at.n),
         })
     }
 }

@@ -70,7 +70,7 @@ impl Light {
                     return None;
                 }
                 // Lₑ·cos/(p_A·cos/π).
-                let le = a.le(s.n, s.uv, d, wl);
+                let le = a.le(&(&s).into(), d, wl);
                 (Ray::new(offset_ray_origin(s.p, s.n, d), d), le * (PI / s.pdf))
             }
             Light::Point(l) => {

@@ -143,6 +143,7 @@ impl Lights {
                     mean_radiance: em.radiance.mean(),
                     center: sphere.center,
                     radius: sphere.radius,
+                    hit: em.hit.clone(),
                 }));
             }
         }

@@ -35,7 +35,7 @@ mod from_scene;
 pub mod infinite;
 pub mod projector;
 
-pub use area::{AreaLight, SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE};
+pub use area::{AreaLight, LightPoint, SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE};
 pub use delta::{DirectionalLight, PointLight, SpotLight};
 pub use emission::EmittedRay;
 pub use from_scene::EmitterError;

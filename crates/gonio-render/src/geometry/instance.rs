@@ -162,6 +162,7 @@ impl Instance {
                 dpdv: Vec3::ZERO,
                 shape: 0,
                 prim: 0,
+                bary: glam::Vec2::ZERO,
             },
         }
     }
@@ -210,6 +211,7 @@ impl Instance {
             dpdv,
             shape: 0,
             prim: si.prim,
+            bary: si.bary,
         }
     }
 }

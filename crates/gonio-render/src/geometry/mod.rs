@@ -87,6 +87,10 @@ pub struct SurfaceInteraction {
     pub shape: u32,
     /// Primitive (triangle) index within the shape; 0 for analytic shapes.
     pub prim: u32,
+    /// Barycentric coordinates (b₁, b₂) of the point on triangle `prim` of a mesh (b₀ =
+    /// 1 − b₁ − b₂), in the mesh's own triangle whatever transform or instance placed it; zero
+    /// for other shapes. What `mesh_attribute` textures interpolate with.
+    pub bary: Vec2,
 }
 
 impl SurfaceInteraction {

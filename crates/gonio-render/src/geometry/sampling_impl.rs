@@ -30,6 +30,11 @@ pub struct ShapeSample {
     pub ns: Vec3,
     /// Texture coordinates (for textured emitters).
     pub uv: Vec2,
+    /// The triangle of a mesh the point lies on (0 for other shapes).
+    pub prim: u32,
+    /// The point's barycentric coordinates (b₁, b₂) on that triangle (zero for other shapes):
+    /// with `prim`, what an emitter's `mesh_attribute` radiance reads.
+    pub bary: Vec2,
     /// Density: per unit area for [`sample_area`], per unit solid angle at the reference point for
     /// [`sample_solid_angle`].
     pub pdf: f32,
@@ -45,6 +50,8 @@ fn finish(shape: &WorldShape, mut si: SurfaceInteraction, pdf: f32) -> ShapeSamp
         n: si.n,
         ns: si.shading.n,
         uv: si.uv,
+        prim: si.prim,
+        bary: si.bary,
         pdf,
     }
 }
@@ -85,7 +92,8 @@ pub fn sample_area(shape: &WorldShape, u: Vec2) -> ShapeSample {
                 dpdu: Vec3::ZERO,
                 dpdv: Vec3::ZERO,
                 shape: 0,
-                prim: 0,
+                prim: local.prim,
+                bary: local.bary,
             };
             let w = inst.to_world_record(&si, 0.0);
             finish(shape, w, pdf)
@@ -96,6 +104,8 @@ pub fn sample_area(shape: &WorldShape, u: Vec2) -> ShapeSample {
             n: Vec3::Z,
             ns: Vec3::Z,
             uv: Vec2::ZERO,
+            prim: 0,
+            bary: Vec2::ZERO,
             pdf: 0.0,
         },
     }
@@ -157,6 +167,8 @@ pub fn sample_solid_angle(shape: &WorldShape, r: Vec3, u: Vec2) -> Option<ShapeS
                     n,
                     ns: n,
                     uv: uv.clamp(Vec2::ZERO, Vec2::ONE),
+                    prim: 0,
+                    bary: Vec2::ZERO,
                     pdf: q.pdf(),
                 })
             }

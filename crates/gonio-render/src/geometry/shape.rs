@@ -475,6 +475,7 @@ impl WorldShape {
             dpdv,
             shape: 0,
             prim: 0,
+            bary: Vec2::ZERO,
         }
     }
 
@@ -495,6 +496,7 @@ impl WorldShape {
                     dpdv: Vec3::from(to_world.matrix3.y_axis) * 2.0,
                     shape: 0,
                     prim: 0,
+                    bary: Vec2::ZERO,
                 }
             }
             ShapeKind::Disk { to_world, n, .. } => {
@@ -520,6 +522,7 @@ impl WorldShape {
                     dpdv: to_world.transform_vector3(Vec3::new(-y, x, 0.0)) * TAU,
                     shape: 0,
                     prim: 0,
+                    bary: Vec2::ZERO,
                 }
             }
             _ => unreachable!("planar_point on a non-planar shape"),
@@ -554,6 +557,7 @@ fn sdf_point(
         dpdv: Vec3::ZERO,
         shape: 0,
         prim: voxel,
+        bary: Vec2::ZERO,
     }
 }
 
@@ -713,6 +717,7 @@ impl WorldMesh {
             dpdv,
             shape: 0,
             prim: i as u32,
+            bary: Vec2::new(b1, b2),
         }
     }
 }

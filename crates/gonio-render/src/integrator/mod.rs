@@ -517,7 +517,7 @@ impl<'a> PathTracer<'a> {
         let Light::Area(area) = &self.lights.lights()[li] else {
             return;
         };
-        let le = area.le(si.n, si.uv, -d, wl);
+        let le = area.le(&si.into(), -d, wl);
         if le.is_black() {
             return;
         }

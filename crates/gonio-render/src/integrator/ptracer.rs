@@ -95,7 +95,7 @@ impl PathTracer<'_> {
                     return;
                 };
                 let cos = s.n.dot(c.dir);
-                let le = area.le(s.n, s.uv, c.dir, wl);
+                let le = area.le(&(&s).into(), c.dir, wl);
                 if !(cos > 0.0 && s.pdf > 0.0) || le.is_black() {
                     return;
                 }

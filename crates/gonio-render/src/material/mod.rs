@@ -170,6 +170,9 @@ pub struct ShadingPoint {
     pub p: Vec3,
     /// The triangle hit on a mesh (0 otherwise), for `mesh_attribute` textures.
     pub prim: u32,
+    /// The barycentric coordinates (b₁, b₂) of the hit on that triangle (zero otherwise), for
+    /// `mesh_attribute` textures (see [`SurfaceInteraction::bary`]).
+    pub bary: Vec2,
 }
 
 impl ShadingPoint {
@@ -184,6 +187,7 @@ impl ShadingPoint {
             dpdv: Vec3::Y,
             p: Vec3::ZERO,
             prim: 0,
+            bary: Vec2::ZERO,
         }
     }
 }
@@ -198,6 +202,7 @@ impl From<&SurfaceInteraction> for ShadingPoint {
             dpdv: si.dpdv,
             p: si.p,
             prim: si.prim,
+            bary: si.bary,
         }
     }
 }

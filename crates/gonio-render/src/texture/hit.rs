@@ -3,7 +3,10 @@
 //! `volume` (`src/textures/volume.cpp`, a grid evaluated at the surface point).
 //!
 //! * `mesh_attribute`: value = scale · A(hit). A vertex attribute is interpolated with the hit's
-//!   barycentric coordinates (b₀, b₁, b₂) on its triangle (i₀, i₁, i₂): A = Σ bₖ·A[iₖ]; a face
+//!   barycentric coordinates (b₀, b₁, b₂) on its triangle (i₀, i₁, i₂): A = Σ bₖ·A[iₖ], the
+//!   coordinates the intersection found (so a mesh placed by an `instance` reads the same values
+//!   as the mesh placed directly; Mitsuba 3.9.1 recomputes them from the world-space point and
+//!   the group-space vertices, which is wrong under any instance transform but the identity); a face
 //!   attribute is the triangle's own value. In Mitsuba's spectral variants a 3-value attribute
 //!   whose name contains `color` is an sRGB reflectance (clamped to [0, 1], uplifted with Jakob &
 //!   Hanika's sigmoid polynomials); a 3-value attribute without `color` in its name is read as the
@@ -18,16 +21,18 @@
 //!
 //! How the hit reaches the texture, at no cost for the other materials: the reader wraps the
 //! material of each shape whose BSDF holds such a texture in a [`HitBound`] material (one per
-//! shape, holding that mesh's named attributes and its world-to-object transform). At a hit,
+//! shape, holding that mesh's named attributes; the instances of a shape group share it). At a hit,
 //! [`HitBound::push_at`] makes the point known to this thread's texture lookups for the time its
 //! inner material builds its BSDF ([`with_hit`]); outside that scope these textures are 0 (the
 //! instruments, which know no surface, see black). Materials without such textures are not
-//! wrapped and never look at the hit.
+//! wrapped and never look at the hit. An area emitter whose `radiance` is such a texture holds
+//! its shape's binding the same way and evaluates its radiance inside [`with_hit_point`]
+//! (`crate::emitter::area`).
 
 use crate::material::{Material, ShadingPoint, SurfaceMaterial};
 use crate::mesh::attributes::{AttributeKind, MeshAttribute, MeshAttributes};
 use crate::scene::TriangleMesh;
-use glam::{Affine3A, Vec3};
+use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::bsdfs::surface::TooManyNodes;
 use gonio_core::spectra::{RgbKind, RgbSpectrum};
@@ -35,14 +40,12 @@ use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths, Spectrum};
 use std::cell::RefCell;
 use std::sync::Arc;
 
-/// What a shape gives the textures of its material at a hit: its mesh (if it is one) with the
-/// attributes they name, and where its object space is.
+/// What a shape gives the textures of its material (or of its emitter) at a hit: its mesh (if
+/// it is one) with the attributes they name.
 #[derive(Debug)]
 pub struct HitBinding {
-    /// The shape's mesh (object space) and the attributes the material's textures name.
+    /// The shape's mesh (object space) and the attributes the textures name.
     pub mesh: Option<(Arc<TriangleMesh>, MeshAttributes)>,
-    /// World to object space of the shape.
-    pub to_object: Affine3A,
 }
 
 /// The hit being shaded on this thread, while a [`HitBound`] material builds its BSDF.
@@ -50,6 +53,7 @@ struct HitContext {
     binding: Arc<HitBinding>,
     p: Vec3,
     prim: u32,
+    bary: Vec2,
 }
 
 thread_local! {
@@ -58,6 +62,18 @@ thread_local! {
 
 /// Runs `f` with the hit `at` on the shape `binding` known to this thread's texture lookups.
 pub fn with_hit<R>(binding: &Arc<HitBinding>, at: &ShadingPoint, f: impl FnOnce() -> R) -> R {
+    with_hit_point(binding, at.p, at.prim, at.bary, f)
+}
+
+/// Runs `f` with the point `p` (world), on triangle `prim` at barycentrics `bary` of the shape
+/// `binding`, known to this thread's texture lookups (what an emitter's radiance reads).
+pub fn with_hit_point<R>(
+    binding: &Arc<HitBinding>,
+    p: Vec3,
+    prim: u32,
+    bary: Vec2,
+    f: impl FnOnce() -> R,
+) -> R {
     struct Reset;
     impl Drop for Reset {
         fn drop(&mut self) {
@@ -67,8 +83,9 @@ pub fn with_hit<R>(binding: &Arc<HitBinding>, at: &ShadingPoint, f: impl FnOnce(
     HIT.with_borrow_mut(|h| {
         *h = Some(HitContext {
             binding: binding.clone(),
-            p: at.p,
-            prim: at.prim,
+            p,
+            prim,
+            bary,
         })
     });
     let _reset = Reset;
@@ -89,21 +106,6 @@ pub struct AttributeTexture {
     pub scale: f32,
 }
 
-/// The barycentric coordinates of `p` (object space) on triangle `tri` of `mesh`.
-fn barycentrics(mesh: &TriangleMesh, tri: [u32; 3], p: Vec3) -> [f32; 3] {
-    let [a, b, c] = tri.map(|i| mesh.positions[i as usize]);
-    let (e1, e2, d) = (b - a, c - a, p - a);
-    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
-    let (d1, d2) = (d.dot(e1), d.dot(e2));
-    let det = d11 * d22 - d12 * d12;
-    if !(det.abs() > 0.0) {
-        return [1.0, 0.0, 0.0];
-    }
-    let b1 = (d22 * d1 - d12 * d2) / det;
-    let b2 = (d11 * d2 - d12 * d1) / det;
-    [1.0 - b1 - b2, b1, b2]
-}
-
 /// `dim` (1 or 3) values of `attr` at the hit `ctx`.
 fn values(attr: &MeshAttribute, mesh: &TriangleMesh, ctx: &HitContext) -> Option<[f32; 3]> {
     let prim = ctx.prim as usize;
@@ -116,8 +118,7 @@ fn values(attr: &MeshAttribute, mesh: &TriangleMesh, ctx: &HitContext) -> Option
         AttributeKind::Face => at(prim),
         AttributeKind::Vertex => {
             let tri = *mesh.indices.get(prim)?;
-            let p = ctx.binding.to_object.transform_point3(ctx.p);
-            let b = barycentrics(mesh, tri, p);
+            let b = [1.0 - ctx.bary.x - ctx.bary.y, ctx.bary.x, ctx.bary.y];
             let mut v = [0.0f32; 3];
             for k in 0..3 {
                 let x = at(tri[k] as usize)?;
@@ -282,9 +283,9 @@ mod tests {
         (Arc::new(mesh), attrs)
     }
 
-    /// π·f of a diffuse material textured by `name` at world point `p` on triangle `prim` of
-    /// the quad placed by `to_world`, at four wavelengths.
-    fn albedo(name: &str, scale: f32, to_world: Affine3A, p: Vec3, prim: u32) -> [f32; 4] {
+    /// π·f of a diffuse material textured by `name` at barycentrics `bary` on triangle `prim`
+    /// of the quad, at four wavelengths.
+    fn albedo(name: &str, scale: f32, bary: Vec2, prim: u32) -> [f32; 4] {
         let (mesh, attrs) = quad();
         let tex = Texture::MeshAttribute(Arc::new(AttributeTexture {
             name: name.into(),
@@ -294,12 +295,11 @@ mod tests {
             Material::new(DiffuseMaterial::new(tex)),
             HitBinding {
                 mesh: Some((mesh, attrs)),
-                to_object: to_world.inverse(),
             },
         );
         let at = ShadingPoint {
-            p,
             prim,
+            bary,
             ..ShadingPoint::flat(glam::Vec2::ZERO)
         };
         let wl = SampledWavelengths::sample_visible(0.3);
@@ -311,26 +311,19 @@ mod tests {
 
     #[test]
     fn vertex_attributes_interpolate_and_face_attributes_do_not() {
-        // World = object scaled by 2 and moved: the lookup undoes the placement.
-        let to_world = Affine3A::from_scale_rotation_translation(
-            Vec3::splat(2.0),
-            glam::Quat::from_rotation_z(0.3),
-            Vec3::new(1.0, -2.0, 3.0),
-        );
         // Barycentrics (0.2, 0.3, 0.5) on triangle 0 (vertices 0, 1, 2): grey 0.2·0.1 + 0.3·0.3
         // + 0.5·0.5 = 0.36, a flat spectrum (the uplift of a grey, within its table's 2e-3).
-        let obj = 0.3 * Vec3::new(1.0, 0.0, 0.0) + 0.5 * Vec3::new(1.0, 1.0, 0.0);
-        for v in albedo("vertex_color", 1.0, to_world, to_world.transform_point3(obj), 0) {
+        let b = Vec2::new(0.3, 0.5);
+        for v in albedo("vertex_color", 1.0, b, 0) {
             assert!((v - 0.36).abs() < 3e-3, "{v}");
         }
         // Scale 2 doubles it.
-        for v in albedo("vertex_color", 2.0, to_world, to_world.transform_point3(obj), 0) {
+        for v in albedo("vertex_color", 2.0, b, 0) {
             assert!((v - 0.72).abs() < 6e-3, "{v}");
         }
         // A face attribute is the triangle's own, wherever on it.
-        let p = to_world.transform_point3(Vec3::new(0.2, 0.7, 0.0));
         // (exactly, up to the rounding of ρ/π·π)
-        for v in albedo("face_weight", 1.0, to_world, p, 1) {
+        for v in albedo("face_weight", 1.0, Vec2::new(0.6, 0.1), 1) {
             assert!((v - 0.75).abs() < 1e-6, "{v}");
         }
         // Outside a hit (the instruments) the texture is black.

@@ -11,7 +11,7 @@ use super::parse::{Doc, Obj, Tag, Value};
 use super::values::SpecValue;
 use crate::material::Material;
 use crate::plugins::{INTEGRATOR_PLUGINS, SENSOR_PLUGINS, SPECTRUM_PLUGINS, TEXTURE_PLUGINS};
-use crate::scene::{IntegratorDesc, Scene, SensorDesc, TriangleMesh};
+use crate::scene::{IntegratorDesc, IntegratorKind, Scene, SensorDesc, TriangleMesh};
 use crate::texture::Texture;
 use gonio_core::Ior;
 use gonio_core::bsdfs::surface::MAX_NODES;
@@ -49,6 +49,8 @@ pub(crate) struct Builder<'d> {
     pub(crate) hit_bsdfs: HashMap<usize, Vec<(Option<String>, Location)>>,
     /// The attributes of the PLY meshes loaded (by the address of their cached mesh).
     pub(crate) mesh_attributes: HashMap<usize, crate::mesh::attributes::MeshAttributes>,
+    /// Where each area emitter whose radiance reads the hit has its first such texture.
+    pub(crate) hit_emitters: Vec<Location>,
 }
 
 fn kind_key(k: RgbKind) -> u8 {
@@ -90,6 +92,7 @@ impl<'d> Builder<'d> {
             hit_log: Vec::new(),
             hit_textures: HashMap::new(),
             hit_bsdfs: HashMap::new(),
+            hit_emitters: Vec::new(),
             mesh_attributes: HashMap::new(),
         }
     }
@@ -233,6 +236,16 @@ impl<'d> Builder<'d> {
             ));
             IntegratorDesc::default()
         });
+        // Mitsuba 3.9.1's `ptracer` starts light paths with the emitter's `sample_spectrum`,
+        // which these textures do not implement: it refuses to render ("Texture::
+        // sample_spectrum(): not implemented!"), and so does the reader.
+        if let (IntegratorKind::PTracer, Some(loc)) = (integrator.kind, self.hit_emitters.first()) {
+            return Err(err(
+                loc,
+                ErrorKind::BadValue,
+                "an area emitter's radiance that reads the hit (mesh_attribute, volume) cannot start the light paths of the ptracer integrator (Mitsuba 3.9.1 refuses it too: the texture has no sample_spectrum); use path or direct",
+            ));
+        }
         let sensor = match sensor {
             Some(s) => s,
             None => {

@@ -112,6 +112,7 @@ fn area_light(radiance: Texture, shape: &WorldShape) -> Light {
         area: shape.area(),
         center: Vec3::ZERO,
         radius: 3.0,
+        hit: None,
     })
 }
 

@@ -131,7 +131,7 @@ impl PathTracer<'_> {
         let s = sample_area(shape, u_pos);
         let (dir, dir_pdf) = emission.targets.sample(s.p, s.n, u_pick, u_dir)?;
         let cos_l = s.n.dot(dir);
-        let le = area.le(s.n, s.uv, dir, wl);
+        let le = area.le(&(&s).into(), dir, wl);
         if le.is_black() || !(s.pdf > 0.0 && p_sel > 0.0 && cos_l > 0.0) {
             return None;
         }

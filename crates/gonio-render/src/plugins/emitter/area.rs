@@ -22,5 +22,5 @@ pub static PLUGIN: Plugin<AreaEmitterDesc> = Plugin {
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<AreaEmitterDesc, SceneError> {
     let radiance = b.texture(p, &RADIANCE, RgbKind::Illuminant)?;
-    Ok(AreaEmitterDesc { radiance })
+    Ok(AreaEmitterDesc { radiance, hit: None })
 }

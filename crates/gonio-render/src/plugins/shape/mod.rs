@@ -100,6 +100,8 @@ pub(crate) fn assemble<'d>(
     let bsdfs = p.objects(Tag::Bsdf)?;
     let emitters = p.objects(Tag::Emitter)?;
     p.finish()?;
+    // The textures of the emitter's radiance that read the hit (logged while it is built).
+    let hits_before = b.hit_log.len();
     let emitter = match emitters.as_slice() {
         [] => None,
         [(e, prop)] => Some(super::emitter::area(b, *e, &prop.value_loc)?),
@@ -122,15 +124,19 @@ pub(crate) fn assemble<'d>(
             ));
         }
     };
+    let emitter_hits = b.hit_log[hits_before..].to_vec();
+    let emitter = match emitter {
+        Some(mut e) if !emitter_hits.is_empty() => {
+            let binding = super::texture::mesh_attribute::binding(b, &emitter_hits, &geometry, &p.obj.ty)?;
+            e.hit = Some(std::sync::Arc::new(binding));
+            b.hit_emitters.push(emitter_hits[0].1.clone());
+            Some(e)
+        }
+        e => e,
+    };
     let material = b.shape_material(bsdf, emitter.is_some())?;
-    let material = super::texture::mesh_attribute::bind(
-        b,
-        material,
-        bsdf.map(|(i, _)| i),
-        &geometry,
-        &common.to_world,
-        &p.obj.ty,
-    )?;
+    let material =
+        super::texture::mesh_attribute::bind(b, material, bsdf.map(|(i, _)| i), &geometry, &p.obj.ty)?;
     let desc = ShapeDesc {
         geometry,
         to_world: common.to_world,

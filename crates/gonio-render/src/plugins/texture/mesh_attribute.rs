@@ -6,8 +6,7 @@ use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::Geometry;
 use crate::texture::Texture;
 use crate::texture::hit::{AttributeTexture, HitBinding, HitBound};
-use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
-use glam::Affine3A;
+use crate::xml::{Builder, ErrorKind, Location, Params, SceneError, err};
 use std::sync::Arc;
 
 const NAME: ParamSpec = ParamSpec::new(
@@ -57,26 +56,39 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneEr
 
 /// The material of a shape (`material`, built from the BSDF object `bsdf`): itself, or, when its
 /// textures read the hit (`mesh_attribute`, `volume`), a new material bound to this shape's
-/// geometry and transform ([`HitBound`]). A `mesh_attribute` on a shape that is not a mesh, an
-/// attribute the mesh lacks, or one of 4 values is an error naming the texture's `name`.
+/// geometry ([`HitBound`]). A `mesh_attribute` on a shape that is not a mesh, an attribute the
+/// mesh lacks, or one of 4 values is an error naming the texture's `name`.
 pub(crate) fn bind(
     b: &mut Builder<'_>,
     material: usize,
     bsdf: Option<usize>,
     geometry: &Geometry,
-    to_world: &Affine3A,
     shape_type: &str,
 ) -> Result<usize, SceneError> {
     let Some(reqs) = bsdf.and_then(|i| b.hit_bsdfs.get(&i)).cloned() else {
         return Ok(material);
     };
+    let binding = binding(b, &reqs, geometry, shape_type)?;
+    let inner = b.material(material);
+    Ok(b.add_material(Material::new(HitBound::new(inner, binding))))
+}
+
+/// What the textures that read the hit, logged as `reqs` (each `mesh_attribute`'s name and
+/// location; `None` for a `volume`), need of the shape `geometry`: its mesh with the attributes
+/// they name. Errors as [`bind`]'s, located at the texture's `name`.
+pub(crate) fn binding(
+    b: &Builder<'_>,
+    reqs: &[(Option<String>, Location)],
+    geometry: &Geometry,
+    shape_type: &str,
+) -> Result<HitBinding, SceneError> {
     let names: Vec<_> = reqs
         .iter()
         .filter_map(|(n, loc)| n.as_deref().map(|n| (n, loc)))
         .collect();
     let mesh = match (names.first(), geometry) {
         (None, _) => None,
-        (Some(&(name, loc)), Geometry::Mesh(m)) => {
+        (Some(_), Geometry::Mesh(m)) => {
             let attrs = b.mesh_attributes.get(&(Arc::as_ptr(m) as usize));
             for &(n, loc) in &names {
                 match attrs.and_then(|a| a.get(n)) {
@@ -104,7 +116,6 @@ pub(crate) fn bind(
                     Some(_) => {}
                 }
             }
-            let _ = (name, loc);
             let wanted: Vec<&str> = names.iter().map(|(n, _)| *n).collect();
             Some((m.clone(), attrs.map(|a| a.pick(&wanted)).unwrap_or_default()))
         }
@@ -118,10 +129,5 @@ pub(crate) fn bind(
             ));
         }
     };
-    let inner = b.material(material);
-    let binding = HitBinding {
-        mesh,
-        to_object: to_world.inverse(),
-    };
-    Ok(b.add_material(Material::new(HitBound::new(inner, binding))))
+    Ok(HitBinding { mesh })
 }
