@@ -17,10 +17,15 @@ use crate::geometry::shape::{PrimHit, TriRay, intersect_triangle};
 use crate::geometry::{Ray, ShapeKind, SurfaceInteraction, WorldShape};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
+use obvhs::bvh2::node::Bvh2Node;
 use obvhs::cwbvh::CwBvh;
 use std::time::Duration;
 
+mod cwbvh;
 mod flat;
+
+/// The PLOC search distance of obvhs' `medium_build` (`PlocSearchDistance::Medium`).
+const PLOC_SEARCH_DISTANCE: usize = 14;
 
 /// Ray queries against a set of shapes.
 pub trait Intersect {
@@ -234,15 +239,29 @@ impl Accel {
         let start = std::time::Instant::now();
         let params = obvhs::BvhBuildParams::medium_build();
         let mut bvh2 = {
-            let mut aabbs: Vec<Aabb> = Vec::with_capacity(count);
-            aabbs.extend(PrimIter::new(&shapes).map(|p| prim_aabb(&shapes, &p)));
-            let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(aabbs.len()).build(
+            // `PlocBuilder::build` with its leaves made here from the primitives: no list of
+            // input boxes beside the builder's own leaf nodes.
+            let mut ploc = obvhs::ploc::PlocBuilder::new();
+            ploc.current_nodes.reserve_exact(count);
+            ploc.current_nodes.extend(
+                PrimIter::new(&shapes)
+                    .enumerate()
+                    .map(|(i, p)| Bvh2Node::new(prim_aabb(&shapes, &p), 1, i as u32)),
+            );
+            let total = cwbvh::total_aabb(ploc.current_nodes.iter().map(|n| *n.aabb()));
+            let mut bvh2 = obvhs::bvh2::Bvh2::zeroed(count);
+            bvh2.reset_for_reuse(count, Some((0..count as u32).collect()));
+            debug_assert!(matches!(
                 params.ploc_search_distance,
-                &aabbs,
-                (0..aabbs.len() as u32).collect(),
+                obvhs::ploc::PlocSearchDistance::Medium
+            ));
+            ploc.build_ploc_from_leaves::<PLOC_SEARCH_DISTANCE, false>(
+                &mut bvh2,
+                total,
                 params.sort_precision,
                 params.search_depth_threshold,
             );
+            drop(ploc);
             obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
                 &mut bvh2,
                 params.reinsertion_batch_ratio,
@@ -253,12 +272,7 @@ impl Accel {
         // Parent links and other side tables are not needed by the conversion.
         bvh2.parents = Vec::new();
         bvh2.primitives_to_nodes = Vec::new();
-        let bvh = obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(
-            &bvh2,
-            params.max_prims_per_leaf.clamp(1, 3),
-            true,
-            false,
-        );
+        let bvh = cwbvh::bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true);
         drop(bvh2);
         build_time = start.elapsed();
         // Primitive records in leaf order, from each leaf's scene-order number.
