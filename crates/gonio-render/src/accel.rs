@@ -24,9 +24,6 @@ use std::time::Duration;
 mod cwbvh;
 mod flat;
 
-/// The PLOC search distance of obvhs' `medium_build` (`PlocSearchDistance::Medium`).
-const PLOC_SEARCH_DISTANCE: usize = 14;
-
 /// Ray queries against a set of shapes.
 pub trait Intersect {
     /// The closest hit in `(0, ray.tmax)`.
@@ -211,14 +208,11 @@ fn to_obvhs(ray: &Ray) -> obvhs::ray::Ray {
 }
 
 impl Accel {
-    /// Builds the BVH (obvhs PLOC with reinsertion, `medium_build` settings, then CWBVH).
-    ///
-    /// The steps of `obvhs::cwbvh::builder::build_cwbvh`, in the same order with the same
-    /// parameters (so the same tree), but arranged for peak memory, which a 1M-triangle mesh
-    /// makes matter: the primitive records are made only after the tree, directly in leaf order,
-    /// and the input boxes are dropped before the conversion to CWBVH (whose cost table,
-    /// 7 entries per binary node, is the largest allocation of the build). Before: 389 MB peak
-    /// resident for the 1 008 200-triangle `bench/scenes/terrain-1m.xml` (see bench/RESULTS.md).
+    /// Builds the BVH (obvhs PLOC with reinsertion, `medium_build` settings, then CWBVH), as
+    /// `accel/cwbvh.rs` describes: the tree of `obvhs::cwbvh::builder::build_cwbvh`, built
+    /// for peak memory, which a 1M-triangle mesh makes matter (bench/RESULTS.md), on the
+    /// rayon pool's threads; the primitive records are made only after the tree, directly in
+    /// leaf order.
     pub fn new(shapes: Vec<WorldShape>) -> Self {
         let count: usize = shapes.iter().map(prim_count).sum();
         let mut build_time = Duration::ZERO;
@@ -237,43 +231,12 @@ impl Accel {
             };
         }
         let start = std::time::Instant::now();
-        let params = obvhs::BvhBuildParams::medium_build();
-        let mut bvh2 = {
-            // `PlocBuilder::build` with its leaves made here from the primitives: no list of
-            // input boxes beside the builder's own leaf nodes.
-            let mut ploc = obvhs::ploc::PlocBuilder::new();
-            ploc.current_nodes.reserve_exact(count);
-            ploc.current_nodes.extend(
-                PrimIter::new(&shapes)
-                    .enumerate()
-                    .map(|(i, p)| Bvh2Node::new(prim_aabb(&shapes, &p), 1, i as u32)),
-            );
-            let total = cwbvh::total_aabb(ploc.current_nodes.iter().map(|n| *n.aabb()));
-            let mut bvh2 = obvhs::bvh2::Bvh2::zeroed(count);
-            bvh2.reset_for_reuse(count, Some((0..count as u32).collect()));
-            debug_assert!(matches!(
-                params.ploc_search_distance,
-                obvhs::ploc::PlocSearchDistance::Medium
-            ));
-            ploc.build_ploc_from_leaves::<PLOC_SEARCH_DISTANCE, false>(
-                &mut bvh2,
-                total,
-                params.sort_precision,
-                params.search_depth_threshold,
-            );
-            drop(ploc);
-            obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
-                &mut bvh2,
-                params.reinsertion_batch_ratio,
-                None,
-            );
-            bvh2
-        };
-        // Parent links and other side tables are not needed by the conversion.
-        bvh2.parents = Vec::new();
-        bvh2.primitives_to_nodes = Vec::new();
-        let bvh = cwbvh::bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true);
-        drop(bvh2);
+        let bvh = cwbvh::build(
+            PrimIter::new(&shapes)
+                .enumerate()
+                .map(|(i, p)| Bvh2Node::new(prim_aabb(&shapes, &p), 1, i as u32)),
+            count,
+        );
         build_time = start.elapsed();
         // Primitive records in leaf order, from each leaf's scene-order number.
         let firsts: Vec<usize> = shapes

@@ -20,6 +20,15 @@
 //! here the costs live only on the recursion stack (a node's 7 costs are needed only by its
 //! parent), and each decision is one byte (kind, left, right), 14 bytes per triangle.
 //!
+//! [`build`] is the whole build: obvhs' PLOC (Meister and Bittner 2018) with its reinsertion
+//! optimizer (Meister and Bittner 2017), `medium_build` settings, then this conversion, which
+//! is `obvhs::cwbvh::builder::build_cwbvh`'s tree, made in less memory: the builder's leaves are
+//! made directly from the caller's boxes (no separate list of input boxes), the binary tree's
+//! side tables are dropped before the conversion. With obvhs' `parallel` feature the PLOC
+//! search, its radix sort and the reinsertion run on the rayon pool; so does the cost pass
+//! here (subtrees near the root in parallel, each decision written once). The tree does not
+//! depend on the number of threads (`same_tree_for_any_thread_count`).
+//!
 //! | quantity | meaning |
 //! |---|---|
 //! | `max_prims_per_leaf` | at most this many primitives (1..=3) in a wide leaf |
@@ -28,8 +37,10 @@
 use glam::{Vec3A, vec3a};
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::Bvh2;
+use obvhs::bvh2::node::Bvh2Node;
 use obvhs::cwbvh::CwBvh;
 use obvhs::cwbvh::node::CwBvhNode;
+use std::sync::atomic::{AtomicU8, Ordering};
 
 /// SAH cost of one primitive relative to one node visit (obvhs' `PRIM_COST`).
 const PRIM_COST: f32 = 0.3;
@@ -45,6 +56,44 @@ const SLOTS: usize = 7;
 const INVALID32: u32 = u32::MAX;
 /// No split found (the cost of every split was not below the previous one).
 const NO_SPLIT: u8 = 7;
+/// The cost pass runs the two subtrees of nodes above this depth in parallel.
+const PARALLEL_DEPTH: u32 = 10;
+/// The PLOC search distance of obvhs' `medium_build` (`PlocSearchDistance::Medium`).
+const PLOC_SEARCH_DISTANCE: usize = 14;
+
+/// The CWBVH over `count` leaves (`Bvh2Node::new(box, 1, i)` for primitive `i`, in order).
+pub(super) fn build(leaves: impl Iterator<Item = Bvh2Node>, count: usize) -> CwBvh {
+    let params = obvhs::BvhBuildParams::medium_build();
+    debug_assert!(matches!(
+        params.ploc_search_distance,
+        obvhs::ploc::PlocSearchDistance::Medium
+    ));
+    let mut bvh2 = {
+        let mut ploc = obvhs::ploc::PlocBuilder::new();
+        ploc.current_nodes.reserve_exact(count);
+        ploc.current_nodes.extend(leaves);
+        assert_eq!(ploc.current_nodes.len(), count, "leaf count");
+        let total = total_aabb(ploc.current_nodes.iter().map(|n| *n.aabb()));
+        let mut bvh2 = Bvh2::zeroed(count);
+        bvh2.reset_for_reuse(count, Some((0..count as u32).collect()));
+        ploc.build_ploc_from_leaves::<PLOC_SEARCH_DISTANCE, false>(
+            &mut bvh2,
+            total,
+            params.sort_precision,
+            params.search_depth_threshold,
+        );
+        bvh2
+    };
+    obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
+        &mut bvh2,
+        params.reinsertion_batch_ratio,
+        None,
+    );
+    // Parent links and other side tables are not needed by the conversion.
+    bvh2.parents = Vec::new();
+    bvh2.primitives_to_nodes = Vec::new();
+    bvh2_to_cwbvh(&bvh2, params.max_prims_per_leaf.clamp(1, 3), true)
+}
 
 /// The decision for one (node, slot count): packed kind (2 bits), left split (3 bits) and
 /// right split (3 bits), [`NO_SPLIT`] standing for obvhs' `INVALID`.
@@ -80,7 +129,8 @@ struct Converter<'a> {
     bvh2: &'a Bvh2,
     nodes: Vec<CwBvhNode>,
     primitive_indices: Vec<u32>,
-    decisions: Vec<Decision>,
+    /// [`Decision`]s, written once each by the (parallel) cost pass.
+    decisions: Vec<AtomicU8>,
     order_children: bool,
 }
 
@@ -96,11 +146,11 @@ pub(super) fn bvh2_to_cwbvh(bvh2: &Bvh2, max_prims_per_leaf: u32, order_children
         bvh2,
         nodes: Vec::with_capacity(capacity),
         primitive_indices: Vec::with_capacity(capacity),
-        decisions: vec![Decision::default(); bvh2.nodes.len() * SLOTS],
+        decisions: (0..bvh2.nodes.len() * SLOTS).map(|_| AtomicU8::new(0)).collect(),
         order_children,
     };
     c.nodes.push(CwBvhNode::default());
-    c.cost(0, max_prims_per_leaf);
+    c.cost(0, max_prims_per_leaf, 0);
     c.convert(0, 0);
     drop(c.decisions);
     let mut nodes = c.nodes;
@@ -115,9 +165,17 @@ pub(super) fn bvh2_to_cwbvh(bvh2: &Bvh2, max_prims_per_leaf: u32, order_children
 }
 
 impl Converter<'_> {
+    fn decision(&self, i: usize) -> Decision {
+        Decision(self.decisions[i].load(Ordering::Relaxed))
+    }
+
+    fn set_decision(&self, i: usize, d: Decision) {
+        self.decisions[i].store(d.0, Ordering::Relaxed);
+    }
+
     /// Fills the decisions of the subtree of `node`; returns its primitive count and its 7
     /// costs (obvhs' `calculate_cost_impl`, same operations in the same order).
-    fn cost(&mut self, node: usize, max_prims_per_leaf: u32) -> (u32, [f32; SLOTS]) {
+    fn cost(&self, node: usize, max_prims_per_leaf: u32, depth: u32) -> (u32, [f32; SLOTS]) {
         let n = &self.bvh2.nodes[node];
         let half_area = n.aabb().half_area();
         let first = n.first_index as usize;
@@ -129,13 +187,22 @@ impl Converter<'_> {
                 "the CWBVH conversion expects one primitive per binary leaf"
             );
             let cost_leaf = half_area * (prim_count as f32) * PRIM_COST;
-            for d in &mut self.decisions[dec..dec + SLOTS] {
-                *d = Decision::new(LEAF, 0, 0);
+            for i in dec..dec + SLOTS {
+                self.set_decision(i, Decision::new(LEAF, 0, 0));
             }
             return (prim_count, [cost_leaf; SLOTS]);
         }
-        let (nl, cl) = self.cost(first, max_prims_per_leaf);
-        let (nr, cr) = self.cost(first + 1, max_prims_per_leaf);
+        let ((nl, cl), (nr, cr)) = if depth < PARALLEL_DEPTH {
+            rayon::join(
+                || self.cost(first, max_prims_per_leaf, depth + 1),
+                || self.cost(first + 1, max_prims_per_leaf, depth + 1),
+            )
+        } else {
+            (
+                self.cost(first, max_prims_per_leaf, depth + 1),
+                self.cost(first + 1, max_prims_per_leaf, depth + 1),
+            )
+        };
         let num_primitives = nl + nr;
         let mut costs = [0.0f32; SLOTS];
         // One slot: a leaf, or an internal wide node whose 8 slots are split between the children.
@@ -157,10 +224,10 @@ impl Converter<'_> {
             let cost_internal = cost_distribute + half_area;
             let (left, right) = (split(best), split(best.map(|k| 6 - k)));
             if cost_leaf < cost_internal {
-                self.decisions[dec] = Decision::new(LEAF, left, right);
+                self.set_decision(dec, Decision::new(LEAF, left, right));
                 costs[0] = cost_leaf;
             } else {
-                self.decisions[dec] = Decision::new(INTERNAL, left, right);
+                self.set_decision(dec, Decision::new(INTERNAL, left, right));
                 costs[0] = cost_internal;
             }
         }
@@ -176,10 +243,11 @@ impl Converter<'_> {
                 }
             }
             costs[i] = cost_distribute;
-            self.decisions[dec + i] = match best {
+            let d = match best {
                 Some(k) => Decision::new(DISTRIBUTE, k, i as u8 - k - 1),
-                None => self.decisions[dec + i - 1],
+                None => self.decision(dec + i - 1),
             };
+            self.set_decision(dec + i, d);
         }
         (num_primitives, costs)
     }
@@ -228,7 +296,7 @@ impl Converter<'_> {
             out.child_max_x[i] = hi.x as u8;
             out.child_max_y[i] = hi.y as u8;
             out.child_max_z[i] = hi.z as u8;
-            match self.decisions[child as usize * SLOTS].kind() {
+            match self.decision(child as usize * SLOTS).kind() {
                 LEAF => {
                     let count = self.push_primitives(child as usize);
                     // The three high bits count the primitives in unary; the low five are the offset.
@@ -280,14 +348,14 @@ impl Converter<'_> {
             *count += 1;
             return;
         }
-        let d = self.decisions[node * SLOTS + i];
+        let d = self.decision(node * SLOTS + i);
         let (left, right) = (d.left() as usize, d.right() as usize);
         debug_assert!(left < SLOTS && right < SLOTS);
         for (child, slots) in [
             (n.first_index as usize, left),
             (n.first_index as usize + 1, right),
         ] {
-            if self.decisions[child * SLOTS + slots].kind() == DISTRIBUTE {
+            if self.decision(child * SLOTS + slots).kind() == DISTRIBUTE {
                 self.children(child, children, count, slots);
             } else {
                 children[*count as usize] = child as u32;
@@ -376,7 +444,7 @@ mod tests {
 
     #[test]
     fn same_tree_as_obvhs() {
-        for (n, seed) in [(1, 1), (2, 2), (9, 3), (300, 4), (5000, 5)] {
+        for (n, seed) in [(1, 1), (2, 2), (9, 3), (300, 4), (5000, 5), (20_000, 6)] {
             let aabbs = boxes(n, seed);
             let params = obvhs::BvhBuildParams::medium_build();
             let bvh2 = obvhs::ploc::PlocBuilder::new().build(
@@ -397,6 +465,48 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    /// The tree `Accel` had before this module (obvhs' own build steps, the same as
+    /// `build_cwbvh` with `medium_build`), on one thread and on three.
+    #[test]
+    fn same_tree_for_any_thread_count() {
+        let n = 30_000;
+        let aabbs = boxes(n, 11);
+        let params = obvhs::BvhBuildParams::medium_build();
+        let reference = || {
+            let mut bvh2 = obvhs::ploc::PlocBuilder::new().build(
+                params.ploc_search_distance,
+                &aabbs,
+                (0..n as u32).collect(),
+                params.sort_precision,
+                params.search_depth_threshold,
+            );
+            obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
+                &mut bvh2,
+                params.reinsertion_batch_ratio,
+                None,
+            );
+            obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(&bvh2, 3, true, false)
+        };
+        let ours = || {
+            build(
+                aabbs
+                    .iter()
+                    .enumerate()
+                    .map(|(i, b)| Bvh2Node::new(*b, 1, i as u32)),
+                n,
+            )
+        };
+        let pool = |t: usize| rayon::ThreadPoolBuilder::new().num_threads(t).build().unwrap();
+        let expected = pool(1).install(reference);
+        assert!(
+            expected == pool(3).install(reference),
+            "obvhs' build depends on the thread count"
+        );
+        for t in [1, 2, 3] {
+            assert!(pool(t).install(ours) == expected, "{t} threads: trees differ");
         }
     }
 
