@@ -17,9 +17,11 @@ use crate::geometry::shape::{PrimHit, TriRay, intersect_triangle};
 use crate::geometry::{Ray, ShapeKind, SurfaceInteraction, WorldShape};
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
+use obvhs::bvh2::node::Bvh2Node;
 use obvhs::cwbvh::CwBvh;
 use std::time::Duration;
 
+mod cwbvh;
 mod flat;
 
 /// Ray queries against a set of shapes.
@@ -206,14 +208,11 @@ fn to_obvhs(ray: &Ray) -> obvhs::ray::Ray {
 }
 
 impl Accel {
-    /// Builds the BVH (obvhs PLOC with reinsertion, `medium_build` settings, then CWBVH).
-    ///
-    /// The steps of `obvhs::cwbvh::builder::build_cwbvh`, in the same order with the same
-    /// parameters (so the same tree), but arranged for peak memory, which a 1M-triangle mesh
-    /// makes matter: the primitive records are made only after the tree, directly in leaf order,
-    /// and the input boxes are dropped before the conversion to CWBVH (whose cost table,
-    /// 7 entries per binary node, is the largest allocation of the build). Before: 389 MB peak
-    /// resident for the 1 008 200-triangle `bench/scenes/terrain-1m.xml` (see bench/RESULTS.md).
+    /// Builds the BVH (obvhs PLOC with reinsertion, `medium_build` settings, then CWBVH), as
+    /// `accel/cwbvh.rs` describes: the tree of `obvhs::cwbvh::builder::build_cwbvh`, built
+    /// for peak memory, which a 1M-triangle mesh makes matter (bench/RESULTS.md), on the
+    /// rayon pool's threads; the primitive records are made only after the tree, directly in
+    /// leaf order.
     pub fn new(shapes: Vec<WorldShape>) -> Self {
         let count: usize = shapes.iter().map(prim_count).sum();
         let mut build_time = Duration::ZERO;
@@ -232,34 +231,12 @@ impl Accel {
             };
         }
         let start = std::time::Instant::now();
-        let params = obvhs::BvhBuildParams::medium_build();
-        let mut bvh2 = {
-            let mut aabbs: Vec<Aabb> = Vec::with_capacity(count);
-            aabbs.extend(PrimIter::new(&shapes).map(|p| prim_aabb(&shapes, &p)));
-            let mut bvh2 = obvhs::ploc::PlocBuilder::with_capacity(aabbs.len()).build(
-                params.ploc_search_distance,
-                &aabbs,
-                (0..aabbs.len() as u32).collect(),
-                params.sort_precision,
-                params.search_depth_threshold,
-            );
-            obvhs::bvh2::reinsertion::ReinsertionOptimizer::default().run(
-                &mut bvh2,
-                params.reinsertion_batch_ratio,
-                None,
-            );
-            bvh2
-        };
-        // Parent links and other side tables are not needed by the conversion.
-        bvh2.parents = Vec::new();
-        bvh2.primitives_to_nodes = Vec::new();
-        let bvh = obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh(
-            &bvh2,
-            params.max_prims_per_leaf.clamp(1, 3),
-            true,
-            false,
+        let bvh = cwbvh::build(
+            PrimIter::new(&shapes)
+                .enumerate()
+                .map(|(i, p)| Bvh2Node::new(prim_aabb(&shapes, &p), 1, i as u32)),
+            count,
         );
-        drop(bvh2);
         build_time = start.elapsed();
         // Primitive records in leaf order, from each leaf's scene-order number.
         let firsts: Vec<usize> = shapes

@@ -119,7 +119,9 @@ pub enum RenderError {
 /// A scene ready to render: shapes in world space inside a BVH, lights with their selection
 /// distribution, the camera.
 pub struct PreparedScene {
-    /// The scene as read.
+    /// The scene as read, except the vertex data of meshes nothing else shared: it has moved
+    /// into the world-space shapes of [`PreparedScene::accel`], leaving their descriptions
+    /// with empty meshes.
     pub scene: Scene,
     accel: Accel,
     lights: Lights,
@@ -138,7 +140,7 @@ impl std::fmt::Debug for PreparedScene {
 
 impl PreparedScene {
     /// Places the shapes, builds the BVH and the lights.
-    pub fn new(scene: Scene) -> Result<Self, RenderError> {
+    pub fn new(mut scene: Scene) -> Result<Self, RenderError> {
         let film = &scene.sensor.film;
         if film.width == 0 || film.height == 0 {
             return Err(RenderError::EmptyFilm {
@@ -148,9 +150,9 @@ impl PreparedScene {
         }
         let mut world = Vec::with_capacity(scene.shapes.len());
         let mut shape_material = Vec::with_capacity(scene.shapes.len());
-        for (index, shape) in scene.shapes.iter().enumerate() {
+        for (index, shape) in scene.shapes.iter_mut().enumerate() {
             let name = shape.id.clone().unwrap_or_else(|| format!("#{index}"));
-            let w = WorldShape::from_scene(shape, &name).map_err(|e| RenderError::Shape {
+            let w = WorldShape::from_scene_moving_mesh(shape, &name).map_err(|e| RenderError::Shape {
                 index,
                 message: e.to_string(),
             })?;

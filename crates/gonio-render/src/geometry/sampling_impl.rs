@@ -73,7 +73,7 @@ pub fn sample_area(shape: &WorldShape, u: Vec2) -> ShapeSample {
         }
         ShapeKind::Mesh(m) => {
             // Choose the triangle by area and reuse u.x, rescaled inside its cell.
-            let (i, _, ux) = m.triangles.sample_discrete(u.x);
+            let (i, _, ux) = m.triangles().sample_discrete(u.x);
             let su = ux.sqrt();
             let (b1, b2) = (u.y * su, 1.0 - su);
             // b0 = 1 − b1 − b2 = su·(1 − u.y): uniform on the triangle.

@@ -7,7 +7,7 @@ use glam::{Affine3A, DVec3, Mat3, Vec2, Vec3, Vec3A};
 use gonio_core::Frame;
 use gonio_core::sampling::Distribution1D;
 use std::f32::consts::{PI, TAU};
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// Shapes that cannot be placed as asked.
 #[derive(Debug, thiserror::Error)]
@@ -53,8 +53,9 @@ pub struct WorldMesh {
     pub uvs: Vec<Vec2>,
     /// Triangles.
     pub indices: Vec<[u32; 3]>,
-    /// Triangles with probability ∝ area (for area sampling).
-    pub triangles: Distribution1D,
+    /// Triangles with probability ∝ area (for area sampling), made on first use: only meshes
+    /// that emit are sampled, and the table costs 8 bytes per triangle.
+    triangles: OnceLock<Distribution1D>,
     /// Total area.
     pub area: f32,
 }
@@ -246,6 +247,22 @@ impl WorldShape {
 
     /// Places a scene shape in world space. `name` identifies it in errors.
     pub fn from_scene(shape: &ShapeDesc, name: &str) -> Result<Self, GeometryError> {
+        Self::place(shape, None, name)
+    }
+
+    /// [`WorldShape::from_scene`], moving a mesh's vertex data out of `shape` when nothing else
+    /// shares it (then `shape` is left with an empty mesh): a large mesh is not held twice.
+    pub fn from_scene_moving_mesh(shape: &mut ShapeDesc, name: &str) -> Result<Self, GeometryError> {
+        sphere_placement(shape, name)?;
+        let owned = match &mut shape.geometry {
+            Geometry::Mesh(mesh) => Arc::get_mut(mesh).map(std::mem::take),
+            _ => None,
+        };
+        Self::place(shape, owned, name)
+    }
+
+    /// Places `shape`, whose mesh (if it is one) is `owned` when given.
+    fn place(shape: &ShapeDesc, owned: Option<TriangleMesh>, name: &str) -> Result<Self, GeometryError> {
         let m = shape.to_world;
         let sphere = sphere_placement(shape, name)?;
         let kind = match (&shape.geometry, sphere) {
@@ -280,7 +297,10 @@ impl WorldShape {
                     area: PI * ex.cross(ey).length(),
                 }
             }
-            (Geometry::Mesh(mesh), _) => ShapeKind::Mesh(Arc::new(WorldMesh::new(mesh, &m, name)?)),
+            (Geometry::Mesh(mesh), _) => ShapeKind::Mesh(Arc::new(match owned {
+                Some(owned) => WorldMesh::from_owned(owned, &m, name)?,
+                None => WorldMesh::new(mesh, &m, name)?,
+            })),
             (
                 Geometry::Instance {
                     group,
@@ -613,8 +633,14 @@ fn intersect_plane(to_object: &Affine3A, ray: &Ray) -> Option<(f32, f32, f32)> {
 }
 
 impl WorldMesh {
-    /// Transforms a scene mesh to world space and builds its area table.
+    /// Transforms a scene mesh to world space (a copy of its vertex data).
     pub fn new(mesh: &TriangleMesh, to_world: &Affine3A, name: &str) -> Result<Self, GeometryError> {
+        Self::check(mesh, name)?;
+        Self::from_owned(mesh.clone(), to_world, name)
+    }
+
+    /// Checks vertex counts, indices and finiteness.
+    fn check(mesh: &TriangleMesh, name: &str) -> Result<(), GeometryError> {
         let bad = |message: String| GeometryError::BadMesh {
             name: name.to_owned(),
             message,
@@ -640,34 +666,51 @@ impl WorldMesh {
         if let Some(i) = mesh.positions.iter().position(|p| !p.is_finite()) {
             return Err(bad(format!("vertex {i} is not finite: {:?}", mesh.positions[i])));
         }
-        let positions: Vec<Vec3> = mesh
-            .positions
-            .iter()
-            .map(|&p| to_world.transform_point3(p))
-            .collect();
+        Ok(())
+    }
+
+    /// Transforms a scene mesh to world space in place, reusing its arrays (for a mesh nothing
+    /// else holds: the 1M-triangle bench mesh then exists once, not twice, while the BVH is
+    /// built).
+    pub fn from_owned(mesh: TriangleMesh, to_world: &Affine3A, name: &str) -> Result<Self, GeometryError> {
+        Self::check(&mesh, name)?;
+        let TriangleMesh {
+            mut positions,
+            mut normals,
+            uvs,
+            indices,
+        } = mesh;
+        for p in &mut positions {
+            *p = to_world.transform_point3(*p);
+        }
         let normal_m = Mat3::from(to_world.matrix3).inverse().transpose();
-        let normals = mesh
-            .normals
-            .iter()
-            .map(|&n| (normal_m * n).normalize_or_zero())
-            .collect();
-        let areas: Vec<f32> = mesh
-            .indices
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|i| positions[i as usize]);
-                0.5 * (b - a).cross(c - a).length()
-            })
-            .collect();
-        let total: f64 = areas.iter().map(|&a| a as f64).sum();
-        let triangles = Distribution1D::new(&areas);
-        Ok(Self {
+        for n in &mut normals {
+            *n = (normal_m * *n).normalize_or_zero();
+        }
+        let mut m = Self {
             positions,
             normals,
-            uvs: mesh.uvs.clone(),
-            indices: mesh.indices.clone(),
-            triangles,
-            area: total as f32,
+            uvs,
+            indices,
+            triangles: OnceLock::new(),
+            area: 0.0,
+        };
+        let total: f64 = (0..m.indices.len()).map(|i| m.tri_area(i) as f64).sum();
+        m.area = total as f32;
+        Ok(m)
+    }
+
+    /// The area of triangle `i`.
+    fn tri_area(&self, i: usize) -> f32 {
+        let [a, b, c] = self.tri(i);
+        0.5 * (b - a).cross(c - a).length()
+    }
+
+    /// Triangles with probability ∝ area (for area sampling).
+    pub fn triangles(&self) -> &Distribution1D {
+        self.triangles.get_or_init(|| {
+            let areas: Vec<f32> = (0..self.indices.len()).map(|i| self.tri_area(i)).collect();
+            Distribution1D::new(&areas)
         })
     }
 
