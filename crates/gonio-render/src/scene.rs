@@ -558,6 +558,8 @@ pub enum EmitterDesc {
         fov_x_deg: f32,
         /// The texture's width/height.
         aspect: f32,
+        /// E is multiplied by D65 (false: Mitsuba 3.9.1's nested textures, `whitepoint="mitsuba"`).
+        whitepoint: bool,
     },
     /// `directional`: light travelling along `direction`.
     Directional {

@@ -578,3 +578,63 @@ fn projector_irradiance_on_a_facing_plane_is_constant() {
 
 /// `Light::sample_ray` (in its own file: this one is long).
 mod emission;
+
+/// A projector's texel projects its own colour: a texture object of grey 0.5 (a checkerboard of
+/// two equal colours) projects 0.5·D65, exactly what `<rgb name="irradiance" value="0.5"/>` given
+/// in place projects, since D65 is the white of sRGB (Lᵢ = π·scale·E·D65/(z² cos θ)).
+/// `whitepoint="mitsuba"` reproduces Mitsuba 3.9.1, whose `texture_d65` leaves a texture object
+/// without D65: the same texture then projects the equal-energy spectrum π·scale·0.5/(z² cos θ),
+/// reddish against the sRGB white, while a colour given in place keeps its D65.
+#[test]
+fn projector_texture_projects_its_own_colour_unless_whitepoint_mitsuba() {
+    use gonio_render::render::PreparedScene;
+    let light = |irradiance: &str, whitepoint: &str| {
+        let xml = format!(
+            r#"<scene version="3.0.0">
+            <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+            <emitter type="projector"><float name="fov" value="40"/><float name="scale" value="3"/>{whitepoint}{irradiance}</emitter>
+        </scene>"#
+        );
+        let scene = gonio_render::xml::load_scene_str(&xml, ".", &[]).expect("scene loads");
+        let prepared = PreparedScene::new(scene).expect("scene prepares");
+        match &prepared.lights().lights()[0] {
+            Light::Projector(p) => p.clone(),
+            other => panic!("not a projector: {other:?}"),
+        }
+    };
+    let grey_texture = r#"<texture type="checkerboard" name="irradiance"><rgb name="color0" value="0.5"/><rgb name="color1" value="0.5"/></texture>"#;
+    let grey_in_place = r#"<rgb name="irradiance" value="0.5"/>"#;
+    let mitsuba = r#"<string name="whitepoint" value="mitsuba"/>"#;
+    let p = Vec3::new(0.3, -0.2, 2.0);
+    let geometry = PI * 3.0 / (p.z * p.z * (p.z / p.length()));
+    for u in [0.05, 0.3, 0.55, 0.8, 0.97] {
+        let wl = SampledWavelengths::sample_visible(u);
+        let d65 = Spectrum::d65().sample(&wl);
+        for (irradiance, whitepoint, expected) in [
+            (grey_texture, "", d65 * (0.5 * geometry)),
+            (grey_in_place, "", d65 * (0.5 * geometry)),
+            (
+                grey_texture,
+                mitsuba,
+                gonio_core::SampledSpectrum::splat(0.5 * geometry),
+            ),
+            (grey_in_place, mitsuba, d65 * (0.5 * geometry)),
+        ] {
+            let li = light(irradiance, whitepoint).li_at(p, &wl);
+            for i in 0..4 {
+                assert!(
+                    (li[i] / expected[i] - 1.0).abs() < 1e-4,
+                    "{irradiance} {whitepoint}: {li:?} vs {expected:?}"
+                );
+            }
+        }
+    }
+    // A misspelt choice is an error naming the value.
+    let xml = format!(
+        r#"<scene version="3.0.0"><emitter type="projector"><string name="whitepoint" value="d56"/>{grey_texture}</emitter></scene>"#
+    );
+    let e = gonio_render::xml::load_scene_str(&xml, ".", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("d56") && e.contains(":1:"), "{e}");
+}

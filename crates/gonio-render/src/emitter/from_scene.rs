@@ -79,17 +79,18 @@ impl Light {
                 scale,
                 fov_x_deg,
                 aspect,
+                whitepoint,
             } => {
                 if to_world.matrix3.determinant() == 0.0 {
                     return Err("singular to_world".into());
                 }
-                Light::Projector(super::ProjectorLight::new(
-                    *to_world,
-                    irradiance.clone(),
-                    *scale,
-                    *fov_x_deg,
-                    *aspect,
-                ))
+                let light =
+                    super::ProjectorLight::new(*to_world, irradiance.clone(), *scale, *fov_x_deg, *aspect);
+                Light::Projector(if *whitepoint {
+                    light
+                } else {
+                    light.without_whitepoint()
+                })
             }
             EmitterDesc::Directional {
                 direction,
