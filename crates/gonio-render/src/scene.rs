@@ -581,5 +581,7 @@ pub enum EmitterDesc {
         scale: f32,
         /// Environment to world.
         to_world: Affine3A,
+        /// Mitsuba 3.9.1's texel layout and interpolation (`lookup="mitsuba"`).
+        mitsuba_lookup: bool,
     },
 }

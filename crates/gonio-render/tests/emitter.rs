@@ -638,3 +638,73 @@ fn projector_texture_projects_its_own_colour_unless_whitepoint_mitsuba() {
         .to_string();
     assert!(e.contains("d56") && e.contains(":1:"), "{e}");
 }
+
+/// An environment texel is an area of the sphere: column i covers φ/2π ∈ [i, i + 1]/W and row j
+/// covers θ/π ∈ [j, j + 1]/H, its value sits at the centre, and between centres the radiance is
+/// the bilinear interpolation of the texels' spectra, so its colour is the bilinear
+/// interpolation of the image's colours. `lookup="mitsuba"` reproduces Mitsuba 3.9.1
+/// (`envmap.cpp`): row j at θ = π j/(H − 1) (the first and last rows at the poles), and each
+/// texel's shape sᵢ = Lᵢ/fᵢ and scale fᵢ = 2 max(rgb) interpolated separately and multiplied, so
+/// that midway between a bright red and a dim blue texel the blue shape gets half the weight
+/// instead of its share of the radiance.
+#[test]
+fn envmap_blends_texels_as_radiance_unless_lookup_mitsuba() {
+    use gonio_render::texture::uplift_emission_texel;
+    let (w, h) = (4, 3);
+    let red = [8.0, 0.5, 0.2];
+    let blue = [0.05, 0.1, 0.6];
+    let mut rgb = vec![[0.5f32; 3]; w * h];
+    rgb[..w].fill([2.0; 3]);
+    rgb[2 * w..].fill([0.1, 0.2, 0.3]);
+    rgb[w] = red;
+    rgb[w + 1] = blue;
+    let scale = 1.5;
+    let env = EnvMapLight::new(w, h, rgb, scale, Affine3A::IDENTITY, uplift_emission_texel).unwrap();
+    let mitsuba = env.clone().with_mitsuba_lookup();
+    for u in [0.1, 0.5, 0.9] {
+        let wl = SampledWavelengths::sample_visible(u);
+        let texel = |c: [f32; 3]| uplift_emission_texel(c).sample(&wl) * scale;
+        let close = |a: gonio_core::SampledSpectrum, b: gonio_core::SampledSpectrum, what: &str| {
+            for i in 0..4 {
+                assert!((a[i] / b[i] - 1.0).abs() < 1e-4, "{what}: {a:?} vs {b:?}");
+            }
+        };
+        let at = |e: &EnvMapLight, u: f32, v: f32| e.le(e.uv_to_dir(Vec2::new(u, v)), &wl);
+        // Texel centres: (j + ½)/H here, j/(H − 1) in Mitsuba's layout (rows at the poles).
+        close(at(&env, 2.5 / 4.0, 0.5 / 3.0), texel([2.0; 3]), "first row");
+        close(at(&env, 2.5 / 4.0, 2.5 / 3.0), texel([0.1, 0.2, 0.3]), "last row");
+        close(mitsuba.le(Vec3::Y, &wl), texel([2.0; 3]), "Mitsuba's north pole");
+        close(
+            mitsuba.le(-Vec3::Y, &wl),
+            texel([0.1, 0.2, 0.3]),
+            "Mitsuba's south pole",
+        );
+        close(
+            at(&mitsuba, 2.5 / 4.0, 0.25),
+            (texel([2.0; 3]) + texel([0.5; 3])) * 0.5,
+            "Mitsuba between rows",
+        );
+        for e in [&env, &mitsuba] {
+            close(at(e, 0.5 / 4.0, 0.5), texel(red), "red texel");
+            close(at(e, 1.5 / 4.0, 0.5), texel(blue), "blue texel");
+        }
+        // Midway between the red and the blue texel.
+        close(
+            at(&env, 1.0 / 4.0, 0.5),
+            (texel(red) + texel(blue)) * 0.5,
+            "radiance blend",
+        );
+        let (f_red, f_blue) = (2.0 * 8.0, 2.0 * 0.6);
+        let shapes = (texel(red) / f_red + texel(blue) / f_blue) * 0.5;
+        close(
+            at(&mitsuba, 1.0 / 4.0, 0.5),
+            shapes * (0.5 * (f_red + f_blue)),
+            "Mitsuba's blend",
+        );
+    }
+    // The two blends differ: Mitsuba's is bluer midway.
+    let wl = SampledWavelengths::sample_visible(0.2);
+    let mid = env.uv_to_dir(Vec2::new(1.0 / 4.0, 0.5));
+    let (a, b) = (env.le(mid, &wl), mitsuba.le(mid, &wl));
+    assert!((0..4).any(|i| (a[i] / b[i] - 1.0).abs() > 0.05), "{a:?} vs {b:?}");
+}

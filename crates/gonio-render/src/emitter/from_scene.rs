@@ -112,6 +112,7 @@ impl Light {
                 image,
                 scale,
                 to_world,
+                mitsuba_lookup,
             } => {
                 let env = EnvMapLight::new(
                     image.width,
@@ -122,7 +123,11 @@ impl Light {
                     crate::texture::uplift_emission_texel,
                 )
                 .ok_or_else(|| "empty environment image or singular to_world".to_string())?;
-                Light::EnvMap(env)
+                Light::EnvMap(if *mitsuba_lookup {
+                    env.with_mitsuba_lookup()
+                } else {
+                    env
+                })
             }
         })
     }
