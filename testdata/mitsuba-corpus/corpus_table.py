@@ -28,7 +28,7 @@ sampler count is overridden by `--spp`/`spp=`. Prints a Markdown table and write
 
 With `--mitsuba-estimators` gonio renders with Mitsuba's estimators where it departs from them
 (`gonio render --mitsuba-estimators`: roughplastic's coat tables, blendbsdf's delta pdf, shadows of
-thin glass, no caustic light subpaths); `--mitsuba-cache DIR` keeps Mitsuba's renders for the
+thin glass, no caustic light subpaths, envmap's lookup, a textured projector without D65); `--mitsuba-cache DIR` keeps Mitsuba's renders for the
 next run (a failed Mitsuba render is not cached).
 
 Usage (takes about an hour on two cores):

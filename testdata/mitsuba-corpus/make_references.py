@@ -38,9 +38,9 @@ names = sys.argv[1:] or sorted(
 )
 for name in names:
     t = time.time()
-    # A `_delta_pdf_mitsuba` copy (a gonio parameter Mitsuba rejects) is compared with the
-    # original's render, `reference/<original>.exr`.
-    if name.endswith("_delta_pdf_mitsuba"):
+    # A `_delta_pdf_mitsuba`, `_whitepoint_mitsuba` or `_lookup_mitsuba` copy (a gonio parameter
+    # Mitsuba rejects) is compared with the original's render, `reference/<original>.exr`.
+    if name.endswith(("_delta_pdf_mitsuba", "_whitepoint_mitsuba", "_lookup_mitsuba")):
         continue
     # A `_cells_swapped` copy is compared with Mitsuba's render of the original file.
     source = name.removesuffix("_cells_swapped")

@@ -561,6 +561,8 @@ pub enum EmitterDesc {
         fov_x_deg: f32,
         /// The texture's width/height.
         aspect: f32,
+        /// E is multiplied by D65 (false: Mitsuba 3.9.1's nested textures, `whitepoint="mitsuba"`).
+        whitepoint: bool,
     },
     /// `directional`: light travelling along `direction`.
     Directional {
@@ -582,5 +584,7 @@ pub enum EmitterDesc {
         scale: f32,
         /// Environment to world.
         to_world: Affine3A,
+        /// Mitsuba 3.9.1's texel layout and interpolation (`lookup="mitsuba"`).
+        mitsuba_lookup: bool,
     },
 }

@@ -578,3 +578,133 @@ fn projector_irradiance_on_a_facing_plane_is_constant() {
 
 /// `Light::sample_ray` (in its own file: this one is long).
 mod emission;
+
+/// A projector's texel projects its own colour: a texture object of grey 0.5 (a checkerboard of
+/// two equal colours) projects 0.5·D65, exactly what `<rgb name="irradiance" value="0.5"/>` given
+/// in place projects, since D65 is the white of sRGB (Lᵢ = π·scale·E·D65/(z² cos θ)).
+/// `whitepoint="mitsuba"` reproduces Mitsuba 3.9.1, whose `texture_d65` leaves a texture object
+/// without D65: the same texture then projects the equal-energy spectrum π·scale·0.5/(z² cos θ),
+/// reddish against the sRGB white, while a colour given in place keeps its D65.
+#[test]
+fn projector_texture_projects_its_own_colour_unless_whitepoint_mitsuba() {
+    use gonio_render::render::PreparedScene;
+    let light = |irradiance: &str, whitepoint: &str| {
+        let xml = format!(
+            r#"<scene version="3.0.0">
+            <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="4"/><integer name="height" value="4"/></film></sensor>
+            <emitter type="projector"><float name="fov" value="40"/><float name="scale" value="3"/>{whitepoint}{irradiance}</emitter>
+        </scene>"#
+        );
+        let scene = gonio_render::xml::load_scene_str(&xml, ".", &[]).expect("scene loads");
+        let prepared = PreparedScene::new(scene).expect("scene prepares");
+        match &prepared.lights().lights()[0] {
+            Light::Projector(p) => p.clone(),
+            other => panic!("not a projector: {other:?}"),
+        }
+    };
+    let grey_texture = r#"<texture type="checkerboard" name="irradiance"><rgb name="color0" value="0.5"/><rgb name="color1" value="0.5"/></texture>"#;
+    let grey_in_place = r#"<rgb name="irradiance" value="0.5"/>"#;
+    let mitsuba = r#"<string name="whitepoint" value="mitsuba"/>"#;
+    let p = Vec3::new(0.3, -0.2, 2.0);
+    let geometry = PI * 3.0 / (p.z * p.z * (p.z / p.length()));
+    for u in [0.05, 0.3, 0.55, 0.8, 0.97] {
+        let wl = SampledWavelengths::sample_visible(u);
+        let d65 = Spectrum::d65().sample(&wl);
+        for (irradiance, whitepoint, expected) in [
+            (grey_texture, "", d65 * (0.5 * geometry)),
+            (grey_in_place, "", d65 * (0.5 * geometry)),
+            (
+                grey_texture,
+                mitsuba,
+                gonio_core::SampledSpectrum::splat(0.5 * geometry),
+            ),
+            (grey_in_place, mitsuba, d65 * (0.5 * geometry)),
+        ] {
+            let li = light(irradiance, whitepoint).li_at(p, &wl);
+            for i in 0..4 {
+                assert!(
+                    (li[i] / expected[i] - 1.0).abs() < 1e-4,
+                    "{irradiance} {whitepoint}: {li:?} vs {expected:?}"
+                );
+            }
+        }
+    }
+    // A misspelt choice is an error naming the value.
+    let xml = format!(
+        r#"<scene version="3.0.0"><emitter type="projector"><string name="whitepoint" value="d56"/>{grey_texture}</emitter></scene>"#
+    );
+    let e = gonio_render::xml::load_scene_str(&xml, ".", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("d56") && e.contains(":1:"), "{e}");
+}
+
+/// An environment texel is an area of the sphere: column i covers φ/2π ∈ [i, i + 1]/W and row j
+/// covers θ/π ∈ [j, j + 1]/H, its value sits at the centre, and between centres the radiance is
+/// the bilinear interpolation of the texels' spectra, so its colour is the bilinear
+/// interpolation of the image's colours. `lookup="mitsuba"` reproduces Mitsuba 3.9.1
+/// (`envmap.cpp`): row j at θ = π j/(H − 1) (the first and last rows at the poles), and each
+/// texel's shape sᵢ = Lᵢ/fᵢ and scale fᵢ = 2 max(rgb) interpolated separately and multiplied, so
+/// that midway between a bright red and a dim blue texel the blue shape gets half the weight
+/// instead of its share of the radiance.
+#[test]
+fn envmap_blends_texels_as_radiance_unless_lookup_mitsuba() {
+    use gonio_render::texture::uplift_emission_texel;
+    let (w, h) = (4, 3);
+    let red = [8.0, 0.5, 0.2];
+    let blue = [0.05, 0.1, 0.6];
+    let mut rgb = vec![[0.5f32; 3]; w * h];
+    rgb[..w].fill([2.0; 3]);
+    rgb[2 * w..].fill([0.1, 0.2, 0.3]);
+    rgb[w] = red;
+    rgb[w + 1] = blue;
+    let scale = 1.5;
+    let env = EnvMapLight::new(w, h, rgb, scale, Affine3A::IDENTITY, uplift_emission_texel).unwrap();
+    let mitsuba = env.clone().with_mitsuba_lookup();
+    for u in [0.1, 0.5, 0.9] {
+        let wl = SampledWavelengths::sample_visible(u);
+        let texel = |c: [f32; 3]| uplift_emission_texel(c).sample(&wl) * scale;
+        let close = |a: gonio_core::SampledSpectrum, b: gonio_core::SampledSpectrum, what: &str| {
+            for i in 0..4 {
+                assert!((a[i] / b[i] - 1.0).abs() < 1e-4, "{what}: {a:?} vs {b:?}");
+            }
+        };
+        let at = |e: &EnvMapLight, u: f32, v: f32| e.le(e.uv_to_dir(Vec2::new(u, v)), &wl);
+        // Texel centres: (j + ½)/H here, j/(H − 1) in Mitsuba's layout (rows at the poles).
+        close(at(&env, 2.5 / 4.0, 0.5 / 3.0), texel([2.0; 3]), "first row");
+        close(at(&env, 2.5 / 4.0, 2.5 / 3.0), texel([0.1, 0.2, 0.3]), "last row");
+        close(mitsuba.le(Vec3::Y, &wl), texel([2.0; 3]), "Mitsuba's north pole");
+        close(
+            mitsuba.le(-Vec3::Y, &wl),
+            texel([0.1, 0.2, 0.3]),
+            "Mitsuba's south pole",
+        );
+        close(
+            at(&mitsuba, 2.5 / 4.0, 0.25),
+            (texel([2.0; 3]) + texel([0.5; 3])) * 0.5,
+            "Mitsuba between rows",
+        );
+        for e in [&env, &mitsuba] {
+            close(at(e, 0.5 / 4.0, 0.5), texel(red), "red texel");
+            close(at(e, 1.5 / 4.0, 0.5), texel(blue), "blue texel");
+        }
+        // Midway between the red and the blue texel.
+        close(
+            at(&env, 1.0 / 4.0, 0.5),
+            (texel(red) + texel(blue)) * 0.5,
+            "radiance blend",
+        );
+        let (f_red, f_blue) = (2.0 * 8.0, 2.0 * 0.6);
+        let shapes = (texel(red) / f_red + texel(blue) / f_blue) * 0.5;
+        close(
+            at(&mitsuba, 1.0 / 4.0, 0.5),
+            shapes * (0.5 * (f_red + f_blue)),
+            "Mitsuba's blend",
+        );
+    }
+    // The two blends differ: Mitsuba's is bluer midway.
+    let wl = SampledWavelengths::sample_visible(0.2);
+    let mid = env.uv_to_dir(Vec2::new(1.0 / 4.0, 0.5));
+    let (a, b) = (env.le(mid, &wl), mitsuba.le(mid, &wl));
+    assert!((0..4).any(|i| (a[i] / b[i] - 1.0).abs() > 0.05), "{a:?} vs {b:?}");
+}

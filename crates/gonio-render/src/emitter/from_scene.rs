@@ -79,17 +79,18 @@ impl Light {
                 scale,
                 fov_x_deg,
                 aspect,
+                whitepoint,
             } => {
                 if to_world.matrix3.determinant() == 0.0 {
                     return Err("singular to_world".into());
                 }
-                Light::Projector(super::ProjectorLight::new(
-                    *to_world,
-                    irradiance.clone(),
-                    *scale,
-                    *fov_x_deg,
-                    *aspect,
-                ))
+                let light =
+                    super::ProjectorLight::new(*to_world, irradiance.clone(), *scale, *fov_x_deg, *aspect);
+                Light::Projector(if *whitepoint {
+                    light
+                } else {
+                    light.without_whitepoint()
+                })
             }
             EmitterDesc::Directional {
                 direction,
@@ -111,6 +112,7 @@ impl Light {
                 image,
                 scale,
                 to_world,
+                mitsuba_lookup,
             } => {
                 let env = EnvMapLight::new(
                     image.width,
@@ -121,7 +123,11 @@ impl Light {
                     crate::texture::uplift_emission_texel,
                 )
                 .ok_or_else(|| "empty environment image or singular to_world".to_string())?;
-                Light::EnvMap(env)
+                Light::EnvMap(if *mitsuba_lookup {
+                    env.with_mitsuba_lookup()
+                } else {
+                    env
+                })
             }
         })
     }

@@ -14,6 +14,21 @@
 //! (up), its centre column looks down −z. Inversely, (θ, φ) = (π v, 2π u) gives
 //! v = (sin θ sin φ, cos θ, −sin θ cos φ).
 //!
+//! # Texels
+//!
+//! A texel is an area of the sphere: column i covers u ∈ [i, i + 1]/W (wrapping around), row j
+//! covers v ∈ [j, j + 1]/H; its value sits at its centre and between centres the lookup is
+//! bilinear in the texels' radiance spectra, Σ wᵢ Lᵢ(λ), so the colour between texels is the
+//! bilinear interpolation of the image's colours.
+//!
+//! Mitsuba 3.9.1 (`envmap.cpp`, `eval_spectrum`) differs twice: its row j sits at v = j/(H − 1)
+//! (the first row at the north pole, the last at the south pole: the image stretched by
+//! H/(H − 1)), and it stores each texel as a shape sᵢ(λ) (the sigmoid of rgb/(2 max)) and a scale
+//! fᵢ = 2 max(rgb), interpolated separately, (Σ wᵢ sᵢ)(Σ wᵢ fᵢ)·D65: between a bright and a dim
+//! texel of different colours the dim one's colour gets the bright one's weight (under
+//! `museum.exr` a diffuse plane's red comes out 1.2 % above the bilinear radiance's).
+//! [`EnvMapLight::with_mitsuba_lookup`] (the plugin's `lookup="mitsuba"`) reproduces both.
+//!
 //! # Sampling
 //!
 //! `constant` samples a cosine-weighted hemisphere about the shading normal when only reflection
@@ -86,6 +101,8 @@ pub struct EnvMapLight {
     to_local: Affine3A,
     distribution: Distribution2D,
     mean_luminance: f32,
+    /// Mitsuba 3.9.1's row layout and separate interpolation of shapes and scales (module docs).
+    mitsuba_lookup: bool,
 }
 
 impl std::fmt::Debug for EnvMapLight {
@@ -144,7 +161,15 @@ impl EnvMapLight {
             to_local: to_world.inverse(),
             distribution,
             mean_luminance,
+            mitsuba_lookup: false,
         })
+    }
+
+    /// The same light with Mitsuba 3.9.1's lookup: rows at v = j/(H − 1), texel shapes and
+    /// scales interpolated separately and multiplied (module docs).
+    pub fn with_mitsuba_lookup(mut self) -> Self {
+        self.mitsuba_lookup = true;
+        self
     }
 
     /// World direction → image coordinates in [0, 1)².
@@ -164,13 +189,20 @@ impl EnvMapLight {
         self.to_world.transform_vector3(local).normalize()
     }
 
-    /// The four texels around `uv` (pixel centres; wrapping in u, clamping in v) and their
-    /// bilinear weights.
+    /// The four texels around `uv` (columns at (i + ½)/W, wrapping; rows at (j + ½)/H,
+    /// clamping, or at j/(H − 1) in Mitsuba's layout) and their bilinear weights.
     fn bilinear(&self, uv: Vec2) -> [(usize, f32); 4] {
         let (w, h) = (self.width as isize, self.height as isize);
         let x = uv.x * w as f32 - 0.5;
-        let y = uv.y * h as f32 - 0.5;
-        let (x0, y0) = (x.floor(), y.floor());
+        let (y, y0) = if self.mitsuba_lookup {
+            let rows = (h - 1).max(1) as f32;
+            let y = uv.y.clamp(0.0, 1.0) * rows;
+            (y, y.floor().min(rows - 1.0).max(0.0))
+        } else {
+            let y = uv.y * h as f32 - 0.5;
+            (y, y.floor())
+        };
+        let x0 = x.floor();
         let (fx, fy) = (x - x0, y - y0);
         let (x0, y0) = (x0 as isize, y0 as isize);
         let at = |i: isize, j: isize| {
@@ -200,6 +232,9 @@ impl EnvMapLight {
     /// Radiance arriving from world direction `dir` (travelling towards the viewer along −dir):
     /// the bilinear interpolation of the uplifted texels, × `scale`.
     pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        if self.mitsuba_lookup {
+            return self.le_mitsuba(dir, wl);
+        }
         let mut l = SampledSpectrum::ZERO;
         for (i, w) in self.bilinear(self.dir_to_uv(dir)) {
             if w > 0.0 && self.rgb[i] != [0.0; 3] {
@@ -207,6 +242,26 @@ impl EnvMapLight {
             }
         }
         l * self.scale
+    }
+
+    /// Mitsuba 3.9.1's lookup: (Σ wᵢ sᵢ)(Σ wᵢ fᵢ)·scale, a texel's spectrum split into its
+    /// scale fᵢ (2 max(rgb) for an RGB uplift, the value of a constant) and its shape sᵢ = Lᵢ/fᵢ
+    /// (which keeps the D65 factor, common to all texels).
+    fn le_mitsuba(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let mut shape = SampledSpectrum::ZERO;
+        let mut f = 0.0f32;
+        for (i, w) in self.bilinear(self.dir_to_uv(dir)) {
+            let (s, fi) = match &self.spectra[i] {
+                Spectrum::Rgb(r) if r.scale > 0.0 => (self.spectra[i].sample(wl) / r.scale, r.scale),
+                Spectrum::Rgb(_) => (SampledSpectrum::ZERO, 0.0),
+                Spectrum::Constant(c) if *c > 0.0 => (SampledSpectrum::splat(1.0), *c),
+                Spectrum::Constant(_) => (SampledSpectrum::ZERO, 0.0),
+                other => (other.sample(wl), 1.0),
+            };
+            shape += s * w;
+            f += fi * w;
+        }
+        shape * (f * self.scale)
     }
 
     /// Direction towards the light ∝ luminance·sin θ, and its solid-angle density.

@@ -20,6 +20,12 @@
 //! then receives π·scale·E·D65 wherever the texture is constant (Mitsuba's normalization, with
 //! its π). The plugin decides how E's colours become spectra (a bitmap as a reflectance, a
 //! colour given in place unbounded).
+//!
+//! The D65 factor makes a texel of colour c project light of colour c (a white texel projects
+//! D65, the white of sRGB), as a colour given in place does. Mitsuba 3.9.1 applies D65 only to a
+//! colour or number given in place (its `texture_d65`), not to a nested texture: its white
+//! texels project an equal-energy spectrum, which renders as linear sRGB ≈ (1.21, 0.95, 0.91).
+//! [`ProjectorLight::without_whitepoint`] reproduces that (the plugin's `whitepoint="mitsuba"`).
 
 use crate::texture::Texture;
 use glam::{Affine3A, Vec2, Vec3};
@@ -39,6 +45,7 @@ pub struct ProjectorLight {
     intensity: Spectrum,
     tan_half_fov_x: f32,
     aspect: f32,
+    scale: f32,
 }
 
 impl ProjectorLight {
@@ -61,7 +68,15 @@ impl ProjectorLight {
             intensity,
             tan_half_fov_x: (fov_x_deg.to_radians() * 0.5).tan(),
             aspect,
+            scale,
         }
+    }
+
+    /// The same light with Lᵢ = π·scale·E/(z² cos θ), without D65: Mitsuba 3.9.1's weighting
+    /// of a nested texture (module docs).
+    pub fn without_whitepoint(mut self) -> Self {
+        self.intensity = Spectrum::Constant(self.scale);
+        self
     }
 
     /// World position of the pinhole.

@@ -182,6 +182,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         image: Arc::new(env.clone()),
         scale: 1.0,
         to_world: Affine3A::IDENTITY,
+        mitsuba_lookup: false,
     };
     let direct = render_with(&scene, vec![env_emitter], &options)?;
     eprintln!(

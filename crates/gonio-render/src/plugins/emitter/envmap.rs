@@ -1,5 +1,7 @@
 //! `envmap`: an environment map in the equirectangular (latitude-longitude) layout (Mitsuba 3
-//! `src/emitters/envmap.cpp`).
+//! `src/emitters/envmap.cpp`; runtime [`crate::emitter::EnvMapLight`], whose docs give the texel
+//! layout and the lookup). `lookup="mitsuba"` is ours: Mitsuba 3.9.1's lookup (rows from pole to
+//! pole, texel shapes and scales interpolated separately).
 
 use crate::image::RgbImage;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
@@ -32,11 +34,19 @@ const MIS_COMPENSATION: ParamSpec = ParamSpec::new(
     "accepted and ignored",
 );
 
+const LOOKUP: ParamSpec = ParamSpec::new(
+    "lookup",
+    ParamType::String,
+    DefaultValue::Str("bilinear"),
+    "(ours) `bilinear` (texels as areas, bilinear in their spectra) or `mitsuba` (Mitsuba 3.9.1: rows from pole to pole, shapes and scales interpolated separately)",
+)
+.mitsuba(DefaultValue::Str("mitsuba"));
+
 /// The `envmap` plugin.
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "envmap",
     summary: "Environment map: radiance from every direction read from an equirectangular image.",
-    params: &[FILENAME, SCALE, TO_WORLD, MIS_COMPENSATION],
+    params: &[FILENAME, SCALE, TO_WORLD, MIS_COMPENSATION, LOOKUP],
     build,
 };
 
@@ -58,9 +68,12 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
     )? as f32;
     let to_world = p.affine(TO_WORLD.name)?;
     p.bool(MIS_COMPENSATION.name, MIS_COMPENSATION.default.bool())?;
+    let mitsuba_lookup =
+        p.choice(LOOKUP.name, p.default_of(&LOOKUP).str(), &["bilinear", "mitsuba"])? == "mitsuba";
     Ok(EmitterDesc::EnvMap {
         image: Arc::new(image),
         scale,
         to_world,
+        mitsuba_lookup,
     })
 }

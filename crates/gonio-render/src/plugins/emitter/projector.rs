@@ -3,13 +3,16 @@
 //! docs give the mapping and the radiance). The field of view is given as for `perspective`
 //! (`fov` along `fov_axis`, or `focal_length`), with the texture's resolution as the film's
 //! (a constant texture is 1 × 1). A bitmap is uplifted as a reflectance (Mitsuba's `bitmap`), a
-//! colour given in place as an unbounded spectrum; both are multiplied by scale·D65.
+//! colour given in place as an unbounded spectrum; both are multiplied by scale·D65, so that a
+//! texel projects its own colour. `whitepoint="mitsuba"` drops D65 where Mitsuba 3.9.1 drops it:
+//! for a nested or referenced texture or a `<spectrum>` (its `texture_d65` wraps only a number or
+//! an `<rgb>` given in place), so that its white texels project an equal-energy spectrum.
 
 use crate::plugins::sensor::perspective::{focal_length_mm, fov_to_x, fov_x_of_focal_length};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::EmitterDesc;
 use crate::texture::Texture;
-use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
+use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, Value, err};
 use gonio_core::spectra::RgbKind;
 
 const IRRADIANCE: ParamSpec = ParamSpec::new(
@@ -49,11 +52,27 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
     "light to world: the pinhole, projecting along +z",
 );
 
+const WHITEPOINT: ParamSpec = ParamSpec::new(
+    "whitepoint",
+    ParamType::String,
+    DefaultValue::Str("d65"),
+    "(ours) `d65` (E × D65: a texel projects its colour) or `mitsuba` (Mitsuba 3.9.1: no D65 for a texture object or spectrum)",
+)
+.mitsuba(DefaultValue::Str("mitsuba"));
+
 /// The `projector` plugin.
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "projector",
     summary: "Projects a texture from a pinhole along +z of `to_world` (the reciprocal of `perspective`).",
-    params: &[IRRADIANCE, SCALE, FOV, FOCAL_LENGTH, FOV_AXIS, TO_WORLD],
+    params: &[
+        IRRADIANCE,
+        SCALE,
+        FOV,
+        FOCAL_LENGTH,
+        FOV_AXIS,
+        TO_WORLD,
+        WHITEPOINT,
+    ],
     build,
 };
 
@@ -84,6 +103,19 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
     } else {
         RgbKind::Albedo
     };
+    // Mitsuba's `texture_d65` wraps a number or an `<rgb>` given in place in D65, nothing else.
+    let given_in_place = matches!(
+        obj.props
+            .iter()
+            .find(|x| x.name == IRRADIANCE.name)
+            .map(|x| &x.value),
+        Some(Value::Float(_) | Value::Int(_) | Value::Rgb(_))
+    );
+    let mitsuba_whitepoint = p.choice(
+        WHITEPOINT.name,
+        p.default_of(&WHITEPOINT).str(),
+        &["d65", "mitsuba"],
+    )? == "mitsuba";
     let irradiance = b.texture(p, &IRRADIANCE, kind)?;
     let scale = p.float(SCALE.name, SCALE.default.float())?;
     let (w, h) = match &irradiance {
@@ -147,5 +179,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
         scale: scale as f32,
         fov_x_deg: fov_x as f32,
         aspect: aspect as f32,
+        whitepoint: given_in_place || !mitsuba_whitepoint,
     })
 }
