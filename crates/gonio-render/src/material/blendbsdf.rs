@@ -16,13 +16,11 @@ const WEIGHT: ParamSpec = ParamSpec::new(
     DefaultValue::None,
     "w in [0, 1], the share of the second BSDF (required, as in Mitsuba 3.9.1)",
 );
-const DELTA_PDF: ParamSpec = ParamSpec::new(
+const DELTA_PDF: ParamSpec = ParamSpec::ours_or_mitsuba(
     "delta_pdf",
-    ParamType::String,
-    DefaultValue::Str("exact"),
+    "exact",
     "(ours) a delta child's sampled outcome: `exact` (weight f_δ/P(select)) or `mitsuba` (Mitsuba 3.9.1's estimator, which adds the discrete probability to the other child's density: biased for delta + smooth mixes, for comparisons)",
-)
-.mitsuba(DefaultValue::Str("mitsuba"));
+);
 const NESTED: ParamSpec = ParamSpec::new(
     "(nested bsdf)",
     ParamType::Bsdf,
@@ -58,11 +56,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
             ));
         }
     }
-    let mitsuba_delta_pdf = p.choice(
-        DELTA_PDF.name,
-        p.default_of(&DELTA_PDF).str(),
-        &["exact", "mitsuba"],
-    )? == "mitsuba";
+    let mitsuba_delta_pdf = p.mitsuba_way(&DELTA_PDF)?;
     let kids = p.objects(Tag::Bsdf)?;
     if kids.len() != 2 {
         return Err(SceneError::new(

@@ -40,13 +40,11 @@ const ALPHA_V: ParamSpec = ParamSpec::new(
     DefaultValue::Float(0.1),
     "see `alpha_u`",
 );
-const COAT_AVERAGES: ParamSpec = ParamSpec::new(
+const COAT_AVERAGES: ParamSpec = ParamSpec::ours_or_mitsuba(
     "coat_averages",
-    ParamType::String,
-    DefaultValue::Str("exact"),
+    "exact",
     "(ours) the coat's transmittance table and internal reflectance: `exact` (energy ≤ 1) or `mitsuba` (Mitsuba 3.9.1's 64-node tables)",
-)
-.mitsuba(DefaultValue::Str("mitsuba"));
+);
 
 /// The `roughplastic` plugin.
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
@@ -138,13 +136,10 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
     let kind = distribution_kind(p)?;
     let alpha = roughness(p)?;
     let sample_visible = p.bool(SAMPLE_VISIBLE.name, SAMPLE_VISIBLE.default.bool())?;
-    let averages = match p.choice(
-        COAT_AVERAGES.name,
-        p.default_of(&COAT_AVERAGES).str(),
-        &["exact", "mitsuba"],
-    )? {
-        "mitsuba" => CoatAverages::Mitsuba,
-        _ => CoatAverages::Exact,
+    let averages = if p.mitsuba_way(&COAT_AVERAGES)? {
+        CoatAverages::Mitsuba
+    } else {
+        CoatAverages::Exact
     };
     let distribution = MicrofacetDistribution::new(kind, alpha, alpha, sample_visible);
     let coat = RoughCoat::new(distribution, int_ior / ext_ior, averages);

@@ -157,6 +157,13 @@ impl ParamSpec {
         }
     }
 
+    /// A string switch of ours between gonio's way (`ours`, the default) and Mitsuba 3.9.1's
+    /// (`"mitsuba"`, the default under [`crate::xml::LoadOptions::mitsuba_estimators`]); read it
+    /// with `Params::mitsuba_way`.
+    pub const fn ours_or_mitsuba(name: &'static str, ours: &'static str, doc: &'static str) -> Self {
+        Self::new(name, ParamType::String, DefaultValue::Str(ours), doc).mitsuba(DefaultValue::Str("mitsuba"))
+    }
+
     /// The row with the value that restores Mitsuba's estimator (see [`ParamSpec::mitsuba`]).
     pub const fn mitsuba(self, value: DefaultValue) -> Self {
         Self {
@@ -258,6 +265,13 @@ impl<'d> Params<'d> {
             Some(m) if self.doc.mitsuba_estimators => m,
             _ => spec.default,
         }
+    }
+
+    /// Reads a switch made by [`ParamSpec::ours_or_mitsuba`]: true when it says `mitsuba`
+    /// (written, or by default under Mitsuba's estimators).
+    pub(crate) fn mitsuba_way(&mut self, spec: &ParamSpec) -> Result<bool> {
+        let ours = spec.default.str();
+        Ok(self.choice(spec.name, self.default_of(spec).str(), &[ours, "mitsuba"])? == "mitsuba")
     }
 
     /// Parameters checked against a plugin's table.

@@ -34,13 +34,11 @@ const MIS_COMPENSATION: ParamSpec = ParamSpec::new(
     "accepted and ignored",
 );
 
-const LOOKUP: ParamSpec = ParamSpec::new(
+const LOOKUP: ParamSpec = ParamSpec::ours_or_mitsuba(
     "lookup",
-    ParamType::String,
-    DefaultValue::Str("bilinear"),
+    "bilinear",
     "(ours) `bilinear` (texels as areas, bilinear in their spectra) or `mitsuba` (Mitsuba 3.9.1: rows from pole to pole, shapes and scales interpolated separately)",
-)
-.mitsuba(DefaultValue::Str("mitsuba"));
+);
 
 /// The `envmap` plugin.
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
@@ -68,8 +66,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
     )? as f32;
     let to_world = p.affine(TO_WORLD.name)?;
     p.bool(MIS_COMPENSATION.name, MIS_COMPENSATION.default.bool())?;
-    let mitsuba_lookup =
-        p.choice(LOOKUP.name, p.default_of(&LOOKUP).str(), &["bilinear", "mitsuba"])? == "mitsuba";
+    let mitsuba_lookup = p.mitsuba_way(&LOOKUP)?;
     Ok(EmitterDesc::EnvMap {
         image: Arc::new(image),
         scale,

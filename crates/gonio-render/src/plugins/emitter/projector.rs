@@ -52,13 +52,11 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
     "light to world: the pinhole, projecting along +z",
 );
 
-const WHITEPOINT: ParamSpec = ParamSpec::new(
+const WHITEPOINT: ParamSpec = ParamSpec::ours_or_mitsuba(
     "whitepoint",
-    ParamType::String,
-    DefaultValue::Str("d65"),
+    "d65",
     "(ours) `d65` (E × D65: a texel projects its colour) or `mitsuba` (Mitsuba 3.9.1: no D65 for a texture object or spectrum)",
-)
-.mitsuba(DefaultValue::Str("mitsuba"));
+);
 
 /// The `projector` plugin.
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
@@ -111,11 +109,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
             .map(|x| &x.value),
         Some(Value::Float(_) | Value::Int(_) | Value::Rgb(_))
     );
-    let mitsuba_whitepoint = p.choice(
-        WHITEPOINT.name,
-        p.default_of(&WHITEPOINT).str(),
-        &["d65", "mitsuba"],
-    )? == "mitsuba";
+    let mitsuba_whitepoint = p.mitsuba_way(&WHITEPOINT)?;
     let irradiance = b.texture(p, &IRRADIANCE, kind)?;
     let scale = p.float(SCALE.name, SCALE.default.float())?;
     let (w, h) = match &irradiance {
