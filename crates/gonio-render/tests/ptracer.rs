@@ -168,3 +168,29 @@ fn same_image_whatever_the_thread_count() {
         "ptracer images differ between thread counts"
     );
 }
+
+/// gonio's light tracer carries spectra, not Stokes vectors: a scene that asks for polarization
+/// (here a `polarizer`) under `ptracer` loads with a warning saying so, and the same scene under
+/// `path` loads without one.
+#[test]
+fn ptracer_warns_that_it_renders_without_polarization() {
+    let scene = |integrator: &str| {
+        format!(
+            r#"<scene version="3.0.0"><integrator type="{integrator}"/>
+                 <shape type="sphere"><bsdf type="polarizer"/></shape>
+                 <emitter type="constant"/></scene>"#
+        )
+    };
+    let warnings = |integrator: &str| {
+        gonio_render::xml::load_scene_str_with_warnings(&scene(integrator), ".", &[])
+            .expect("scene loads")
+            .warnings
+    };
+    let w = warnings("ptracer");
+    assert!(
+        w.iter()
+            .any(|w| w.contains("ptracer") && w.contains("without polarization")),
+        "{w:?}"
+    );
+    assert!(!warnings("path").iter().any(|w| w.contains("polarization")));
+}

@@ -263,6 +263,14 @@ impl<'d> Builder<'d> {
             emitters,
             materials: self.materials,
         };
+        // gonio's light tracer carries spectra, not Stokes vectors (Mitsuba's polarized variants
+        // do carry them through `ptracer`): say so rather than drop the polarization silently.
+        if scene.integrator.kind == IntegratorKind::PTracer && scene.asks_for_polarization() {
+            self.warnings.push(format!(
+                "{}: the ptracer integrator renders without polarization: polarizer, retarder, circular and pplastic act on the intensity only (use path for a polarized render)",
+                root.loc
+            ));
+        }
         Ok((scene, self.warnings))
     }
 
