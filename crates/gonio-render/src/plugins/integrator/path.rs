@@ -67,18 +67,28 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
     build,
 };
 
-fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
-    let max_depth = p.int_in(MAX_DEPTH.name, MAX_DEPTH.default.int(), -1, i32::MAX as i64)? as i32;
+/// Reads the rows a path-like integrator shares with `path`: `max_depth` (its own row, whose
+/// text differs per plugin), `rr_depth`, `hide_emitters` and the ignored `samples_per_pass`.
+pub(super) fn read_path_rows(
+    p: &mut Params<'_>,
+    max_depth: &ParamSpec,
+) -> Result<(i32, u32, bool), SceneError> {
+    let depth = p.int_in(max_depth.name, max_depth.default.int(), -1, i32::MAX as i64)? as i32;
     let rr_depth = p.int_in(RR_DEPTH.name, RR_DEPTH.default.int(), 1, u32::MAX as i64)? as u32;
     let hide_emitters = p.bool(HIDE_EMITTERS.name, HIDE_EMITTERS.default.bool())?;
-    let thin_shadows = p.bool(THIN_SHADOWS.name, p.default_of(&THIN_SHADOWS).bool())?;
-    let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
     p.int_in(
         SAMPLES_PER_PASS.name,
         SAMPLES_PER_PASS.default.int(),
         -1,
         i64::MAX,
     )?;
+    Ok((depth, rr_depth, hide_emitters))
+}
+
+fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
+    let (max_depth, rr_depth, hide_emitters) = read_path_rows(p, &MAX_DEPTH)?;
+    let thin_shadows = p.bool(THIN_SHADOWS.name, p.default_of(&THIN_SHADOWS).bool())?;
+    let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     Ok(IntegratorDesc {
         max_depth,

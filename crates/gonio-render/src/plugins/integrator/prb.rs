@@ -126,15 +126,7 @@ pub static DIRECT_PROJECTIVE: Plugin<IntegratorDesc> = Plugin {
 
 /// Reads every row of the plugin's table: `(max_depth, rr_depth, hide_emitters)`.
 fn read(p: &mut Params<'_>) -> Result<(i32, u32, bool), SceneError> {
-    let max_depth = p.int_in(MAX_DEPTH.name, MAX_DEPTH.default.int(), -1, i32::MAX as i64)? as i32;
-    let rr_depth = p.int_in(RR_DEPTH.name, RR_DEPTH.default.int(), 1, u32::MAX as i64)? as u32;
-    let hide_emitters = p.bool(HIDE_EMITTERS.name, HIDE_EMITTERS.default.bool())?;
-    p.int_in(
-        SAMPLES_PER_PASS.name,
-        SAMPLES_PER_PASS.default.int(),
-        -1,
-        i64::MAX,
-    )?;
+    let (max_depth, rr_depth, hide_emitters) = super::path::read_path_rows(p, &MAX_DEPTH)?;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     if p.obj.ty.ends_with("_projective") {
         for spp in [SPPC, SPPP, SPPI] {

@@ -30,15 +30,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
 };
 
 fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
-    let max_depth = p.int_in(MAX_DEPTH.name, MAX_DEPTH.default.int(), -1, i32::MAX as i64)? as i32;
-    let rr_depth = p.int_in(RR_DEPTH.name, RR_DEPTH.default.int(), 1, u32::MAX as i64)? as u32;
-    let hide_emitters = p.bool(HIDE_EMITTERS.name, HIDE_EMITTERS.default.bool())?;
-    p.int_in(
-        SAMPLES_PER_PASS.name,
-        SAMPLES_PER_PASS.default.int(),
-        -1,
-        i64::MAX,
-    )?;
+    let (max_depth, rr_depth, hide_emitters) = super::path::read_path_rows(p, &MAX_DEPTH)?;
     Ok(IntegratorDesc {
         max_depth,
         rr_depth,
