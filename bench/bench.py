@@ -145,6 +145,24 @@ def run_gonio(gonio, scene, spp, seed, out):
     return t, wall - t, rss
 
 
+def without_caustic_paths(scene):
+    """A copy of `scene` whose `path` integrator has `caustic_paths` off (issue #13 measures raw
+    throughput without gonio's light subpaths); `None` when the scene has no `path` integrator.
+    The copy sits beside the original so that relative paths still resolve; the caller removes it."""
+    with open(scene) as f:
+        xml = f.read()
+    row = '<boolean name="caustic_paths" value="false"/>'
+    new, n = re.subn(r'(<integrator\s+type="path"[^>]*?)\s*/>', r'\1>' + row + '</integrator>', xml, count=1)
+    if n == 0:
+        new, n = re.subn(r'(<integrator\s+type="path"[^>]*>)', r'\1' + row, xml, count=1)
+    if n == 0:
+        return None
+    fd, path = tempfile.mkstemp(suffix=".xml", prefix=".bench-", dir=os.path.dirname(scene))
+    with os.fdopen(fd, "w") as f:
+        f.write(new)
+    return path
+
+
 def run_mitsuba(python, tool, scene, spp, variant, runs, out):
     env = dict(os.environ)
     if variant.startswith("llvm") and "DRJIT_LIBLLVM_PATH" not in env:
@@ -209,6 +227,14 @@ def main():
             "rss": max(r[2] for r in runs),
         }
         img = read_exr(out) if can_read else None
+        # Raw throughput as issue #13 defines it: the same render with caustic light subpaths off.
+        raw = without_caustic_paths(scene)
+        if raw:
+            try:
+                raw_out = os.path.join(tmp, f"{name}-gonio-raw.exr")
+                g["t_raw"] = statistics.median(run_gonio(a.gonio, raw, a.spp, s, raw_out)[0] for s in range(a.runs))
+            finally:
+                os.remove(raw)
         if ref is not None:
             g["e"], g["eb"] = relmse(img, ref), relmse(img, ref, 8)
         result = {"scene": name, "gonio": g}
@@ -228,8 +254,9 @@ def main():
 
     print(f"CPU: {cpu_description()}.")
     print(f"spp = {a.spp}, median of {a.runs} runs, render time only (scene loading excluded), "
-          f"{os.cpu_count()} cores. Throughput: camera samples per second per core (gonio with its "
-          f"light subpaths for caustics on, as rendered).\n")
+          f"{os.cpu_count()} cores. Throughput: camera samples per second per core; gonio's first figure "
+          f"with its caustic light subpaths off (issue #13's raw throughput), in brackets as rendered "
+          f"(light subpaths on, the time of the equal-error columns).\n")
     print(f"| scene | gonio s | relMSE | block relMSE | {variants[0]} s | relMSE | equal-error ratio | "
           f"{variants[1]} s | relMSE | equal-error ratio | throughput gonio / scalar / LLVM (k/s/core) |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")
@@ -247,7 +274,10 @@ def main():
                 cells += ["-", "-", "-"]
         n, cores = r.get("samples"), os.cpu_count() or 1
         tp = [r.get(k) for k in ["gonio"] + variants]
-        cells.append(" / ".join(f"{n / (m['t'] * cores) / 1e3:.0f}" if (m and n) else "-" for m in tp))
+        tput = [f"{n / (m['t'] * cores) / 1e3:.0f}" if (m and n) else "-" for m in tp]
+        if n and "t_raw" in g:
+            tput[0] = f"{n / (g['t_raw'] * cores) / 1e3:.0f} ({tput[0]})"
+        cells.append(" / ".join(tput))
         print("| " + " | ".join(cells) + " |")
 
     print("\nLoading (gonio: process wall time minus render time, image write included; Mitsuba: "
