@@ -37,9 +37,12 @@
 //! distribution), so the solid-angle density is p(u, v)/(2π² sin θ).
 
 use super::LightRef;
+use glam::Vec4;
 use glam::{Affine3A, Vec2, Vec3};
-use gonio_core::color::luminance;
+use gonio_core::color::{d65_normalized, luminance};
+use gonio_core::rgb2spec::RgbSigmoid;
 use gonio_core::sampling::Distribution2D;
+use gonio_core::spectra::RgbKind;
 use gonio_core::warp;
 use gonio_core::{Frame, SampledSpectrum, SampledWavelengths, Spectrum};
 use std::f32::consts::{PI, TAU};
@@ -96,6 +99,10 @@ pub struct EnvMapLight {
     rgb: Vec<[f32; 3]>,
     /// `uplift` of each texel of `rgb`.
     spectra: Vec<Spectrum>,
+    /// The same texels as sigmoid polynomials and scales, 16 bytes each, when every one is an
+    /// RGB uplift of one kind (`kind`): the lookup then weights four sigmoids and applies the
+    /// kind's common factor (D65 for an illuminant) once instead of per texel.
+    sigmoids: Option<(Vec<(RgbSigmoid, f32)>, RgbKind)>,
     scale: f32,
     to_world: Affine3A,
     to_local: Affine3A,
@@ -150,12 +157,14 @@ impl EnvMapLight {
             / (4.0 * PI as f64)) as f32
             * scale;
         let distribution = Distribution2D::new(&weights, width, height);
-        let spectra = rgb.iter().map(|&c| uplift(c)).collect();
+        let spectra: Vec<Spectrum> = rgb.iter().map(|&c| uplift(c)).collect();
+        let sigmoids = compact_sigmoids(&spectra);
         Some(Self {
             width,
             height,
             rgb,
             spectra,
+            sigmoids,
             scale,
             to_world,
             to_local: to_world.inverse(),
@@ -235,8 +244,24 @@ impl EnvMapLight {
         if self.mitsuba_lookup {
             return self.le_mitsuba(dir, wl);
         }
+        let texels = self.bilinear(self.dir_to_uv(dir));
+        if let Some((sigmoids, kind)) = &self.sigmoids {
+            // Σ wᵢ fᵢ sᵢ(λ), then the factor all texels share.
+            let lambda = Vec4::from_array(wl.lambdas());
+            let mut acc = Vec4::ZERO;
+            for (i, w) in texels {
+                let (sigmoid, f) = sigmoids[i];
+                if w > 0.0 && f > 0.0 {
+                    acc += sigmoid.eval4(lambda) * (w * f);
+                }
+            }
+            if *kind == RgbKind::Illuminant {
+                acc *= Vec4::from_array(wl.lambdas().map(d65_normalized));
+            }
+            return SampledSpectrum(acc * self.scale);
+        }
         let mut l = SampledSpectrum::ZERO;
-        for (i, w) in self.bilinear(self.dir_to_uv(dir)) {
+        for (i, w) in texels {
             if w > 0.0 && self.rgb[i] != [0.0; 3] {
                 l += self.spectra[i].sample(wl) * w;
             }
@@ -288,4 +313,22 @@ impl EnvMapLight {
     pub fn mean_radiance(&self) -> f32 {
         self.mean_luminance
     }
+}
+
+/// The texels as (sigmoid, scale) pairs when all are RGB uplifts of one kind (a black texel, any
+/// kind with scale 0, fits every kind); `None` otherwise (the lookup then samples each spectrum).
+fn compact_sigmoids(spectra: &[Spectrum]) -> Option<(Vec<(RgbSigmoid, f32)>, RgbKind)> {
+    let mut kind = None;
+    let mut out = Vec::with_capacity(spectra.len());
+    for s in spectra {
+        match s {
+            Spectrum::Rgb(r) if r.scale == 0.0 => out.push((r.sigmoid, 0.0)),
+            Spectrum::Rgb(r) if kind.is_none_or(|k| k == r.kind) => {
+                kind = Some(r.kind);
+                out.push((r.sigmoid, r.scale));
+            }
+            _ => return None,
+        }
+    }
+    Some((out, kind.unwrap_or(RgbKind::Illuminant)))
 }
