@@ -8,9 +8,19 @@
 //! names this crate has always used: the CDF is searched with [`find_interval`], the cell's
 //! probability is the difference of its two CDF entries (so [`Distribution1D::pmf`] is exactly
 //! the probability with which sampling returns the cell), and zero-valued cells are never drawn.
+//!
+//! The search starts from a guide table (Chen and Asau 1974, "On generating random variates from
+//! an empirical distribution"): entry k is the cell of u = k/n, so the cell of any u lies between
+//! two consecutive entries, usually the same cell or the next. The answer is the binary search's
+//! bit for bit (a bucket spanning many cells falls back to it); it saves the dependent loads
+//! and mispredicted branches of about log₂ n halvings per draw, which an environment map's rows
+//! and columns made 8 % of a material preview's render time.
 
 use crate::math::find_interval;
 use glam::Vec2;
+
+/// The longest linear scan between two guide entries before the binary search takes over.
+const GUIDE_SCAN: usize = 8;
 
 /// A piecewise-constant density on [0, 1) with `n` equal cells, from non-negative cell values.
 /// Also a discrete distribution over the cells (probability ∝ value).
@@ -19,6 +29,8 @@ pub struct Distribution1D {
     func: Vec<f32>,
     /// cdf[i] = P(cell < i); cdf[n] = 1.
     cdf: Vec<f32>,
+    /// guide[k] = the cell of u = k/n, k = 0..=n (module docs).
+    guide: Vec<u32>,
     /// Σ func / n (the integral of the piecewise-constant function over [0, 1)).
     integral: f32,
 }
@@ -54,7 +66,15 @@ impl Distribution1D {
             }
         }
         cdf[n] = 1.0;
-        Self { func, cdf, integral }
+        let guide = (0..=n)
+            .map(|k| find_interval(&cdf, k as f32 / n as f32) as u32)
+            .collect();
+        Self {
+            func,
+            cdf,
+            guide,
+            integral,
+        }
     }
 
     /// Number of cells.
@@ -76,6 +96,18 @@ impl Distribution1D {
     fn find(&self, u: f32) -> usize {
         // Cells of zero probability have cdf[i] == cdf[i+1] and are never returned: the largest
         // i with cdf[i] ≤ u is past them.
+        let n = self.func.len();
+        let k = ((u * n as f32) as usize).min(n - 1);
+        let (lo, hi) = (self.guide[k] as usize, self.guide[k + 1] as usize);
+        // The answer lies in [lo, hi] when cdf[lo] ≤ u < cdf[hi + 1] (rounding of k/n aside,
+        // which the test catches, as it catches NaN).
+        if self.cdf[lo] <= u && (hi + 1 >= n || u < self.cdf[hi + 1]) && hi - lo <= GUIDE_SCAN {
+            let mut i = lo;
+            while i < hi && self.cdf[i + 1] <= u {
+                i += 1;
+            }
+            return i;
+        }
         find_interval(&self.cdf, u)
     }
 
@@ -178,6 +210,57 @@ impl Distribution2D {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The guide table must not change a single draw: every cell the binary search over the CDF
+    /// finds, for peaked, sparse, uniform and one-cell distributions, at CDF nodes (where ties
+    /// decide), just beside them, at the ends, outside [0, 1) and at NaN.
+    #[test]
+    fn guided_search_is_the_binary_search_bit_for_bit() {
+        let mut rng = crate::rng::Pcg32::new(7, 11);
+        let mut cases: Vec<Vec<f32>> = vec![
+            vec![1.0],
+            vec![0.0; 5],
+            vec![1.0; 1000],
+            vec![0.0, 0.0, 5.0, 0.0, 0.0, 0.0, 1e-9, 0.0],
+        ];
+        // A bright sun in a dim sky: one cell holding nearly all, thousands of nearly empty.
+        let mut sun = vec![1e-6f32; 4096];
+        sun[3000] = 1e6;
+        cases.push(sun);
+        cases.push(
+            (0..777)
+                .map(|_| {
+                    let x = rng.next_f32();
+                    if x < 0.5 { 0.0 } else { x.powi(8) * 1e3 }
+                })
+                .collect(),
+        );
+        for values in &cases {
+            let d = Distribution1D::new(values);
+            let mut us: Vec<f32> = vec![
+                -1.0,
+                -0.0,
+                0.0,
+                1.0,
+                2.0,
+                f32::NAN,
+                f32::INFINITY,
+                1.0 - f32::EPSILON / 2.0,
+            ];
+            for &c in &d.cdf {
+                us.extend([c, c.next_down(), c.next_up()]);
+            }
+            us.extend((0..2000).map(|_| rng.next_f32()));
+            for u in us {
+                assert_eq!(
+                    d.find(u),
+                    find_interval(&d.cdf, u),
+                    "u = {u} over {} cells",
+                    values.len()
+                );
+            }
+        }
+    }
 
     #[test]
     fn discrete_probabilities_follow_values() {
