@@ -22,6 +22,7 @@ use obvhs::cwbvh::CwBvh;
 use std::time::Duration;
 
 mod cwbvh;
+pub mod embree;
 mod flat;
 
 /// Ray queries against a set of shapes.
@@ -50,6 +51,9 @@ enum Prim {
 /// The BVH over a list of [`WorldShape`]s.
 pub struct Accel {
     shapes: Vec<WorldShape>,
+    /// The triangles, when Embree traces them (`accel/embree.rs`); `bvh`, `flat` and `prims`
+    /// then hold the analytic shapes only.
+    embree: Option<embree::Triangles>,
     bvh: Option<CwBvh>,
     /// Used instead of `bvh` for a few primitives (then `prims` are in scene order).
     flat: Option<flat::FlatBoxes>,
@@ -75,6 +79,14 @@ fn prim_count(shape: &WorldShape) -> usize {
     }
 }
 
+/// [`prim_count`] in our own structure: none for a mesh when Embree holds the triangles.
+fn own_prim_count(shape: &WorldShape, meshes_elsewhere: bool) -> usize {
+    match &shape.kind {
+        ShapeKind::Mesh(_) if meshes_elsewhere => 0,
+        _ => prim_count(shape),
+    }
+}
+
 /// Primitive `i` of shape `s`.
 fn make_prim(shapes: &[WorldShape], s: usize, i: usize) -> Prim {
     match &shapes[s].kind {
@@ -92,14 +104,16 @@ struct PrimIter<'a> {
     shapes: &'a [WorldShape],
     shape: usize,
     prim: usize,
+    meshes_elsewhere: bool,
 }
 
 impl<'a> PrimIter<'a> {
-    fn new(shapes: &'a [WorldShape]) -> Self {
+    fn new(shapes: &'a [WorldShape], meshes_elsewhere: bool) -> Self {
         Self {
             shapes,
             shape: 0,
             prim: 0,
+            meshes_elsewhere,
         }
     }
 }
@@ -108,7 +122,7 @@ impl Iterator for PrimIter<'_> {
     type Item = Prim;
     fn next(&mut self) -> Option<Prim> {
         while self.shape < self.shapes.len() {
-            if self.prim < prim_count(&self.shapes[self.shape]) {
+            if self.prim < own_prim_count(&self.shapes[self.shape], self.meshes_elsewhere) {
                 let p = make_prim(self.shapes, self.shape, self.prim);
                 self.prim += 1;
                 return Some(p);
@@ -120,9 +134,9 @@ impl Iterator for PrimIter<'_> {
     }
 }
 
-fn all_prims(shapes: &[WorldShape]) -> Vec<Prim> {
-    let mut prims = Vec::with_capacity(shapes.iter().map(prim_count).sum());
-    prims.extend(PrimIter::new(shapes));
+fn all_prims(shapes: &[WorldShape], meshes_elsewhere: bool) -> Vec<Prim> {
+    let mut prims = Vec::with_capacity(shapes.iter().map(|s| own_prim_count(s, meshes_elsewhere)).sum());
+    prims.extend(PrimIter::new(shapes, meshes_elsewhere));
     prims
 }
 
@@ -213,17 +227,33 @@ impl Accel {
     /// for peak memory, which a 1M-triangle mesh makes matter (bench/RESULTS.md), on the
     /// rayon pool's threads; the primitive records are made only after the tree, directly in
     /// leaf order.
+    ///
+    /// Past the flat list's size, the triangles of meshes go to Embree when the process has it
+    /// ([`embree::available`]; `accel/embree.rs`), the analytic shapes to our own structure.
     pub fn new(shapes: Vec<WorldShape>) -> Self {
-        let count: usize = shapes.iter().map(prim_count).sum();
-        let mut build_time = Duration::ZERO;
+        Self::with_embree(shapes, true)
+    }
+
+    /// [`Self::new`], with Embree allowed or not (`false`: our BVH for everything, the
+    /// structure the Embree path is compared with).
+    pub fn with_embree(shapes: Vec<WorldShape>, allow_embree: bool) -> Self {
+        let total: usize = shapes.iter().map(prim_count).sum();
+        let start = std::time::Instant::now();
+        let embree = (allow_embree && total > flat::MAX_PRIMS)
+            .then(|| embree::Triangles::new(&shapes))
+            .flatten();
+        let meshes_elsewhere = embree.is_some();
+        let count: usize = shapes.iter().map(|s| own_prim_count(s, meshes_elsewhere)).sum();
+        let mut build_time = start.elapsed();
         if count <= flat::MAX_PRIMS {
-            let prims = all_prims(&shapes);
+            let prims = all_prims(&shapes, meshes_elsewhere);
             let flat = (!prims.is_empty()).then(|| {
                 let aabbs: Vec<Aabb> = prims.iter().map(|p| prim_aabb(&shapes, p)).collect();
                 flat::FlatBoxes::new(&aabbs)
             });
             return Self {
                 shapes,
+                embree,
                 bvh: None,
                 flat,
                 prims,
@@ -232,18 +262,18 @@ impl Accel {
         }
         let start = std::time::Instant::now();
         let bvh = cwbvh::build(
-            PrimIter::new(&shapes)
+            PrimIter::new(&shapes, meshes_elsewhere)
                 .enumerate()
                 .map(|(i, p)| Bvh2Node::new(prim_aabb(&shapes, &p), 1, i as u32)),
             count,
         );
-        build_time = start.elapsed();
+        build_time += start.elapsed();
         // Primitive records in leaf order, from each leaf's scene-order number.
         let firsts: Vec<usize> = shapes
             .iter()
             .scan(0, |n, s| {
                 let first = *n;
-                *n += prim_count(s);
+                *n += own_prim_count(s, meshes_elsewhere);
                 Some(first)
             })
             .collect();
@@ -258,6 +288,7 @@ impl Accel {
             .collect();
         Self {
             shapes,
+            embree,
             bvh: Some(bvh),
             flat: None,
             prims,
@@ -272,41 +303,66 @@ impl Accel {
 
     /// Number of primitives (triangles plus analytic shapes).
     pub fn prim_count(&self) -> usize {
-        self.prims.len()
+        self.shapes.iter().map(prim_count).sum()
+    }
+
+    /// Whether Embree traces this structure's triangles.
+    pub fn uses_embree(&self) -> bool {
+        self.embree.is_some()
+    }
+
+    /// The closest hit in our own structure (all primitives, or the analytic ones beside
+    /// Embree): (hit, shape, primitive).
+    #[inline]
+    fn own_closest(&self, ray: &Ray) -> Option<(PrimHit, u32, u32)> {
+        let (h, id) = if let Some(flat) = &self.flat {
+            flat.closest(&self.shapes, &self.prims, ray)?
+        } else {
+            let bvh = self.bvh.as_ref()?;
+            let tri = TriRay::new(ray);
+            let mut best: Option<(PrimHit, usize)> = None;
+            let mut hit = obvhs::ray::RayHit::none();
+            bvh.ray_traverse(to_obvhs(ray), &mut hit, |r, id| {
+                let q = Ray {
+                    o: ray.o,
+                    d: ray.d,
+                    tmax: r.tmax,
+                };
+                match prim_test(&self.shapes, &self.prims[id], &q, &tri) {
+                    Some(h) => {
+                        best = Some((h, id));
+                        h.t
+                    }
+                    None => f32::INFINITY,
+                }
+            });
+            best?
+        };
+        let (shape, prim) = prim_ids(&self.prims[id]);
+        Some((h, shape, prim))
     }
 }
 
 impl Intersect for Accel {
     fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
-        if let Some(flat) = &self.flat {
-            let (h, id) = flat.closest(&self.shapes, &self.prims, ray)?;
-            let (shape, prim) = prim_ids(&self.prims[id]);
-            return Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h));
+        let mut q = *ray;
+        let mut best = None;
+        if let Some(tris) = &self.embree
+            && let Some((shape, prim, h)) = tris.closest(ray)
+        {
+            q.tmax = h.t;
+            best = Some((h, shape, prim));
         }
-        let bvh = self.bvh.as_ref()?;
-        let tri = TriRay::new(ray);
-        let mut best: Option<(PrimHit, usize)> = None;
-        let mut hit = obvhs::ray::RayHit::none();
-        bvh.ray_traverse(to_obvhs(ray), &mut hit, |r, id| {
-            let q = Ray {
-                o: ray.o,
-                d: ray.d,
-                tmax: r.tmax,
-            };
-            match prim_test(&self.shapes, &self.prims[id], &q, &tri) {
-                Some(h) => {
-                    best = Some((h, id));
-                    h.t
-                }
-                None => f32::INFINITY,
-            }
-        });
-        let (h, id) = best?;
-        let (shape, prim) = prim_ids(&self.prims[id]);
+        let (h, shape, prim) = self.own_closest(&q).or(best)?;
         Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
+        if let Some(tris) = &self.embree
+            && tris.any(ray)
+        {
+            return true;
+        }
         if let Some(flat) = &self.flat {
             return flat.any(&self.shapes, &self.prims, ray);
         }
@@ -323,6 +379,13 @@ impl Intersect for Accel {
     }
 
     fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
+        if let Some(tris) = &self.embree
+            && tris.each(ray, &mut |shape, prim, h| {
+                f(&self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
+            })
+        {
+            return true;
+        }
         if let Some(flat) = &self.flat {
             return flat.each(&self.shapes, &self.prims, ray, f);
         }
@@ -364,7 +427,7 @@ pub struct BruteForce {
 impl BruteForce {
     /// Wraps the shapes.
     pub fn new(shapes: Vec<WorldShape>) -> Self {
-        let prims = all_prims(&shapes);
+        let prims = all_prims(&shapes, false);
         Self { shapes, prims }
     }
 }

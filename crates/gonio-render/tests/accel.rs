@@ -2,7 +2,7 @@
 
 use glam::{Affine3A, Quat, Vec3};
 use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
-use gonio_render::accel::{Accel, BruteForce, Intersect};
+use gonio_render::accel::{Accel, BruteForce, Intersect, embree};
 use gonio_render::geometry::{Ray, WorldShape};
 use gonio_render::scene::{Geometry, ShapeDesc, TriangleMesh};
 use std::sync::Arc;
@@ -96,9 +96,32 @@ fn random_scene(rng: &mut Rng) -> Vec<WorldShape> {
 
 #[test]
 fn accel_agrees_with_brute_force() {
+    // With Embree (when the process has it) and with our own BVH for the triangles.
+    for allow_embree in [true, false] {
+        let accel = {
+            let mut rng = Rng(1234);
+            Accel::with_embree(random_scene(&mut rng), allow_embree)
+        };
+        assert_eq!(accel.uses_embree(), allow_embree && embree::available());
+        accel_agrees_with_brute_force_on(&accel);
+    }
+}
+
+/// `.ci/run` installs Embree: a CI run that fell back to our BVH would measure and test the
+/// wrong path without saying so.
+#[test]
+fn embree_is_loaded_where_ci_installs_it() {
+    if std::env::var_os("GONIO_REQUIRE_EMBREE").is_some() {
+        assert!(embree::available(), "CI installs libembree3 (.ci/run), but it did not load");
+    }
+    let mut rng = Rng(1234);
+    let accel = Accel::new(random_scene(&mut rng));
+    assert_eq!(accel.uses_embree(), embree::available());
+}
+
+fn accel_agrees_with_brute_force_on(accel: &Accel) {
     let mut rng = Rng(1234);
     let shapes = random_scene(&mut rng);
-    let accel = Accel::new(shapes.clone());
     let brute = BruteForce::new(shapes);
     assert_eq!(accel.prim_count(), 6 + 8 + 3000 + 2);
     let (mut hits, mut differing_ties) = (0, 0);
