@@ -112,7 +112,10 @@ fn accel_agrees_with_brute_force() {
 #[test]
 fn embree_is_loaded_where_ci_installs_it() {
     if std::env::var_os("GONIO_REQUIRE_EMBREE").is_some() {
-        assert!(embree::available(), "CI installs libembree3 (.ci/run), but it did not load");
+        assert!(
+            embree::available(),
+            "CI installs libembree3 (.ci/run), but it did not load"
+        );
     }
     let mut rng = Rng(1234);
     let accel = Accel::new(random_scene(&mut rng));

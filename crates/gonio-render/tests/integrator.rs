@@ -41,7 +41,7 @@ fn scene_xml(integrator: &str, lights: &str, extra: &str) -> String {
     )
 }
 
-fn render_xml(xml: &str, spp: u32, seed: u64) -> RgbImage {
+pub(crate) fn render_xml(xml: &str, spp: u32, seed: u64) -> RgbImage {
     let scene = gonio_render::xml::load_scene_str(xml, ".", &[]).expect("test scene loads");
     let prepared = PreparedScene::new(scene).expect("test scene prepares");
     let mut options = RenderOptions::from_scene(&prepared.scene);
@@ -50,8 +50,8 @@ fn render_xml(xml: &str, spp: u32, seed: u64) -> RgbImage {
     render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image
 }
 
-/// Mean of each channel over the whole (16 × 16) image.
-fn mean(img: &RgbImage) -> [f64; 3] {
+/// Mean of each channel over the whole image.
+pub(crate) fn mean(img: &RgbImage) -> [f64; 3] {
     let mut m = [0.0f64; 3];
     for c in &img.data {
         for k in 0..3 {

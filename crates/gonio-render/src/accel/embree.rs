@@ -105,7 +105,8 @@ struct Api {
     set_scene_flags: unsafe extern "C" fn(Scene, c_uint),
     set_scene_build_quality: unsafe extern "C" fn(Scene, c_uint),
     new_geometry: unsafe extern "C" fn(Device, c_uint) -> Geometry,
-    set_new_geometry_buffer: unsafe extern "C" fn(Geometry, c_uint, c_uint, c_uint, usize, usize) -> *mut c_void,
+    set_new_geometry_buffer:
+        unsafe extern "C" fn(Geometry, c_uint, c_uint, c_uint, usize, usize) -> *mut c_void,
     commit_geometry: unsafe extern "C" fn(Geometry),
     attach_geometry_by_id: unsafe extern "C" fn(Scene, Geometry, c_uint),
     release_geometry: unsafe extern "C" fn(Geometry),
@@ -215,10 +216,22 @@ impl Triangles {
                 if geom.is_null() {
                     return None;
                 }
-                let v = (api.set_new_geometry_buffer)(geom, BUFFER_TYPE_VERTEX, 0, FORMAT_FLOAT3, 12, m.positions.len())
-                    as *mut [f32; 3];
-                let i = (api.set_new_geometry_buffer)(geom, BUFFER_TYPE_INDEX, 0, FORMAT_UINT3, 12, m.indices.len())
-                    as *mut [u32; 3];
+                let v = (api.set_new_geometry_buffer)(
+                    geom,
+                    BUFFER_TYPE_VERTEX,
+                    0,
+                    FORMAT_FLOAT3,
+                    12,
+                    m.positions.len(),
+                ) as *mut [f32; 3];
+                let i = (api.set_new_geometry_buffer)(
+                    geom,
+                    BUFFER_TYPE_INDEX,
+                    0,
+                    FORMAT_UINT3,
+                    12,
+                    m.indices.len(),
+                ) as *mut [u32; 3];
                 if v.is_null() || i.is_null() {
                     (api.release_geometry)(geom);
                     return None;

@@ -53,7 +53,7 @@ pub struct LoadOptions {
     /// right (`gonio render --mitsuba-estimators`): every parameter of ours whose table row has a
     /// [`ParamSpec::mitsuba`] value defaults to it (thin glass blocks shadow rays, no caustic
     /// light subpaths, `roughplastic` with Mitsuba's coat tables, `blendbsdf` with Mitsuba's delta
-    /// pdf, `envmap` with Mitsuba's lookup, a textured `projector` without D65). A value written
+    /// pdf, `envmap` with Mitsuba's lookup, textured `projector` and `area` emitters without D65). A value written
     /// in the scene still wins. For side-by-side comparisons with Mitsuba.
     pub mitsuba_estimators: bool,
 }

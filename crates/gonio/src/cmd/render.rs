@@ -80,7 +80,7 @@ pub struct RenderArgs {
     /// Mitsuba 3.9.1's estimators where gonio departs from them to keep the physics right, for
     /// side-by-side comparisons: thin glass blocks shadow rays, no caustic light subpaths,
     /// `roughplastic` with Mitsuba's coat tables, `blendbsdf` with Mitsuba's delta pdf, `envmap`
-    /// with Mitsuba's lookup, a textured `projector` without D65 (the
+    /// with Mitsuba's lookup, textured `projector` and `area` emitters without D65 (the
     /// parameters marked "Mitsuba:" in docs/plugins.md; a value written in the scene still wins).
     #[arg(long)]
     pub mitsuba_estimators: bool,
