@@ -49,31 +49,20 @@ impl Distribution1D {
                     .unwrap_or(0.0)
             })
             .collect();
-        let mut cdf = vec![0.0f32; n + 1];
-        let mut acc = 0.0f64;
-        for i in 0..n {
-            acc += func[i] as f64 / n as f64;
-            cdf[i + 1] = acc as f32;
-        }
-        let integral = acc as f32;
-        if acc > 0.0 {
-            for c in cdf.iter_mut() {
-                *c = (*c as f64 / acc) as f32;
-            }
-        } else {
-            for (i, c) in cdf.iter_mut().enumerate() {
-                *c = i as f32 / n as f32;
-            }
-        }
-        cdf[n] = 1.0;
-        let guide = (0..=n)
-            .map(|k| find_interval(&cdf, k as f32 / n as f32) as u32)
-            .collect();
+        let (mut cdf, mut guide) = (Vec::with_capacity(n + 1), Vec::with_capacity(n + 1));
+        let integral = push_cdf(&func, &mut cdf, &mut guide);
         Self {
             func,
             cdf,
             guide,
             integral,
+        }
+    }
+
+    fn view(&self) -> CdfView<'_> {
+        CdfView {
+            cdf: &self.cdf,
+            guide: &self.guide,
         }
     }
 
@@ -92,11 +81,79 @@ impl Distribution1D {
         self.integral
     }
 
+    /// Discrete probability of cell `i`.
+    pub fn pmf(&self, i: usize) -> f32 {
+        self.view().pmf(i)
+    }
+
+    /// Draws a cell with probability ∝ its value: (index, probability, `u` rescaled to [0, 1)
+    /// inside the cell for reuse).
+    pub fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
+        self.view().sample_discrete(u)
+    }
+
+    /// Draws x ∈ [0, 1) with the piecewise-constant density: (x, density at x, cell).
+    pub fn sample_continuous(&self, u: f32) -> (f32, f32, usize) {
+        self.view().sample_continuous(u)
+    }
+
+    /// Density of [`Self::sample_continuous`] at x ∈ [0, 1).
+    pub fn pdf_continuous(&self, x: f32) -> f32 {
+        self.view().pdf_continuous(x)
+    }
+}
+
+/// Appends the normalized CDF (n + 1 entries) and guide table (n + 1 entries) of the non-negative
+/// cell values `func` (n ≥ 1) to `cdf` and `guide`; returns Σ func / n. All-zero values give
+/// the uniform CDF.
+fn push_cdf(func: &[f32], cdf: &mut Vec<f32>, guide: &mut Vec<u32>) -> f32 {
+    let n = func.len();
+    let base = cdf.len();
+    cdf.push(0.0);
+    let mut acc = 0.0f64;
+    for &f in func {
+        acc += f as f64 / n as f64;
+        cdf.push(acc as f32);
+    }
+    let row = &mut cdf[base..];
+    if acc > 0.0 {
+        for c in row.iter_mut() {
+            *c = (*c as f64 / acc) as f32;
+        }
+    } else {
+        for (i, c) in row.iter_mut().enumerate() {
+            *c = i as f32 / n as f32;
+        }
+    }
+    row[n] = 1.0;
+    let row = &cdf[base..];
+    guide.extend((0..=n).map(|k| find_interval(row, k as f32 / n as f32) as u32));
+    acc as f32
+}
+
+/// One distribution's CDF and guide table (module docs), borrowed: a [`Distribution1D`]'s, or a
+/// row of a [`Distribution2D`], whose rows share two flat arrays.
+#[derive(Clone, Copy)]
+struct CdfView<'a> {
+    /// cdf[i] = P(cell < i); cdf[n] = 1.
+    cdf: &'a [f32],
+    /// guide[k] = the cell of u = k/n, k = 0..=n.
+    guide: &'a [u32],
+}
+
+impl CdfView<'_> {
+    /// Number of cells.
+    #[inline]
+    fn n(&self) -> usize {
+        self.cdf.len() - 1
+    }
+
     /// The cell containing `u`: largest i with cdf[i] ≤ u, skipping empty cells.
+    #[inline]
     fn find(&self, u: f32) -> usize {
         // Cells of zero probability have cdf[i] == cdf[i+1] and are never returned: the largest
         // i with cdf[i] ≤ u is past them.
-        let n = self.func.len();
+        let n = self.n();
         let k = ((u * n as f32) as usize).min(n - 1);
         let (lo, hi) = (self.guide[k] as usize, self.guide[k + 1] as usize);
         // The answer lies in [lo, hi] when cdf[lo] ≤ u < cdf[hi + 1] (rounding of k/n aside,
@@ -108,20 +165,19 @@ impl Distribution1D {
             }
             return i;
         }
-        find_interval(&self.cdf, u)
+        find_interval(self.cdf, u)
     }
 
-    /// Discrete probability of cell `i`.
-    pub fn pmf(&self, i: usize) -> f32 {
+    #[inline]
+    fn pmf(&self, i: usize) -> f32 {
         match (self.cdf.get(i), self.cdf.get(i + 1)) {
             (Some(a), Some(b)) => b - a,
             _ => 0.0,
         }
     }
 
-    /// Draws a cell with probability ∝ its value: (index, probability, `u` rescaled to [0, 1)
-    /// inside the cell for reuse).
-    pub fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
+    #[inline]
+    fn sample_discrete(&self, u: f32) -> (usize, f32, f32) {
         let i = self.find(u);
         let (a, b) = (self.cdf[i], self.cdf[i + 1]);
         let p = b - a;
@@ -133,27 +189,32 @@ impl Distribution1D {
         (i, p, ur)
     }
 
-    /// Draws x ∈ [0, 1) with the piecewise-constant density: (x, density at x, cell).
-    pub fn sample_continuous(&self, u: f32) -> (f32, f32, usize) {
-        let n = self.func.len();
+    #[inline]
+    fn sample_continuous(&self, u: f32) -> (f32, f32, usize) {
+        let n = self.n();
         let (i, p, ur) = self.sample_discrete(u);
         let x = ((i as f32 + ur) / n as f32).min(1.0 - f32::EPSILON);
         (x, p * n as f32, i)
     }
 
-    /// Density of [`Self::sample_continuous`] at x ∈ [0, 1).
-    pub fn pdf_continuous(&self, x: f32) -> f32 {
-        let n = self.func.len();
+    #[inline]
+    fn pdf_continuous(&self, x: f32) -> f32 {
+        let n = self.n();
         let i = ((x * n as f32) as usize).min(n - 1);
         self.pmf(i) * n as f32
     }
 }
 
 /// A piecewise-constant density on [0, 1)² over a `width` × `height` grid (row-major values,
-/// row = v, column = u): a marginal over rows and one conditional per row.
+/// row = v, column = u): a marginal over rows and one conditional per row. The rows' CDFs and
+/// guide tables lie in two flat arrays (row r at r·(width + 1)), so a draw reads no per-row
+/// header: an environment map's rows are drawn at random, and each indirection was a cache miss.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Distribution2D {
-    rows: Vec<Distribution1D>,
+    width: usize,
+    height: usize,
+    row_cdf: Vec<f32>,
+    row_guide: Vec<u32>,
     marginal: Distribution1D,
 }
 
@@ -161,23 +222,43 @@ impl Distribution2D {
     /// From `width * height` row-major cell values.
     pub fn new(values: &[f32], width: usize, height: usize) -> Self {
         let (width, height) = (width.max(1), height.max(1));
-        let rows: Vec<Distribution1D> = (0..height)
+        let mut row_cdf = Vec::with_capacity((width + 1) * height);
+        let mut row_guide = Vec::with_capacity((width + 1) * height);
+        let mut row = vec![0.0f32; width];
+        let integrals: Vec<f32> = (0..height)
             .map(|r| {
-                let start = (r * width).min(values.len());
-                let end = ((r + 1) * width).min(values.len());
-                let mut row = values[start..end].to_vec();
-                row.resize(width, 0.0);
-                Distribution1D::new(&row)
+                for (i, x) in row.iter_mut().enumerate() {
+                    *x = values
+                        .get(r * width + i)
+                        .copied()
+                        .filter(|v| v.is_finite() && *v > 0.0)
+                        .unwrap_or(0.0);
+                }
+                push_cdf(&row, &mut row_cdf, &mut row_guide)
             })
             .collect();
-        let marginal = Distribution1D::new(&rows.iter().map(|r| r.integral()).collect::<Vec<_>>());
-        Self { rows, marginal }
+        Self {
+            width,
+            height,
+            row_cdf,
+            row_guide,
+            marginal: Distribution1D::new(&integrals),
+        }
+    }
+
+    #[inline]
+    fn row(&self, r: usize) -> CdfView<'_> {
+        let span = r * (self.width + 1)..(r + 1) * (self.width + 1);
+        CdfView {
+            cdf: &self.row_cdf[span.clone()],
+            guide: &self.row_guide[span],
+        }
     }
 
     /// Draws (u, v) ∈ [0, 1)² and its density.
     pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
         let (v, pdf_v, row) = self.marginal.sample_continuous(u.y);
-        let (x, pdf_u, _) = self.rows[row].sample_continuous(u.x);
+        let (x, pdf_u, _) = self.row(row).sample_continuous(u.x);
         (Vec2::new(x, v), pdf_v * pdf_u)
     }
 
@@ -186,24 +267,25 @@ impl Distribution2D {
     /// [`Self::sample`].
     pub fn sample_discrete(&self, u: Vec2) -> ((usize, usize), f32, Vec2) {
         let (row, p_row, v) = self.marginal.sample_discrete(u.y);
-        let (col, p_col, x) = self.rows[row].sample_discrete(u.x);
+        let (col, p_col, x) = self.row(row).sample_discrete(u.x);
         ((col, row), p_row * p_col, Vec2::new(x, v))
     }
 
     /// Discrete probability of cell (`col`, `row`) under [`Self::sample_discrete`].
     pub fn pmf(&self, col: usize, row: usize) -> f32 {
-        match self.rows.get(row) {
-            Some(r) => self.marginal.pmf(row) * r.pmf(col),
-            None => 0.0,
+        if row < self.height {
+            self.marginal.pmf(row) * self.row(row).pmf(col)
+        } else {
+            0.0
         }
     }
 
     /// Density of [`Self::sample`] at `uv`.
     pub fn pdf(&self, uv: Vec2) -> f32 {
-        let h = self.rows.len();
+        let h = self.height;
         let row = ((uv.y.clamp(0.0, 1.0) * h as f32) as usize).min(h - 1);
         self.marginal.pdf_continuous(uv.y.clamp(0.0, 1.0))
-            * self.rows[row].pdf_continuous(uv.x.clamp(0.0, 1.0))
+            * self.row(row).pdf_continuous(uv.x.clamp(0.0, 1.0))
     }
 }
 
@@ -253,12 +335,47 @@ mod tests {
             us.extend((0..2000).map(|_| rng.next_f32()));
             for u in us {
                 assert_eq!(
-                    d.find(u),
+                    d.view().find(u),
                     find_interval(&d.cdf, u),
                     "u = {u} over {} cells",
                     values.len()
                 );
             }
+        }
+    }
+
+    /// The flat row layout of `Distribution2D` draws what a marginal over one `Distribution1D`
+    /// per row draws, bit for bit (rows with zeros, an all-zero row, NaN and negative values).
+    #[test]
+    fn two_d_rows_draw_as_separate_one_d_distributions() {
+        let (w, h) = (37, 11);
+        let mut rng = crate::rng::Pcg32::new(3, 5);
+        let mut values: Vec<f32> = (0..w * h)
+            .map(|_| {
+                let x = rng.next_f32();
+                if x < 0.3 { 0.0 } else { x * x * 10.0 }
+            })
+            .collect();
+        values[5] = f32::NAN;
+        values[6] = -2.0;
+        for v in &mut values[4 * w..5 * w] {
+            *v = 0.0;
+        }
+        let d = Distribution2D::new(&values, w, h);
+        let rows: Vec<Distribution1D> = values.chunks(w).map(Distribution1D::new).collect();
+        let marginal = Distribution1D::new(&rows.iter().map(|r| r.integral()).collect::<Vec<_>>());
+        for _ in 0..5000 {
+            let u = Vec2::new(rng.next_f32(), rng.next_f32());
+            let (v, pdf_v, row) = marginal.sample_continuous(u.y);
+            let (x, pdf_u, _) = rows[row].sample_continuous(u.x);
+            assert_eq!(d.sample(u), (Vec2::new(x, v), pdf_v * pdf_u));
+            let ((c, r), p, _) = d.sample_discrete(u);
+            assert_eq!(p, marginal.pmf(r) * rows[r].pmf(c));
+            assert_eq!(
+                d.pdf(u),
+                marginal.pdf_continuous(u.y)
+                    * rows[((u.y * h as f32) as usize).min(h - 1)].pdf_continuous(u.x)
+            );
         }
     }
 
