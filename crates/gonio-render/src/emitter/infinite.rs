@@ -241,10 +241,15 @@ impl EnvMapLight {
     /// Radiance arriving from world direction `dir` (travelling towards the viewer along −dir):
     /// the bilinear interpolation of the uplifted texels, × `scale`.
     pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        self.le_uv(self.dir_to_uv(dir), wl)
+    }
+
+    /// [`Self::le`] at image coordinates `uv` (a sampled direction's, without mapping it back).
+    fn le_uv(&self, uv: Vec2, wl: &SampledWavelengths) -> SampledSpectrum {
         if self.mitsuba_lookup {
-            return self.le_mitsuba(dir, wl);
+            return self.le_mitsuba(uv, wl);
         }
-        let texels = self.bilinear(self.dir_to_uv(dir));
+        let texels = self.bilinear(uv);
         if let Some((sigmoids, kind)) = &self.sigmoids {
             // Σ wᵢ fᵢ sᵢ(λ), then the factor all texels share.
             let lambda = Vec4::from_array(wl.lambdas());
@@ -272,10 +277,10 @@ impl EnvMapLight {
     /// Mitsuba 3.9.1's lookup: (Σ wᵢ sᵢ)(Σ wᵢ fᵢ)·scale, a texel's spectrum split into its
     /// scale fᵢ (2 max(rgb) for an RGB uplift, the value of a constant) and its shape sᵢ = Lᵢ/fᵢ
     /// (which keeps the D65 factor, common to all texels).
-    fn le_mitsuba(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    fn le_mitsuba(&self, uv: Vec2, wl: &SampledWavelengths) -> SampledSpectrum {
         let mut shape = SampledSpectrum::ZERO;
         let mut f = 0.0f32;
-        for (i, w) in self.bilinear(self.dir_to_uv(dir)) {
+        for (i, w) in self.bilinear(uv) {
             let (s, fi) = match &self.spectra[i] {
                 Spectrum::Rgb(r) if r.scale > 0.0 => (self.spectra[i].sample(wl) / r.scale, r.scale),
                 Spectrum::Rgb(_) => (SampledSpectrum::ZERO, 0.0),
@@ -291,12 +296,24 @@ impl EnvMapLight {
 
     /// Direction towards the light ∝ luminance·sin θ, and its solid-angle density.
     pub fn sample_dir(&self, u: Vec2) -> Option<(Vec3, f32)> {
+        self.sample_uv(u).map(|(uv, pdf)| (self.uv_to_dir(uv), pdf))
+    }
+
+    /// [`Self::sample_dir`] with the radiance arriving from that direction, looked up at the
+    /// sampled image coordinates.
+    pub fn sample_dir_le(&self, u: Vec2, wl: &SampledWavelengths) -> Option<(Vec3, f32, SampledSpectrum)> {
+        self.sample_uv(u)
+            .map(|(uv, pdf)| (self.uv_to_dir(uv), pdf, self.le_uv(uv, wl)))
+    }
+
+    /// Image coordinates ∝ luminance·sin θ and the solid-angle density of their direction.
+    fn sample_uv(&self, u: Vec2) -> Option<(Vec2, f32)> {
         let (uv, pdf_uv) = self.distribution.sample(u);
         let sin_theta = (PI * uv.y).sin();
         if pdf_uv <= 0.0 || sin_theta <= 0.0 {
             return None;
         }
-        Some((self.uv_to_dir(uv), pdf_uv / (2.0 * PI * PI * sin_theta)))
+        Some((uv, pdf_uv / (2.0 * PI * PI * sin_theta)))
     }
 
     /// Density of [`Self::sample_dir`] for world direction `dir`.

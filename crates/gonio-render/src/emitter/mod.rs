@@ -219,11 +219,11 @@ impl Light {
                 }
             }
             Light::EnvMap(e) => {
-                let (wi, pdf) = e.sample_dir(u)?;
+                let (wi, pdf, li) = e.sample_dir_le(u, wl)?;
                 LightSample {
                     wi,
                     dist: f32::INFINITY,
-                    li: e.le(wi, wl),
+                    li,
                     pdf,
                     delta: false,
                     normal: None,
