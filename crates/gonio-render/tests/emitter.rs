@@ -103,6 +103,20 @@ fn envmap_pdf_integrates_to_one_and_matches_samples() {
     }
 }
 
+/// The escaped-ray lookup maps a direction to the image once for radiance and density: the
+/// same figures as the two separate calls, bit for bit.
+#[test]
+fn envmap_le_pdf_is_le_and_pdf_dir_bit_for_bit() {
+    let e = test_envmap(Affine3A::from_rotation_x(0.4));
+    let mut rng = Rng(5);
+    for _ in 0..500 {
+        let wl = SampledWavelengths::sample_visible(rng.next_f32());
+        let d = gonio_core::warp::square_to_uniform_sphere(rng.next_2d());
+        let (le, pdf) = e.le_pdf(d, &wl);
+        assert_eq!((le.0, pdf), (e.le(d, &wl).0, e.pdf_dir(d)), "direction {d}");
+    }
+}
+
 /// Pearson χ² of sampled directions binned in (φ, cos θ) against the pdf integrated per bin,
 /// pooling bins with fewer than 5 expected samples; p-value from the χ² survival function.
 fn chi2_p_value(sample: impl Fn(Vec2) -> Option<Vec3>, pdf: impl Fn(Vec3) -> f32, seed: u64) -> f64 {

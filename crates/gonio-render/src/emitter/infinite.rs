@@ -318,7 +318,18 @@ impl EnvMapLight {
 
     /// Density of [`Self::sample_dir`] for world direction `dir`.
     pub fn pdf_dir(&self, dir: Vec3) -> f32 {
+        self.pdf_uv(self.dir_to_uv(dir))
+    }
+
+    /// [`Self::le`] and [`Self::pdf_dir`] of one direction, mapped to the image once (a ray that
+    /// escapes after a BSDF sample needs both).
+    pub fn le_pdf(&self, dir: Vec3, wl: &SampledWavelengths) -> (SampledSpectrum, f32) {
         let uv = self.dir_to_uv(dir);
+        (self.le_uv(uv, wl), self.pdf_uv(uv))
+    }
+
+    /// Solid-angle density of the direction at image coordinates `uv`.
+    fn pdf_uv(&self, uv: Vec2) -> f32 {
         let sin_theta = (PI * uv.y).sin();
         if sin_theta <= 0.0 {
             return 0.0;

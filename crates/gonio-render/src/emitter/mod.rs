@@ -233,6 +233,22 @@ impl Light {
         (s.pdf > 0.0 && !s.li.is_black()).then_some(s)
     }
 
+    /// [`Self::le_infinite`] and, when `r` is given, [`Self::pdf_li_infinite`] from `r`: an
+    /// environment map maps `dir` to its image once for both.
+    #[inline]
+    pub fn le_pdf_infinite(
+        &self,
+        r: Option<&LightRef>,
+        dir: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        match (self, r) {
+            (Light::EnvMap(e), Some(_)) => e.le_pdf(dir, wl),
+            (_, Some(r)) => (self.le_infinite(dir, wl), self.pdf_li_infinite(r, dir)),
+            (_, None) => (self.le_infinite(dir, wl), 0.0),
+        }
+    }
+
     /// Density with which [`Self::sample_li_nonarea`] from `r` produces `dir`, for an infinite
     /// light (0 for others).
     pub fn pdf_li_infinite(&self, r: &LightRef, dir: Vec3) -> f32 {

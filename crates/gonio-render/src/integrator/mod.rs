@@ -487,15 +487,13 @@ impl<'a> PathTracer<'a> {
     fn add_escaped<W: Weight>(&self, l: &mut W, state: &PathState<W>, d: Vec3, wl: &SampledWavelengths) {
         for &i in self.lights.infinite() {
             let light = &self.lights.lights()[i as usize];
-            let le = light.le_infinite(d, wl);
+            let prev = state.smooth_prev();
+            let (le, pdf_dir) = light.le_pdf_infinite(prev.map(|p| &p.light_ref), d, wl);
             if le.is_black() {
                 continue;
             }
-            let w = match state.smooth_prev() {
-                Some(p) => mis_power(
-                    p.bsdf_pdf,
-                    self.lights.pdf_li_escaped(&p.light_ref, i as usize, d),
-                ),
+            let w = match prev {
+                Some(p) => mis_power(p.bsdf_pdf, self.lights.pmf_at(&p.light_ref, i as usize) * pdf_dir),
                 None => 1.0,
             };
             *l += state.beta * W::from_spectrum(le) * w;
