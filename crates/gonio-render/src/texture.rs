@@ -401,7 +401,8 @@ impl Texture {
             Texture::Checkerboard { color0, color1, .. } => 0.5 * (color0.mean() + color1.mean()),
             Texture::Bitmap(b) => b.mean(),
             // Mitsuba 3.9.1 has no mean for it (a `plastic` over one fails to load); the value
-            // of a colour half-way ([0, 1] after its clamp) stands in.
+            // of a colour half-way ([0, 1] after its clamp) stands in. (An area light whose
+            // radiance it is averages it over its mesh instead: `emitter::area::surface_mean`.)
             Texture::MeshAttribute(a) => 0.5 * a.scale,
             Texture::Volume(g) => {
                 g.data.iter().map(|&v| v as f64).sum::<f64>() as f32 / g.data.len().max(1) as f32

@@ -108,6 +108,38 @@ pub struct AreaLight {
     pub hit: Option<Arc<HitBinding>>,
 }
 
+/// Mean of a `radiance` that reads the hit (`mesh_attribute`, `volume`) over a mesh light's
+/// surface, for light selection: the area-weighted mean of its values at the centroids of at
+/// most [`SURFACE_MEAN_TRIANGLES`] triangles spread evenly over the mesh (a selection weight
+/// moves noise between lights, never an image's expectation). `None` for other shapes, whose
+/// texture mean then stands in.
+pub(crate) fn surface_mean(radiance: &Texture, hit: &Arc<HitBinding>, shape: &WorldShape) -> Option<f32> {
+    let ShapeKind::Mesh(mesh) = &shape.kind else {
+        return None;
+    };
+    let n = mesh.indices.len();
+    let step = n.div_ceil(SURFACE_MEAN_TRIANGLES).max(1);
+    let (mut sum, mut area) = (0.0f64, 0.0f64);
+    for i in (0..n).step_by(step) {
+        let [a, b, c] = mesh.tri(i);
+        let w = 0.5 * (b - a).cross(c - a).length() as f64;
+        if !(w > 0.0) {
+            continue;
+        }
+        let bary = Vec2::splat(1.0 / 3.0);
+        let si = mesh.point(i, bary.x, bary.y, shape.face_normals);
+        let value = with_hit_point(hit, si.p, i as u32, bary, || radiance.eval(si.uv).mean());
+        if value.is_finite() {
+            sum += w * value as f64;
+            area += w;
+        }
+    }
+    (area > 0.0).then(|| (sum / area) as f32)
+}
+
+/// Triangles [`surface_mean`] visits at most.
+pub const SURFACE_MEAN_TRIANGLES: usize = 4096;
+
 impl AreaLight {
     /// Power estimate π·A·mean(L).
     pub fn power(&self) -> f32 {

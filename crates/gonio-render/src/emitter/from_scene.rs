@@ -146,7 +146,11 @@ impl Lights {
                     shape: index,
                     radiance: em.radiance.clone(),
                     area: w.area(),
-                    mean_radiance: em.radiance.mean(),
+                    mean_radiance: em
+                        .hit
+                        .as_ref()
+                        .and_then(|hit| super::area::surface_mean(&em.radiance, hit, w))
+                        .unwrap_or_else(|| em.radiance.mean()),
                     center: sphere.center,
                     radius: sphere.radius,
                     hit: em.hit.clone(),

@@ -292,3 +292,42 @@ fn a_volume_radiance_is_the_grid_at_the_light_point() {
         "the samples span the grid: {seen:?}"
     );
 }
+
+/// Light selection weighs an attribute-lit mesh by its radiance's mean over the surface (the
+/// area-weighted mean at triangle centroids, exact for a linearly interpolated attribute): the
+/// constant attribute of the scene above (1.5 after its scale) has the mean of the constant
+/// spectrum, not the stand-in half of the scale (1.0) it had before.
+#[test]
+fn an_attribute_lit_mesh_is_selected_by_its_surface_mean() {
+    use gonio_render::emitter::{Light, Lights};
+    use gonio_render::geometry::WorldShape;
+    let text = std::fs::read_to_string(scenes().join("emitter_area_mesh_attribute.xml")).unwrap();
+    let start = text.find("<texture type=\"mesh_attribute\"").unwrap();
+    let end = text[start..].find("</texture>").unwrap() + start + "</texture>".len();
+    let constant = format!(
+        "{}<spectrum name=\"radiance\" value=\"1.5\"/>{}",
+        &text[..start],
+        &text[end..]
+    );
+    let mean_of = |scene: Scene| {
+        let world: Vec<WorldShape> = scene
+            .shapes
+            .iter()
+            .map(|s| WorldShape::from_scene(s, "shape").unwrap())
+            .collect();
+        let lights = Lights::from_scene(&scene, &world).unwrap();
+        let Light::Area(area) = &lights.lights()[0] else {
+            panic!("an area light")
+        };
+        area.mean_radiance
+    };
+    let attribute = mean_of(load(
+        "emitter_area_mesh_attribute",
+        &[("attr", "vertex_one"), ("scale", "2")],
+    ));
+    let spectrum = mean_of(gonio_render::xml::load_scene_str(&constant, scenes(), &[]).unwrap());
+    assert!(
+        (attribute / spectrum - 1.0).abs() < 1e-5,
+        "attribute mesh {attribute} vs constant {spectrum}"
+    );
+}
