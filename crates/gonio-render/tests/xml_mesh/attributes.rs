@@ -22,6 +22,34 @@ fn load(name: &str, d: &[(&str, &str)]) -> Scene {
         .expect("scene loads")
 }
 
+/// The attribute scene with its `mesh_attribute` radiance replaced by the constant spectrum
+/// 1.5 (what `vertex_one` × `scale` 2 amounts to).
+fn constant_radiance_twin(text: &str) -> String {
+    let start = text.find("<texture type=\"mesh_attribute\"").unwrap();
+    let end = text[start..].find("</texture>").unwrap() + start + "</texture>".len();
+    format!(
+        "{}<spectrum name=\"radiance\" value=\"1.5\"/>{}",
+        &text[..start],
+        &text[end..]
+    )
+}
+
+/// The scene's shapes placed in the world and its lights.
+fn world_and_lights(
+    scene: &Scene,
+) -> (
+    Vec<gonio_render::geometry::WorldShape>,
+    gonio_render::emitter::Lights,
+) {
+    let world: Vec<_> = scene
+        .shapes
+        .iter()
+        .map(|s| gonio_render::geometry::WorldShape::from_scene(s, "shape").unwrap())
+        .collect();
+    let lights = gonio_render::emitter::Lights::from_scene(scene, &world).unwrap();
+    (world, lights)
+}
+
 fn render_at(scene: Scene, spp: u32, seed: u64) -> RgbImage {
     let prepared = PreparedScene::new(scene).expect("scene prepares");
     let mut options = RenderOptions::from_scene(&prepared.scene);
@@ -79,13 +107,7 @@ fn an_instanced_mesh_reads_the_attributes_of_the_mesh_placed_directly() {
 fn a_constant_attribute_radiance_is_the_constant_radiance() {
     let path = scenes().join("emitter_area_mesh_attribute.xml");
     let text = std::fs::read_to_string(&path).unwrap();
-    let start = text.find("<texture type=\"mesh_attribute\"").unwrap();
-    let end = text[start..].find("</texture>").unwrap() + start + "</texture>".len();
-    let constant = format!(
-        "{}<spectrum name=\"radiance\" value=\"1.5\"/>{}",
-        &text[..start],
-        &text[end..]
-    );
+    let constant = constant_radiance_twin(&text);
     let attr = [("attr", "vertex_one"), ("scale", "2")];
     for integrator in ["path", "direct"] {
         let d = [attr[0], attr[1], ("integrator", integrator)];
@@ -229,8 +251,7 @@ fn attribute_radiance_errors_name_the_file_the_line_and_the_value() {
 fn a_volume_radiance_is_the_grid_at_the_light_point() {
     use glam::{Vec2, Vec3};
     use gonio_core::SampledWavelengths;
-    use gonio_render::emitter::{Light, LightPoint, LightRef, Lights};
-    use gonio_render::geometry::WorldShape;
+    use gonio_render::emitter::{Light, LightPoint, LightRef};
     let mut vol = b"VOL\x03".to_vec();
     for v in [1i32, 2, 1, 1, 1] {
         vol.extend_from_slice(&v.to_le_bytes());
@@ -246,12 +267,7 @@ fn a_volume_radiance_is_the_grid_at_the_light_point() {
                 <transform name=\"to_world\"><scale value=\"4\"/><translate x=\"-2\" y=\"-2\" z=\"-2\"/></transform>\n\
                 </volume>\n</texture>\n</emitter>\n</shape>\n</scene>\n";
     let scene = gonio_render::xml::load_scene_str(text, dir.path(), &[]).expect("loads");
-    let world: Vec<WorldShape> = scene
-        .shapes
-        .iter()
-        .map(|s| WorldShape::from_scene(s, "light").unwrap())
-        .collect();
-    let lights = Lights::from_scene(&scene, &world).unwrap();
+    let (world, lights) = world_and_lights(&scene);
     let Light::Area(area) = &lights.lights()[0] else {
         panic!("an area light")
     };
@@ -299,23 +315,11 @@ fn a_volume_radiance_is_the_grid_at_the_light_point() {
 /// spectrum, not the stand-in half of the scale (1.0) it had before.
 #[test]
 fn an_attribute_lit_mesh_is_selected_by_its_surface_mean() {
-    use gonio_render::emitter::{Light, Lights};
-    use gonio_render::geometry::WorldShape;
+    use gonio_render::emitter::Light;
     let text = std::fs::read_to_string(scenes().join("emitter_area_mesh_attribute.xml")).unwrap();
-    let start = text.find("<texture type=\"mesh_attribute\"").unwrap();
-    let end = text[start..].find("</texture>").unwrap() + start + "</texture>".len();
-    let constant = format!(
-        "{}<spectrum name=\"radiance\" value=\"1.5\"/>{}",
-        &text[..start],
-        &text[end..]
-    );
+    let constant = constant_radiance_twin(&text);
     let mean_of = |scene: Scene| {
-        let world: Vec<WorldShape> = scene
-            .shapes
-            .iter()
-            .map(|s| WorldShape::from_scene(s, "shape").unwrap())
-            .collect();
-        let lights = Lights::from_scene(&scene, &world).unwrap();
+        let (_, lights) = world_and_lights(&scene);
         let Light::Area(area) = &lights.lights()[0] else {
             panic!("an area light")
         };
