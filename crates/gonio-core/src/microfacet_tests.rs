@@ -346,3 +346,52 @@ fn hostile_roughness_is_clamped_and_stays_finite() {
         }
     }
 }
+
+/// Beckmann's visible x-slope, inverted in single precision, against a double-precision
+/// bisection of the same CDF (puruspe's erf and erf⁻¹, 100 halvings) at the same f32 inputs,
+/// incidences from normal to 89.9° off it. Measured: within 2·10⁻⁴ (in slopes of roughness 1)
+/// for ξ in [10⁻³, 1 − 10⁻³], within 3·10⁻² in the tails down to ξ = 10⁻⁶, where f32 holds
+/// 1 + erf(slope) to a few per cent.
+#[test]
+fn beckmann_slope_inversion_matches_a_double_precision_bisection() {
+    let inv_sqrt_pi = 1.0 / std::f64::consts::PI.sqrt();
+    // Worst error (and where) for ξ in [10⁻³, 1 − 10⁻³], and in the tails beyond.
+    let mut worst = [(0.0f64, 0.0f64, 0.0f32); 2];
+    for theta_deg in [0.5f64, 10.0, 30.0, 45.0, 60.0, 75.0, 85.0, 89.0, 89.9] {
+        let (s, c) = theta_deg.to_radians().sin_cos();
+        let (sin_t, cos_t) = (s as f32, c as f32);
+        let (sin64, cos64) = (sin_t as f64, cos_t as f64);
+        let (tan, cot) = (sin64 / cos64, cos64 / sin64);
+        let cdf = |b: f64| {
+            let e = puruspe::inverf(b.clamp(-1.0 + 1e-16, 1.0 - 1e-16));
+            (1.0 + b + inv_sqrt_pi * tan * (-e * e).exp())
+                / (1.0 + puruspe::erf(cot) + inv_sqrt_pi * tan * (-cot * cot).exp())
+        };
+        let tails = [1e-6f32, 1e-5, 1e-4, 5e-4, 0.9995, 0.9999, 1.0 - 1e-5, 1.0 - 1e-6];
+        for u in (1..400)
+            .map(|k| k as f32 / 400.0)
+            .chain([1e-3, 1.0 - 1e-3])
+            .chain(tails)
+        {
+            let u64 = (u as f64).clamp(1e-6, 1.0 - 1e-6);
+            let (mut lo, mut hi) = (-1.0f64, puruspe::erf(cot));
+            for _ in 0..100 {
+                let mid = 0.5 * (lo + hi);
+                if cdf(mid) < u64 { lo = mid } else { hi = mid }
+            }
+            let reference = puruspe::inverf(0.5 * (lo + hi));
+            let got = beckmann_visible_slope_x_11(cos_t, sin_t, u) as f64;
+            let err = (got - reference).abs();
+            let k = usize::from(!(1e-3..=1.0 - 1e-3).contains(&u));
+            if err > worst[k].0 {
+                worst[k] = (err, theta_deg, u);
+            }
+        }
+    }
+    println!(
+        "worst slope error (error, θ°, ξ): interior {:?}, tails {:?}",
+        worst[0], worst[1]
+    );
+    assert!(worst[0].0 < 2e-4, "interior: {:?}", worst[0]);
+    assert!(worst[1].0 < 3e-2, "tails: {:?}", worst[1]);
+}
