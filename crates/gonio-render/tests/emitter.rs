@@ -456,7 +456,7 @@ fn selection_by_position_is_a_consistent_distribution() {
 
 /// Light sampling behind `Lights`: for every light kind in a scene, a light sample from a
 /// reference point, followed as a ray, finds the light with the density `pdf_li_hit` (area) or
-/// `pdf_li_escaped` (infinite) reports, selection included — the agreement MIS relies on —
+/// `le_escaped` (infinite) reports, selection included — the agreement MIS relies on —
 /// for a sphere, a rectangle sampled by spherical rectangle (near) and by area (far).
 #[test]
 fn light_samples_and_their_densities_agree_for_every_light_kind() {
@@ -514,7 +514,8 @@ fn light_samples_and_their_densities_agree_for_every_light_kind() {
         } else if hit.is_none() {
             seen[3] += 1;
             let i = lights.infinite()[0] as usize;
-            let pdf = lights.pdf_li_escaped(&r, i, ls.wi);
+            let (le, pdf) = lights.le_escaped(Some(&r), i, ls.wi, &wl);
+            assert_eq!(le.0, ls.li.0, "the radiance the sample carries");
             assert!(
                 (pdf / ls.pdf - 1.0).abs() < 1e-4,
                 "environment: sampled {} vs {pdf}",

@@ -138,7 +138,7 @@ pub(crate) fn surface_mean(radiance: &Texture, hit: &Arc<HitBinding>, shape: &Wo
 }
 
 /// Triangles [`surface_mean`] visits at most.
-pub const SURFACE_MEAN_TRIANGLES: usize = 4096;
+const SURFACE_MEAN_TRIANGLES: usize = 4096;
 
 impl AreaLight {
     /// Power estimate π·A·mean(L).

@@ -7,7 +7,7 @@
 //! and give a scalar power for light selection. [`Lights`] adds the choice of a light: the
 //! integrators ask it for a light sample from a reference point ([`Lights::sample_li`]) and for
 //! the density of a light found by BSDF sampling ([`Lights::pdf_li_hit`],
-//! [`Lights::pdf_li_escaped`]), selection included; the sampling policy of each light kind
+//! [`Lights::le_escaped`]), selection included; the sampling policy of each light kind
 //! (solid angle, area, spherical rectangle) lives with the light. Parameters and defaults of
 //! each Mitsuba plugin are documented in the submodules.
 //!
@@ -233,19 +233,18 @@ impl Light {
         (s.pdf > 0.0 && !s.li.is_black()).then_some(s)
     }
 
-    /// [`Self::le_infinite`] and, when `r` is given, [`Self::pdf_li_infinite`] from `r`: an
-    /// environment map maps `dir` to its image once for both.
+    /// [`Self::le_infinite`] and [`Self::pdf_li_infinite`] from `r` together: an environment
+    /// map maps `dir` to its image once for both.
     #[inline]
     pub fn le_pdf_infinite(
         &self,
-        r: Option<&LightRef>,
+        r: &LightRef,
         dir: Vec3,
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
-        match (self, r) {
-            (Light::EnvMap(e), Some(_)) => e.le_pdf(dir, wl),
-            (_, Some(r)) => (self.le_infinite(dir, wl), self.pdf_li_infinite(r, dir)),
-            (_, None) => (self.le_infinite(dir, wl), 0.0),
+        match self {
+            Light::EnvMap(e) => e.le_pdf(dir, wl),
+            _ => (self.le_infinite(dir, wl), self.pdf_li_infinite(r, dir)),
         }
     }
 
@@ -515,11 +514,27 @@ impl Lights {
         self.pmf_at(r, li) * dir_pdf
     }
 
-    /// The density with which [`Self::sample_li`] from `r` produces direction `dir` towards the
-    /// light at infinity `li` (selection × solid angle).
+    /// The radiance of the light at infinity `li` arriving along −`dir` (a ray that left the
+    /// scene) and, when `r` is the vertex that drew `dir` by its BSDF, the density with which
+    /// [`Self::sample_li`] from `r` produces `dir` (selection × solid angle; 0 without `r` or
+    /// where the light is black, which nothing then weighs).
     #[inline]
-    pub fn pdf_li_escaped(&self, r: &LightRef, li: usize, dir: Vec3) -> f32 {
-        self.pmf_at(r, li) * self.lights[li].pdf_li_infinite(r, dir)
+    pub fn le_escaped(
+        &self,
+        r: Option<&LightRef>,
+        li: usize,
+        dir: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        let light = &self.lights[li];
+        let Some(r) = r else {
+            return (light.le_infinite(dir, wl), 0.0);
+        };
+        let (le, pdf_dir) = light.le_pdf_infinite(r, dir, wl);
+        if le.is_black() {
+            return (le, 0.0);
+        }
+        (le, self.pmf_at(r, li) * pdf_dir)
     }
 
     /// The area light on shape `shape`, if it emits.

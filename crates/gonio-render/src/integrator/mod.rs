@@ -485,17 +485,15 @@ impl<'a> PathTracer<'a> {
 
     /// Adds the lights at infinity seen along `d` by a ray that left the scene.
     fn add_escaped<W: Weight>(&self, l: &mut W, state: &PathState<W>, d: Vec3, wl: &SampledWavelengths) {
+        let prev = state.smooth_prev();
         for &i in self.lights.infinite() {
-            let light = &self.lights.lights()[i as usize];
-            let prev = state.smooth_prev();
-            let (le, pdf_dir) = light.le_pdf_infinite(prev.map(|p| &p.light_ref), d, wl);
+            let (le, pdf_light) = self
+                .lights
+                .le_escaped(prev.map(|p| &p.light_ref), i as usize, d, wl);
             if le.is_black() {
                 continue;
             }
-            let w = match prev {
-                Some(p) => mis_power(p.bsdf_pdf, self.lights.pmf_at(&p.light_ref, i as usize) * pdf_dir),
-                None => 1.0,
-            };
+            let w = prev.map_or(1.0, |p| mis_power(p.bsdf_pdf, pdf_light));
             *l += state.beta * W::from_spectrum(le) * w;
         }
     }
