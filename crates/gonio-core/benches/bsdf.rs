@@ -9,6 +9,12 @@
 //! of 1024 pre-drawn path wavelengths (drawing them, `SampledWavelengths::sample_visible`, costs
 //! ≈ 0.5 µs by itself and is paid once per path, not per vertex), with an oblique `wi`; `eval`
 //! queries a random direction of the upper hemisphere.
+//! * `sample_eval_lanes`: the lane kernels (`gonio_core::lanes`) at the width `dispatch` picks
+//!   on this CPU: per iteration, 4096 lanes of pre-drawn inputs (wavelengths, uniforms) go
+//!   through the model's construction at their wavelengths, `sample` and `eval` at the sampled
+//!   direction, as Mitsuba's vectorized variants are measured (`mitsuba_bsdf.py`). The figure
+//!   is per iteration: divide by 4096 for ns per lane (divan's `items/s` column gives it).
+//!
 //! Run with `cargo bench -p gonio-core --bench bsdf`.
 
 use divan::{Bencher, black_box};
@@ -20,6 +26,7 @@ use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
     RoughConductor, RoughDielectric, RoughDiffuse, RoughPlastic, ThinDielectric, TwoSided,
 };
+use gonio_core::lanes::{F32s, LaneKernel, Vec3s, dispatch};
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
@@ -168,6 +175,80 @@ fn with_model(name: &str, f: impl FnOnce(&dyn Bsdf)) {
 }
 
 const WI: Vec3 = Vec3::new(0.48, 0.36, 0.8);
+
+/// Models with a lane kernel.
+const LANE_MODELS: &[&str] = &["roughconductor_beckmann", "roughconductor_ggx_au"];
+
+/// Lanes per iteration of `sample_eval_lanes`.
+const LANE_BATCH: usize = 4096;
+
+/// Pre-drawn per-lane inputs of `sample_eval_lanes`.
+struct LaneInputs {
+    wl: Vec<SampledWavelengths>,
+    u: Vec<[f32; 2]>,
+}
+
+impl LaneInputs {
+    fn new() -> Self {
+        let mut rng = Pcg32::new(1, 2);
+        Self {
+            wl: (0..LANE_BATCH)
+                .map(|_| SampledWavelengths::sample_visible(rng.next_f32()))
+                .collect(),
+            u: (0..LANE_BATCH)
+                .map(|_| [rng.next_f32(), rng.next_f32()])
+                .collect(),
+        }
+    }
+}
+
+/// `sample` + `eval` of a rough conductor over a batch of lanes; returns a sum of the results
+/// so that nothing is optimized away.
+struct ConductorBatch<'a> {
+    model: &'a RoughConductor,
+    inputs: &'a LaneInputs,
+}
+
+impl LaneKernel for ConductorBatch<'_> {
+    type Output = f32;
+    #[inline(always)]
+    fn run<const N: usize>(self) -> f32 {
+        let ctx = BsdfContext::radiance();
+        let wi = Vec3s::<N>::splat(black_box(WI).normalize());
+        let mut acc = F32s::<N>::ZERO;
+        for (wl, u) in self.inputs.wl.chunks_exact(N).zip(self.inputs.u.chunks_exact(N)) {
+            let wl: &[SampledWavelengths; N] = wl.try_into().unwrap();
+            let lanes = self.model.lanes(wl).unwrap();
+            let u2 = [F32s::from_fn(|k| u[k][0]), F32s::from_fn(|k| u[k][1])];
+            let s = lanes.sample(&ctx, wi, u2);
+            let (f, pdf) = lanes.eval_pdf(&ctx, wi, s.wo);
+            acc += s.weight.0[0] + s.pdf + f.0[0] + pdf;
+        }
+        acc.sum()
+    }
+}
+
+#[divan::bench(args = LANE_MODELS)]
+fn sample_eval_lanes(bencher: Bencher, name: &str) {
+    let inputs = LaneInputs::new();
+    let model = match name {
+        "roughconductor_beckmann" => RoughConductor::default(),
+        "roughconductor_ggx_au" => RoughConductor::new(
+            piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
+            piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
+            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+        ),
+        _ => unreachable!("no lane kernel for {name}"),
+    };
+    bencher
+        .counter(divan::counter::ItemsCount::new(LANE_BATCH))
+        .bench_local(|| {
+            black_box(dispatch(ConductorBatch {
+                model: &model,
+                inputs: &inputs,
+            }))
+        });
+}
 
 /// 1024 path wavelength sets, drawn once.
 fn wavelength_table() -> Vec<SampledWavelengths> {

@@ -19,6 +19,7 @@ pub mod fresnel_polarized;
 pub mod hash;
 pub mod instruments;
 pub mod ior;
+pub mod lanes;
 pub mod math;
 pub mod microfacet;
 pub mod microsurface;

@@ -9,5 +9,6 @@ mod battery_broken;
 mod battery_support;
 mod instruments_gonio;
 mod lambertsphere;
+mod lanes;
 mod proptest_health;
 mod spectral;

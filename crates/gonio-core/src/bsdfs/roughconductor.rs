@@ -47,6 +47,8 @@ use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::fresnel::fresnel_conductor_exterior;
 use crate::fresnel_polarized::{conductor_reflection, facet_mueller};
 use crate::ior::{Ior, IorValue, SampledIor};
+use crate::lanes::fresnel::fresnel_conductor;
+use crate::lanes::{BsdfSamples, F32s, Mask, MicrofacetLanes, SampledSpectra, Vec3s};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use crate::microsurface::{Microsurface, eval_rng, sample_rng};
 use crate::mueller::Mueller;
@@ -105,6 +107,94 @@ impl RoughConductor {
             specular_reflectance: self.specular_reflectance.sample(wl),
             distribution: self.distribution,
             multiple_scattering: self.multiple_scattering,
+        }
+    }
+}
+
+/// [`RoughConductor`] (single scattering) for `N` lanes: the kernel of a renderer that shades
+/// `N` hits at once, each lane with its own wavelengths and roughness. Lane `k` agrees with the
+/// scalar model at lane `k`'s parameters to rounding (`tests/lanes.rs`).
+#[derive(Clone, Copy, Debug)]
+pub struct RoughConductorLanes<const N: usize> {
+    /// η/η_ext per lane and wavelength.
+    pub eta: SampledSpectra<N>,
+    /// k/η_ext per lane and wavelength.
+    pub k: SampledSpectra<N>,
+    /// The tint.
+    pub specular_reflectance: SampledSpectra<N>,
+    /// Distribution and per-lane roughness.
+    pub distribution: MicrofacetLanes<N>,
+}
+
+impl RoughConductor {
+    /// This model at each lane's wavelengths; `None` with `multiple_scattering`, whose random
+    /// walk has no lane kernel.
+    #[inline]
+    pub fn lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> Option<RoughConductorLanes<N>> {
+        if self.multiple_scattering {
+            return None;
+        }
+        let (mut eta, mut k) = (self.eta.sample_lanes(wl), self.k.sample_lanes(wl));
+        if self.ext_ior != Ior::Constant(1.0) {
+            let ext = SampledSpectra::from_fn(|j| self.ext_ior.sample(&wl[j]));
+            (eta, k) = (eta.safe_div(ext), k.safe_div(ext));
+        }
+        Some(RoughConductorLanes {
+            eta,
+            k,
+            specular_reflectance: self.specular_reflectance.sample_lanes(wl),
+            distribution: self.distribution.lanes(),
+        })
+    }
+}
+
+impl<const N: usize> RoughConductorLanes<N> {
+    /// (f, pdf) per lane from the half vector of (wi, wo), as the scalar `eval_pdf_lobe`.
+    #[inline(always)]
+    fn eval_pdf_lobe(&self, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+        let h = (wi + wo).normalize_or(Vec3::ZERO);
+        let valid = wi.z.gt(0.0) & wo.z.gt(0.0) & h.z.gt(0.0) & wi.dot(h).gt(0.0) & wo.dot(h).gt(0.0);
+        let distr = &self.distribution;
+        let d = distr.d(h);
+        let valid = valid & d.ne(0.0);
+        let value = d * distr.g(wi, wo, h) / (4.0 * wi.z * wo.z);
+        let pdf = distr.pdf(wi, h) / (4.0 * wo.dot(h));
+        let pdf = (valid & pdf.is_finite()).and_then(pdf);
+        let ok = valid & value.is_finite() & value.ne(0.0);
+        let cos = wi.dot(h);
+        let f = SampledSpectra(std::array::from_fn(|i| {
+            ok.and_then(
+                fresnel_conductor(cos, self.eta.0[i], self.k.0[i]) * self.specular_reflectance.0[i] * value,
+            )
+        }));
+        (f, pdf)
+    }
+
+    /// f(wi, wo) and the pdf of `sample` per lane ([`Bsdf::eval_pdf`]).
+    #[inline(always)]
+    pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+        if !ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) {
+            return (SampledSpectra::ZERO, F32s::ZERO);
+        }
+        self.eval_pdf_lobe(wi, wo)
+    }
+
+    /// A direction per lane ([`Bsdf::sample`]; `u1` is not used, as in the scalar model).
+    #[inline(always)]
+    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+        let enabled = Mask::splat(ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION));
+        let (m, pdf_m) = self.distribution.sample(wi, u2);
+        let cos_im = wi.dot(m);
+        let wo = (m * (2.0 * cos_im) - wi).normalize();
+        let (f, pdf) = self.eval_pdf_lobe(wi, wo);
+        let valid = enabled & wi.z.gt(0.0) & pdf_m.gt(0.0) & cos_im.gt(0.0) & pdf.gt(0.0);
+        BsdfSamples {
+            valid,
+            wo,
+            weight: (f * (wo.z / pdf)).masked(valid),
+            pdf,
+            eta: F32s::ONE,
+            flags: [BsdfFlags::GLOSSY_REFLECTION; N],
         }
     }
 }

@@ -1,0 +1,196 @@
+//! Transcendental functions on lanes, branch-free so that they vectorize.
+//!
+//! Single-precision Cephes polynomials (S. L. Moshier, *Methods and Programs for Mathematical
+//! Functions*, 1989; the `sinf`, `cosf`, `expf`, `logf`, `asinf` routines): a range reduction, a
+//! short polynomial, a reconstruction, each step a lane-wise operation. Accuracy (tested against
+//! the standard library over their ranges in `tests/lanes.rs`): `sin_cos` within 2·10⁻⁷
+//! absolute on [−8192, 8192]; `exp` and `ln` within 3 ulp (relative 2·10⁻⁷) on their finite
+//! ranges; `erf` within 6·10⁻⁷ absolute (Abramowitz & Stegun 7.1.26, 1.5·10⁻⁷, evaluated in single precision); `erf_inv` Giles' f32
+//! approximation (the scalar `microfacet` one, relative 4·10⁻⁷); `acos` within 3·10⁻⁷.
+
+use super::F32s;
+
+/// (sin x, cos x) per lane, for |x| ≤ 8192 (the reduction by π/4 loses accuracy beyond).
+#[inline(always)]
+pub fn sin_cos<const N: usize>(x: F32s<N>) -> (F32s<N>, F32s<N>) {
+    const FOUR_OVER_PI: f32 = 1.273_239_5;
+    const DP1: f32 = 0.785_156_25;
+    const DP2: f32 = 2.418_756_5e-4;
+    const DP3: f32 = 3.774_895e-8;
+    let mut s = [0.0f32; N];
+    let mut c = [0.0f32; N];
+    for k in 0..N {
+        let v = x.0[k];
+        let a = v.abs();
+        // The octant, rounded up to even: a − jπ/4 lies in [−π/4, π/4].
+        let j = (((a * FOUR_OVER_PI) as i32) + 1) & !1;
+        let y = j as f32;
+        let r = ((a - y * DP1) - y * DP2) - y * DP3;
+        let z = r * r;
+        let pc = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+        let ps = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * r + r;
+        let swap = j & 2 != 0;
+        let (sv, cv) = if swap { (pc, ps) } else { (ps, pc) };
+        // Signs: sine odd in x and negative in octants 4..7; cosine negative in octants 2..5.
+        let sin_neg = (j & 4 != 0) ^ (v < 0.0);
+        let cos_neg = ((j - 2) & 4) == 0;
+        s[k] = if sin_neg { -sv } else { sv };
+        c[k] = if cos_neg { -cv } else { cv };
+    }
+    (F32s(s), F32s(c))
+}
+
+/// eˣ per lane; 0 below −88.38 and +∞ above 88.72; NaN gives 0.
+#[inline(always)]
+pub fn exp<const N: usize>(x: F32s<N>) -> F32s<N> {
+    const LOG2E: f32 = std::f32::consts::LOG2_E;
+    const C1: f32 = 0.693_359_4;
+    const C2: f32 = -2.121_944_4e-4;
+    let mut r = [0.0f32; N];
+    for k in 0..N {
+        let v = x.0[k];
+        let big = v > 88.722_83;
+        let a = v.clamp(-88.376_26, 88.376_26);
+        let fx = (a * LOG2E + 0.5).floor();
+        let t = a - fx * C1 - fx * C2;
+        let z = t * t;
+        let p = (((((1.987_569_1e-4 * t + 1.398_199_9e-3) * t + 8.333_452e-3) * t + 4.166_579_6e-2) * t
+            + 1.666_666_5e-1)
+            * t
+            + 5.000_000_1e-1)
+            * z
+            + t
+            + 1.0;
+        // 2^fx by building the exponent field (fx ≥ −127: the bits of 0 at the bottom).
+        let e = ((fx as i32 + 127).max(0) as u32) << 23;
+        let y = p * f32::from_bits(e);
+        r[k] = if big { f32::INFINITY } else { y };
+    }
+    F32s(r)
+}
+
+/// ln x per lane: NaN below 0, −∞ at 0, +∞ at +∞ (denormal inputs are read as the smallest
+/// normal number).
+#[inline(always)]
+pub fn ln<const N: usize>(x: F32s<N>) -> F32s<N> {
+    const SQRTH: f32 = std::f32::consts::FRAC_1_SQRT_2;
+    let mut r = [0.0f32; N];
+    for k in 0..N {
+        let v = x.0[k];
+        let a = v.max(f32::MIN_POSITIVE);
+        let bits = a.to_bits();
+        // a = m·2^e with m in [0.5, 1).
+        let mut e = ((bits >> 23) as i32 - 126) as f32;
+        let m = f32::from_bits((bits & 0x807f_ffff) | 0x3f00_0000);
+        let t = if m < SQRTH {
+            e -= 1.0;
+            m + m - 1.0
+        } else {
+            m - 1.0
+        };
+        let z = t * t;
+        let p = ((((((((7.037_683_6e-2 * t - 1.151_461e-1) * t + 1.167_699_9e-1) * t - 1.242_014_1e-1)
+            * t
+            + 1.424_932_3e-1)
+            * t
+            - 1.666_805_8e-1)
+            * t
+            + 2.000_071_4e-1)
+            * t
+            - 2.499_999_4e-1)
+            * t
+            + 3.333_333e-1)
+            * t
+            * z;
+        let y = t + (p - 2.121_944_4e-4 * e - 0.5 * z) + e * 0.693_359_4;
+        r[k] = if v > 0.0 {
+            if v == f32::INFINITY { v } else { y }
+        } else if v == 0.0 {
+            f32::NEG_INFINITY
+        } else {
+            f32::NAN
+        };
+    }
+    F32s(r)
+}
+
+/// xʸ for x > 0 per lane, as exp(y ln x).
+#[inline(always)]
+pub fn powf<const N: usize>(x: F32s<N>, y: F32s<N>) -> F32s<N> {
+    exp(y * ln(x))
+}
+
+/// erf x per lane, Abramowitz & Stegun 7.1.26 (1.5·10⁻⁷; 6·10⁻⁷ absolute in single precision).
+#[inline(always)]
+pub fn erf<const N: usize>(x: F32s<N>) -> F32s<N> {
+    let a = x.abs();
+    let t = (a * 0.327_591_1 + 1.0).recip();
+    let poly = ((((t * 1.061_405_4 - 1.453_152) * t + 1.421_413_8) * t - 0.284_496_74) * t + 0.254_829_6) * t;
+    let y = F32s::ONE - poly * exp(-(a * a));
+    y.copysign(x)
+}
+
+/// erf⁻¹ x for |x| < 1 per lane: Giles' single-precision approximation (the scalar
+/// `microfacet::erf_inv`), both of its branches evaluated and one selected per lane.
+#[inline(always)]
+pub fn erf_inv<const N: usize>(x: F32s<N>) -> F32s<N> {
+    let w = -ln((F32s::ONE - x) * (F32s::ONE + x));
+    let central = {
+        let w = w - 2.5;
+        let mut p = F32s::splat(2.810_226_4e-8);
+        for c in [
+            3.432_739_4e-7,
+            -3.523_387_7e-6,
+            -4.391_506_5e-6,
+            2.185_808_7e-4,
+            -1.253_725e-3,
+            -4.177_681_6e-3,
+            0.246_640_73,
+            1.501_409_4,
+        ] {
+            p = p * w + c;
+        }
+        p
+    };
+    let tail = {
+        let w = w.sqrt() - 3.0;
+        let mut p = F32s::splat(-2.002_142_6e-4);
+        for c in [
+            1.009_505_6e-4,
+            1.349_343_2e-3,
+            -3.673_428_4e-3,
+            5.739_507_7e-3,
+            -7.622_461_3e-3,
+            9.438_870_5e-3,
+            1.001_674_1,
+            2.832_976_8,
+        ] {
+            p = p * w + c;
+        }
+        p
+    };
+    w.lt(5.0).select(central, tail) * x
+}
+
+/// arccos x per lane for x in [−1, 1] (Cephes `asinf` on the reduced argument).
+#[inline(always)]
+pub fn acos<const N: usize>(x: F32s<N>) -> F32s<N> {
+    use std::f32::consts::{FRAC_PI_2, PI};
+    let mut r = [0.0f32; N];
+    for k in 0..N {
+        let v = x.0[k].clamp(-1.0, 1.0);
+        let a = v.abs();
+        // asin on [0, 0.5]: of a itself, or of √((1 − a)/2) (acos a = 2 asin √((1 − a)/2)).
+        let large = a > 0.5;
+        let z = if large { 0.5 * (1.0 - a) } else { a * a };
+        let s = if large { z.sqrt() } else { a };
+        let p = ((((4.216_32e-2 * z + 2.418_131_1e-2) * z + 4.547_002_6e-2) * z + 7.495_300_3e-2) * z
+            + 1.666_675_2e-1)
+            * z
+            * s
+            + s;
+        let acos_a = if large { 2.0 * p } else { FRAC_PI_2 - p };
+        r[k] = if v < 0.0 { PI - acos_a } else { acos_a };
+    }
+    F32s(r)
+}

@@ -1,0 +1,421 @@
+//! Many samples per call: `N` single-precision lanes, for kernels that evaluate a BSDF for `N`
+//! paths at once (8 lanes on AVX2, 16 on AVX-512, chosen at run time).
+//!
+//! [`F32s`] is `[f32; N]` with element-wise arithmetic written as plain loops; once inlined into
+//! a function compiled for a vector extension ([`dispatch`]), LLVM turns every loop into one
+//! vector instruction per register. Control flow becomes data: a comparison gives a [`Mask`]
+//! (all bits set or clear per lane, as the hardware's), and `mask.select(a, b)` replaces an
+//! `if`. [`math`] has the transcendental functions as branch-free polynomials (Cephes), since
+//! `f32::sin` and friends are library calls that would leave the vector registers lane by lane.
+//!
+//! Why our own type and not a crate: `std::simd` is not on stable Rust, and the stable crates
+//! (`wide`) pick their instruction set when the crate is compiled, not when the program runs, so
+//! a binary built for any x86-64 would never use AVX2 or AVX-512. Plain arrays under
+//! `#[target_feature]` give run-time dispatch with no `unsafe` in the kernels themselves.
+//!
+//! Every kernel built on these types has a scalar twin that is the reference: the tests compare
+//! them lane by lane (`tests/lanes.rs`).
+
+// Indexed loops over lanes are the form LLVM vectorizes; Cephes' constants are kept as published.
+#![allow(clippy::needless_range_loop, clippy::excessive_precision)]
+
+pub mod fresnel;
+pub mod math;
+pub mod microfacet;
+pub mod spectrum;
+mod vec3;
+pub mod warp;
+
+pub use microfacet::MicrofacetLanes;
+pub use spectrum::{BsdfSamples, SampledSpectra};
+pub use vec3::Vec3s;
+
+use std::ops::{Add, AddAssign, BitAnd, BitOr, Div, DivAssign, Mul, MulAssign, Neg, Not, Sub, SubAssign};
+
+/// `N` f32 lanes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(transparent)]
+pub struct F32s<const N: usize>(pub [f32; N]);
+
+/// A per-lane condition: 0 (false) or −1 (all bits set, true) in each lane, the layout of the
+/// vector comparison instructions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(transparent)]
+pub struct Mask<const N: usize>(pub [i32; N]);
+
+impl<const N: usize> Default for F32s<N> {
+    #[inline(always)]
+    fn default() -> Self {
+        Self([0.0; N])
+    }
+}
+
+macro_rules! lanewise {
+    ($($i:ident = $src:expr),* => $e:expr) => {{
+        let mut r = [0.0f32; N];
+        for k in 0..N {
+            $(let $i = $src.0[k];)*
+            r[k] = $e;
+        }
+        F32s(r)
+    }};
+}
+
+macro_rules! compare {
+    ($name:ident, $op:tt, $doc:literal) => {
+        #[doc = $doc]
+        #[inline(always)]
+        pub fn $name(self, o: impl Into<Self>) -> Mask<N> {
+            let o = o.into();
+            let mut r = [0i32; N];
+            for k in 0..N {
+                r[k] = -((self.0[k] $op o.0[k]) as i32);
+            }
+            Mask(r)
+        }
+    };
+}
+
+impl<const N: usize> F32s<N> {
+    /// All lanes zero.
+    pub const ZERO: Self = Self([0.0; N]);
+    /// All lanes one.
+    pub const ONE: Self = Self([1.0; N]);
+
+    /// The same value in every lane.
+    #[inline(always)]
+    pub fn splat(v: f32) -> Self {
+        Self([v; N])
+    }
+    /// Lane `k` is `f(k)`.
+    #[inline(always)]
+    pub fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
+        Self(std::array::from_fn(f))
+    }
+    /// The lanes.
+    #[inline(always)]
+    pub fn to_array(self) -> [f32; N] {
+        self.0
+    }
+    /// Lane `k`.
+    #[inline(always)]
+    pub fn lane(self, k: usize) -> f32 {
+        self.0[k]
+    }
+    /// √x (NaN below 0).
+    #[inline(always)]
+    pub fn sqrt(self) -> Self {
+        lanewise!(x = self => x.sqrt())
+    }
+    /// √max(x, 0): the square root of a quantity that rounding may push below 0.
+    #[inline(always)]
+    pub fn safe_sqrt(self) -> Self {
+        lanewise!(x = self => x.max(0.0).sqrt())
+    }
+    /// |x|.
+    #[inline(always)]
+    pub fn abs(self) -> Self {
+        lanewise!(x = self => x.abs())
+    }
+    /// Lane-wise minimum (the other operand where one is NaN).
+    #[inline(always)]
+    pub fn min(self, o: impl Into<Self>) -> Self {
+        let o = o.into();
+        lanewise!(x = self, o = o => x.min(o))
+    }
+    /// Lane-wise maximum (the other operand where one is NaN).
+    #[inline(always)]
+    pub fn max(self, o: impl Into<Self>) -> Self {
+        let o = o.into();
+        lanewise!(x = self, o = o => x.max(o))
+    }
+    /// Clamped to [lo, hi].
+    #[inline(always)]
+    pub fn clamp(self, lo: f32, hi: f32) -> Self {
+        self.max(lo).min(hi)
+    }
+    /// The magnitude of `self` with the sign of `s`.
+    #[inline(always)]
+    pub fn copysign(self, s: Self) -> Self {
+        lanewise!(x = self, s = s => x.copysign(s))
+    }
+    /// a·b + c (two roundings: the same result with and without FMA hardware).
+    #[inline(always)]
+    pub fn mul_add(self, b: Self, c: Self) -> Self {
+        self * b + c
+    }
+    /// 1/x.
+    #[inline(always)]
+    pub fn recip(self) -> Self {
+        lanewise!(x = self => 1.0 / x)
+    }
+    /// Largest integer ≤ x.
+    #[inline(always)]
+    pub fn floor(self) -> Self {
+        lanewise!(x = self => x.floor())
+    }
+    /// Lanes that are neither infinite nor NaN.
+    #[inline(always)]
+    pub fn is_finite(self) -> Mask<N> {
+        // |x| < ∞ is false for NaN and ±∞: one comparison instead of a classification.
+        self.abs().lt(f32::INFINITY)
+    }
+    /// Lanes that are NaN.
+    #[inline(always)]
+    pub fn is_nan(self) -> Mask<N> {
+        self.ne(self)
+    }
+    /// Sum of the lanes.
+    #[inline(always)]
+    pub fn sum(self) -> f32 {
+        self.0.iter().sum()
+    }
+    /// The bits of each lane.
+    #[inline(always)]
+    pub fn to_bits(self) -> [u32; N] {
+        self.0.map(f32::to_bits)
+    }
+    /// Lanes from bits.
+    #[inline(always)]
+    pub fn from_bits(b: [u32; N]) -> Self {
+        Self(b.map(f32::from_bits))
+    }
+
+    compare!(lt, <, "Lanes where `self < o`.");
+    compare!(le, <=, "Lanes where `self ≤ o`.");
+    compare!(gt, >, "Lanes where `self > o`.");
+    compare!(ge, >=, "Lanes where `self ≥ o`.");
+    compare!(eq, ==, "Lanes where `self == o`.");
+    compare!(ne, !=, "Lanes where `self != o` (NaN lanes included).");
+}
+
+impl<const N: usize> From<f32> for F32s<N> {
+    #[inline(always)]
+    fn from(v: f32) -> Self {
+        Self::splat(v)
+    }
+}
+
+macro_rules! binary_op {
+    ($tr:ident, $f:ident, $op:tt, $tra:ident, $fa:ident) => {
+        impl<const N: usize> $tr for F32s<N> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                lanewise!(x = self, o = o => x $op o)
+            }
+        }
+        impl<const N: usize> $tr<f32> for F32s<N> {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: f32) -> Self {
+                lanewise!(x = self => x $op o)
+            }
+        }
+        impl<const N: usize> $tr<F32s<N>> for f32 {
+            type Output = F32s<N>;
+            #[inline(always)]
+            fn $f(self, o: F32s<N>) -> F32s<N> {
+                let s = self;
+                lanewise!(o = o => s $op o)
+            }
+        }
+        impl<const N: usize> $tra for F32s<N> {
+            #[inline(always)]
+            fn $fa(&mut self, o: Self) {
+                *self = *self $op o;
+            }
+        }
+    };
+}
+
+binary_op!(Add, add, +, AddAssign, add_assign);
+binary_op!(Sub, sub, -, SubAssign, sub_assign);
+binary_op!(Mul, mul, *, MulAssign, mul_assign);
+binary_op!(Div, div, /, DivAssign, div_assign);
+
+impl<const N: usize> Neg for F32s<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        lanewise!(x = self => -x)
+    }
+}
+
+impl<const N: usize> Mask<N> {
+    /// No lane set.
+    pub const NONE: Self = Self([0; N]);
+    /// Every lane set.
+    pub const ALL: Self = Self([-1; N]);
+
+    /// The same condition in every lane.
+    #[inline(always)]
+    pub fn splat(b: bool) -> Self {
+        Self([-(b as i32); N])
+    }
+    /// Lane `k` is `f(k)`.
+    #[inline(always)]
+    pub fn from_fn(mut f: impl FnMut(usize) -> bool) -> Self {
+        Self(std::array::from_fn(|k| -(f(k) as i32)))
+    }
+    /// Whether lane `k` is set.
+    #[inline(always)]
+    pub fn test(self, k: usize) -> bool {
+        self.0[k] != 0
+    }
+    /// True if some lane is set.
+    #[inline(always)]
+    pub fn any(self) -> bool {
+        self.0.iter().fold(0, |a, &m| a | m) != 0
+    }
+    /// True if every lane is set.
+    #[inline(always)]
+    pub fn all(self) -> bool {
+        self.0.iter().fold(-1, |a, &m| a & m) != 0
+    }
+    /// Per lane: `a` where set, `b` where clear.
+    #[inline(always)]
+    pub fn select(self, a: F32s<N>, b: F32s<N>) -> F32s<N> {
+        let mut r = [0.0f32; N];
+        for k in 0..N {
+            r[k] = if self.0[k] != 0 { a.0[k] } else { b.0[k] };
+        }
+        F32s(r)
+    }
+    /// `select(a, b)` on three coordinates.
+    #[inline(always)]
+    pub fn select3(self, a: Vec3s<N>, b: Vec3s<N>) -> Vec3s<N> {
+        Vec3s::new(
+            self.select(a.x, b.x),
+            self.select(a.y, b.y),
+            self.select(a.z, b.z),
+        )
+    }
+    /// `a` where set, 0 where clear.
+    #[inline(always)]
+    pub fn and_then(self, a: F32s<N>) -> F32s<N> {
+        self.select(a, F32s::ZERO)
+    }
+    /// The set lanes as booleans.
+    #[inline(always)]
+    pub fn to_bools(self) -> [bool; N] {
+        self.0.map(|m| m != 0)
+    }
+}
+
+impl<const N: usize> BitAnd for Mask<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn bitand(self, o: Self) -> Self {
+        let mut r = [0i32; N];
+        for k in 0..N {
+            r[k] = self.0[k] & o.0[k];
+        }
+        Mask(r)
+    }
+}
+
+impl<const N: usize> BitOr for Mask<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn bitor(self, o: Self) -> Self {
+        let mut r = [0i32; N];
+        for k in 0..N {
+            r[k] = self.0[k] | o.0[k];
+        }
+        Mask(r)
+    }
+}
+
+impl<const N: usize> Not for Mask<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn not(self) -> Self {
+        Mask(self.0.map(|m| !m))
+    }
+}
+
+/// A computation over lanes of any width, run by [`dispatch`] at the widest width the CPU has.
+///
+/// Everything `run` calls must be `#[inline(always)]` (as every function of this module and of
+/// the lane kernels is): code that is not inlined is compiled for the baseline instruction set.
+pub trait LaneKernel {
+    /// What the computation returns (independent of the width).
+    type Output;
+    /// The computation with `N` lanes.
+    fn run<const N: usize>(self) -> Self::Output;
+}
+
+/// The lane width [`dispatch`] picks on this CPU: 16 with AVX-512 (F, VL, BW, DQ), 8 with
+/// AVX2 + FMA, else 4 (SSE2, the x86-64 baseline, and every other architecture).
+pub fn lane_width() -> usize {
+    match level() {
+        Level::Avx512 => 16,
+        Level::Avx2 => 8,
+        Level::Baseline => 4,
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Level {
+    Avx512,
+    Avx2,
+    Baseline,
+}
+
+/// The extension level, detected once (with the `GONIO_LANES` cap) and cached.
+#[cfg(target_arch = "x86_64")]
+fn level() -> Level {
+    use std::sync::OnceLock;
+    static LEVEL: OnceLock<Level> = OnceLock::new();
+    *LEVEL.get_or_init(|| {
+        let cap = std::env::var("GONIO_LANES").ok();
+        let avx512 = is_x86_feature_detected!("avx512f")
+            && is_x86_feature_detected!("avx512vl")
+            && is_x86_feature_detected!("avx512bw")
+            && is_x86_feature_detected!("avx512dq");
+        let avx2 = is_x86_feature_detected!("avx2") && is_x86_feature_detected!("fma");
+        match cap.as_deref() {
+            Some("4") => Level::Baseline,
+            _ if avx512 && cap.as_deref() != Some("8") => Level::Avx512,
+            _ if avx2 => Level::Avx2,
+            _ => Level::Baseline,
+        }
+    })
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn level() -> Level {
+    Level::Baseline
+}
+
+/// Runs `k` with the widest lanes the CPU supports (see [`lane_width`]; the environment variable
+/// `GONIO_LANES=8` or `=4` caps the width, for comparisons).
+pub fn dispatch<K: LaneKernel>(k: K) -> K::Output {
+    #[cfg(target_arch = "x86_64")]
+    {
+        match level() {
+            // SAFETY: `level` checked that the CPU has these extensions.
+            Level::Avx512 => unsafe { run_avx512(k) },
+            // SAFETY: as above.
+            Level::Avx2 => unsafe { run_avx2(k) },
+            Level::Baseline => k.run::<4>(),
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        k.run::<4>()
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma")]
+fn run_avx512<K: LaneKernel>(k: K) -> K::Output {
+    k.run::<16>()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn run_avx2<K: LaneKernel>(k: K) -> K::Output {
+    k.run::<8>()
+}

@@ -1,0 +1,122 @@
+//! The spectral values of `N` paths at their four wavelengths each, and a BSDF sample of `N`
+//! lanes.
+
+use super::{F32s, Mask, Vec3s};
+use crate::bsdf::BsdfFlags;
+use crate::spectra::Spectrum;
+use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
+use std::ops::{Add, Mul};
+
+/// A [`SampledSpectrum`] per lane, stored by wavelength: `self.0[i]` holds wavelength slot `i`
+/// of every lane, so that a spectral operation is [`N_SPECTRUM_SAMPLES`] vector operations.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct SampledSpectra<const N: usize>(pub [F32s<N>; N_SPECTRUM_SAMPLES]);
+
+impl<const N: usize> SampledSpectra<N> {
+    /// Zero everywhere.
+    pub const ZERO: Self = Self([F32s::ZERO; N_SPECTRUM_SAMPLES]);
+
+    /// The same value at every wavelength of every lane.
+    #[inline(always)]
+    pub fn splat(v: f32) -> Self {
+        Self([F32s::splat(v); N_SPECTRUM_SAMPLES])
+    }
+    /// The same spectrum in every lane.
+    #[inline(always)]
+    pub fn splat_spectrum(s: SampledSpectrum) -> Self {
+        let a = s.to_array();
+        Self(std::array::from_fn(|i| F32s::splat(a[i])))
+    }
+    /// Lane `k` is `f(k)`.
+    #[inline(always)]
+    pub fn from_fn(mut f: impl FnMut(usize) -> SampledSpectrum) -> Self {
+        let mut r = Self::ZERO;
+        for k in 0..N {
+            let a = f(k).to_array();
+            for (i, v) in a.into_iter().enumerate() {
+                r.0[i].0[k] = v;
+            }
+        }
+        r
+    }
+    /// Lane `k`.
+    #[inline(always)]
+    pub fn lane(&self, k: usize) -> SampledSpectrum {
+        SampledSpectrum::from_fn(|i| self.0[i].0[k])
+    }
+    /// Applies `f` to each wavelength slot.
+    #[inline(always)]
+    pub fn map(self, mut f: impl FnMut(F32s<N>) -> F32s<N>) -> Self {
+        Self(self.0.map(&mut f))
+    }
+    /// Per lane: `self` where `m` is set, 0 elsewhere.
+    #[inline(always)]
+    pub fn masked(self, m: Mask<N>) -> Self {
+        self.map(|v| m.and_then(v))
+    }
+    /// Per lane: `a` where `m` is set, `b` elsewhere.
+    #[inline(always)]
+    pub fn select(m: Mask<N>, a: Self, b: Self) -> Self {
+        Self(std::array::from_fn(|i| m.select(a.0[i], b.0[i])))
+    }
+    /// Division where the divisor is not 0, else 0 (as [`SampledSpectrum::safe_div`]).
+    #[inline(always)]
+    pub fn safe_div(self, d: Self) -> Self {
+        Self(std::array::from_fn(|i| {
+            d.0[i].ne(0.0).and_then(self.0[i] / d.0[i])
+        }))
+    }
+}
+
+impl<const N: usize> Mul for SampledSpectra<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, o: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] * o.0[i]))
+    }
+}
+
+impl<const N: usize> Mul<F32s<N>> for SampledSpectra<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, s: F32s<N>) -> Self {
+        self.map(|v| v * s)
+    }
+}
+
+impl<const N: usize> Add for SampledSpectra<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Self(std::array::from_fn(|i| self.0[i] + o.0[i]))
+    }
+}
+
+impl Spectrum {
+    /// This spectrum at each lane's wavelengths (a broadcast for a constant).
+    #[inline]
+    pub fn sample_lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> SampledSpectra<N> {
+        match self {
+            Spectrum::Constant(v) => SampledSpectra::splat(*v),
+            _ => SampledSpectra::from_fn(|k| self.sample(&wl[k])),
+        }
+    }
+}
+
+/// [`crate::BsdfSample`] for `N` lanes: the lanes where `valid` is clear drew nothing (the
+/// scalar `sample` returned `None`), and their other fields are unspecified.
+#[derive(Clone, Copy, Debug)]
+pub struct BsdfSamples<const N: usize> {
+    /// Lanes holding a sample.
+    pub valid: Mask<N>,
+    /// Sampled direction, local frame.
+    pub wo: Vec3s<N>,
+    /// f·|cos θo|/pdf (smooth lobes) or the lobe's throughput over its probability (delta).
+    pub weight: SampledSpectra<N>,
+    /// Solid-angle density, or the discrete probability of a delta lobe.
+    pub pdf: F32s<N>,
+    /// Relative index crossed, n(wo side)/n(wi side); 1 for reflections.
+    pub eta: F32s<N>,
+    /// The lobe sampled, per lane.
+    pub flags: [BsdfFlags; N],
+}

@@ -1,0 +1,121 @@
+//! Three coordinates of `N` lanes each: `N` directions at once (structure of arrays).
+
+use super::{F32s, Mask};
+use glam::Vec3;
+use std::ops::{Add, Mul, Neg, Sub};
+
+/// `N` 3D vectors, one per lane, stored as three [`F32s`].
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Vec3s<const N: usize> {
+    /// x of every lane.
+    pub x: F32s<N>,
+    /// y of every lane.
+    pub y: F32s<N>,
+    /// z of every lane.
+    pub z: F32s<N>,
+}
+
+impl<const N: usize> Vec3s<N> {
+    /// From the three coordinates.
+    #[inline(always)]
+    pub fn new(x: F32s<N>, y: F32s<N>, z: F32s<N>) -> Self {
+        Self { x, y, z }
+    }
+    /// The same vector in every lane.
+    #[inline(always)]
+    pub fn splat(v: Vec3) -> Self {
+        Self::new(F32s::splat(v.x), F32s::splat(v.y), F32s::splat(v.z))
+    }
+    /// Lane `k` is `f(k)`.
+    #[inline(always)]
+    pub fn from_fn(mut f: impl FnMut(usize) -> Vec3) -> Self {
+        let mut r = Self::default();
+        for k in 0..N {
+            let v = f(k);
+            (r.x.0[k], r.y.0[k], r.z.0[k]) = (v.x, v.y, v.z);
+        }
+        r
+    }
+    /// Lane `k`.
+    #[inline(always)]
+    pub fn lane(&self, k: usize) -> Vec3 {
+        Vec3::new(self.x.0[k], self.y.0[k], self.z.0[k])
+    }
+    /// Dot product per lane.
+    #[inline(always)]
+    pub fn dot(self, o: Self) -> F32s<N> {
+        self.x * o.x + self.y * o.y + self.z * o.z
+    }
+    /// Squared length per lane.
+    #[inline(always)]
+    pub fn length_squared(self) -> F32s<N> {
+        self.dot(self)
+    }
+    /// Unit vectors (NaN or ∞ lanes where the length is 0, as `glam::Vec3::normalize`).
+    #[inline(always)]
+    pub fn normalize(self) -> Self {
+        self * self.length_squared().sqrt().recip()
+    }
+    /// Unit vectors, `fallback` where the length is 0 or not finite (as
+    /// `glam::Vec3::normalize_or`).
+    #[inline(always)]
+    pub fn normalize_or(self, fallback: Vec3) -> Self {
+        let rcp = self.length_squared().sqrt().recip();
+        let ok = rcp.is_finite() & rcp.gt(0.0);
+        ok.select3(self * rcp, Self::splat(fallback))
+    }
+    /// Cross product per lane.
+    #[inline(always)]
+    pub fn cross(self, o: Self) -> Self {
+        Self::new(
+            self.y * o.z - self.z * o.y,
+            self.z * o.x - self.x * o.z,
+            self.x * o.y - self.y * o.x,
+        )
+    }
+    /// Lanes whose coordinates are all finite.
+    #[inline(always)]
+    pub fn is_finite(self) -> Mask<N> {
+        self.x.is_finite() & self.y.is_finite() & self.z.is_finite()
+    }
+}
+
+impl<const N: usize> Add for Vec3s<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn add(self, o: Self) -> Self {
+        Self::new(self.x + o.x, self.y + o.y, self.z + o.z)
+    }
+}
+
+impl<const N: usize> Sub for Vec3s<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn sub(self, o: Self) -> Self {
+        Self::new(self.x - o.x, self.y - o.y, self.z - o.z)
+    }
+}
+
+impl<const N: usize> Neg for Vec3s<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        Self::new(-self.x, -self.y, -self.z)
+    }
+}
+
+impl<const N: usize> Mul<F32s<N>> for Vec3s<N> {
+    type Output = Self;
+    #[inline(always)]
+    fn mul(self, s: F32s<N>) -> Self {
+        Self::new(self.x * s, self.y * s, self.z * s)
+    }
+}
+
+impl<const N: usize> Mul<Vec3s<N>> for F32s<N> {
+    type Output = Vec3s<N>;
+    #[inline(always)]
+    fn mul(self, v: Vec3s<N>) -> Vec3s<N> {
+        v * self
+    }
+}

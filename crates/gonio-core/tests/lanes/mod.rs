@@ -1,0 +1,24 @@
+//! The lane kernels (`gonio_core::lanes`) against their scalar references, lane by lane: the
+//! math functions against the standard library, the microfacet distributions and the BSDF
+//! models against the scalar models at each lane's parameters, at widths 4, 8 and 16 and at the
+//! width `dispatch` picks on this CPU.
+
+mod math;
+mod microfacet;
+mod models;
+
+use glam::Vec3;
+use gonio_core::rng::Pcg32;
+
+/// A direction of the upper hemisphere with cos θ in [cos_min, 1], drawn uniformly in cos θ and φ.
+pub fn upper_dir(rng: &mut Pcg32, cos_min: f32) -> Vec3 {
+    let z = cos_min + (1.0 - cos_min) * rng.next_f32();
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * std::f32::consts::PI * rng.next_f32();
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+/// |a − b| ≤ tol · max(1, |a|, |b|).
+pub fn close(a: f32, b: f32, tol: f32) -> bool {
+    (a - b).abs() <= tol * 1f32.max(a.abs()).max(b.abs()) || (a.is_nan() && b.is_nan())
+}

@@ -1,0 +1,214 @@
+//! The BSDF lane kernels against the scalar models at each lane's wavelengths and roughness.
+
+use super::{close, upper_dir};
+use glam::Vec2;
+use gonio_core::bsdfs::RoughConductor;
+use gonio_core::bsdfs::roughconductor::RoughConductorLanes;
+use gonio_core::lanes::{BsdfSamples, F32s, LaneKernel, SampledSpectra, Vec3s, dispatch, lane_width};
+use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
+use gonio_core::rng::Pcg32;
+use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
+use gonio_core::{Bsdf, BsdfContext, Ior, SampledSpectrum, SampledWavelengths};
+use std::sync::Arc;
+
+fn piecewise(pairs: &[f32]) -> Spectrum {
+    Spectrum::PiecewiseLinear(Arc::new(
+        PiecewiseLinear::from_interleaved(pairs, Extrapolation::Clamp).unwrap(),
+    ))
+}
+
+fn gold(distribution: MicrofacetDistribution) -> RoughConductor {
+    RoughConductor::new(
+        piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
+        piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
+        distribution,
+    )
+}
+
+/// Mitsuba's default, gold with GGX, anisotropic Beckmann sampling all normals, gold under
+/// water with GGX and a tint.
+fn conductors() -> Vec<RoughConductor> {
+    let mut under_water = gold(MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.05, 0.4, true));
+    under_water.ext_ior = Ior::Constant(1.333);
+    under_water.specular_reflectance = Spectrum::Constant(0.8);
+    vec![
+        RoughConductor::default(),
+        gold(MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3)),
+        gold(MicrofacetDistribution::new(
+            MicrofacetKind::Beckmann,
+            0.2,
+            0.6,
+            false,
+        )),
+        under_water,
+    ]
+}
+
+/// One batch of inputs: wavelengths, wi, wo and uniforms per lane.
+struct Batch<const N: usize> {
+    wl: [SampledWavelengths; N],
+    wi: Vec3s<N>,
+    wo: Vec3s<N>,
+    u2: [F32s<N>; 2],
+}
+
+impl<const N: usize> Batch<N> {
+    fn draw(rng: &mut Pcg32) -> Self {
+        Self {
+            wl: std::array::from_fn(|_| SampledWavelengths::sample_visible(rng.next_f32())),
+            wi: Vec3s::from_fn(|_| upper_dir(rng, 0.01)),
+            wo: Vec3s::from_fn(|_| upper_dir(rng, -0.1)),
+            u2: [
+                F32s::from_fn(|_| rng.next_f32()),
+                F32s::from_fn(|_| rng.next_f32()),
+            ],
+        }
+    }
+}
+
+fn spectra_close(a: SampledSpectrum, b: SampledSpectrum, tol: f32) -> bool {
+    (0..4).all(|i| close(a[i], b[i], tol))
+}
+
+/// Compares eval, pdf and sample of `lanes` with `scalar(k)`, the scalar model of lane `k`.
+/// Returns the number of lanes whose sample validity differs (a direction on the boundary of
+/// the lobe, moved across it by rounding).
+fn compare<const N: usize, B: Bsdf>(
+    batch: &Batch<N>,
+    (f, pdf): (SampledSpectra<N>, F32s<N>),
+    s: &BsdfSamples<N>,
+    scalar: impl Fn(usize) -> B,
+) -> usize {
+    let ctx = BsdfContext::radiance();
+    let mut mismatches = 0;
+    for k in 0..N {
+        let model = scalar(k);
+        let (wi, wo, wl) = (batch.wi.lane(k), batch.wo.lane(k), &batch.wl[k]);
+        let (fs, ps) = model.eval_pdf(&ctx, wi, wo, wl);
+        assert!(
+            spectra_close(f.lane(k), fs, 2e-5),
+            "eval wi {wi} wo {wo}: {:?} vs {fs:?}",
+            f.lane(k)
+        );
+        assert!(
+            close(pdf.lane(k), ps, 2e-5),
+            "pdf wi {wi} wo {wo}: {} vs {ps}",
+            pdf.lane(k)
+        );
+        let u2 = Vec2::new(batch.u2[0].lane(k), batch.u2[1].lane(k));
+        let scalar_sample = model.sample(&ctx, wi, 0.5, u2, &mut wl.clone());
+        match (s.valid.test(k), scalar_sample) {
+            (true, Some(ss)) => {
+                let wo_l = s.wo.lane(k);
+                let angle = (wo_l - ss.wo).length(); // the chord, ≈ the angle
+                assert!(angle < 4e-4, "sample wi {wi} u {u2}: {wo_l} vs {}", ss.wo);
+                // The weight and pdf at the lane's own direction.
+                let (fl, pl) = model.eval_pdf(&ctx, wi, wo_l, wl);
+                assert!(
+                    close(s.pdf.lane(k), pl, 1e-4),
+                    "sample pdf {} vs {pl}",
+                    s.pdf.lane(k)
+                );
+                let w = fl * (wo_l.z / pl);
+                assert!(
+                    spectra_close(s.weight.lane(k), w, 1e-4),
+                    "weight {:?} vs {w:?}",
+                    s.weight.lane(k)
+                );
+                assert_eq!(s.flags[k], ss.flags);
+                assert_eq!(s.eta.lane(k), ss.eta);
+            }
+            (false, None) => {}
+            _ => mismatches += 1,
+        }
+    }
+    mismatches
+}
+
+fn conductor_agrees<const N: usize>() {
+    let ctx = BsdfContext::radiance();
+    let mut rng = Pcg32::new(21, N as u64);
+    let (mut mismatches, mut total) = (0, 0);
+    for model in conductors() {
+        for round in 0..150 {
+            let batch = Batch::<N>::draw(&mut rng);
+            let mut lanes: RoughConductorLanes<N> = model.lanes(&batch.wl).unwrap();
+            if round % 2 == 1 {
+                // A roughness per lane, as from a texture.
+                let d = lanes.distribution;
+                let a = F32s::from_fn(|_| 10f32.powf(-2.5 * rng.next_f32()));
+                lanes.distribution = gonio_core::lanes::MicrofacetLanes::new(
+                    d.kind,
+                    a,
+                    a * d.alpha_v / d.alpha_u,
+                    d.sample_visible,
+                );
+            }
+            let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            let s = lanes.sample(&ctx, batch.wi, batch.u2);
+            mismatches += compare(&batch, ev, &s, |k| {
+                let mut m = model.clone();
+                m.distribution = lanes.distribution.lane(k);
+                m
+            });
+            total += N;
+        }
+    }
+    assert!(
+        mismatches * 1000 <= total,
+        "{mismatches} of {total} lanes differ in validity"
+    );
+}
+
+#[test]
+fn roughconductor_lanes_agree_with_the_scalar_model_at_every_width() {
+    conductor_agrees::<4>();
+    conductor_agrees::<8>();
+    conductor_agrees::<16>();
+}
+
+/// The same comparison with the kernel compiled for this CPU's vector extension.
+struct ConductorAtDispatchWidth<'a> {
+    model: &'a RoughConductor,
+    seed: u64,
+}
+
+impl LaneKernel for ConductorAtDispatchWidth<'_> {
+    type Output = usize;
+    #[inline(always)]
+    fn run<const N: usize>(self) -> usize {
+        let ctx = BsdfContext::radiance();
+        let mut rng = Pcg32::new(self.seed, 3);
+        let mut mismatches = 0;
+        for _ in 0..200 {
+            let batch = Batch::<N>::draw(&mut rng);
+            let lanes = self.model.lanes(&batch.wl).unwrap();
+            let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            let s = lanes.sample(&ctx, batch.wi, batch.u2);
+            mismatches += compare(&batch, ev, &s, |_| self.model.clone());
+        }
+        mismatches
+    }
+}
+
+#[test]
+fn roughconductor_lanes_agree_at_the_dispatched_width() {
+    eprintln!("dispatch width on this CPU: {}", lane_width());
+    for (i, model) in conductors().iter().enumerate() {
+        let mismatches = dispatch(ConductorAtDispatchWidth {
+            model,
+            seed: 30 + i as u64,
+        });
+        assert!(mismatches <= 2, "{mismatches} lanes differ in validity");
+    }
+}
+
+#[test]
+fn multiple_scattering_has_no_lane_kernel() {
+    let m = RoughConductor {
+        multiple_scattering: true,
+        ..Default::default()
+    };
+    let wl = [SampledWavelengths::sample_visible(0.3); 4];
+    assert!(m.lanes(&wl).is_none());
+}
