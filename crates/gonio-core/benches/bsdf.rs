@@ -177,7 +177,18 @@ fn with_model(name: &str, f: impl FnOnce(&dyn Bsdf)) {
 const WI: Vec3 = Vec3::new(0.48, 0.36, 0.8);
 
 /// Models with a lane kernel.
-const LANE_MODELS: &[&str] = &["roughconductor_beckmann", "roughconductor_ggx_au"];
+const LANE_MODELS: &[&str] = &[
+    "roughconductor_beckmann",
+    "roughconductor_ggx_au",
+    "roughplastic",
+    "roughplastic_ggx",
+];
+
+/// A model with a lane kernel.
+enum LaneModel {
+    Conductor(RoughConductor),
+    Plastic(RoughPlastic),
+}
 
 /// Lanes per iteration of `sample_eval_lanes`.
 const LANE_BATCH: usize = 4096;
@@ -202,14 +213,14 @@ impl LaneInputs {
     }
 }
 
-/// `sample` + `eval` of a rough conductor over a batch of lanes; returns a sum of the results
-/// so that nothing is optimized away.
-struct ConductorBatch<'a> {
-    model: &'a RoughConductor,
+/// `sample` + `eval` over a batch of lanes; returns a sum of the results so that nothing is
+/// optimized away.
+struct LaneBatch<'a> {
+    model: &'a LaneModel,
     inputs: &'a LaneInputs,
 }
 
-impl LaneKernel for ConductorBatch<'_> {
+impl LaneKernel for LaneBatch<'_> {
     type Output = f32;
     #[inline(always)]
     fn run<const N: usize>(self) -> f32 {
@@ -218,10 +229,20 @@ impl LaneKernel for ConductorBatch<'_> {
         let mut acc = F32s::<N>::ZERO;
         for (wl, u) in self.inputs.wl.chunks_exact(N).zip(self.inputs.u.chunks_exact(N)) {
             let wl: &[SampledWavelengths; N] = wl.try_into().unwrap();
-            let lanes = self.model.lanes(wl).unwrap();
             let u2 = [F32s::from_fn(|k| u[k][0]), F32s::from_fn(|k| u[k][1])];
-            let s = lanes.sample(&ctx, wi, u2);
-            let (f, pdf) = lanes.eval_pdf(&ctx, wi, s.wo);
+            let (s, (f, pdf)) = match self.model {
+                LaneModel::Conductor(m) => {
+                    let lanes = m.lanes(wl).unwrap();
+                    let s = lanes.sample(&ctx, wi, u2);
+                    (s, lanes.eval_pdf(&ctx, wi, s.wo))
+                }
+                LaneModel::Plastic(m) => {
+                    let lanes = m.lanes(wl);
+                    // u1 from the second uniform, reflected: not the first one again.
+                    let s = lanes.sample(&ctx, wi, 1.0 - u2[1], u2);
+                    (s, lanes.eval_pdf(&ctx, wi, s.wo))
+                }
+            };
             acc += s.weight.0[0] + s.pdf + f.0[0] + pdf;
         }
         acc.sum()
@@ -232,18 +253,29 @@ impl LaneKernel for ConductorBatch<'_> {
 fn sample_eval_lanes(bencher: Bencher, name: &str) {
     let inputs = LaneInputs::new();
     let model = match name {
-        "roughconductor_beckmann" => RoughConductor::default(),
-        "roughconductor_ggx_au" => RoughConductor::new(
+        "roughconductor_beckmann" => LaneModel::Conductor(RoughConductor::default()),
+        "roughconductor_ggx_au" => LaneModel::Conductor(RoughConductor::new(
             piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
             piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
             MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-        ),
+        )),
+        "roughplastic" => LaneModel::Plastic(RoughPlastic::default()),
+        "roughplastic_ggx" => LaneModel::Plastic(RoughPlastic::new(
+            Spectrum::Constant(0.5),
+            Spectrum::Constant(1.0),
+            false,
+            RoughCoat::new(
+                MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+                1.49 / 1.000277,
+                CoatAverages::Exact,
+            ),
+        )),
         _ => unreachable!("no lane kernel for {name}"),
     };
     bencher
         .counter(divan::counter::ItemsCount::new(LANE_BATCH))
         .bench_local(|| {
-            black_box(dispatch(ConductorBatch {
+            black_box(dispatch(LaneBatch {
                 model: &model,
                 inputs: &inputs,
             }))

@@ -157,8 +157,9 @@ impl<const N: usize> RoughConductorLanes<N> {
         let distr = &self.distribution;
         let d = distr.d(h);
         let valid = valid & d.ne(0.0);
-        let value = d * distr.g(wi, wo, h) / (4.0 * wi.z * wo.z);
-        let pdf = distr.pdf(wi, h) / (4.0 * wo.dot(h));
+        let g1_wi = distr.g1(wi, h);
+        let value = d * (g1_wi * distr.g1(wo, h)) / (4.0 * wi.z * wo.z);
+        let pdf = distr.pdf_from(wi, h, d, g1_wi) / (4.0 * wo.dot(h));
         let pdf = (valid & pdf.is_finite()).and_then(pdf);
         let ok = valid & value.is_finite() & value.ne(0.0);
         let cos = wi.dot(h);

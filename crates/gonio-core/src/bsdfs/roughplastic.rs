@@ -62,6 +62,9 @@
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::fresnel::{fresnel_dielectric, refract_about};
+use crate::lanes::fresnel::fresnel_dielectric as fresnel_dielectric_lanes;
+use crate::lanes::warp::square_to_cosine_hemisphere as square_to_cosine_hemisphere_lanes;
+use crate::lanes::{BsdfSamples, F32s, Mask, SampledSpectra, Vec3s};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind, rough_reflectance, rough_transmittance};
 use crate::quadrature::gauss_legendre;
 use crate::spectra::{SpectralValue, Spectrum};
@@ -487,6 +490,150 @@ impl<S: SpectralValue, C: Borrow<RoughCoat> + Send + Sync> Bsdf for RoughPlastic
             flags,
             eta: 1.0,
         })
+    }
+}
+
+/// [`RoughPlastic`] for `N` lanes, each at its own wavelengths (the coat, whose roughness
+/// Mitsuba does not texture, is shared). Lane `k` agrees with the scalar model to rounding
+/// (`tests/lanes.rs`).
+#[derive(Clone, Copy, Debug)]
+pub struct RoughPlasticLanes<'a, const N: usize> {
+    /// ρ per lane and wavelength.
+    pub diffuse_reflectance: SampledSpectra<N>,
+    /// The coat's tint per lane and wavelength.
+    pub specular_reflectance: SampledSpectra<N>,
+    /// The physical series 1/(1 − ρ R̄_int) (true) or Mitsuba's 1/(1 − R̄_int).
+    pub nonlinear: bool,
+    /// The coat and its averages.
+    pub coat: &'a RoughCoat,
+    specular_sampling_weight: f32,
+}
+
+impl RoughPlastic {
+    /// This model at each lane's wavelengths.
+    #[inline]
+    pub fn lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> RoughPlasticLanes<'_, N> {
+        RoughPlasticLanes {
+            diffuse_reflectance: self.diffuse_reflectance.sample_lanes(wl),
+            specular_reflectance: self.specular_reflectance.sample_lanes(wl),
+            nonlinear: self.nonlinear,
+            coat: &self.coat,
+            specular_sampling_weight: self.specular_sampling_weight,
+        }
+    }
+}
+
+impl<const N: usize> RoughPlasticLanes<'_, N> {
+    /// T(μ) per lane (the table, linearly interpolated).
+    #[inline(always)]
+    fn transmittance(&self, mu: F32s<N>) -> F32s<N> {
+        let n = self.coat.nodes;
+        let x = mu.clamp(0.0, 1.0) * (n - 1) as f32;
+        let t = &self.coat.transmittance[..n];
+        let mut r = [0.0f32; N];
+        for (k, r) in r.iter_mut().enumerate() {
+            let i = (x.0[k] as usize).min(n - 2);
+            let w = x.0[k] - i as f32;
+            *r = (1.0 - w) * t[i] + w * t[i + 1];
+        }
+        F32s(r)
+    }
+
+    /// The probability of sampling the coat's lobe at incidence `mu_i`, per lane.
+    #[inline(always)]
+    fn prob_specular(&self, ctx: &BsdfContext, mu_i: F32s<N>) -> F32s<N> {
+        let has_spec = ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION);
+        let has_diff = ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION);
+        if has_spec != has_diff {
+            return F32s::splat(if has_spec { 1.0 } else { 0.0 });
+        }
+        let t_i = self.transmittance(mu_i);
+        let s = self.specular_sampling_weight;
+        let (ps, pd) = ((1.0 - t_i) * s, t_i * (1.0 - s));
+        (ps + pd).gt(0.0).and_then(ps / (ps + pd))
+    }
+
+    /// (f, pdf) per lane for μi, μo > 0, as the scalar `eval_pdf_lobes`.
+    #[inline(always)]
+    fn eval_pdf_lobes(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+        let coat = self.coat;
+        let distr = coat.distribution.lanes::<N>();
+        let p_spec = self.prob_specular(ctx, wi.z);
+        let h = (wi + wo).normalize_or(Vec3::ZERO);
+        let d = distr.d(h);
+        let g1_wi = distr.g1(wi, h);
+        let has_d = d.gt(0.0);
+        let mut f = SampledSpectra::ZERO;
+        if ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) {
+            let fr = fresnel_dielectric_lanes(wi.dot(h), F32s::splat(coat.eta)).reflectance;
+            let value = fr * d * (g1_wi * distr.g1(wo, h)) / (4.0 * wi.z * wo.z);
+            let ok = has_d & value.is_finite() & value.gt(0.0);
+            f = self.specular_reflectance * ok.and_then(value);
+        }
+        let p = distr.pdf_from(wi, h, d, g1_wi) / (4.0 * wo.dot(h));
+        let mut pdf = (has_d & p.is_finite()).and_then(p_spec * p);
+        if ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION) {
+            let rho = self.diffuse_reflectance;
+            let denom = if self.nonlinear {
+                rho.map(|r| 1.0 - r * coat.internal_reflectance)
+            } else {
+                SampledSpectra::splat(1.0 - coat.internal_reflectance)
+            };
+            let t = self.transmittance(wi.z) * self.transmittance(wo.z);
+            f = f + rho.safe_div(denom) * (coat.inv_eta2 * t * FRAC_1_PI);
+            pdf += (1.0 - p_spec) * wo.z.gt(0.0).and_then(wo.z * FRAC_1_PI);
+        }
+        (f, pdf)
+    }
+
+    /// f(wi, wo) and the pdf of `sample` per lane ([`Bsdf::eval_pdf`]).
+    #[inline(always)]
+    pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+        let any =
+            ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) || ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION);
+        if !any {
+            return (SampledSpectra::ZERO, F32s::ZERO);
+        }
+        let ok = wi.z.gt(0.0) & wo.z.gt(0.0);
+        let (f, pdf) = self.eval_pdf_lobes(ctx, wi, wo);
+        (f.masked(ok), ok.and_then(pdf))
+    }
+
+    /// A direction per lane ([`Bsdf::sample`]): the coat's lobe where `u1` < P_s, else the base's.
+    #[inline(always)]
+    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+        let any =
+            ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) || ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION);
+        let p_spec = self.prob_specular(ctx, wi.z);
+        let specular = u1.lt(p_spec);
+        let mut wo = Vec3s::default();
+        let mut ok = Mask::splat(any) & wi.z.gt(0.0);
+        // Each strategy only where some lane takes it.
+        if specular.any() {
+            let (m, pdf_m) = self.coat.distribution.lanes::<N>().sample(wi, u2);
+            let cos_im = wi.dot(m);
+            wo = (m * (2.0 * cos_im) - wi).normalize();
+            ok = ok & (!specular | (pdf_m.gt(0.0) & cos_im.gt(0.0)));
+        }
+        if !specular.all() {
+            wo = specular.select3(wo, square_to_cosine_hemisphere_lanes(u2));
+        }
+        let (f, pdf) = self.eval_pdf_lobes(ctx, wi, wo);
+        let valid = ok & wo.z.gt(0.0) & pdf.gt(0.0) & pdf.is_finite();
+        BsdfSamples {
+            valid,
+            wo,
+            weight: (f * (wo.z / pdf)).masked(valid),
+            pdf,
+            eta: F32s::ONE,
+            flags: std::array::from_fn(|k| {
+                if specular.test(k) {
+                    BsdfFlags::GLOSSY_REFLECTION
+                } else {
+                    BsdfFlags::DIFFUSE_REFLECTION
+                }
+            }),
+        }
     }
 }
 

@@ -131,7 +131,7 @@ pub fn erf<const N: usize>(x: F32s<N>) -> F32s<N> {
 }
 
 /// erf⁻¹ x for |x| < 1 per lane: Giles' single-precision approximation (the scalar
-/// `microfacet::erf_inv`), both of its branches evaluated and one selected per lane.
+/// `microfacet::erf_inv`), its tail branch evaluated only when some lane needs it.
 #[inline(always)]
 pub fn erf_inv<const N: usize>(x: F32s<N>) -> F32s<N> {
     let w = -ln((F32s::ONE - x) * (F32s::ONE + x));
@@ -152,6 +152,11 @@ pub fn erf_inv<const N: usize>(x: F32s<N>) -> F32s<N> {
         }
         p
     };
+    let central_everywhere = w.lt(5.0);
+    if central_everywhere.all() {
+        // |x| < 0.9966 in every lane (the usual case): the tail polynomial is not needed.
+        return central * x;
+    }
     let tail = {
         let w = w.sqrt() - 3.0;
         let mut p = F32s::splat(-2.002_142_6e-4);
@@ -169,7 +174,7 @@ pub fn erf_inv<const N: usize>(x: F32s<N>) -> F32s<N> {
         }
         p
     };
-    w.lt(5.0).select(central, tail) * x
+    central_everywhere.select(central, tail) * x
 }
 
 /// arccos x per lane for x in [−1, 1] (Cephes `asinf` on the reduced argument).

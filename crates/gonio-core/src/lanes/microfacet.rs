@@ -109,8 +109,20 @@ impl<const N: usize> MicrofacetLanes<N> {
     #[inline(always)]
     pub fn pdf(&self, wi: Vec3s<N>, m: Vec3s<N>) -> F32s<N> {
         let d = self.d(m);
+        let g1_wi = if self.sample_visible {
+            self.g1(wi, m)
+        } else {
+            F32s::ZERO
+        };
+        self.pdf_from(wi, m, d, g1_wi)
+    }
+
+    /// [`Self::pdf`] from D(m) and G1(wi, m) already computed (the latter only read for
+    /// visible normals): what an eval that needs both anyway pays instead of a second D.
+    #[inline(always)]
+    pub fn pdf_from(&self, wi: Vec3s<N>, m: Vec3s<N>, d: F32s<N>, g1_wi: F32s<N>) -> F32s<N> {
         let p = if self.sample_visible {
-            wi.z.gt(0.0).and_then(d * self.g1(wi, m) * wi.dot(m).abs() / wi.z)
+            wi.z.gt(0.0).and_then(d * g1_wi * wi.dot(m).abs() / wi.z)
         } else {
             d * m.z
         };
