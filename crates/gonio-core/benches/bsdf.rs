@@ -180,6 +180,8 @@ const WI: Vec3 = Vec3::new(0.48, 0.36, 0.8);
 const LANE_MODELS: &[&str] = &[
     "roughconductor_beckmann",
     "roughconductor_ggx_au",
+    "roughdielectric",
+    "roughdielectric_ggx",
     "roughplastic",
     "roughplastic_ggx",
 ];
@@ -187,6 +189,7 @@ const LANE_MODELS: &[&str] = &[
 /// A model with a lane kernel.
 enum LaneModel {
     Conductor(RoughConductor),
+    Dielectric(RoughDielectric),
     Plastic(RoughPlastic),
 }
 
@@ -236,6 +239,11 @@ impl LaneKernel for LaneBatch<'_> {
                     let s = lanes.sample(&ctx, wi, u2);
                     (s, lanes.eval_pdf(&ctx, wi, s.wo))
                 }
+                LaneModel::Dielectric(m) => {
+                    let lanes = m.lanes(wl).unwrap();
+                    let s = lanes.sample(&ctx, wi, 1.0 - u2[1], u2);
+                    (s, lanes.eval_pdf(&ctx, wi, s.wo))
+                }
                 LaneModel::Plastic(m) => {
                     let lanes = m.lanes(wl);
                     // u1 from the second uniform, reflected: not the first one again.
@@ -257,6 +265,12 @@ fn sample_eval_lanes(bencher: Bencher, name: &str) {
         "roughconductor_ggx_au" => LaneModel::Conductor(RoughConductor::new(
             piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
             piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
+            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+        )),
+        "roughdielectric" => LaneModel::Dielectric(RoughDielectric::default()),
+        "roughdielectric_ggx" => LaneModel::Dielectric(RoughDielectric::new(
+            Ior::Constant(1.5046),
+            Ior::Constant(1.000277),
             MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
         )),
         "roughplastic" => LaneModel::Plastic(RoughPlastic::default()),

@@ -69,6 +69,8 @@ use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
 use crate::fresnel::{fresnel_dielectric, fresnel_dielectric_spectrum};
 use crate::fresnel_polarized::{dielectric_reflection, dielectric_transmission, facet_mueller};
 use crate::ior::{Ior, IorValue, SampledIor, relative_eta, relative_hero_eta};
+use crate::lanes::fresnel::fresnel_dielectric as fresnel_dielectric_lanes;
+use crate::lanes::{BsdfSamples, F32s, Mask, MicrofacetLanes, SampledSpectra, Vec3s};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use crate::mueller::Mueller;
 use crate::spectra::{SpectralValue, Spectrum};
@@ -470,6 +472,189 @@ impl<S: SpectralValue, I: IorValue> RoughDielectric<S, I> {
             dielectric_transmission(wi.dot(m), eta)
         };
         facet_mueller(f, &fresnel, m, ctx, wi, wo)
+    }
+}
+
+/// [`RoughDielectric`] (single scattering, non-dispersive indices) for `N` lanes, each with its
+/// own relative index, tints and roughness. Lane `k` agrees with the scalar model to rounding
+/// (`tests/lanes.rs`).
+#[derive(Clone, Copy, Debug)]
+pub struct RoughDielectricLanes<const N: usize> {
+    /// η = n_int/n_ext per lane.
+    pub eta: F32s<N>,
+    /// Tint of the reflection.
+    pub specular_reflectance: SampledSpectra<N>,
+    /// Tint of the refraction.
+    pub specular_transmittance: SampledSpectra<N>,
+    /// Distribution and per-lane roughness.
+    pub distribution: MicrofacetLanes<N>,
+}
+
+impl RoughDielectric {
+    /// This model at each lane's wavelengths; `None` for a dispersive index (a refraction there
+    /// terminates a lane's secondary wavelengths and gives each wavelength its own half vector)
+    /// and for `multiple_scattering` (a random walk): those stay with the scalar model.
+    #[inline]
+    pub fn lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> Option<RoughDielectricLanes<N>> {
+        if self.multiple_scattering || self.int_ior.is_dispersive() || self.ext_ior.is_dispersive() {
+            return None;
+        }
+        Some(RoughDielectricLanes {
+            eta: F32s::from_fn(|k| relative_eta(&self.int_ior, &self.ext_ior, &wl[k])[0]),
+            specular_reflectance: self.specular_reflectance.sample_lanes(wl),
+            specular_transmittance: self.specular_transmittance.sample_lanes(wl),
+            distribution: self.distribution.lanes(),
+        })
+    }
+}
+
+/// The facet terms of `N` queries ([`Facet`] per lane) and the lanes where they exist.
+struct Facets<const N: usize> {
+    valid: Mask<N>,
+    cos_fresnel: F32s<N>,
+    value: F32s<N>,
+    pdf: F32s<N>,
+}
+
+impl<const N: usize> RoughDielectricLanes<N> {
+    /// The sampling distribution per lane (Walter et al.'s widening for all-normal sampling).
+    #[inline(always)]
+    fn sampling_distribution(&self, cos_theta_i: F32s<N>) -> MicrofacetLanes<N> {
+        let d = self.distribution;
+        if d.sample_visible {
+            return d;
+        }
+        let narrow = d.alpha_u.min(d.alpha_v).lt(WIDENING_MIN_ALPHA);
+        let scale = narrow.select(F32s::ONE, 1.2 - 0.2 * cos_theta_i.abs().sqrt());
+        MicrofacetLanes {
+            alpha_u: d.alpha_u * scale,
+            alpha_v: d.alpha_v * scale,
+            ..d
+        }
+    }
+
+    /// The scalar `facet`, lane by lane.
+    #[inline(always)]
+    fn facet(&self, wi: Vec3s<N>, wo: Vec3s<N>, mode: TransportMode) -> Facets<N> {
+        let eta = self.eta;
+        let (cos_i, cos_o) = (wi.z, wo.z);
+        let reflect = (cos_i * cos_o).gt(0.0);
+        let outside = cos_i.gt(0.0);
+        let w_ext = outside.select3(wi, wo);
+        let w_int = outside.select3(wo, wi);
+        let m = reflect
+            .select3(wi + wo, w_ext + w_int * eta)
+            .normalize_or(Vec3::ZERO);
+        let m = m.z.lt(0.0).select3(-m, m);
+        let (cos_im, cos_om) = (wi.dot(m), wo.dot(m));
+        let distr = &self.distribution;
+        let d = distr.d(m);
+        let valid = cos_i.ne(0.0)
+            & cos_o.ne(0.0)
+            & m.z.ne(0.0)
+            & (cos_im * cos_i).gt(0.0)
+            & (cos_om * cos_o).gt(0.0)
+            & d.ne(0.0);
+        let g = distr.g(wi, wo, m);
+        let sign = F32s::ONE.copysign(cos_i);
+        let pdf_m = self.sampling_distribution(cos_i).pdf(wi * sign, m);
+        // Reflection.
+        let value_r = d * g / (4.0 * cos_i * cos_o);
+        let jacobian_r = (4.0 * cos_om.abs()).recip();
+        // Refraction (see the scalar `facet` for the factors).
+        let ext_m = outside.select(cos_im, cos_om);
+        let int_m = outside.select(cos_om, cos_im);
+        let denom = ext_m + eta * int_m;
+        let denom2 = denom * denom;
+        let base = (d * g * (cos_im * cos_om) / ((cos_i * cos_o) * denom2)).abs();
+        let eta2 = eta * eta;
+        let scaled = match mode {
+            TransportMode::Radiance => !outside,
+            TransportMode::Importance => outside,
+        };
+        let value_t = scaled.select(base * eta2, base);
+        let jacobian_t = (cos_om / denom2).abs() * outside.select(eta2, F32s::ONE);
+        let value = reflect.select(value_r, value_t);
+        let pdf = pdf_m * reflect.select(jacobian_r, jacobian_t);
+        let cos_fresnel = reflect.select(cos_im, eta.ge(1.0).select(w_ext.dot(m), w_int.dot(m)));
+        Facets {
+            valid,
+            cos_fresnel,
+            value: (valid & value.is_finite()).and_then(value),
+            pdf: (valid & pdf.is_finite()).and_then(pdf),
+        }
+    }
+
+    /// (f, pdf) per lane for the lobes enabled in `ctx`, as the scalar `eval_pdf_lobes`.
+    #[inline(always)]
+    fn eval_pdf_lobes(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+        let has_r = ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION);
+        let has_t = ctx.is_enabled(BsdfFlags::GLOSSY_TRANSMISSION);
+        let reflect = (wi.z * wo.z).gt(0.0);
+        let enabled = (reflect & Mask::splat(has_r)) | (!reflect & Mask::splat(has_t));
+        let facet = self.facet(wi, wo, ctx.mode);
+        let f = fresnel_dielectric_lanes(facet.cos_fresnel, self.eta).reflectance;
+        let p_lobe = if has_r && has_t {
+            reflect.select(f, 1.0 - f)
+        } else {
+            F32s::ONE
+        };
+        let ok = enabled & facet.valid;
+        let pdf = ok.and_then(facet.pdf * p_lobe);
+        let r = self.specular_reflectance * (f * facet.value);
+        let t = self.specular_transmittance * ((1.0 - f) * facet.value);
+        (SampledSpectra::select(reflect, r, t).masked(ok), pdf)
+    }
+
+    /// f(wi, wo) and the pdf of `sample` per lane ([`Bsdf::eval_pdf`]).
+    #[inline(always)]
+    pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+        self.eval_pdf_lobes(ctx, wi, wo)
+    }
+
+    /// A direction per lane ([`Bsdf::sample`]): a facet normal seen from wi's side, then
+    /// reflection with probability F, refraction otherwise.
+    #[inline(always)]
+    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+        let has_r = ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION);
+        let has_t = ctx.is_enabled(BsdfFlags::GLOSSY_TRANSMISSION);
+        let cos_i = wi.z;
+        let sign = F32s::ONE.copysign(cos_i);
+        let (m, pdf_m) = self.sampling_distribution(cos_i).sample(wi * sign, u2);
+        let cos_im = wi.dot(m);
+        let fr = fresnel_dielectric_lanes(cos_im, self.eta);
+        let reflect = if has_r && has_t {
+            u1.lt(fr.reflectance)
+        } else {
+            Mask::splat(has_r)
+        };
+        let wo_r = m * (2.0 * cos_im) - wi;
+        let wo_t = m * (cos_im * fr.eta_ti + fr.cos_theta_t) - wi * fr.eta_ti;
+        let wo = reflect.select3(wo_r, wo_t).normalize_or(Vec3::ZERO);
+        let on_its_side = (wo.z * cos_i).gt(0.0);
+        let (f, pdf) = self.eval_pdf_lobes(ctx, wi, wo);
+        let valid = Mask::splat(has_r || has_t)
+            & cos_i.ne(0.0)
+            & pdf_m.gt(0.0)
+            & (cos_im * cos_i).gt(0.0)
+            & (reflect | fr.reflectance.lt(1.0))
+            & wo.z.ne(0.0)
+            & ((on_its_side & reflect) | (!on_its_side & !reflect))
+            & pdf.gt(0.0);
+        BsdfSamples {
+            valid,
+            wo,
+            weight: (f * (wo.z.abs() / pdf)).masked(valid),
+            pdf,
+            eta: reflect.select(F32s::ONE, fr.eta_it),
+            flags: std::array::from_fn(|k| {
+                if reflect.test(k) {
+                    BsdfFlags::GLOSSY_REFLECTION
+                } else {
+                    TRANSMISSION
+                }
+            }),
+        }
     }
 }
 

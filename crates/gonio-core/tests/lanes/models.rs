@@ -4,7 +4,7 @@ use super::{close, upper_dir};
 use glam::Vec2;
 use gonio_core::bsdfs::roughconductor::RoughConductorLanes;
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat};
-use gonio_core::bsdfs::{RoughConductor, RoughPlastic};
+use gonio_core::bsdfs::{RoughConductor, RoughDielectric, RoughPlastic};
 use gonio_core::lanes::{BsdfSamples, F32s, LaneKernel, SampledSpectra, Vec3s, dispatch, lane_width};
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
@@ -78,11 +78,22 @@ fn spectra_close(a: SampledSpectrum, b: SampledSpectrum, tol: f32) -> bool {
 /// the lobe, moved across it by rounding).
 fn compare<const N: usize, B: Bsdf>(
     batch: &Batch<N>,
+    ev: (SampledSpectra<N>, F32s<N>),
+    s: &BsdfSamples<N>,
+    scalar: impl Fn(usize) -> B,
+) -> usize {
+    compare_in(&BsdfContext::radiance(), batch, ev, s, scalar)
+}
+
+/// [`compare`] in a given context.
+fn compare_in<const N: usize, B: Bsdf>(
+    ctx: &BsdfContext,
+    batch: &Batch<N>,
     (f, pdf): (SampledSpectra<N>, F32s<N>),
     s: &BsdfSamples<N>,
     scalar: impl Fn(usize) -> B,
 ) -> usize {
-    let ctx = BsdfContext::radiance();
+    let ctx = *ctx;
     let mut mismatches = 0;
     for k in 0..N {
         let model = scalar(k);
@@ -112,7 +123,7 @@ fn compare<const N: usize, B: Bsdf>(
                     "sample pdf {} vs {pl}",
                     s.pdf.lane(k)
                 );
-                let w = fl * (wo_l.z / pl);
+                let w = fl * (wo_l.z.abs() / pl);
                 assert!(
                     spectra_close(s.weight.lane(k), w, 1e-4),
                     "weight {:?} vs {w:?}",
@@ -297,4 +308,98 @@ fn roughplastic_lanes_honour_the_lobe_mask() {
             }
         }
     }
+}
+
+/// Mitsuba's default (Beckmann α = 0.1, bk7 in air), GGX α = 0.3, anisotropic Beckmann sampling
+/// all normals (Walter's widening), water in glass (η < 1) with tints.
+fn dielectrics() -> Vec<RoughDielectric> {
+    let mut tinted = RoughDielectric::new(
+        Ior::Constant(1.333),
+        Ior::Constant(1.5),
+        MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.15),
+    );
+    tinted.specular_reflectance = Spectrum::Constant(0.7);
+    tinted.specular_transmittance = piecewise(&[400.0, 0.2, 700.0, 0.9]);
+    vec![
+        RoughDielectric::default(),
+        RoughDielectric::new(
+            Ior::Constant(1.5046),
+            Ior::Constant(1.000277),
+            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+        ),
+        RoughDielectric::new(
+            Ior::Constant(1.5),
+            Ior::Constant(1.0),
+            MicrofacetDistribution::new(MicrofacetKind::Beckmann, 0.1, 0.5, false),
+        ),
+        tinted,
+    ]
+}
+
+fn dielectric_agrees<const N: usize>(mode: gonio_core::TransportMode) {
+    let ctx = BsdfContext {
+        mode,
+        ..BsdfContext::radiance()
+    };
+    let mut rng = Pcg32::new(51, N as u64);
+    let (mut mismatches, mut total) = (0, 0);
+    for model in dielectrics() {
+        for round in 0..200 {
+            let mut batch = Batch::<N>::draw(&mut rng);
+            // wi from either side, wo anywhere on the sphere.
+            for k in 0..N {
+                if rng.next_f32() < 0.5 {
+                    batch.wi.z.0[k] = -batch.wi.z.0[k];
+                }
+                let w = upper_dir(&mut rng, -1.0);
+                (batch.wo.x.0[k], batch.wo.y.0[k], batch.wo.z.0[k]) = (w.x, w.y, w.z);
+            }
+            let mut lanes = model.lanes(&batch.wl).unwrap();
+            if round % 2 == 1 {
+                let d = lanes.distribution;
+                let a = F32s::from_fn(|_| 10f32.powf(-2.5 * rng.next_f32()));
+                lanes.distribution = gonio_core::lanes::MicrofacetLanes::new(
+                    d.kind,
+                    a,
+                    a * d.alpha_v / d.alpha_u,
+                    d.sample_visible,
+                );
+            }
+            let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            let s = lanes.sample(&ctx, batch.wi, batch.u1, batch.u2);
+            mismatches += compare_in(&ctx, &batch, ev, &s, |k| {
+                let mut m = model.clone();
+                m.distribution = lanes.distribution.lane(k);
+                m
+            });
+            total += N;
+        }
+    }
+    assert!(
+        mismatches * 1000 <= total,
+        "{mismatches} of {total} lanes differ in validity"
+    );
+}
+
+#[test]
+fn roughdielectric_lanes_agree_with_the_scalar_model_at_every_width() {
+    use gonio_core::TransportMode::{Importance, Radiance};
+    for mode in [Radiance, Importance] {
+        dielectric_agrees::<4>(mode);
+        dielectric_agrees::<8>(mode);
+        dielectric_agrees::<16>(mode);
+    }
+}
+
+#[test]
+fn dispersive_and_multiple_scattering_dielectrics_have_no_lane_kernel() {
+    let wl = [SampledWavelengths::sample_visible(0.3); 4];
+    let mut dispersive = RoughDielectric::default();
+    dispersive.int_ior = Ior::Dispersive(piecewise(&[400.0, 1.53, 700.0, 1.51]));
+    assert!(dispersive.lanes(&wl).is_none());
+    let walk = RoughDielectric {
+        multiple_scattering: true,
+        ..Default::default()
+    };
+    assert!(walk.lanes(&wl).is_none());
 }
