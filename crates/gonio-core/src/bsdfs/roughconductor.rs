@@ -53,7 +53,7 @@ use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use crate::microsurface::{Microsurface, eval_rng, sample_rng};
 use crate::mueller::Mueller;
 use crate::spectra::{SpectralValue, Spectrum};
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
 /// A rough conductor: the microfacet BRDF over mirror facets of complex index η + ik.
@@ -163,11 +163,11 @@ impl<const N: usize> RoughConductorLanes<N> {
         let pdf = (valid & pdf.is_finite()).and_then(pdf);
         let ok = valid & value.is_finite() & value.ne(0.0);
         let cos = wi.dot(h);
-        let f = SampledSpectra(std::array::from_fn(|i| {
-            ok.and_then(
-                fresnel_conductor(cos, self.eta.0[i], self.k.0[i]) * self.specular_reflectance.0[i] * value,
-            )
-        }));
+        let mut f = SampledSpectra::ZERO;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            let fr = fresnel_conductor(cos, self.eta.0[i], self.k.0[i]);
+            f.0[i] = ok.and_then(fr * self.specular_reflectance.0[i] * value);
+        }
         (f, pdf)
     }
 

@@ -575,7 +575,7 @@ impl<const N: usize> RoughPlasticLanes<'_, N> {
         if ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION) {
             let rho = self.diffuse_reflectance;
             let denom = if self.nonlinear {
-                rho.map(|r| 1.0 - r * coat.internal_reflectance)
+                rho.one_minus_scaled(coat.internal_reflectance)
             } else {
                 SampledSpectra::splat(1.0 - coat.internal_reflectance)
             };

@@ -23,7 +23,13 @@ pub fn sin_cos<const N: usize>(x: F32s<N>) -> (F32s<N>, F32s<N>) {
         let v = x.0[k];
         let a = v.abs();
         // The octant, rounded up to even: a − jπ/4 lies in [−π/4, π/4].
-        let j = (((a * FOUR_OVER_PI) as i32) + 1) & !1;
+        // `as i32` saturates, which LLVM does lane by lane; the unchecked conversion is one
+        // vector instruction. Beyond 2²³ (and for NaN) the octant is taken as 0: the result
+        // is meaningless there anyway (see the range above).
+        let q = a * FOUR_OVER_PI;
+        let q = if q < 8_388_608.0 { q } else { 0.0 };
+        // SAFETY: 0 ≤ q < 2²³ (NaN was replaced above), within i32.
+        let j = (unsafe { q.to_int_unchecked::<i32>() } + 1) & !1;
         let y = j as f32;
         let r = ((a - y * DP1) - y * DP2) - y * DP3;
         let z = r * r;
@@ -40,7 +46,7 @@ pub fn sin_cos<const N: usize>(x: F32s<N>) -> (F32s<N>, F32s<N>) {
     (F32s(s), F32s(c))
 }
 
-/// eˣ per lane; 0 below −88.38 and +∞ above 88.72; NaN gives 0.
+/// eˣ per lane; 0 where the result would be subnormal (below about −87.3), +∞ above 88.38.
 #[inline(always)]
 pub fn exp<const N: usize>(x: F32s<N>) -> F32s<N> {
     const LOG2E: f32 = std::f32::consts::LOG2_E;
@@ -49,9 +55,18 @@ pub fn exp<const N: usize>(x: F32s<N>) -> F32s<N> {
     let mut r = [0.0f32; N];
     for k in 0..N {
         let v = x.0[k];
-        let big = v > 88.722_83;
-        let a = v.clamp(-88.376_26, 88.376_26);
-        let fx = (a * LOG2E + 0.5).floor();
+        let big = v > 88.376_26;
+        // Compare-and-select clamps (one instruction each; `f32::clamp` adds NaN handling).
+        let a = if v > 88.376_26 { 88.376_26 } else { v };
+        let a = if a < -88.376_26 { -88.376_26 } else { a };
+        // floor by truncation (SSE2 has no rounding instruction; `f32::floor` would be a call):
+        // |a·log₂e| < 128 fits an i32.
+        let v2 = a * LOG2E + 0.5;
+        let v2 = if v2 == v2 { v2 } else { 0.0 };
+        // SAFETY: |v2| < 128 (a is clamped, NaN replaced): within i32. (`as i32` saturates,
+        // which LLVM does lane by lane.)
+        let t = unsafe { v2.to_int_unchecked::<i32>() } as f32;
+        let fx = if t > v2 { t - 1.0 } else { t };
         let t = a - fx * C1 - fx * C2;
         let z = t * t;
         let p = (((((1.987_569_1e-4 * t + 1.398_199_9e-3) * t + 8.333_452e-3) * t + 4.166_579_6e-2) * t
@@ -62,7 +77,8 @@ pub fn exp<const N: usize>(x: F32s<N>) -> F32s<N> {
             + t
             + 1.0;
         // 2^fx by building the exponent field (fx ≥ −127: the bits of 0 at the bottom).
-        let e = ((fx as i32 + 127).max(0) as u32) << 23;
+        // SAFETY: fx is an integer in [−128, 128].
+        let e = ((unsafe { fx.to_int_unchecked::<i32>() } + 127).max(0) as u32) << 23;
         let y = p * f32::from_bits(e);
         r[k] = if big { f32::INFINITY } else { y };
     }
@@ -77,7 +93,11 @@ pub fn ln<const N: usize>(x: F32s<N>) -> F32s<N> {
     let mut r = [0.0f32; N];
     for k in 0..N {
         let v = x.0[k];
-        let a = v.max(f32::MIN_POSITIVE);
+        let a = if v > f32::MIN_POSITIVE {
+            v
+        } else {
+            f32::MIN_POSITIVE
+        };
         let bits = a.to_bits();
         // a = m·2^e with m in [0.5, 1).
         let mut e = ((bits >> 23) as i32 - 126) as f32;
@@ -183,7 +203,9 @@ pub fn acos<const N: usize>(x: F32s<N>) -> F32s<N> {
     use std::f32::consts::{FRAC_PI_2, PI};
     let mut r = [0.0f32; N];
     for k in 0..N {
-        let v = x.0[k].clamp(-1.0, 1.0);
+        let v = x.0[k];
+        let v = if v > 1.0 { 1.0 } else { v };
+        let v = if v < -1.0 { -1.0 } else { v };
         let a = v.abs();
         // asin on [0, 0.5]: of a itself, or of √((1 − a)/2) (acos a = 2 asin √((1 − a)/2)).
         let large = a > 0.5;

@@ -110,24 +110,25 @@ impl<const N: usize> F32s<N> {
     /// √max(x, 0): the square root of a quantity that rounding may push below 0.
     #[inline(always)]
     pub fn safe_sqrt(self) -> Self {
-        lanewise!(x = self => x.max(0.0).sqrt())
+        lanewise!(x = self => (if x > 0.0 { x } else { 0.0 }).sqrt())
     }
     /// |x|.
     #[inline(always)]
     pub fn abs(self) -> Self {
         lanewise!(x = self => x.abs())
     }
-    /// Lane-wise minimum (the other operand where one is NaN).
+    /// Lane-wise minimum: `self < o ? self : o`, one `minps` (so `o` where `self` is NaN, as
+    /// `f32::min`; but NaN where `o` is, which `f32::min` would drop: keep constants in `o`).
     #[inline(always)]
     pub fn min(self, o: impl Into<Self>) -> Self {
         let o = o.into();
-        lanewise!(x = self, o = o => x.min(o))
+        lanewise!(x = self, o = o => if x < o { x } else { o })
     }
-    /// Lane-wise maximum (the other operand where one is NaN).
+    /// Lane-wise maximum: `self > o ? self : o`, one `maxps` (see [`Self::min`] for NaN).
     #[inline(always)]
     pub fn max(self, o: impl Into<Self>) -> Self {
         let o = o.into();
-        lanewise!(x = self, o = o => x.max(o))
+        lanewise!(x = self, o = o => if x > o { x } else { o })
     }
     /// Clamped to [lo, hi].
     #[inline(always)]

@@ -25,7 +25,11 @@ impl<const N: usize> SampledSpectra<N> {
     #[inline(always)]
     pub fn splat_spectrum(s: SampledSpectrum) -> Self {
         let a = s.to_array();
-        Self(std::array::from_fn(|i| F32s::splat(a[i])))
+        let mut r = Self::ZERO;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            r.0[i] = F32s::splat(a[i]);
+        }
+        r
     }
     /// Lane `k` is `f(k)`.
     #[inline(always)]
@@ -44,27 +48,53 @@ impl<const N: usize> SampledSpectra<N> {
     pub fn lane(&self, k: usize) -> SampledSpectrum {
         SampledSpectrum::from_fn(|i| self.0[i].0[k])
     }
-    /// Applies `f` to each wavelength slot.
+    /// Applies `f` to each wavelength slot. (Kernels use the operators and methods below,
+    /// which are plain loops: a closure that LLVM declines to inline, as it does inside
+    /// `std::array::from_fn`, is compiled for the baseline instruction set, outside the
+    /// kernel's vector context.)
     #[inline(always)]
     pub fn map(self, mut f: impl FnMut(F32s<N>) -> F32s<N>) -> Self {
-        Self(self.0.map(&mut f))
+        let mut r = self;
+        for v in r.0.iter_mut() {
+            *v = f(*v);
+        }
+        r
     }
     /// Per lane: `self` where `m` is set, 0 elsewhere.
     #[inline(always)]
     pub fn masked(self, m: Mask<N>) -> Self {
-        self.map(|v| m.and_then(v))
+        let mut r = self;
+        for v in r.0.iter_mut() {
+            *v = m.and_then(*v);
+        }
+        r
     }
     /// Per lane: `a` where `m` is set, `b` elsewhere.
     #[inline(always)]
     pub fn select(m: Mask<N>, a: Self, b: Self) -> Self {
-        Self(std::array::from_fn(|i| m.select(a.0[i], b.0[i])))
+        let mut r = b;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            r.0[i] = m.select(a.0[i], b.0[i]);
+        }
+        r
     }
     /// Division where the divisor is not 0, else 0 (as [`SampledSpectrum::safe_div`]).
     #[inline(always)]
     pub fn safe_div(self, d: Self) -> Self {
-        Self(std::array::from_fn(|i| {
-            d.0[i].ne(0.0).and_then(self.0[i] / d.0[i])
-        }))
+        let mut r = self;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            r.0[i] = d.0[i].ne(0.0).and_then(self.0[i] / d.0[i]);
+        }
+        r
+    }
+    /// `1 − a·self` per wavelength (the denominator of a coated model's series).
+    #[inline(always)]
+    pub fn one_minus_scaled(self, a: f32) -> Self {
+        let mut r = self;
+        for v in r.0.iter_mut() {
+            *v = 1.0 - *v * a;
+        }
+        r
     }
 }
 
@@ -72,7 +102,11 @@ impl<const N: usize> Mul for SampledSpectra<N> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
-        Self(std::array::from_fn(|i| self.0[i] * o.0[i]))
+        let mut r = self;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            r.0[i] = self.0[i] * o.0[i];
+        }
+        r
     }
 }
 
@@ -80,7 +114,11 @@ impl<const N: usize> Mul<F32s<N>> for SampledSpectra<N> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, s: F32s<N>) -> Self {
-        self.map(|v| v * s)
+        let mut r = self;
+        for v in r.0.iter_mut() {
+            *v = *v * s;
+        }
+        r
     }
 }
 
@@ -88,7 +126,11 @@ impl<const N: usize> Add for SampledSpectra<N> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
-        Self(std::array::from_fn(|i| self.0[i] + o.0[i]))
+        let mut r = self;
+        for i in 0..N_SPECTRUM_SAMPLES {
+            r.0[i] = self.0[i] + o.0[i];
+        }
+        r
     }
 }
 
