@@ -14,6 +14,7 @@ pub mod polarizer;
 pub mod pplastic;
 pub mod principled;
 pub mod principled_common;
+pub mod principled_common_lanes;
 pub mod principledthin;
 pub mod roughconductor;
 pub mod roughdielectric;

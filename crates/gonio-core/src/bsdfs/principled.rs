@@ -485,6 +485,10 @@ impl<S: SpectralValue> Bsdf for Principled<S> {
     }
 }
 
+#[path = "principled_lanes.rs"]
+mod lanes;
+pub use lanes::PrincipledLanes;
+
 #[cfg(test)]
 #[path = "principled_tests.rs"]
 mod tests;

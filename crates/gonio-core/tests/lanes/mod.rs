@@ -6,6 +6,7 @@
 mod math;
 mod microfacet;
 mod models;
+mod principled;
 
 use glam::Vec3;
 use gonio_core::rng::Pcg32;
