@@ -354,6 +354,10 @@ impl<S: SpectralValue> Bsdf for PrincipledThin<S> {
     }
 }
 
+#[path = "principledthin_lanes.rs"]
+mod lanes;
+pub use lanes::PrincipledThinLanes;
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -5,8 +5,9 @@
 
 use super::{close, upper_dir};
 use glam::Vec2;
-use gonio_core::bsdfs::Principled;
 use gonio_core::bsdfs::principled::PrincipledLanes;
+use gonio_core::bsdfs::principledthin::PrincipledThinLanes;
+use gonio_core::bsdfs::{Principled, PrincipledThin};
 use gonio_core::lanes::{BsdfSamples, F32s, LaneKernel, SampledSpectra, Vec3s, dispatch, lane_width};
 use gonio_core::rng::Pcg32;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
@@ -61,6 +62,21 @@ impl<const N: usize> LaneModel<N> for PrincipledLanes<N> {
     }
     fn lane(&self, k: usize) -> Self::Scalar {
         PrincipledLanes::lane(self, k)
+    }
+}
+
+impl<const N: usize> LaneModel<N> for PrincipledThinLanes<N> {
+    type Scalar = PrincipledThin<SampledSpectrum>;
+    #[inline(always)]
+    fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+        PrincipledThinLanes::eval_pdf(self, ctx, wi, wo)
+    }
+    #[inline(always)]
+    fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+        PrincipledThinLanes::sample(self, ctx, wi, u1, u2)
+    }
+    fn lane(&self, k: usize) -> Self::Scalar {
+        PrincipledThinLanes::lane(self, k)
     }
 }
 
@@ -368,4 +384,128 @@ fn principled_lanes_agree_at_the_dispatched_width() {
         }));
     }
     st.check("principled, dispatched width");
+}
+
+/// Mitsuba's default; every lobe at once (spec_trans 0.3, diff_trans 0.6, sheen, tints,
+/// flatness, anisotropy, η 1.3, a spectral base colour); glass-like (spec_trans 1); all the
+/// diffuse response transmitted (diff_trans 2).
+fn thins() -> Vec<PrincipledThin> {
+    let all = PrincipledThin {
+        spec_trans: 0.3,
+        diff_trans: 0.6,
+        sheen: 0.5,
+        sheen_tint: 0.4,
+        spec_tint: 0.5,
+        flatness: 0.3,
+        anisotropic: 0.5,
+        roughness: 0.4,
+        eta: 1.3,
+        ..PrincipledThin::new(piecewise(&[400.0, 0.1, 550.0, 0.8, 700.0, 0.3]))
+    };
+    let glass = PrincipledThin {
+        spec_trans: 1.0,
+        roughness: 0.2,
+        ..PrincipledThin::default()
+    };
+    let translucent = PrincipledThin {
+        diff_trans: 2.0,
+        ..PrincipledThin::default()
+    };
+    vec![PrincipledThin::default(), all, glass, translucent]
+}
+
+/// Replaces every float parameter and the base colour by values per lane.
+fn vary_thin<const N: usize>(l: &mut PrincipledThinLanes<N>, rng: &mut Pcg32) {
+    l.base_color = colours(rng);
+    l.roughness = F32s::from_fn(|_| 0.02 + 0.98 * rng.next_f32());
+    l.anisotropic = param(rng, 0.0, 1.0);
+    l.spec_trans = param(rng, 0.0, 1.0);
+    l.eta = F32s::from_fn(|_| 1.1 + rng.next_f32());
+    l.spec_tint = param(rng, 0.0, 1.0);
+    l.sheen = param(rng, 0.0, 1.0);
+    l.sheen_tint = param(rng, 0.0, 1.0);
+    l.flatness = param(rng, 0.0, 1.0);
+    l.diff_trans = param(rng, 0.0, 2.0);
+}
+
+fn thin_agrees<const N: usize>() -> Stats {
+    let mut rng = Pcg32::new(71, N as u64);
+    let mut st = Stats::default();
+    for model in thins() {
+        for round in 0..200 {
+            let batch = Batch::<N>::draw(&mut rng, true);
+            let mut lanes = model.lanes(&batch.wl);
+            if round % 2 == 1 {
+                vary_thin(&mut lanes, &mut rng);
+            }
+            st.merge(compare(&BsdfContext::radiance(), &batch, &lanes));
+        }
+    }
+    st
+}
+
+#[test]
+fn principledthin_lanes_agree_with_the_scalar_model_at_every_width() {
+    for st in [thin_agrees::<4>(), thin_agrees::<8>(), thin_agrees::<16>()] {
+        st.check("principledthin");
+        assert!(st.lobes.iter().all(|&n| n > 0) && st.from_below > 0);
+    }
+}
+
+#[test]
+fn principledthin_lanes_honour_the_lobe_mask() {
+    let mut rng = Pcg32::new(72, 0);
+    let mut st = Stats::default();
+    for lobes in [
+        BsdfFlags::GLOSSY_REFLECTION,
+        BsdfFlags::GLOSSY_TRANSMISSION,
+        BsdfFlags::DIFFUSE_REFLECTION,
+        BsdfFlags::DIFFUSE_TRANSMISSION,
+    ] {
+        let ctx = BsdfContext::importance().with_lobes(lobes);
+        for model in thins() {
+            for _ in 0..40 {
+                let batch = Batch::<8>::draw(&mut rng, true);
+                let mut lanes = model.lanes(&batch.wl);
+                vary_thin(&mut lanes, &mut rng);
+                st.merge(compare(&ctx, &batch, &lanes));
+            }
+        }
+    }
+    st.check("principledthin, single lobes");
+}
+
+struct ThinAtDispatchWidth<'a> {
+    model: &'a PrincipledThin,
+    seed: u64,
+}
+
+impl LaneKernel for ThinAtDispatchWidth<'_> {
+    type Output = Stats;
+    #[inline(always)]
+    fn run<const N: usize>(self) -> Stats {
+        let mut rng = Pcg32::new(self.seed, 3);
+        let mut st = Stats::default();
+        for round in 0..300 {
+            let batch = Batch::<N>::draw(&mut rng, true);
+            let mut lanes = self.model.lanes(&batch.wl);
+            if round % 2 == 1 {
+                vary_thin(&mut lanes, &mut rng);
+            }
+            st.merge(compare(&BsdfContext::radiance(), &batch, &lanes));
+        }
+        st
+    }
+}
+
+#[test]
+fn principledthin_lanes_agree_at_the_dispatched_width() {
+    let mut st = Stats::default();
+    for (i, model) in thins().iter().enumerate() {
+        st.merge(dispatch(ThinAtDispatchWidth {
+            model,
+            seed: 80 + i as u64,
+        }));
+    }
+    st.check("principledthin, dispatched width");
 }
