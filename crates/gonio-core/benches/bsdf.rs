@@ -184,14 +184,10 @@ const LANE_MODELS: &[&str] = &[
     "roughdielectric_ggx",
     "roughplastic",
     "roughplastic_ggx",
+    "principled",
+    "principled_full",
+    "principledthin",
 ];
-
-/// A model with a lane kernel.
-enum LaneModel {
-    Conductor(RoughConductor),
-    Dielectric(RoughDielectric),
-    Plastic(RoughPlastic),
-}
 
 /// Lanes per iteration of `sample_eval_lanes`.
 const LANE_BATCH: usize = 4096;
@@ -216,142 +212,123 @@ impl LaneInputs {
     }
 }
 
-/// `sample` + `eval` over a batch of lanes; returns a sum of the results so that nothing is
-/// optimized away.
-struct LaneBatch<'a> {
-    model: &'a LaneModel,
+/// A model with a lane kernel, as the bench drives it.
+trait LaneBench {
+    /// `sample` (u1 from the second uniform, reflected) then `eval_pdf` at the sampled
+    /// direction; returns a sum of the results so that nothing is optimized away.
+    fn sample_eval<const N: usize>(
+        &self,
+        wl: &[SampledWavelengths; N],
+        wi: Vec3s<N>,
+        u2: [F32s<N>; 2],
+    ) -> F32s<N>;
+}
+
+macro_rules! lane_bench {
+    ($ty:ty, |$m:ident, $wl:ident| $lanes:expr, $sample:ident) => {
+        impl LaneBench for $ty {
+            #[inline(always)]
+            fn sample_eval<const N: usize>(&self, $wl: &[SampledWavelengths; N], wi: Vec3s<N>, u2: [F32s<N>; 2]) -> F32s<N> {
+                let ctx = BsdfContext::radiance();
+                let $m = self;
+                let lanes = $lanes;
+                let s = lane_bench!(@sample $sample, lanes, ctx, wi, u2);
+                let (f, pdf) = lanes.eval_pdf(&ctx, wi, s.wo);
+                s.weight.0[0] + s.pdf + f.0[0] + pdf
+            }
+        }
+    };
+    (@sample u2_only, $l:ident, $ctx:ident, $wi:ident, $u2:ident) => {
+        $l.sample(&$ctx, $wi, $u2)
+    };
+    (@sample u1_u2, $l:ident, $ctx:ident, $wi:ident, $u2:ident) => {
+        $l.sample(&$ctx, $wi, 1.0 - $u2[1], $u2)
+    };
+}
+
+lane_bench!(RoughConductor, |m, wl| m.lanes(wl).unwrap(), u2_only);
+lane_bench!(RoughDielectric, |m, wl| m.lanes(wl).unwrap(), u1_u2);
+lane_bench!(RoughPlastic, |m, wl| m.lanes(wl), u1_u2);
+lane_bench!(Principled, |m, wl| m.lanes(wl), u1_u2);
+lane_bench!(PrincipledThin, |m, wl| m.lanes(wl), u1_u2);
+
+/// One model's kernel over a batch of lanes: one function per model, so that each stays small
+/// enough for LLVM (one kernel matching over every model took a quarter of an hour to compile).
+struct LaneBatch<'a, M> {
+    model: &'a M,
     inputs: &'a LaneInputs,
 }
 
-impl LaneKernel for LaneBatch<'_> {
+impl<M: LaneBench> LaneKernel for LaneBatch<'_, M> {
     type Output = f32;
     #[inline(always)]
     fn run<const N: usize>(self) -> f32 {
-        let ctx = BsdfContext::radiance();
         let wi = Vec3s::<N>::splat(black_box(WI).normalize());
         let mut acc = F32s::<N>::ZERO;
         for (wl, u) in self.inputs.wl.chunks_exact(N).zip(self.inputs.u.chunks_exact(N)) {
             let wl: &[SampledWavelengths; N] = wl.try_into().unwrap();
             let u2 = [F32s::from_fn(|k| u[k][0]), F32s::from_fn(|k| u[k][1])];
-            let (s, (f, pdf)) = match self.model {
-                LaneModel::Conductor(m) => {
-                    let lanes = m.lanes(wl).unwrap();
-                    let s = lanes.sample(&ctx, wi, u2);
-                    (s, lanes.eval_pdf(&ctx, wi, s.wo))
-                }
-                LaneModel::Dielectric(m) => {
-                    let lanes = m.lanes(wl).unwrap();
-                    let s = lanes.sample(&ctx, wi, 1.0 - u2[1], u2);
-                    (s, lanes.eval_pdf(&ctx, wi, s.wo))
-                }
-                LaneModel::Plastic(m) => {
-                    let lanes = m.lanes(wl);
-                    // u1 from the second uniform, reflected: not the first one again.
-                    let s = lanes.sample(&ctx, wi, 1.0 - u2[1], u2);
-                    (s, lanes.eval_pdf(&ctx, wi, s.wo))
-                }
-            };
-            acc += s.weight.0[0] + s.pdf + f.0[0] + pdf;
+            acc += self.model.sample_eval(wl, wi, u2);
         }
         acc.sum()
     }
 }
 
-#[divan::bench(args = LANE_MODELS)]
-fn sample_eval_lanes(bencher: Bencher, name: &str) {
+fn bench_lanes<M: LaneBench>(bencher: Bencher, model: &M) {
     let inputs = LaneInputs::new();
-    let model = match name {
-        "roughconductor_beckmann" => LaneModel::Conductor(RoughConductor::default()),
-        "roughconductor_ggx_au" => LaneModel::Conductor(RoughConductor::new(
-            piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
-            piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
-            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-        )),
-        "roughdielectric" => LaneModel::Dielectric(RoughDielectric::default()),
-        "roughdielectric_ggx" => LaneModel::Dielectric(RoughDielectric::new(
-            Ior::Constant(1.5046),
-            Ior::Constant(1.000277),
-            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-        )),
-        "roughplastic" => LaneModel::Plastic(RoughPlastic::default()),
-        "roughplastic_ggx" => LaneModel::Plastic(RoughPlastic::new(
-            Spectrum::Constant(0.5),
-            Spectrum::Constant(1.0),
-            false,
-            RoughCoat::new(
-                MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-                1.49 / 1.000277,
-                CoatAverages::Exact,
-            ),
-        )),
-        _ => unreachable!("no lane kernel for {name}"),
-    };
     bencher
         .counter(divan::counter::ItemsCount::new(LANE_BATCH))
         .bench_local(|| {
             black_box(dispatch(LaneBatch {
-                model: &model,
+                model,
                 inputs: &inputs,
             }))
         });
 }
 
-/// 1024 path wavelength sets, drawn once.
-fn wavelength_table() -> Vec<SampledWavelengths> {
-    let mut rng = Pcg32::new(7, 7);
-    (0..1024)
-        .map(|_| SampledWavelengths::sample_visible(rng.next_f32()))
-        .collect()
-}
-
-#[divan::bench(args = MODELS)]
-fn sample_eval(bencher: Bencher, name: &str) {
-    with_model(name, |bsdf| {
-        let ctx = BsdfContext::radiance();
-        let mut rng = Pcg32::new(1, 2);
-        let table = wavelength_table();
-        let mut k = 0usize;
-        bencher.bench_local(|| {
-            k = (k + 1) & 1023;
-            let mut wl = table[k];
-            let u1 = rng.next_f32();
-            let u2 = rng.next_vec2();
-            let s = black_box(bsdf).sample(&ctx, black_box(WI), u1, u2, &mut wl);
-            let wo = s.map_or(Vec3::Z, |s| s.wo);
-            black_box(bsdf.eval(&ctx, WI, wo, &wl))
-        });
-    });
-}
-
-#[divan::bench(args = MODELS)]
-fn sample(bencher: Bencher, name: &str) {
-    with_model(name, |bsdf| {
-        let ctx = BsdfContext::radiance();
-        let mut rng = Pcg32::new(1, 2);
-        let table = wavelength_table();
-        let mut k = 0usize;
-        bencher.bench_local(|| {
-            k = (k + 1) & 1023;
-            let mut wl = table[k];
-            let u1 = rng.next_f32();
-            let u2 = rng.next_vec2();
-            black_box(black_box(bsdf).sample(&ctx, black_box(WI), u1, u2, &mut wl))
-        });
-    });
-}
-
-#[divan::bench(args = MODELS)]
-fn eval(bencher: Bencher, name: &str) {
-    with_model(name, |bsdf| {
-        let ctx = BsdfContext::radiance();
-        let mut rng = Pcg32::new(1, 2);
-        let table = wavelength_table();
-        let mut k = 0usize;
-        bencher.bench_local(|| {
-            k = (k + 1) & 1023;
-            let wl = table[k];
-            let wo = square_to_cosine_hemisphere(rng.next_vec2());
-            black_box(black_box(bsdf).eval(&ctx, black_box(WI), wo, &wl))
-        });
-    });
+#[divan::bench(args = LANE_MODELS)]
+fn sample_eval_lanes(bencher: Bencher, name: &str) {
+    let gold = || {
+        RoughConductor::new(
+            piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
+            piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
+            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+        )
+    };
+    match name {
+        "roughconductor_beckmann" => bench_lanes(bencher, &RoughConductor::default()),
+        "roughconductor_ggx_au" => bench_lanes(bencher, &gold()),
+        "roughdielectric" => bench_lanes(bencher, &RoughDielectric::default()),
+        "roughdielectric_ggx" => bench_lanes(
+            bencher,
+            &RoughDielectric::new(
+                Ior::Constant(1.5046),
+                Ior::Constant(1.000277),
+                MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+            ),
+        ),
+        "roughplastic" => bench_lanes(bencher, &RoughPlastic::default()),
+        "roughplastic_ggx" => bench_lanes(
+            bencher,
+            &RoughPlastic::new(
+                Spectrum::Constant(0.5),
+                Spectrum::Constant(1.0),
+                false,
+                RoughCoat::new(
+                    MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+                    1.49 / 1.000277,
+                    CoatAverages::Exact,
+                ),
+            ),
+        ),
+        "principled" => bench_lanes(bencher, &Principled::default()),
+        "principled_full" => {
+            let mut p = Principled::default();
+            (p.metallic, p.spec_trans, p.clearcoat) = (0.3, 0.2, 0.5);
+            (p.sheen, p.anisotropic, p.roughness) = (0.5, 0.5, 0.4);
+            bench_lanes(bencher, &p)
+        }
+        "principledthin" => bench_lanes(bencher, &PrincipledThin::default()),
+        _ => unreachable!("no lane kernel for {name}"),
+    }
 }

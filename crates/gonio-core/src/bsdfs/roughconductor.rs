@@ -113,7 +113,7 @@ impl RoughConductor {
 
 /// [`RoughConductor`] (single scattering) for `N` lanes: the kernel of a renderer that shades
 /// `N` hits at once, each lane with its own wavelengths and roughness. Lane `k` agrees with the
-/// scalar model at lane `k`'s parameters to rounding (`tests/lanes.rs`).
+/// scalar model at lane `k`'s parameters to rounding (`tests/lanes/`).
 #[derive(Clone, Copy, Debug)]
 pub struct RoughConductorLanes<const N: usize> {
     /// η/η_ext per lane and wavelength.

@@ -477,7 +477,7 @@ impl<S: SpectralValue, I: IorValue> RoughDielectric<S, I> {
 
 /// [`RoughDielectric`] (single scattering, non-dispersive indices) for `N` lanes, each with its
 /// own relative index, tints and roughness. Lane `k` agrees with the scalar model to rounding
-/// (`tests/lanes.rs`).
+/// (`tests/lanes/`).
 #[derive(Clone, Copy, Debug)]
 pub struct RoughDielectricLanes<const N: usize> {
     /// η = n_int/n_ext per lane.

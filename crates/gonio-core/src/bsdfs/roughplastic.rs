@@ -495,7 +495,7 @@ impl<S: SpectralValue, C: Borrow<RoughCoat> + Send + Sync> Bsdf for RoughPlastic
 
 /// [`RoughPlastic`] for `N` lanes, each at its own wavelengths (the coat, whose roughness
 /// Mitsuba does not texture, is shared). Lane `k` agrees with the scalar model to rounding
-/// (`tests/lanes.rs`).
+/// (`tests/lanes/`).
 #[derive(Clone, Copy, Debug)]
 pub struct RoughPlasticLanes<'a, const N: usize> {
     /// ρ per lane and wavelength.

@@ -14,7 +14,7 @@
 //! `#[target_feature]` give run-time dispatch with no `unsafe` in the kernels themselves.
 //!
 //! Every kernel built on these types has a scalar twin that is the reference: the tests compare
-//! them lane by lane (`tests/lanes.rs`).
+//! them lane by lane (`tests/lanes/`).
 
 // Indexed loops over lanes are the form LLVM vectorizes; Cephes' constants are kept as published.
 #![allow(clippy::needless_range_loop, clippy::excessive_precision)]
