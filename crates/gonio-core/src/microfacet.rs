@@ -403,35 +403,42 @@ fn erf_inv(x: f32) -> f32 {
     let w = -((1.0 - x) * (1.0 + x)).ln();
     let p = if w < 5.0 {
         let w = w - 2.5;
-        [
-            3.432_739_4e-7,
-            -3.523_387_7e-6,
-            -4.391_506_5e-6,
-            2.185_808_7e-4,
-            -1.253_725e-3,
-            -4.177_681_6e-3,
-            0.246_640_73,
-            1.501_409_4,
-        ]
-        .iter()
-        .fold(2.810_226_4e-8, |p, c| c + p * w)
+        ERF_INV_CENTRAL[1..]
+            .iter()
+            .fold(ERF_INV_CENTRAL[0], |p, c| c + p * w)
     } else {
         let w = w.sqrt() - 3.0;
-        [
-            1.009_505_6e-4,
-            1.349_343_2e-3,
-            -3.673_428_4e-3,
-            5.739_507_7e-3,
-            -7.622_461_3e-3,
-            9.438_870_5e-3,
-            1.001_674_1,
-            2.832_976_8,
-        ]
-        .iter()
-        .fold(-2.002_142_6e-4, |p, c| c + p * w)
+        ERF_INV_TAIL[1..].iter().fold(ERF_INV_TAIL[0], |p, c| c + p * w)
     };
     p * x
 }
+
+/// Giles' polynomial in w − 2.5 for w = −ln(1 − x²) < 5, highest degree first (shared with
+/// `lanes::math::erf_inv`).
+pub(crate) const ERF_INV_CENTRAL: [f32; 9] = [
+    2.810_226_4e-8,
+    3.432_739_4e-7,
+    -3.523_387_7e-6,
+    -4.391_506_5e-6,
+    2.185_808_7e-4,
+    -1.253_725e-3,
+    -4.177_681_6e-3,
+    0.246_640_73,
+    1.501_409_4,
+];
+
+/// Giles' polynomial in √w − 3 for w ≥ 5, highest degree first.
+pub(crate) const ERF_INV_TAIL: [f32; 9] = [
+    -2.002_142_6e-4,
+    1.009_505_6e-4,
+    1.349_343_2e-3,
+    -3.673_428_4e-3,
+    5.739_507_7e-3,
+    -7.622_461_3e-3,
+    9.438_870_5e-3,
+    1.001_674_1,
+    2.832_976_8,
+];
 
 /// The x slope of Beckmann's visible normals for roughness 1 and incidence (cos θ, sin θ),
 /// Heitz & d'Eon 2014 with the safeguarded Newton–bisection of Mitsuba 0.6 (`sampleVisible11`):

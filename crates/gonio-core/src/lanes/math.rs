@@ -9,6 +9,7 @@
 //! approximation (the scalar `microfacet` one, relative 4·10⁻⁷); `acos` within 3·10⁻⁷.
 
 use super::F32s;
+use crate::microfacet::{ERF_INV_CENTRAL, ERF_INV_TAIL};
 
 /// (sin x, cos x) per lane, for |x| ≤ 8192 (the reduction by π/4 loses accuracy beyond).
 #[inline(always)]
@@ -147,18 +148,9 @@ pub fn erf_inv<const N: usize>(x: F32s<N>) -> F32s<N> {
     let w = -ln((F32s::ONE - x) * (F32s::ONE + x));
     let central = {
         let w = w - 2.5;
-        let mut p = F32s::splat(2.810_226_4e-8);
-        for c in [
-            3.432_739_4e-7,
-            -3.523_387_7e-6,
-            -4.391_506_5e-6,
-            2.185_808_7e-4,
-            -1.253_725e-3,
-            -4.177_681_6e-3,
-            0.246_640_73,
-            1.501_409_4,
-        ] {
-            p = p * w + c;
+        let mut p = F32s::splat(ERF_INV_CENTRAL[0]);
+        for c in &ERF_INV_CENTRAL[1..] {
+            p = p * w + *c;
         }
         p
     };
@@ -169,18 +161,9 @@ pub fn erf_inv<const N: usize>(x: F32s<N>) -> F32s<N> {
     }
     let tail = {
         let w = w.sqrt() - 3.0;
-        let mut p = F32s::splat(-2.002_142_6e-4);
-        for c in [
-            1.009_505_6e-4,
-            1.349_343_2e-3,
-            -3.673_428_4e-3,
-            5.739_507_7e-3,
-            -7.622_461_3e-3,
-            9.438_870_5e-3,
-            1.001_674_1,
-            2.832_976_8,
-        ] {
-            p = p * w + c;
+        let mut p = F32s::splat(ERF_INV_TAIL[0]);
+        for c in &ERF_INV_TAIL[1..] {
+            p = p * w + *c;
         }
         p
     };

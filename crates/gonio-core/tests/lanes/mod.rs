@@ -1,7 +1,10 @@
 //! The lane kernels (`gonio_core::lanes`) against their scalar references, lane by lane: the
 //! math functions against the standard library, the microfacet distributions and the BSDF
-//! models against the scalar models at each lane's parameters, at widths 4, 8 and 16 and at the
-//! width `dispatch` picks on this CPU.
+//! models against the scalar models at each lane's parameters: the microfacet functions at
+//! widths 4, 8 and 16, the models at 4 lanes and through `dispatch` (which compiles 16, 8 and 4
+//! lanes and runs the CPU's). Each width a model is tested at compiles its whole kernel again,
+//! minutes of the CI build for all of them: the principled models' dispatch tests need the
+//! feature `lane-dispatch-tests`.
 
 mod math;
 mod microfacet;

@@ -5,7 +5,9 @@ use glam::Vec2;
 use gonio_core::bsdfs::roughconductor::RoughConductorLanes;
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat};
 use gonio_core::bsdfs::{RoughConductor, RoughDielectric, RoughPlastic};
-use gonio_core::lanes::{BsdfSamples, F32s, LaneKernel, SampledSpectra, Vec3s, dispatch, lane_width};
+use gonio_core::lanes::{
+    BsdfSamples, F32s, LaneKernel, MicrofacetLanes, SampledSpectra, Vec3s, dispatch, lane_width,
+};
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
@@ -139,6 +141,12 @@ fn compare_in<const N: usize, B: Bsdf>(
     mismatches
 }
 
+/// A roughness per lane from 10^−2.5 to 1, as from a texture, with the model's anisotropy ratio.
+fn textured_roughness<const N: usize>(d: MicrofacetLanes<N>, rng: &mut Pcg32) -> MicrofacetLanes<N> {
+    let a = F32s::from_fn(|_| 10f32.powf(-2.5 * rng.next_f32()));
+    MicrofacetLanes::new(d.kind, a, a * d.alpha_v / d.alpha_u, d.sample_visible)
+}
+
 fn conductor_agrees<const N: usize>() {
     let ctx = BsdfContext::radiance();
     let mut rng = Pcg32::new(21, N as u64);
@@ -148,15 +156,7 @@ fn conductor_agrees<const N: usize>() {
             let batch = Batch::<N>::draw(&mut rng);
             let mut lanes: RoughConductorLanes<N> = model.lanes(&batch.wl).unwrap();
             if round % 2 == 1 {
-                // A roughness per lane, as from a texture.
-                let d = lanes.distribution;
-                let a = F32s::from_fn(|_| 10f32.powf(-2.5 * rng.next_f32()));
-                lanes.distribution = gonio_core::lanes::MicrofacetLanes::new(
-                    d.kind,
-                    a,
-                    a * d.alpha_v / d.alpha_u,
-                    d.sample_visible,
-                );
+                lanes.distribution = textured_roughness(lanes.distribution, &mut rng);
             }
             let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
             let s = lanes.sample(&ctx, batch.wi, batch.u2);
@@ -175,10 +175,10 @@ fn conductor_agrees<const N: usize>() {
 }
 
 #[test]
-fn roughconductor_lanes_agree_with_the_scalar_model_at_every_width() {
+fn roughconductor_lanes_agree_with_the_scalar_model() {
+    // Each width compiles the whole kernel once more (minutes of the CI build): 4 lanes here,
+    // the dispatched widths (16, 8, 4 compiled; the CPU's run) below.
     conductor_agrees::<4>();
-    conductor_agrees::<8>();
-    conductor_agrees::<16>();
 }
 
 /// The same comparison with the kernel compiled for this CPU's vector extension.
@@ -276,10 +276,8 @@ fn plastic_agrees<const N: usize>() {
 }
 
 #[test]
-fn roughplastic_lanes_agree_with_the_scalar_model_at_every_width() {
+fn roughplastic_lanes_agree_with_the_scalar_model() {
     plastic_agrees::<4>();
-    plastic_agrees::<8>();
-    plastic_agrees::<16>();
 }
 
 /// Only the coat's lobe, only the base's: the lane kernel honours the context's lobes.
@@ -295,11 +293,11 @@ fn roughplastic_lanes_honour_the_lobe_mask() {
             lobes,
             ..BsdfContext::radiance()
         };
-        let batch = Batch::<8>::draw(&mut rng);
+        let batch = Batch::<4>::draw(&mut rng);
         let lanes = model.lanes(&batch.wl);
         let (f, pdf) = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
         let s = lanes.sample(&ctx, batch.wi, batch.u1, batch.u2);
-        for k in 0..8 {
+        for k in 0..4 {
             let (wi, wo, wl) = (batch.wi.lane(k), batch.wo.lane(k), &batch.wl[k]);
             let (fs, ps) = model.eval_pdf(&ctx, wi, wo, wl);
             assert!(spectra_close(f.lane(k), fs, 2e-5) && close(pdf.lane(k), ps, 2e-5));
@@ -356,14 +354,7 @@ fn dielectric_agrees<const N: usize>(mode: gonio_core::TransportMode) {
             }
             let mut lanes = model.lanes(&batch.wl).unwrap();
             if round % 2 == 1 {
-                let d = lanes.distribution;
-                let a = F32s::from_fn(|_| 10f32.powf(-2.5 * rng.next_f32()));
-                lanes.distribution = gonio_core::lanes::MicrofacetLanes::new(
-                    d.kind,
-                    a,
-                    a * d.alpha_v / d.alpha_u,
-                    d.sample_visible,
-                );
+                lanes.distribution = textured_roughness(lanes.distribution, &mut rng);
             }
             let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
             let s = lanes.sample(&ctx, batch.wi, batch.u1, batch.u2);
@@ -382,12 +373,10 @@ fn dielectric_agrees<const N: usize>(mode: gonio_core::TransportMode) {
 }
 
 #[test]
-fn roughdielectric_lanes_agree_with_the_scalar_model_at_every_width() {
+fn roughdielectric_lanes_agree_with_the_scalar_model() {
     use gonio_core::TransportMode::{Importance, Radiance};
     for mode in [Radiance, Importance] {
         dielectric_agrees::<4>(mode);
-        dielectric_agrees::<8>(mode);
-        dielectric_agrees::<16>(mode);
     }
 }
 
