@@ -332,3 +332,63 @@ fn sample_eval_lanes(bencher: Bencher, name: &str) {
         _ => unreachable!("no lane kernel for {name}"),
     }
 }
+
+/// 1024 path wavelength sets, drawn once.
+fn wavelength_table() -> Vec<SampledWavelengths> {
+    let mut rng = Pcg32::new(7, 7);
+    (0..1024)
+        .map(|_| SampledWavelengths::sample_visible(rng.next_f32()))
+        .collect()
+}
+
+#[divan::bench(args = MODELS)]
+fn sample_eval(bencher: Bencher, name: &str) {
+    with_model(name, |bsdf| {
+        let ctx = BsdfContext::radiance();
+        let mut rng = Pcg32::new(1, 2);
+        let table = wavelength_table();
+        let mut k = 0usize;
+        bencher.bench_local(|| {
+            k = (k + 1) & 1023;
+            let mut wl = table[k];
+            let u1 = rng.next_f32();
+            let u2 = rng.next_vec2();
+            let s = black_box(bsdf).sample(&ctx, black_box(WI), u1, u2, &mut wl);
+            let wo = s.map_or(Vec3::Z, |s| s.wo);
+            black_box(bsdf.eval(&ctx, WI, wo, &wl))
+        });
+    });
+}
+
+#[divan::bench(args = MODELS)]
+fn sample(bencher: Bencher, name: &str) {
+    with_model(name, |bsdf| {
+        let ctx = BsdfContext::radiance();
+        let mut rng = Pcg32::new(1, 2);
+        let table = wavelength_table();
+        let mut k = 0usize;
+        bencher.bench_local(|| {
+            k = (k + 1) & 1023;
+            let mut wl = table[k];
+            let u1 = rng.next_f32();
+            let u2 = rng.next_vec2();
+            black_box(black_box(bsdf).sample(&ctx, black_box(WI), u1, u2, &mut wl))
+        });
+    });
+}
+
+#[divan::bench(args = MODELS)]
+fn eval(bencher: Bencher, name: &str) {
+    with_model(name, |bsdf| {
+        let ctx = BsdfContext::radiance();
+        let mut rng = Pcg32::new(1, 2);
+        let table = wavelength_table();
+        let mut k = 0usize;
+        bencher.bench_local(|| {
+            k = (k + 1) & 1023;
+            let wl = table[k];
+            let wo = square_to_cosine_hemisphere(rng.next_vec2());
+            black_box(black_box(bsdf).eval(&ctx, black_box(WI), wo, &wl))
+        });
+    });
+}

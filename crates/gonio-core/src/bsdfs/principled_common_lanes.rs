@@ -117,12 +117,6 @@ pub fn facet_compatible<const N: usize>(
     wi.dot(m).gt(0.0) & if reflection { o.gt(0.0) } else { o.lt(0.0) }
 }
 
-/// Mirror reflection of `wi` about `m` per lane.
-#[inline(always)]
-pub fn reflect_about<const N: usize>(wi: Vec3s<N>, m: Vec3s<N>) -> Vec3s<N> {
-    m * (2.0 * wi.dot(m)) - wi
-}
-
 /// [`super::principled_common::refract_through`] per lane.
 #[inline(always)]
 pub fn refract_through<const N: usize>(

@@ -8,9 +8,9 @@
 //! succeeds.
 
 use super::super::principled_common_lanes::{
-    Gtr1Lanes, choose_lobe, cie_y_lanes, diffuse_shape, facet_compatible, ggx_alphas, reflect_about,
-    refract_through, schlick_fresnel, schlick_fresnel_spectrum, schlick_r0, sheen_shape, smith_ggx1,
-    tint_color, tint_luminance,
+    Gtr1Lanes, choose_lobe, cie_y_lanes, diffuse_shape, facet_compatible, ggx_alphas, refract_through,
+    schlick_fresnel, schlick_fresnel_spectrum, schlick_r0, sheen_shape, smith_ggx1, tint_color,
+    tint_luminance,
 };
 use super::{Principled, PrincipledRates};
 use crate::bsdf::{BsdfContext, BsdfFlags, TransportMode};
@@ -343,7 +343,7 @@ impl<const N: usize> PrincipledLanes<N> {
         }
         if coat.any() {
             let m_cc = Gtr1Lanes::from_gloss(self.clearcoat_gloss).sample(u2);
-            let wo_cc = reflect_about(wi, m_cc).normalize();
+            let wo_cc = wi.reflect_about(m_cc).normalize();
             ok = ok & (!coat | facet_compatible(m_cc, wi, wo_cc, ci, true));
             wo = coat.select3(wo_cc, wo);
         }
@@ -354,7 +354,7 @@ impl<const N: usize> PrincipledLanes<N> {
             wo = trans.select3(wo_t, wo);
         }
         if refl.any() {
-            let wo_r = reflect_about(wi, m).normalize();
+            let wo_r = wi.reflect_about(m).normalize();
             ok = ok & (!refl | facet_compatible(m, wi, wo_r, ci, true));
             wo = refl.select3(wo_r, wo);
         }

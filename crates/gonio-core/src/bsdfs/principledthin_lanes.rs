@@ -7,8 +7,8 @@
 //! terminates secondary wavelengths), so [`PrincipledThin::lanes`] always succeeds.
 
 use super::super::principled_common_lanes::{
-    choose_lobe, cie_y_lanes, diffuse_shape, facet_compatible, ggx_alphas, reflect_about,
-    schlick_fresnel_spectrum, schlick_r0, sheen_shape, tint_color, tint_luminance,
+    choose_lobe, cie_y_lanes, diffuse_shape, facet_compatible, ggx_alphas, schlick_fresnel_spectrum,
+    schlick_r0, sheen_shape, tint_color, tint_luminance,
 };
 use super::{PrincipledThin, PrincipledThinRates};
 use crate::bsdf::{BsdfContext, BsdfFlags};
@@ -238,7 +238,7 @@ impl<const N: usize> PrincipledThinLanes<N> {
                 ..distr_r
             };
             let (m, _) = distr.sample(wi_f, u2);
-            let wo = reflect_about(wi_f, m).normalize();
+            let wo = wi_f.reflect_about(m).normalize();
             let wo = Vec3s::new(wo.x, wo.y, spec_t.select(-wo.z, wo.z));
             let fc_r = facet_compatible(m, wi_f, wo, wi_f.z, true);
             let fc_t = facet_compatible(m, wi_f, wo, wi_f.z, false);

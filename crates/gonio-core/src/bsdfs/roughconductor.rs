@@ -186,7 +186,7 @@ impl<const N: usize> RoughConductorLanes<N> {
         let enabled = Mask::splat(ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION));
         let (m, pdf_m) = self.distribution.sample(wi, u2);
         let cos_im = wi.dot(m);
-        let wo = (m * (2.0 * cos_im) - wi).normalize();
+        let wo = wi.reflect_about(m).normalize();
         let (f, pdf) = self.eval_pdf_lobe(wi, wo);
         let valid = enabled & wi.z.gt(0.0) & pdf_m.gt(0.0) & cos_im.gt(0.0) & pdf.gt(0.0);
         BsdfSamples {

@@ -628,7 +628,7 @@ impl<const N: usize> RoughDielectricLanes<N> {
         } else {
             Mask::splat(has_r)
         };
-        let wo_r = m * (2.0 * cos_im) - wi;
+        let wo_r = wi.reflect_about(m);
         let wo_t = m * (cos_im * fr.eta_ti + fr.cos_theta_t) - wi * fr.eta_ti;
         let wo = reflect.select3(wo_r, wo_t).normalize_or(Vec3::ZERO);
         let on_its_side = (wo.z * cos_i).gt(0.0);

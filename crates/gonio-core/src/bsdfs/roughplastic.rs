@@ -612,7 +612,7 @@ impl<const N: usize> RoughPlasticLanes<'_, N> {
         if specular.any() {
             let (m, pdf_m) = self.coat.distribution.lanes::<N>().sample(wi, u2);
             let cos_im = wi.dot(m);
-            wo = (m * (2.0 * cos_im) - wi).normalize();
+            wo = wi.reflect_about(m).normalize();
             ok = ok & (!specular | (pdf_m.gt(0.0) & cos_im.gt(0.0)));
         }
         if !specular.all() {

@@ -1,6 +1,6 @@
 //! Fresnel reflectances on lanes: the formulas of [`crate::fresnel`], operation for operation.
 
-use super::{F32s, Mask};
+use super::F32s;
 
 /// Unpolarized reflectance ½(r_s + r_p) of a conductor of complex index η + ik per lane
 /// ([`crate::fresnel::fresnel_conductor_sp`], NaN-free for η = k = 0).
@@ -59,10 +59,4 @@ pub fn fresnel_dielectric<const N: usize>(cos_theta_i: F32s<N>, eta: F32s<N>) ->
         eta_it,
         eta_ti,
     }
-}
-
-/// Lanes under total internal reflection for [`fresnel_dielectric`]'s arguments.
-#[inline(always)]
-pub fn total_internal_reflection<const N: usize>(f: &FresnelDielectrics<N>) -> Mask<N> {
-    f.reflectance.ge(1.0)
 }

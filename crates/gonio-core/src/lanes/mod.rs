@@ -140,20 +140,10 @@ impl<const N: usize> F32s<N> {
     pub fn copysign(self, s: Self) -> Self {
         lanewise!(x = self, s = s => x.copysign(s))
     }
-    /// a·b + c (two roundings: the same result with and without FMA hardware).
-    #[inline(always)]
-    pub fn mul_add(self, b: Self, c: Self) -> Self {
-        self * b + c
-    }
     /// 1/x.
     #[inline(always)]
     pub fn recip(self) -> Self {
         lanewise!(x = self => 1.0 / x)
-    }
-    /// Largest integer ≤ x.
-    #[inline(always)]
-    pub fn floor(self) -> Self {
-        lanewise!(x = self => x.floor())
     }
     /// Lanes that are neither infinite nor NaN.
     #[inline(always)]
@@ -307,11 +297,6 @@ impl<const N: usize> Mask<N> {
     #[inline(always)]
     pub fn and_then(self, a: F32s<N>) -> F32s<N> {
         self.select(a, F32s::ZERO)
-    }
-    /// The set lanes as booleans.
-    #[inline(always)]
-    pub fn to_bools(self) -> [bool; N] {
-        self.0.map(|m| m != 0)
     }
 }
 

@@ -21,16 +21,6 @@ impl<const N: usize> SampledSpectra<N> {
     pub fn splat(v: f32) -> Self {
         Self([F32s::splat(v); N_SPECTRUM_SAMPLES])
     }
-    /// The same spectrum in every lane.
-    #[inline(always)]
-    pub fn splat_spectrum(s: SampledSpectrum) -> Self {
-        let a = s.to_array();
-        let mut r = Self::ZERO;
-        for i in 0..N_SPECTRUM_SAMPLES {
-            r.0[i] = F32s::splat(a[i]);
-        }
-        r
-    }
     /// Lane `k` is `f(k)`.
     #[inline(always)]
     pub fn from_fn(mut f: impl FnMut(usize) -> SampledSpectrum) -> Self {

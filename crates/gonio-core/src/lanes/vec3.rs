@@ -64,6 +64,12 @@ impl<const N: usize> Vec3s<N> {
         let ok = rcp.is_finite() & rcp.gt(0.0);
         ok.select3(self * rcp, Self::splat(fallback))
     }
+    /// The mirror reflection of `self` about the unit normal `m` per lane, 2(v·m)m − v (the
+    /// scalar models' `2.0 * wi.dot(m) * m - wi`, bit for bit).
+    #[inline(always)]
+    pub fn reflect_about(self, m: Self) -> Self {
+        m * (2.0 * self.dot(m)) - self
+    }
     /// Cross product per lane.
     #[inline(always)]
     pub fn cross(self, o: Self) -> Self {
