@@ -29,7 +29,7 @@
 //! base colour over the path's wavelengths (not the Monte Carlo estimator of
 //! [`crate::color::y_from_sampled`]: the tint is a shading choice, not a measurement).
 
-use crate::color::cie_y;
+use crate::data::cie1931::CIE_Y;
 use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -93,8 +93,8 @@ pub fn cie_y_5nm(lambda: f32) -> f32 {
     let x = (lambda - MIN) / (MAX - MIN) * (SAMPLES - 1) as f32;
     let i0 = (x as usize).min(SAMPLES - 2);
     let w1 = x - i0 as f32;
-    let at = |i: usize| cie_y(MIN + 5.0 * i as f32);
-    (1.0 - w1) * at(i0) + w1 * at(i0 + 1)
+    // The 5 nm nodes are the 1 nm table's entries 5i (no interpolation needed to read them).
+    (1.0 - w1) * CIE_Y[5 * i0] + w1 * CIE_Y[5 * i0 + 5]
 }
 
 /// The luminance that normalizes a tint: the mean of ȳ(λₖ) cₖ over the path's wavelengths, with

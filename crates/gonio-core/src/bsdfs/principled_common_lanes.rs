@@ -50,7 +50,11 @@ pub fn schlick_fresnel_spectrum<const N: usize>(
     eta: F32s<N>,
 ) -> SampledSpectra<N> {
     let s = schlick_fresnel_weight(cos_theta_i, eta);
-    r0.map(|r| r + (F32s::ONE - r) * s)
+    let mut f = r0;
+    for r in f.0.iter_mut() {
+        *r = *r + (F32s::ONE - *r) * s;
+    }
+    f
 }
 
 /// R0 = ((η − 1)/(η + 1))² per lane.
@@ -61,8 +65,8 @@ pub fn schlick_r0<const N: usize>(eta: F32s<N>) -> F32s<N> {
 }
 
 /// Mitsuba's 5 nm ȳ ([`cie_y_5nm`]) at each lane's wavelengths: what [`tint_luminance`] weighs
-/// the base colour with (computed once per batch of wavelengths, not per evaluation).
-#[inline]
+/// the base colour with.
+#[inline(always)]
 pub fn cie_y_lanes<const N: usize>(wl: &[SampledWavelengths; N]) -> SampledSpectra<N> {
     let mut r = SampledSpectra::ZERO;
     for (k, wl) in wl.iter().enumerate() {
@@ -87,7 +91,11 @@ pub fn tint_luminance<const N: usize>(c: SampledSpectra<N>, cie_y: SampledSpectr
 #[inline(always)]
 pub fn tint_color<const N: usize>(c: SampledSpectra<N>, lum: F32s<N>) -> SampledSpectra<N> {
     let pos = lum.gt(0.0);
-    c.map(|v| pos.select(v / lum, F32s::ONE))
+    let mut t = c;
+    for v in t.0.iter_mut() {
+        *v = pos.select(*v / lum, F32s::ONE);
+    }
+    t
 }
 
 /// [`super::principled_common::ggx_alphas`] per lane.
@@ -214,7 +222,11 @@ pub fn sheen_shape<const N: usize>(
     tint: SampledSpectra<N>,
 ) -> SampledSpectra<N> {
     let fd = schlick_weight(cos_d.abs());
-    tint.map(|t| (1.0 + (t - 1.0) * sheen_tint) * fd)
+    let mut s = tint;
+    for t in s.0.iter_mut() {
+        *t = (1.0 + (*t - 1.0) * sheen_tint) * fd;
+    }
+    s
 }
 
 /// The lobe [`choose_lobe`] picked per lane, as one mask per lobe (at most one set per lane).

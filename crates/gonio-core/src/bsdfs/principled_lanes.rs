@@ -50,9 +50,9 @@ pub struct PrincipledLanes<const N: usize> {
     pub clearcoat_gloss: F32s<N>,
     /// Lobe-selection rates (floats in Mitsuba, shared by the lanes).
     pub rates: PrincipledRates,
-    /// ȳ at each lane's wavelengths (the tint's luminance weights; they depend on the
-    /// wavelengths only, so a texture may replace `base_color` without touching them).
-    cie_y: SampledSpectra<N>,
+    /// Each lane's wavelengths (ȳ is looked up at them only where some lane tints; a texture
+    /// may replace `base_color` without touching them).
+    wavelengths: [SampledWavelengths; N],
 }
 
 impl Principled {
@@ -73,7 +73,7 @@ impl Principled {
             clearcoat: F32s::splat(self.clearcoat),
             clearcoat_gloss: F32s::splat(self.clearcoat_gloss),
             rates: self.rates,
-            cie_y: cie_y_lanes(wl),
+            wavelengths: *wl,
         }
     }
 }
@@ -165,18 +165,21 @@ impl<const N: usize> PrincipledLanes<N> {
         let (reflect, refract) = (cc.gt(0.0), cc.lt(0.0));
         let front = ci.gt(0.0);
         let eta_path = front.select(self.eta, self.eta.recip());
-        // Reflection: ωi + ωo; refraction: ω_ext + η ω_int.
-        let h_r = (wi + wo).normalize();
-        let ext = front.select3(wi, wo);
-        let int = front.select3(wo, wi);
-        let sum = ext + int * self.eta;
-        let len2 = sum.length_squared();
-        let len = len2.sqrt();
-        let h_t = Vec3s::new(sum.x / len, sum.y / len, sum.z / len);
-        let denom2_t = front.select(len2, len2 / (self.eta * self.eta));
-        let h = reflect.select3(h_r, h_t);
+        // Reflection: ωi + ωo; refraction: ω_ext + η ω_int (only where some lane refracts).
+        let mut h = (wi + wo).normalize();
+        let mut denom2 = F32s::ZERO;
+        if (!reflect).any() {
+            let ext = front.select3(wi, wo);
+            let int = front.select3(wo, wi);
+            let sum = ext + int * self.eta;
+            let len2 = sum.length_squared();
+            let len = len2.sqrt();
+            let h_t = Vec3s::new(sum.x / len, sum.y / len, sum.z / len);
+            let denom2_t = front.select(len2, len2 / (self.eta * self.eta));
+            h = reflect.select3(h, h_t);
+            denom2 = (!reflect).and_then(denom2_t);
+        }
         let h = h.z.lt(0.0).select3(-h, h);
-        let denom2 = (!reflect).and_then(denom2_t);
         let active = ci.ne(0.0) & (reflect | refract) & h.is_finite();
         Geometry {
             active,
@@ -222,7 +225,12 @@ impl<const N: usize> PrincipledLanes<N> {
         );
         let spec_tinted = self.spec_tint.ne(0.0);
         let sheen_tinted = self.sheen_tint.ne(0.0);
-        let lum = (spec_tinted | sheen_tinted).select(tint_luminance(c, self.cie_y), F32s::ONE);
+        let tinted = spec_tinted | sheen_tinted;
+        let lum = if tinted.any() {
+            tinted.select(tint_luminance(c, cie_y_lanes(&self.wavelengths)), F32s::ONE)
+        } else {
+            F32s::ONE
+        };
         let dm = F32s::ONE - self.metallic;
         let mut value = SampledSpectra::ZERO;
 
@@ -243,9 +251,11 @@ impl<const N: usize> PrincipledLanes<N> {
                 f_s = f_s + t.masked(spec_tinted);
             }
             let dielectric = dm * (F32s::ONE - self.spec_tint) * f_val;
-            let fp_front = f_s.map(|v| v + dielectric);
             let fp_back = w_bsdf * f_val;
-            let fp = SampledSpectra(std::array::from_fn(|i| front.select(fp_front.0[i], fp_back)));
+            let mut fp = f_s;
+            for v in fp.0.iter_mut() {
+                *v = front.select(*v + dielectric, fp_back);
+            }
             value = value + (fp * (d * g / (4.0 * ci.abs()))).masked(spec_r);
         }
         // Main specular transmission.
@@ -259,7 +269,9 @@ impl<const N: usize> PrincipledLanes<N> {
                 / (ci * denom2))
                 .abs();
             let k = w_bsdf * t;
-            value = value + c.map(|v| spec_t.and_then(v.safe_sqrt() * k));
+            for (v, c) in value.0.iter_mut().zip(c.0) {
+                *v += spec_t.and_then(c.safe_sqrt() * k);
+            }
         }
         let front_reflect = active & front & reflect;
         // Clearcoat.
@@ -269,7 +281,9 @@ impl<const N: usize> PrincipledLanes<N> {
             let dcc = Gtr1Lanes::from_gloss(self.clearcoat_gloss).d(h);
             let gcc = smith_ggx1(wi, h, 0.25) * smith_ggx1(wo, h, 0.25);
             let v = coat.and_then(self.clearcoat * 0.25 * fcc * dcc * gcc * co.abs());
-            value = value.map(|x| x + v);
+            for x in value.0.iter_mut() {
+                *x += v;
+            }
         }
         // Diffuse, retro-reflection, fake subsurface, sheen.
         let diffuse = front_reflect & w_brdf.gt(0.0);
@@ -290,7 +304,12 @@ impl<const N: usize> PrincipledLanes<N> {
         let probs = self.lobe_probs(ctx, front, f_val, w_brdf, w_bsdf);
         let total = probs[0] + probs[1] + probs[2] + probs[3];
         let has_total = !total.is_nan() & total.gt(0.0);
-        let [p_d, p_cc, p_t, p_r] = probs.map(|p| p / total);
+        let [p_d, p_cc, p_t, p_r] = [
+            probs[0] / total,
+            probs[1] / total,
+            probs[2] / total,
+            probs[3] / total,
+        ];
         let dwh_dwo = reflect.select(
             (4.0 * cos_oh).recip().abs(),
             (eta_path * eta_path * cos_oh / denom2).abs(),
@@ -319,7 +338,11 @@ impl<const N: usize> PrincipledLanes<N> {
             black = black & v.0[i].eq(0.0);
         }
         let cos = wo.z.abs();
-        (v.map(|x| (!black).and_then(x / cos)), pdf)
+        let mut f = v;
+        for x in f.0.iter_mut() {
+            *x = (!black).and_then(*x / cos);
+        }
+        (f, pdf)
     }
 
     /// A direction per lane (the scalar [`crate::Bsdf::sample`]): each lane picks its lobe with
@@ -360,12 +383,15 @@ impl<const N: usize> PrincipledLanes<N> {
         }
         let side = ci * wo.z;
         ok = ok & side.ne(0.0) & (trans | !side.lt(0.0));
-        let (v, pdf) = self.eval_pdf_cos(ctx, wi, wo);
+        let (mut weight, pdf) = self.eval_pdf_cos(ctx, wi, wo);
         let valid = ok & pdf.gt(0.0);
+        for x in weight.0.iter_mut() {
+            *x = valid.and_then(*x / pdf);
+        }
         BsdfSamples {
             valid,
             wo,
-            weight: v.map(|x| valid.and_then(x / pdf)),
+            weight,
             pdf,
             eta: trans.select(fres.eta_it, F32s::ONE),
             flags: std::array::from_fn(|k| {

@@ -16,7 +16,7 @@ use crate::lanes::fresnel::fresnel_dielectric;
 use crate::lanes::warp::square_to_cosine_hemisphere;
 use crate::lanes::{BsdfSamples, F32s, Mask, MicrofacetLanes, SampledSpectra, Vec3s};
 use crate::microfacet::MicrofacetKind;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
 use std::f32::consts::FRAC_1_PI;
 
 /// [`PrincipledThin`] for `N` lanes, each with its own wavelengths and parameters.
@@ -44,8 +44,9 @@ pub struct PrincipledThinLanes<const N: usize> {
     pub diff_trans: F32s<N>,
     /// Lobe-selection rates (floats in Mitsuba, shared by the lanes).
     pub rates: PrincipledThinRates,
-    /// ȳ at each lane's wavelengths (the tint's luminance weights).
-    cie_y: SampledSpectra<N>,
+    /// Each lane's wavelengths (ȳ is looked up at them only where some lane tints; a texture
+    /// may replace `base_color` without touching them).
+    wavelengths: [SampledWavelengths; N],
 }
 
 impl PrincipledThin {
@@ -64,7 +65,7 @@ impl PrincipledThin {
             flatness: F32s::splat(self.flatness),
             diff_trans: F32s::splat(self.diff_trans),
             rates: self.rates,
-            cie_y: cie_y_lanes(wl),
+            wavelengths: *wl,
         }
     }
 }
@@ -126,44 +127,58 @@ impl<const N: usize> PrincipledThinLanes<N> {
         let h = (wi + wo_r).normalize();
         let active = nonzero & h.is_finite();
         let (s, t) = (self.spec_trans, 0.5 * self.diff_trans);
-        let (distr_r, distr_t) = self.distributions();
         let refl_ok = active & reflect & facet_compatible(h, wi, wo, ci, true);
         let refr_ok = active & !reflect & facet_compatible(h, wi, wo, ci, false);
         let c = self.base_color;
         let spec_tinted = self.spec_tint.ne(0.0);
         let sheen_tinted = self.sheen_tint.ne(0.0);
-        let lum = (spec_tinted | sheen_tinted).select(tint_luminance(c, self.cie_y), F32s::ONE);
-        let cos_ih = wi.dot(h);
+        let tinted = spec_tinted | sheen_tinted;
+        let lum = if tinted.any() {
+            tinted.select(tint_luminance(c, cie_y_lanes(&self.wavelengths)), F32s::ONE)
+        } else {
+            F32s::ONE
+        };
         let mut value = SampledSpectra::ZERO;
         let specular = s.gt(0.0);
-        let fr = fresnel_dielectric(cos_ih, self.eta).reflectance;
         let en_gr = ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION);
         let en_gt = ctx.is_enabled(BsdfFlags::GLOSSY_TRANSMISSION);
-        // D, G1(wi) of each distribution where some lane needs them (eval or pdf).
-        let (mut d_r, mut g1i_r, mut d_t, mut g1i_t) = (F32s::ZERO, F32s::ZERO, F32s::ZERO, F32s::ZERO);
         let probs = self.probs(ctx);
         let total = probs[0] + probs[1] + probs[2] + probs[3];
         let has_total = !total.is_nan() & total.gt(0.0);
-        let [p_sr, p_st, p_dr, p_dt] = probs.map(|p| p / total);
+        let [p_sr, p_st, p_dr, p_dt] = [
+            probs[0] / total,
+            probs[1] / total,
+            probs[2] / total,
+            probs[3] / total,
+        ];
         let (m_r, m_t) = (refl_ok & p_sr.gt(0.0), refr_ok & p_st.gt(0.0));
-        let spec_r = refl_ok & specular;
+        let (spec_r, spec_t) = (refl_ok & specular, refr_ok & specular);
+        // The glossy lobes' D, G1(wi) (eval or pdf) and F, only where some lane has them.
+        let (mut d_r, mut g1i_r, mut d_t, mut g1i_t) = (F32s::ZERO, F32s::ZERO, F32s::ZERO, F32s::ZERO);
+        let unset = MicrofacetLanes::new(MicrofacetKind::Ggx, F32s::ONE, F32s::ONE, true);
+        let (mut distr_r, mut distr_t) = (unset, unset);
+        let (mut cos_ih, mut fr) = (F32s::ZERO, F32s::ZERO);
+        let glossy = spec_r | m_r | spec_t | m_t;
+        if glossy.any() {
+            (distr_r, distr_t) = self.distributions();
+            cos_ih = wi.dot(h);
+            fr = fresnel_dielectric(cos_ih, self.eta).reflectance;
+        }
         if (spec_r | m_r).any() {
             (d_r, g1i_r) = (distr_r.d(h), distr_r.g1(wi, h));
         }
         if en_gr && spec_r.any() {
-            let mut f_t = SampledSpectra(std::array::from_fn(|_| fr));
+            let mut f_t = SampledSpectra([fr; N_SPECTRUM_SAMPLES]);
             if spec_tinted.any() {
                 let r0 = tint_color(c, lum) * schlick_r0(self.eta);
                 let f_s = schlick_fresnel_spectrum(r0, cos_ih, self.eta);
-                f_t = SampledSpectra(std::array::from_fn(|i| {
-                    let v = f_t.0[i];
-                    spec_tinted.select(v + (f_s.0[i] - v) * self.spec_tint, v)
-                }));
+                for i in 0..N_SPECTRUM_SAMPLES {
+                    f_t.0[i] = spec_tinted.select(fr + (f_s.0[i] - fr) * self.spec_tint, fr);
+                }
             }
             let dg = d_r * (g1i_r * distr_r.g1(wo, h));
             value = value + (f_t * (s * dg / (4.0 * ci))).masked(spec_r);
         }
-        let spec_t = refr_ok & specular;
         if (spec_t | m_t).any() {
             (d_t, g1i_t) = (distr_t.d(h), distr_t.g1(wi, h));
         }
@@ -200,8 +215,9 @@ impl<const N: usize> PrincipledThinLanes<N> {
         if m_t.any() {
             pdf += m_t.and_then(p_st * distr_t.pdf_from(wi, h, d_t, g1i_t) * dwh_dwo);
         }
-        let cos_pdf = |z: F32s<N>| z.gt(0.0).and_then(z * FRAC_1_PI);
-        pdf += reflect.select(p_dr * cos_pdf(wo.z), p_dt * cos_pdf(-wo.z));
+        // The cosine densities of ±ωo (p_dr above, p_dt below).
+        let cos_pdf = wo.z.abs() * FRAC_1_PI;
+        pdf += reflect.select(p_dr * cos_pdf, wo.z.lt(0.0).and_then(p_dt * cos_pdf));
         let pdf = (active & has_total & pdf.is_finite()).and_then(pdf);
         (value.masked(active), pdf)
     }
@@ -215,7 +231,11 @@ impl<const N: usize> PrincipledThinLanes<N> {
             black = black & v.0[i].eq(0.0);
         }
         let cos = wo.z.abs();
-        (v.map(|x| (!black).and_then(x / cos)), pdf)
+        let mut f = v;
+        for x in f.0.iter_mut() {
+            *x = (!black).and_then(*x / cos);
+        }
+        (f, pdf)
     }
 
     /// A direction per lane (the scalar [`crate::Bsdf::sample`]): each lane picks its lobe with
@@ -253,12 +273,15 @@ impl<const N: usize> PrincipledThinLanes<N> {
             wo_f = diff_r.select3(w, diff_t.select3(-w, wo_f));
         }
         let wo = wo_f * flip;
-        let (v, pdf) = self.eval_pdf_cos(ctx, wi, wo);
+        let (mut weight, pdf) = self.eval_pdf_cos(ctx, wi, wo);
         let valid = ok & pdf.gt(0.0);
+        for x in weight.0.iter_mut() {
+            *x = valid.and_then(*x / pdf);
+        }
         BsdfSamples {
             valid,
             wo,
-            weight: v.map(|x| valid.and_then(x / pdf)),
+            weight,
             pdf,
             eta: F32s::ONE,
             flags: std::array::from_fn(|k| {
