@@ -214,8 +214,9 @@ impl LaneInputs {
 
 /// A model with a lane kernel, as the bench drives it.
 trait LaneBench {
-    /// `sample` (u1 from the second uniform, reflected) then `eval_pdf` at the sampled
-    /// direction; returns a sum of the results so that nothing is optimized away.
+    /// `sample` (u1 from the second uniform, reflected) then `eval` at the sampled direction
+    /// (as the scalar `sample_eval` row and Mitsuba's script: f alone, no pdf); returns a sum
+    /// of the results so that nothing is optimized away.
     fn sample_eval<const N: usize>(
         &self,
         wl: &[SampledWavelengths; N],
@@ -233,8 +234,8 @@ macro_rules! lane_bench {
                 let $m = self;
                 let lanes = $lanes;
                 let s = lane_bench!(@sample $sample, lanes, ctx, wi, u2);
-                let (f, pdf) = lanes.eval_pdf(&ctx, wi, s.wo);
-                s.weight.0[0] + s.pdf + f.0[0] + pdf
+                let f = lanes.eval(&ctx, wi, s.wo);
+                s.weight.0[0] + s.pdf + f.0[0]
             }
         }
     };

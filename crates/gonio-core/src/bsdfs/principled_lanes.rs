@@ -329,6 +329,13 @@ impl<const N: usize> PrincipledLanes<N> {
         (value.masked(active), pdf)
     }
 
+    /// f(wi, wo) per lane (the scalar [`crate::Bsdf::eval`]): [`Self::eval_pdf`]'s value; the pdf's
+    /// arithmetic, unused, is dropped by the compiler once this is inlined.
+    #[inline(always)]
+    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+        self.eval_pdf(ctx, wi, wo).0
+    }
+
     /// f(wi, wo) and the pdf of `sample` per lane (the scalar [`crate::Bsdf::eval_pdf`]).
     #[inline(always)]
     pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {

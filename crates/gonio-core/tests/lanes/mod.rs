@@ -12,6 +12,7 @@ mod models;
 mod principled;
 
 use glam::Vec3;
+use gonio_core::lanes::SampledSpectra;
 use gonio_core::rng::Pcg32;
 
 /// A direction of the upper hemisphere with cos θ in [cos_min, 1], drawn uniformly in cos θ and φ.
@@ -25,4 +26,14 @@ pub fn upper_dir(rng: &mut Pcg32, cos_min: f32) -> Vec3 {
 /// |a − b| ≤ tol · max(1, |a|, |b|).
 pub fn close(a: f32, b: f32, tol: f32) -> bool {
     (a - b).abs() <= tol * 1f32.max(a.abs()).max(b.abs()) || (a.is_nan() && b.is_nan())
+}
+
+/// Every lane and wavelength of `a` and `b` bit for bit (a kernel's `eval` against the value of
+/// its `eval_pdf`: the same arithmetic, so the same bits, NaN included).
+pub fn same_bits<const N: usize>(a: SampledSpectra<N>, b: SampledSpectra<N>) -> bool {
+    a.0.iter().zip(b.0.iter()).all(|(x, y)| {
+        x.0.iter()
+            .zip(y.0.iter())
+            .all(|(p, q)| p.to_bits() == q.to_bits())
+    })
 }

@@ -1,6 +1,6 @@
 //! The BSDF lane kernels against the scalar models at each lane's wavelengths and roughness.
 
-use super::{close, upper_dir};
+use super::{close, same_bits, upper_dir};
 use glam::Vec2;
 use gonio_core::bsdfs::roughconductor::RoughConductorLanes;
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat};
@@ -159,6 +159,10 @@ fn conductor_agrees<const N: usize>() {
                 lanes.distribution = textured_roughness(lanes.distribution, &mut rng);
             }
             let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            assert!(
+                same_bits(lanes.eval(&ctx, batch.wi, batch.wo), ev.0),
+                "eval is eval_pdf's value"
+            );
             let s = lanes.sample(&ctx, batch.wi, batch.u2);
             mismatches += compare(&batch, ev, &s, |k| {
                 let mut m = model.clone();
@@ -198,6 +202,10 @@ impl LaneKernel for ConductorAtDispatchWidth<'_> {
             let batch = Batch::<N>::draw(&mut rng);
             let lanes = self.model.lanes(&batch.wl).unwrap();
             let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            assert!(
+                same_bits(lanes.eval(&ctx, batch.wi, batch.wo), ev.0),
+                "eval is eval_pdf's value"
+            );
             let s = lanes.sample(&ctx, batch.wi, batch.u2);
             mismatches += compare(&batch, ev, &s, |_| self.model.clone());
         }
@@ -264,6 +272,10 @@ fn plastic_agrees<const N: usize>() {
             let batch = Batch::<N>::draw(&mut rng);
             let lanes = model.lanes(&batch.wl);
             let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            assert!(
+                same_bits(lanes.eval(&ctx, batch.wi, batch.wo), ev.0),
+                "eval is eval_pdf's value"
+            );
             let s = lanes.sample(&ctx, batch.wi, batch.u1, batch.u2);
             mismatches += compare(&batch, ev, &s, |_| model.clone());
             total += N;
@@ -357,6 +369,10 @@ fn dielectric_agrees<const N: usize>(mode: gonio_core::TransportMode) {
                 lanes.distribution = textured_roughness(lanes.distribution, &mut rng);
             }
             let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            assert!(
+                same_bits(lanes.eval(&ctx, batch.wi, batch.wo), ev.0),
+                "eval is eval_pdf's value"
+            );
             let s = lanes.sample(&ctx, batch.wi, batch.u1, batch.u2);
             mismatches += compare_in(&ctx, &batch, ev, &s, |k| {
                 let mut m = model.clone();

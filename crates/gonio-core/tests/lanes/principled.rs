@@ -3,7 +3,7 @@
 //! configuration per lobe and parameters varying per lane as from textures, in radiance and
 //! importance mode and with single lobes enabled.
 
-use super::{close, upper_dir};
+use super::{close, same_bits, upper_dir};
 use glam::Vec2;
 use gonio_core::bsdfs::principled::PrincipledLanes;
 use gonio_core::bsdfs::principledthin::PrincipledThinLanes;
@@ -48,6 +48,7 @@ impl<const N: usize> Batch<N> {
 pub(super) trait LaneModel<const N: usize> {
     type Scalar: Bsdf + std::fmt::Debug;
     fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>);
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N>;
     fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N>;
     fn lane(&self, k: usize) -> Self::Scalar;
 }
@@ -57,6 +58,10 @@ impl<const N: usize> LaneModel<N> for PrincipledLanes<N> {
     #[inline(always)]
     fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
         PrincipledLanes::eval_pdf(self, ctx, wi, wo)
+    }
+    #[inline(always)]
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+        PrincipledLanes::eval(self, ctx, wi, wo)
     }
     #[inline(always)]
     fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
@@ -72,6 +77,10 @@ impl<const N: usize> LaneModel<N> for PrincipledThinLanes<N> {
     #[inline(always)]
     fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
         PrincipledThinLanes::eval_pdf(self, ctx, wi, wo)
+    }
+    #[inline(always)]
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+        PrincipledThinLanes::eval(self, ctx, wi, wo)
     }
     #[inline(always)]
     fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
@@ -150,6 +159,10 @@ pub(super) fn compare<const N: usize, L: LaneModel<N>>(
     lanes: &L,
 ) -> Stats {
     let (f, pdf) = lanes.eval_pdf(ctx, batch.wi, batch.wo);
+    assert!(
+        same_bits(lanes.eval(ctx, batch.wi, batch.wo), f),
+        "eval is eval_pdf's value"
+    );
     let s = lanes.sample(ctx, batch.wi, batch.u1, batch.u2);
     let mut st = Stats {
         lanes: N,
