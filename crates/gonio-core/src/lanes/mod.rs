@@ -172,17 +172,6 @@ impl<const N: usize> F32s<N> {
         Self(b.map(f32::from_bits))
     }
 
-    /// The biased exponent field of each lane, as a float (`bits >> 23`, sign cleared).
-    #[inline(always)]
-    pub fn exponent_bits(self) -> Self {
-        lanewise!(x = self => ((x.to_bits() & 0x7fff_ffff) >> 23) as i32 as f32)
-    }
-    /// Each lane's bits masked with `and`, then or-ed with `or`.
-    #[inline(always)]
-    pub fn with_bits(self, and: u32, or: u32) -> Self {
-        lanewise!(x = self => f32::from_bits((x.to_bits() & and) | or))
-    }
-
     compare!(lt, <, "Lanes where `self < o`.");
     compare!(le, <=, "Lanes where `self ≤ o`.");
     compare!(gt, >, "Lanes where `self > o`.");
