@@ -102,36 +102,14 @@ fn with_model(name: &str, f: impl FnOnce(&dyn Bsdf)) {
         }
         // Mitsuba's defaults (Beckmann, α = 0.1, ideal mirror), and gold with GGX α = 0.3.
         "roughconductor_beckmann" => f(&RoughConductor::default()),
-        "roughconductor_ggx_au" => f(&RoughConductor::new(
-            piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
-            piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
-            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-        )),
+        "roughconductor_ggx_au" => f(&gold_ggx()),
         // Mitsuba's defaults, and GGX α = 0.3 (the same configurations as mitsuba_bsdf.py).
         "roughdielectric" => f(&RoughDielectric::default()),
-        "roughdielectric_ggx" => f(&RoughDielectric::new(
-            Ior::Constant(1.5046),
-            Ior::Constant(1.000277),
-            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-        )),
+        "roughdielectric_ggx" => f(&glass_ggx()),
         "roughplastic" => f(&RoughPlastic::default()),
-        "roughplastic_ggx" => f(&RoughPlastic::new(
-            Spectrum::Constant(0.5),
-            Spectrum::Constant(1.0),
-            false,
-            RoughCoat::new(
-                MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-                1.49 / 1.000277,
-                CoatAverages::Exact,
-            ),
-        )),
+        "roughplastic_ggx" => f(&plastic_ggx()),
         "principled" => f(&Principled::default()),
-        "principled_full" => {
-            let mut p = Principled::default();
-            (p.metallic, p.spec_trans, p.clearcoat) = (0.3, 0.2, 0.5);
-            (p.sheen, p.anisotropic, p.roughness) = (0.5, 0.5, 0.4);
-            f(&p)
-        }
+        "principled_full" => f(&principled_full()),
         "principledthin" => f(&PrincipledThin::default()),
         "lambertsphere" => f(&LambertSphere::default()),
         "lambertsphere_practical" => f(&LambertSphere::new(
@@ -289,49 +267,58 @@ fn bench_lanes<M: LaneBench>(bencher: Bencher, model: &M) {
 
 #[divan::bench(args = LANE_MODELS)]
 fn sample_eval_lanes(bencher: Bencher, name: &str) {
-    let gold = || {
-        RoughConductor::new(
-            piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
-            piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
-            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-        )
-    };
     match name {
         "roughconductor_beckmann" => bench_lanes(bencher, &RoughConductor::default()),
-        "roughconductor_ggx_au" => bench_lanes(bencher, &gold()),
+        "roughconductor_ggx_au" => bench_lanes(bencher, &gold_ggx()),
         "roughdielectric" => bench_lanes(bencher, &RoughDielectric::default()),
-        "roughdielectric_ggx" => bench_lanes(
-            bencher,
-            &RoughDielectric::new(
-                Ior::Constant(1.5046),
-                Ior::Constant(1.000277),
-                MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-            ),
-        ),
+        "roughdielectric_ggx" => bench_lanes(bencher, &glass_ggx()),
         "roughplastic" => bench_lanes(bencher, &RoughPlastic::default()),
-        "roughplastic_ggx" => bench_lanes(
-            bencher,
-            &RoughPlastic::new(
-                Spectrum::Constant(0.5),
-                Spectrum::Constant(1.0),
-                false,
-                RoughCoat::new(
-                    MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
-                    1.49 / 1.000277,
-                    CoatAverages::Exact,
-                ),
-            ),
-        ),
+        "roughplastic_ggx" => bench_lanes(bencher, &plastic_ggx()),
         "principled" => bench_lanes(bencher, &Principled::default()),
-        "principled_full" => {
-            let mut p = Principled::default();
-            (p.metallic, p.spec_trans, p.clearcoat) = (0.3, 0.2, 0.5);
-            (p.sheen, p.anisotropic, p.roughness) = (0.5, 0.5, 0.4);
-            bench_lanes(bencher, &p)
-        }
+        "principled_full" => bench_lanes(bencher, &principled_full()),
         "principledthin" => bench_lanes(bencher, &PrincipledThin::default()),
         _ => unreachable!("no lane kernel for {name}"),
     }
+}
+
+/// Gold (piecewise η, k) with GGX α = 0.3 (`roughconductor_ggx_au` of mitsuba_bsdf.py).
+fn gold_ggx() -> RoughConductor {
+    RoughConductor::new(
+        piecewise(&[400.0, 1.46, 500.0, 0.97, 600.0, 0.25, 700.0, 0.16]),
+        piecewise(&[400.0, 1.95, 500.0, 1.87, 600.0, 2.98, 700.0, 3.95]),
+        MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+    )
+}
+
+/// Mitsuba's default glass indices with GGX α = 0.3 (`roughdielectric_ggx`).
+fn glass_ggx() -> RoughDielectric {
+    RoughDielectric::new(
+        Ior::Constant(1.5046),
+        Ior::Constant(1.000277),
+        MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+    )
+}
+
+/// Mitsuba's default plastic with GGX α = 0.3 (`roughplastic_ggx`).
+fn plastic_ggx() -> RoughPlastic {
+    RoughPlastic::new(
+        Spectrum::Constant(0.5),
+        Spectrum::Constant(1.0),
+        false,
+        RoughCoat::new(
+            MicrofacetDistribution::isotropic(MicrofacetKind::Ggx, 0.3),
+            1.49 / 1.000277,
+            CoatAverages::Exact,
+        ),
+    )
+}
+
+/// Every principled lobe on (`principled_full` of mitsuba_bsdf.py).
+fn principled_full() -> Principled {
+    let mut p = Principled::default();
+    (p.metallic, p.spec_trans, p.clearcoat) = (0.3, 0.2, 0.5);
+    (p.sheen, p.anisotropic, p.roughness) = (0.5, 0.5, 0.4);
+    p
 }
 
 /// 1024 path wavelength sets, drawn once.
