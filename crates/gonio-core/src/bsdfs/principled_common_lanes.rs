@@ -50,11 +50,7 @@ pub fn schlick_fresnel_spectrum<const N: usize>(
     eta: F32s<N>,
 ) -> SampledSpectra<N> {
     let s = schlick_fresnel_weight(cos_theta_i, eta);
-    let mut f = r0;
-    for r in f.0.iter_mut() {
-        *r = *r + (F32s::ONE - *r) * s;
-    }
-    f
+    r0.map(|r| r + (F32s::ONE - r) * s)
 }
 
 /// R0 = ((η − 1)/(η + 1))² per lane.
@@ -91,11 +87,7 @@ pub fn tint_luminance<const N: usize>(c: SampledSpectra<N>, cie_y: SampledSpectr
 #[inline(always)]
 pub fn tint_color<const N: usize>(c: SampledSpectra<N>, lum: F32s<N>) -> SampledSpectra<N> {
     let pos = lum.gt(0.0);
-    let mut t = c;
-    for v in t.0.iter_mut() {
-        *v = pos.select(*v / lum, F32s::ONE);
-    }
-    t
+    c.map(|v| pos.select(v / lum, F32s::ONE))
 }
 
 /// [`super::principled_common::ggx_alphas`] per lane.
@@ -222,11 +214,7 @@ pub fn sheen_shape<const N: usize>(
     tint: SampledSpectra<N>,
 ) -> SampledSpectra<N> {
     let fd = schlick_weight(cos_d.abs());
-    let mut s = tint;
-    for t in s.0.iter_mut() {
-        *t = (1.0 + (*t - 1.0) * sheen_tint) * fd;
-    }
-    s
+    tint.map(|t| (1.0 + (t - 1.0) * sheen_tint) * fd)
 }
 
 /// The lobe [`choose_lobe`] picked per lane, as one mask per lobe (at most one set per lane).

@@ -269,9 +269,7 @@ impl<const N: usize> PrincipledLanes<N> {
                 / (ci * denom2))
                 .abs();
             let k = w_bsdf * t;
-            for (v, c) in value.0.iter_mut().zip(c.0) {
-                *v += spec_t.and_then(c.safe_sqrt() * k);
-            }
+            value = value + c.map(|v| spec_t.and_then(v.safe_sqrt() * k));
         }
         let front_reflect = active & front & reflect;
         // Clearcoat.
@@ -281,9 +279,7 @@ impl<const N: usize> PrincipledLanes<N> {
             let dcc = Gtr1Lanes::from_gloss(self.clearcoat_gloss).d(h);
             let gcc = smith_ggx1(wi, h, 0.25) * smith_ggx1(wo, h, 0.25);
             let v = coat.and_then(self.clearcoat * 0.25 * fcc * dcc * gcc * co.abs());
-            for x in value.0.iter_mut() {
-                *x += v;
-            }
+            value = value.map(|x| x + v);
         }
         // Diffuse, retro-reflection, fake subsurface, sheen.
         let diffuse = front_reflect & w_brdf.gt(0.0);
@@ -345,11 +341,7 @@ impl<const N: usize> PrincipledLanes<N> {
             black = black & v.0[i].eq(0.0);
         }
         let cos = wo.z.abs();
-        let mut f = v;
-        for x in f.0.iter_mut() {
-            *x = (!black).and_then(*x / cos);
-        }
-        (f, pdf)
+        (v.map(|x| (!black).and_then(x / cos)), pdf)
     }
 
     /// A direction per lane (the scalar [`crate::Bsdf::sample`]): each lane picks its lobe with
@@ -390,15 +382,12 @@ impl<const N: usize> PrincipledLanes<N> {
         }
         let side = ci * wo.z;
         ok = ok & side.ne(0.0) & (trans | !side.lt(0.0));
-        let (mut weight, pdf) = self.eval_pdf_cos(ctx, wi, wo);
+        let (v, pdf) = self.eval_pdf_cos(ctx, wi, wo);
         let valid = ok & pdf.gt(0.0);
-        for x in weight.0.iter_mut() {
-            *x = valid.and_then(*x / pdf);
-        }
         BsdfSamples {
             valid,
             wo,
-            weight,
+            weight: v.map(|x| valid.and_then(x / pdf)),
             pdf,
             eta: trans.select(fres.eta_it, F32s::ONE),
             flags: std::array::from_fn(|k| {

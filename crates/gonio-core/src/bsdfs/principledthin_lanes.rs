@@ -238,11 +238,7 @@ impl<const N: usize> PrincipledThinLanes<N> {
             black = black & v.0[i].eq(0.0);
         }
         let cos = wo.z.abs();
-        let mut f = v;
-        for x in f.0.iter_mut() {
-            *x = (!black).and_then(*x / cos);
-        }
-        (f, pdf)
+        (v.map(|x| (!black).and_then(x / cos)), pdf)
     }
 
     /// A direction per lane (the scalar [`crate::Bsdf::sample`]): each lane picks its lobe with
@@ -280,15 +276,12 @@ impl<const N: usize> PrincipledThinLanes<N> {
             wo_f = diff_r.select3(w, diff_t.select3(-w, wo_f));
         }
         let wo = wo_f * flip;
-        let (mut weight, pdf) = self.eval_pdf_cos(ctx, wi, wo);
+        let (v, pdf) = self.eval_pdf_cos(ctx, wi, wo);
         let valid = ok & pdf.gt(0.0);
-        for x in weight.0.iter_mut() {
-            *x = valid.and_then(*x / pdf);
-        }
         BsdfSamples {
             valid,
             wo,
-            weight,
+            weight: v.map(|x| valid.and_then(x / pdf)),
             pdf,
             eta: F32s::ONE,
             flags: std::array::from_fn(|k| {
