@@ -170,10 +170,11 @@ const LANE_MODELS: &[&str] = &[
 /// Lanes per iteration of `sample_eval_lanes`.
 const LANE_BATCH: usize = 4096;
 
-/// Pre-drawn per-lane inputs of `sample_eval_lanes`.
+/// Pre-drawn per-lane inputs of `sample_eval_lanes`, one array per quantity (as Mitsuba's
+/// script holds them), so that a lane vector of uniforms is one load.
 struct LaneInputs {
     wl: Vec<SampledWavelengths>,
-    u: Vec<[f32; 2]>,
+    u: [Vec<f32>; 2],
 }
 
 impl LaneInputs {
@@ -183,9 +184,7 @@ impl LaneInputs {
             wl: (0..LANE_BATCH)
                 .map(|_| SampledWavelengths::sample_visible(rng.next_f32()))
                 .collect(),
-            u: (0..LANE_BATCH)
-                .map(|_| [rng.next_f32(), rng.next_f32()])
-                .collect(),
+            u: [(); 2].map(|_| (0..LANE_BATCH).map(|_| rng.next_f32()).collect()),
         }
     }
 }
@@ -244,9 +243,10 @@ impl<M: LaneBench> LaneKernel for LaneBatch<'_, M> {
     fn run<const N: usize>(self) -> f32 {
         let wi = Vec3s::<N>::splat(black_box(WI).normalize());
         let mut acc = F32s::<N>::ZERO;
-        for (wl, u) in self.inputs.wl.chunks_exact(N).zip(self.inputs.u.chunks_exact(N)) {
+        let [u0, u1] = &self.inputs.u;
+        for ((wl, u0), u1) in self.inputs.wl.chunks_exact(N).zip(u0.chunks_exact(N)).zip(u1.chunks_exact(N)) {
             let wl: &[SampledWavelengths; N] = wl.try_into().unwrap();
-            let u2 = [F32s::from_fn(|k| u[k][0]), F32s::from_fn(|k| u[k][1])];
+            let u2 = [F32s(u0.try_into().unwrap()), F32s(u1.try_into().unwrap())];
             acc += self.model.sample_eval(wl, wi, u2);
         }
         acc.sum()
