@@ -244,7 +244,13 @@ impl<M: LaneBench> LaneKernel for LaneBatch<'_, M> {
         let wi = Vec3s::<N>::splat(black_box(WI).normalize());
         let mut acc = F32s::<N>::ZERO;
         let [u0, u1] = &self.inputs.u;
-        for ((wl, u0), u1) in self.inputs.wl.chunks_exact(N).zip(u0.chunks_exact(N)).zip(u1.chunks_exact(N)) {
+        for ((wl, u0), u1) in self
+            .inputs
+            .wl
+            .chunks_exact(N)
+            .zip(u0.chunks_exact(N))
+            .zip(u1.chunks_exact(N))
+        {
             let wl: &[SampledWavelengths; N] = wl.try_into().unwrap();
             let u2 = [F32s(u0.try_into().unwrap()), F32s(u1.try_into().unwrap())];
             acc += self.model.sample_eval(wl, wi, u2);
