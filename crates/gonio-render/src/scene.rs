@@ -586,5 +586,7 @@ pub enum EmitterDesc {
         to_world: Affine3A,
         /// Mitsuba 3.9.1's texel layout and interpolation (`lookup="mitsuba"`).
         mitsuba_lookup: bool,
+        /// Next-event samples ∝ max(L − L̄, 0) where the BSDF is sampled too (`mis_compensation`).
+        mis_compensation: bool,
     },
 }

@@ -113,6 +113,7 @@ impl Light {
                 scale,
                 to_world,
                 mitsuba_lookup,
+                mis_compensation,
             } => {
                 let env = EnvMapLight::new(
                     image.width,
@@ -123,8 +124,13 @@ impl Light {
                     crate::texture::uplift_emission_texel,
                 )
                 .ok_or_else(|| "empty environment image or singular to_world".to_string())?;
-                Light::EnvMap(if *mitsuba_lookup {
+                let env = if *mitsuba_lookup {
                     env.with_mitsuba_lookup()
+                } else {
+                    env
+                };
+                Light::EnvMap(if *mis_compensation {
+                    env.with_mis_compensation()
                 } else {
                     env
                 })

@@ -5,7 +5,7 @@
 //! * `constant`: `radiance` (spectrum, default 1; an RGB value is uplifted as an illuminant, i.e.
 //!   × D65, by the scene reader).
 //! * `envmap`: `filename` (lat-long EXR/HDR image, linear RGB), `scale` (default 1), `to_world`
-//!   (default identity), `mis_compensation` (not supported: plain luminance sampling).
+//!   (default identity), `mis_compensation` (Mitsuba's default false; ours true: see Sampling).
 //!
 //! # Orientation (Mitsuba 3 `envmap.cpp`)
 //!
@@ -35,6 +35,16 @@
 //! lobes can use the light (zero variance for an unoccluded Lambertian surface), the uniform
 //! sphere otherwise. `envmap` samples pixels ∝ luminance·sin θ (a 2D piecewise-constant
 //! distribution), so the solid-angle density is p(u, v)/(2π² sin θ).
+//!
+//! With MIS compensation (Karlík et al. 2019, "MIS compensation: optimizing sampling
+//! techniques in multiple importance sampling"; Mitsuba's `mis_compensation`), next-event
+//! estimation samples ∝ max(L − L̄, 0)·sin θ instead, L̄ = ∫L dω/4π the mean luminance over the
+//! sphere: where the map is dimmer than its mean, BSDF sampling (which the power heuristic
+//! weighs against the light) already does well, so the light's samples go where it outshines
+//! the mean. Only callers that sample the BSDF too may use it ([`super::LightRef::mis`]);
+//! emission sampling (the particle tracer) and NEE without BSDF samples keep the plain density,
+//! whose support is the whole lit sphere. A map with no texel above its mean (a uniform one)
+//! keeps the plain density everywhere.
 
 use super::LightRef;
 use glam::Vec4;
@@ -107,6 +117,9 @@ pub struct EnvMapLight {
     to_world: Affine3A,
     to_local: Affine3A,
     distribution: Distribution2D,
+    /// The compensated density of next-event estimation (module docs), if built and if some
+    /// texel outshines the mean.
+    compensated: Option<Distribution2D>,
     mean_luminance: f32,
     /// Mitsuba 3.9.1's row layout and separate interpolation of shapes and scales (module docs).
     mitsuba_lookup: bool,
@@ -169,9 +182,42 @@ impl EnvMapLight {
             to_world,
             to_local: to_world.inverse(),
             distribution,
+            compensated: None,
             mean_luminance,
             mitsuba_lookup: false,
         })
+    }
+
+    /// The same light whose next-event samples, where the caller also samples the BSDF, follow
+    /// max(L − L̄, 0)·sin θ (MIS compensation, module docs).
+    pub fn with_mis_compensation(mut self) -> Self {
+        let (w, h) = (self.width, self.height);
+        // L̄ without the scale (the weights are the image's own luminances).
+        let mean = self.mean_luminance / self.scale;
+        let mut weights = vec![0.0f32; w * h];
+        let mut any = false;
+        for j in 0..h {
+            let sin_theta = (PI * (j as f32 + 0.5) / h as f32).sin();
+            for i in 0..w {
+                let excess = luminance(self.rgb[j * w + i]) - mean;
+                if excess > 0.0 && sin_theta > 0.0 {
+                    weights[j * w + i] = excess * sin_theta;
+                    any = true;
+                }
+            }
+        }
+        self.compensated = (any && mean.is_finite()).then(|| Distribution2D::new(&weights, w, h));
+        self
+    }
+
+    /// The density that next-event estimation draws from: the compensated one when the caller
+    /// also samples the BSDF (`mis`) and it exists.
+    #[inline]
+    fn nee_distribution(&self, mis: bool) -> &Distribution2D {
+        match &self.compensated {
+            Some(c) if mis => c,
+            _ => &self.distribution,
+        }
     }
 
     /// The same light with Mitsuba 3.9.1's lookup: rows at v = j/(H − 1), texel shapes and
@@ -294,21 +340,30 @@ impl EnvMapLight {
         shape * (f * self.scale)
     }
 
-    /// Direction towards the light ∝ luminance·sin θ, and its solid-angle density.
+    /// Direction towards the light ∝ luminance·sin θ, and its solid-angle density (the plain
+    /// density, whose support is every direction the map lights: emission sampling).
     pub fn sample_dir(&self, u: Vec2) -> Option<(Vec3, f32)> {
-        self.sample_uv(u).map(|(uv, pdf)| (self.uv_to_dir(uv), pdf))
+        self.sample_uv(u, false)
+            .map(|(uv, pdf)| (self.uv_to_dir(uv), pdf))
     }
 
-    /// [`Self::sample_dir`] with the radiance arriving from that direction, looked up at the
-    /// sampled image coordinates.
-    pub fn sample_dir_le(&self, u: Vec2, wl: &SampledWavelengths) -> Option<(Vec3, f32, SampledSpectrum)> {
-        self.sample_uv(u)
+    /// A next-event direction with the radiance arriving from it, looked up at the sampled
+    /// image coordinates: the compensated density when `mis` (the caller samples the BSDF too
+    /// and weighs both by MIS) and the light has one, else [`Self::sample_dir`]'s.
+    pub fn sample_dir_le(
+        &self,
+        u: Vec2,
+        wl: &SampledWavelengths,
+        mis: bool,
+    ) -> Option<(Vec3, f32, SampledSpectrum)> {
+        self.sample_uv(u, mis)
             .map(|(uv, pdf)| (self.uv_to_dir(uv), pdf, self.le_uv(uv, wl)))
     }
 
-    /// Image coordinates ∝ luminance·sin θ and the solid-angle density of their direction.
-    fn sample_uv(&self, u: Vec2) -> Option<(Vec2, f32)> {
-        let (uv, pdf_uv) = self.distribution.sample(u);
+    /// Image coordinates from [`Self::nee_distribution`] and the solid-angle density of their
+    /// direction.
+    fn sample_uv(&self, u: Vec2, mis: bool) -> Option<(Vec2, f32)> {
+        let (uv, pdf_uv) = self.nee_distribution(mis).sample(u);
         let sin_theta = (PI * uv.y).sin();
         if pdf_uv <= 0.0 || sin_theta <= 0.0 {
             return None;
@@ -316,25 +371,25 @@ impl EnvMapLight {
         Some((uv, pdf_uv / (2.0 * PI * PI * sin_theta)))
     }
 
-    /// Density of [`Self::sample_dir`] for world direction `dir`.
-    pub fn pdf_dir(&self, dir: Vec3) -> f32 {
-        self.pdf_uv(self.dir_to_uv(dir))
+    /// Density with which [`Self::sample_dir_le`] (same `mis`) draws world direction `dir`.
+    pub fn pdf_dir(&self, dir: Vec3, mis: bool) -> f32 {
+        self.pdf_uv(self.dir_to_uv(dir), mis)
     }
 
     /// [`Self::le`] and [`Self::pdf_dir`] of one direction, mapped to the image once (a ray that
     /// escapes after a BSDF sample needs both).
-    pub fn le_pdf(&self, dir: Vec3, wl: &SampledWavelengths) -> (SampledSpectrum, f32) {
+    pub fn le_pdf(&self, dir: Vec3, wl: &SampledWavelengths, mis: bool) -> (SampledSpectrum, f32) {
         let uv = self.dir_to_uv(dir);
-        (self.le_uv(uv, wl), self.pdf_uv(uv))
+        (self.le_uv(uv, wl), self.pdf_uv(uv, mis))
     }
 
     /// Solid-angle density of the direction at image coordinates `uv`.
-    fn pdf_uv(&self, uv: Vec2) -> f32 {
+    fn pdf_uv(&self, uv: Vec2, mis: bool) -> f32 {
         let sin_theta = (PI * uv.y).sin();
         if sin_theta <= 0.0 {
             return 0.0;
         }
-        self.distribution.pdf(uv) / (2.0 * PI * PI * sin_theta)
+        self.nee_distribution(mis).pdf(uv) / (2.0 * PI * PI * sin_theta)
     }
 
     /// Mean luminance over the sphere, × scale (for light selection).

@@ -66,6 +66,11 @@ pub struct LightRef {
     /// True when the BSDF there only reflects (to the side of `n`): a light may then restrict
     /// its sampling to that hemisphere (the constant environment does).
     pub hemisphere: bool,
+    /// True when the caller also samples the BSDF there and weighs both strategies by MIS: a
+    /// light may then leave to BSDF sampling the directions where it is dimmer than its mean
+    /// (the environment map's MIS compensation). False where the light's samples must cover
+    /// everything it lights (no BSDF samples, the particle tracer).
+    pub mis: bool,
 }
 
 /// A direction towards a light, drawn from a reference point.
@@ -219,7 +224,7 @@ impl Light {
                 }
             }
             Light::EnvMap(e) => {
-                let (wi, pdf, li) = e.sample_dir_le(u, wl)?;
+                let (wi, pdf, li) = e.sample_dir_le(u, wl, r.mis)?;
                 LightSample {
                     wi,
                     dist: f32::INFINITY,
@@ -243,7 +248,7 @@ impl Light {
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
         match self {
-            Light::EnvMap(e) => e.le_pdf(dir, wl),
+            Light::EnvMap(e) => e.le_pdf(dir, wl, r.mis),
             _ => (self.le_infinite(dir, wl), self.pdf_li_infinite(r, dir)),
         }
     }
@@ -253,7 +258,7 @@ impl Light {
     pub fn pdf_li_infinite(&self, r: &LightRef, dir: Vec3) -> f32 {
         match self {
             Light::Constant(c) => c.pdf_dir(r, dir),
-            Light::EnvMap(e) => e.pdf_dir(dir),
+            Light::EnvMap(e) => e.pdf_dir(dir, r.mis),
             _ => 0.0,
         }
     }

@@ -542,7 +542,8 @@ impl<'a> PathTracer<'a> {
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
         let flags = v.bsdf.flags();
-        let light_ref = Self::light_ref(v, flags);
+        // The path samples the BSDF at every vertex it samples a light from.
+        let light_ref = Self::light_ref(v, flags, true);
 
         // Random numbers: a vertex with a smooth lobe takes five (light choice, light point,
         // lobe, direction), a purely delta one only its lobe choice (it samples no light and
@@ -597,8 +598,9 @@ impl<'a> PathTracer<'a> {
     }
 
     /// Where lights are sampled from at vertex `v` (its side of the shading normal; a whole
-    /// sphere of directions when the BSDF transmits).
-    fn light_ref(v: &Vertex, flags: BsdfFlags) -> LightRef {
+    /// sphere of directions when the BSDF transmits); `mis` when the BSDF is sampled there too
+    /// ([`LightRef::mis`]).
+    fn light_ref(v: &Vertex, flags: BsdfFlags, mis: bool) -> LightRef {
         let n_side = if v.wi.z >= 0.0 {
             v.si.shading.n
         } else {
@@ -608,6 +610,7 @@ impl<'a> PathTracer<'a> {
             p: v.si.p,
             n: n_side,
             hemisphere: !flags.is_transmission(),
+            mis,
         }
     }
 

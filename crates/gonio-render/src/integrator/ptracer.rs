@@ -113,6 +113,8 @@ impl PathTracer<'_> {
                     p: cam,
                     n: Vec3::Z,
                     hemisphere: false,
+                    // The camera's view of the light: no BSDF sampling covers it.
+                    mis: false,
                 };
                 let Some(ls) = light.sample_li_nonarea(&r, u_pos, wl) else {
                     return;

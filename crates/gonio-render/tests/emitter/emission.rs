@@ -229,7 +229,7 @@ fn infinite_power_is_the_flux_through_the_bounding_disk() {
     let c = Light::Constant(ConstantLight { radiance: l.clone() });
     check("constant", &c, &[], l.sample(&wl()) * (4.0 * PI * PI * r * r));
 
-    let env = super::test_envmap(Affine3A::from_rotation_y(0.8));
+    let env = super::envmap::test_envmap(Affine3A::from_rotation_y(0.8));
     let exact = integrate_sphere(|d| env.le(d, &wl()), 1000) * (PI * r * r);
     check("envmap", &Light::EnvMap(env), &[], exact);
 }

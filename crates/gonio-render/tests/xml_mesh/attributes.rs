@@ -292,6 +292,7 @@ fn a_volume_radiance_is_the_grid_at_the_light_point() {
         p: Vec3::new(0.1, -0.2, 1.5),
         n: -Vec3::Z,
         hemisphere: false,
+        mis: false,
     };
     let mut seen = (f32::INFINITY, f32::NEG_INFINITY);
     for k in 0..64 {

@@ -183,6 +183,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         scale: 1.0,
         to_world: Affine3A::IDENTITY,
         mitsuba_lookup: false,
+        mis_compensation: true,
     };
     let direct = render_with(&scene, vec![env_emitter], &options)?;
     eprintln!(

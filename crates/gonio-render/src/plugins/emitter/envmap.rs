@@ -1,7 +1,8 @@
 //! `envmap`: an environment map in the equirectangular (latitude-longitude) layout (Mitsuba 3
 //! `src/emitters/envmap.cpp`; runtime [`crate::emitter::EnvMapLight`], whose docs give the texel
 //! layout and the lookup). `lookup="mitsuba"` is ours: Mitsuba 3.9.1's lookup (rows from pole to
-//! pole, texel shapes and scales interpolated separately).
+//! pole, texel shapes and scales interpolated separately). `mis_compensation` is Mitsuba's, but on
+//! by default here: it changes the noise, never the expected image.
 
 use crate::image::RgbImage;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
@@ -30,9 +31,10 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 const MIS_COMPENSATION: ParamSpec = ParamSpec::new(
     "mis_compensation",
     ParamType::Boolean,
-    DefaultValue::Bool(false),
-    "accepted and ignored",
-);
+    DefaultValue::Bool(true),
+    "next-event samples ∝ max(L − mean, 0), leaving the dimmer directions to BSDF sampling (Karlík et al. 2019): less noise, the same image",
+)
+.mitsuba(DefaultValue::Bool(false));
 
 const LOOKUP: ParamSpec = ParamSpec::ours_or_mitsuba(
     "lookup",
@@ -65,12 +67,13 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
         "must be non-negative",
     )? as f32;
     let to_world = p.affine(TO_WORLD.name)?;
-    p.bool(MIS_COMPENSATION.name, MIS_COMPENSATION.default.bool())?;
+    let mis_compensation = p.bool(MIS_COMPENSATION.name, p.default_of(&MIS_COMPENSATION).bool())?;
     let mitsuba_lookup = p.mitsuba_way(&LOOKUP)?;
     Ok(EmitterDesc::EnvMap {
         image: Arc::new(image),
         scale,
         to_world,
         mitsuba_lookup,
+        mis_compensation,
     })
 }
