@@ -532,7 +532,10 @@ impl<const N: usize> RoughPlasticLanes<'_, N> {
         let t = &self.coat.transmittance[..n];
         let mut r = [0.0f32; N];
         for (k, r) in r.iter_mut().enumerate() {
-            let i = (x.0[k] as usize).min(n - 2);
+            // SAFETY: 0 ≤ x ≤ n − 1 (the clamp turns NaN into 0), within i32. (`as usize`
+            // saturates, which LLVM may spell out lane by lane or, vectorized, as a long
+            // float-to-u64 sequence: twice this kernel's instructions in one build.)
+            let i = unsafe { x.0[k].to_int_unchecked::<i32>() }.min(n as i32 - 2) as usize;
             let w = x.0[k] - i as f32;
             *r = (1.0 - w) * t[i] + w * t[i + 1];
         }
