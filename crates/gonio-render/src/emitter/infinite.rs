@@ -155,16 +155,8 @@ impl EnvMapLight {
             .into_iter()
             .map(|c| c.map(|x| if x.is_finite() { x.max(0.0) } else { 0.0 }))
             .collect();
-        let mut weights = vec![0.0f32; width * height];
-        let mut total = 0.0f64;
-        for j in 0..height {
-            let sin_theta = (PI * (j as f32 + 0.5) / height as f32).sin();
-            for i in 0..width {
-                let l = luminance(rgb[j * width + i]);
-                weights[j * width + i] = l * sin_theta;
-                total += (l * sin_theta) as f64;
-            }
-        }
+        let weights = texel_weights(&rgb, width, height, |l| l);
+        let total: f64 = weights.iter().map(|&w| w as f64).sum();
         // ∫ L dω / 4π with dω = sin θ (2π/W)(π/H).
         let mean_luminance = (total * (TAU as f64 / width as f64) * (PI as f64 / height as f64)
             / (4.0 * PI as f64)) as f32
@@ -194,18 +186,8 @@ impl EnvMapLight {
         let (w, h) = (self.width, self.height);
         // L̄ without the scale (the weights are the image's own luminances).
         let mean = self.mean_luminance / self.scale;
-        let mut weights = vec![0.0f32; w * h];
-        let mut any = false;
-        for j in 0..h {
-            let sin_theta = (PI * (j as f32 + 0.5) / h as f32).sin();
-            for i in 0..w {
-                let excess = luminance(self.rgb[j * w + i]) - mean;
-                if excess > 0.0 && sin_theta > 0.0 {
-                    weights[j * w + i] = excess * sin_theta;
-                    any = true;
-                }
-            }
-        }
+        let weights = texel_weights(&self.rgb, w, h, |l| (l - mean).max(0.0));
+        let any = weights.iter().any(|&x| x > 0.0);
         self.compensated = (any && mean.is_finite()).then(|| Distribution2D::new(&weights, w, h));
         self
     }
@@ -396,6 +378,21 @@ impl EnvMapLight {
     pub fn mean_radiance(&self) -> f32 {
         self.mean_luminance
     }
+}
+
+/// Each texel's f(luminance)·sin θ (θ at the row's centre), row-major: the cell values of the
+/// sampling distributions (plain: f(L) = L; compensated: max(L − L̄, 0)).
+fn texel_weights(rgb: &[[f32; 3]], width: usize, height: usize, f: impl Fn(f32) -> f32) -> Vec<f32> {
+    let mut weights = Vec::with_capacity(width * height);
+    for j in 0..height {
+        let sin_theta = (PI * (j as f32 + 0.5) / height as f32).sin();
+        weights.extend(
+            rgb[j * width..(j + 1) * width]
+                .iter()
+                .map(|&c| f(luminance(c)) * sin_theta),
+        );
+    }
+    weights
 }
 
 /// The texels as (sigmoid, scale) pairs when all are RGB uplifts of one kind (a black texel, any
