@@ -26,7 +26,7 @@ use gonio_core::bsdfs::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
     RoughConductor, RoughDielectric, RoughDiffuse, RoughPlastic, ThinDielectric, TwoSided,
 };
-use gonio_core::lanes::{F32s, LaneKernel, Vec3s, dispatch};
+use gonio_core::lanes::{F32s, Isa, LaneKernel, Vec3s, dispatch};
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
@@ -194,19 +194,19 @@ trait LaneBench {
     /// `sample` (u1 from the second uniform, reflected) then `eval` at the sampled direction
     /// (as the scalar `sample_eval` row and Mitsuba's script: f alone, no pdf); returns a sum
     /// of the results so that nothing is optimized away.
-    fn sample_eval<const N: usize>(
+    fn sample_eval<const N: usize, X: Isa>(
         &self,
         wl: &[SampledWavelengths; N],
-        wi: Vec3s<N>,
-        u2: [F32s<N>; 2],
-    ) -> F32s<N>;
+        wi: Vec3s<N, X>,
+        u2: [F32s<N, X>; 2],
+    ) -> F32s<N, X>;
 }
 
 macro_rules! lane_bench {
     ($ty:ty, |$m:ident, $wl:ident| $lanes:expr, $sample:ident) => {
         impl LaneBench for $ty {
             #[inline(always)]
-            fn sample_eval<const N: usize>(&self, $wl: &[SampledWavelengths; N], wi: Vec3s<N>, u2: [F32s<N>; 2]) -> F32s<N> {
+            fn sample_eval<const N: usize, X: Isa>(&self, $wl: &[SampledWavelengths; N], wi: Vec3s<N, X>, u2: [F32s<N, X>; 2]) -> F32s<N, X> {
                 let ctx = BsdfContext::radiance();
                 let $m = self;
                 let lanes = $lanes;
@@ -240,9 +240,9 @@ struct LaneBatch<'a, M> {
 impl<M: LaneBench> LaneKernel for LaneBatch<'_, M> {
     type Output = f32;
     #[inline(always)]
-    fn run<const N: usize>(self) -> f32 {
-        let wi = Vec3s::<N>::splat(black_box(WI).normalize());
-        let mut acc = F32s::<N>::ZERO;
+    fn run<const N: usize, X: Isa>(self) -> f32 {
+        let wi = Vec3s::<N, X>::splat(black_box(WI).normalize());
+        let mut acc = F32s::<N, X>::ZERO;
         let [u0, u1] = &self.inputs.u;
         for ((wl, u0), u1) in self
             .inputs
@@ -252,7 +252,10 @@ impl<M: LaneBench> LaneKernel for LaneBatch<'_, M> {
             .zip(u1.chunks_exact(N))
         {
             let wl: &[SampledWavelengths; N] = wl.try_into().unwrap();
-            let u2 = [F32s(u0.try_into().unwrap()), F32s(u1.try_into().unwrap())];
+            let u2 = [
+                F32s::from_array(u0.try_into().unwrap()),
+                F32s::from_array(u1.try_into().unwrap()),
+            ];
             acc += self.model.sample_eval(wl, wi, u2);
         }
         acc.sum()

@@ -16,38 +16,38 @@ use super::{Principled, PrincipledRates};
 use crate::bsdf::{BsdfContext, BsdfFlags, TransportMode};
 use crate::lanes::fresnel::fresnel_dielectric;
 use crate::lanes::warp::square_to_cosine_hemisphere;
-use crate::lanes::{BsdfSamples, F32s, Mask, MicrofacetLanes, SampledSpectra, Vec3s};
+use crate::lanes::{BsdfSamples, F32s, Isa, Mask, MicrofacetLanes, Portable, SampledSpectra, Vec3s};
 use crate::microfacet::MicrofacetKind;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use std::f32::consts::FRAC_1_PI;
 
 /// [`Principled`] for `N` lanes, each with its own wavelengths and parameters.
 #[derive(Clone, Copy, Debug)]
-pub struct PrincipledLanes<const N: usize> {
+pub struct PrincipledLanes<const N: usize, X: Isa = Portable> {
     /// c per lane and wavelength.
-    pub base_color: SampledSpectra<N>,
+    pub base_color: SampledSpectra<N, X>,
     /// r per lane.
-    pub roughness: F32s<N>,
+    pub roughness: F32s<N, X>,
     /// Anisotropy per lane.
-    pub anisotropic: F32s<N>,
+    pub anisotropic: F32s<N, X>,
     /// Metallic blend per lane.
-    pub metallic: F32s<N>,
+    pub metallic: F32s<N, X>,
     /// Transmission blend per lane.
-    pub spec_trans: F32s<N>,
+    pub spec_trans: F32s<N, X>,
     /// η = n_int/n_ext per lane.
-    pub eta: F32s<N>,
+    pub eta: F32s<N, X>,
     /// Specular tint per lane.
-    pub spec_tint: F32s<N>,
+    pub spec_tint: F32s<N, X>,
     /// Sheen weight per lane.
-    pub sheen: F32s<N>,
+    pub sheen: F32s<N, X>,
     /// Sheen tint per lane.
-    pub sheen_tint: F32s<N>,
+    pub sheen_tint: F32s<N, X>,
     /// Fake-subsurface blend per lane.
-    pub flatness: F32s<N>,
+    pub flatness: F32s<N, X>,
     /// Clearcoat weight per lane.
-    pub clearcoat: F32s<N>,
+    pub clearcoat: F32s<N, X>,
     /// Clearcoat gloss per lane.
-    pub clearcoat_gloss: F32s<N>,
+    pub clearcoat_gloss: F32s<N, X>,
     /// Lobe-selection rates (floats in Mitsuba, shared by the lanes).
     pub rates: PrincipledRates,
     /// Each lane's wavelengths (ȳ is looked up at them only where some lane tints; a texture
@@ -58,7 +58,7 @@ pub struct PrincipledLanes<const N: usize> {
 impl Principled {
     /// This model at each lane's wavelengths, its parameters in every lane.
     #[inline]
-    pub fn lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> PrincipledLanes<N> {
+    pub fn lanes<const N: usize, X: Isa>(&self, wl: &[SampledWavelengths; N]) -> PrincipledLanes<N, X> {
         PrincipledLanes {
             base_color: self.base_color.sample_lanes(wl),
             roughness: F32s::splat(self.roughness),
@@ -79,18 +79,18 @@ impl Principled {
 }
 
 /// The per-lane quantities of one (wi, wo) that eval and the pdf share.
-struct Geometry<const N: usize> {
-    active: Mask<N>,
-    front: Mask<N>,
-    reflect: Mask<N>,
-    eta_path: F32s<N>,
-    h: Vec3s<N>,
-    denom2: F32s<N>,
-    cos_ih: F32s<N>,
-    cos_oh: F32s<N>,
+struct Geometry<const N: usize, X: Isa> {
+    active: Mask<N, X>,
+    front: Mask<N, X>,
+    reflect: Mask<N, X>,
+    eta_path: F32s<N, X>,
+    h: Vec3s<N, X>,
+    denom2: F32s<N, X>,
+    cos_ih: F32s<N, X>,
+    cos_oh: F32s<N, X>,
 }
 
-impl<const N: usize> PrincipledLanes<N> {
+impl<const N: usize, X: Isa> PrincipledLanes<N, X> {
     /// Lane `k` as the scalar model (at lane `k`'s wavelengths).
     pub fn lane(&self, k: usize) -> Principled<SampledSpectrum> {
         Principled {
@@ -112,14 +112,14 @@ impl<const N: usize> PrincipledLanes<N> {
 
     /// The main lobes' GGX per lane (visible normals).
     #[inline(always)]
-    fn spec_distribution(&self) -> MicrofacetLanes<N> {
+    fn spec_distribution(&self) -> MicrofacetLanes<N, X> {
         let (ax, ay) = ggx_alphas(self.roughness, self.anisotropic);
         MicrofacetLanes::new(MicrofacetKind::Ggx, ax, ay, true)
     }
 
     /// (w_brdf, w_bsdf) per lane.
     #[inline(always)]
-    fn weights(&self) -> (F32s<N>, F32s<N>) {
+    fn weights(&self) -> (F32s<N, X>, F32s<N, X>) {
         let dm = F32s::ONE - self.metallic;
         (dm * (F32s::ONE - self.spec_trans), dm * self.spec_trans)
     }
@@ -129,11 +129,11 @@ impl<const N: usize> PrincipledLanes<N> {
     fn lobe_probs(
         &self,
         ctx: &BsdfContext,
-        front: Mask<N>,
-        f: F32s<N>,
-        w_brdf: F32s<N>,
-        w_bsdf: F32s<N>,
-    ) -> [F32s<N>; 4] {
+        front: Mask<N, X>,
+        f: F32s<N, X>,
+        w_brdf: F32s<N, X>,
+        w_bsdf: F32s<N, X>,
+    ) -> [F32s<N, X>; 4] {
         let en = |l: BsdfFlags| if ctx.is_enabled(l) { 1.0f32 } else { 0.0 };
         let (g_r, g_t, d_r) = (
             en(BsdfFlags::GLOSSY_REFLECTION),
@@ -159,7 +159,7 @@ impl<const N: usize> PrincipledLanes<N> {
 
     /// The scalar `half_vector` and the masks of a (wi, wo) pair.
     #[inline(always)]
-    fn geometry(&self, wi: Vec3s<N>, wo: Vec3s<N>) -> Geometry<N> {
+    fn geometry(&self, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> Geometry<N, X> {
         let (ci, co) = (wi.z, wo.z);
         let cc = ci * co;
         let (reflect, refract) = (cc.gt(0.0), cc.lt(0.0));
@@ -195,7 +195,12 @@ impl<const N: usize> PrincipledLanes<N> {
 
     /// f·|cos θo| and the pdf per lane, the lobes of `ctx` (the scalar `eval_pdf_cos`).
     #[inline(always)]
-    fn eval_pdf_cos(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    fn eval_pdf_cos(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         let Geometry {
             active,
             front,
@@ -328,13 +333,18 @@ impl<const N: usize> PrincipledLanes<N> {
     /// f(wi, wo) per lane (the scalar [`crate::Bsdf::eval`]): [`Self::eval_pdf`]'s value; the pdf's
     /// arithmetic, unused, is dropped by the compiler once this is inlined.
     #[inline(always)]
-    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> SampledSpectra<N, X> {
         self.eval_pdf(ctx, wi, wo).0
     }
 
     /// f(wi, wo) and the pdf of `sample` per lane (the scalar [`crate::Bsdf::eval_pdf`]).
     #[inline(always)]
-    pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    pub fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         let (v, pdf) = self.eval_pdf_cos(ctx, wi, wo);
         let mut black = Mask::ALL;
         for i in 0..v.0.len() {
@@ -347,7 +357,13 @@ impl<const N: usize> PrincipledLanes<N> {
     /// A direction per lane (the scalar [`crate::Bsdf::sample`]): each lane picks its lobe with
     /// `u1`; each lobe's direction is computed only if some lane picked it.
     #[inline(always)]
-    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+    pub fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        u1: F32s<N, X>,
+        u2: [F32s<N, X>; 2],
+    ) -> BsdfSamples<N, X> {
         let ci = wi.z;
         let front = ci.gt(0.0);
         let (w_brdf, w_bsdf) = self.weights();

@@ -14,34 +14,34 @@ use super::{PrincipledThin, PrincipledThinRates};
 use crate::bsdf::{BsdfContext, BsdfFlags};
 use crate::lanes::fresnel::fresnel_dielectric;
 use crate::lanes::warp::square_to_cosine_hemisphere;
-use crate::lanes::{BsdfSamples, F32s, Mask, MicrofacetLanes, SampledSpectra, Vec3s};
+use crate::lanes::{BsdfSamples, F32s, Isa, Mask, MicrofacetLanes, Portable, SampledSpectra, Vec3s};
 use crate::microfacet::MicrofacetKind;
 use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
 use std::f32::consts::FRAC_1_PI;
 
 /// [`PrincipledThin`] for `N` lanes, each with its own wavelengths and parameters.
 #[derive(Clone, Copy, Debug)]
-pub struct PrincipledThinLanes<const N: usize> {
+pub struct PrincipledThinLanes<const N: usize, X: Isa = Portable> {
     /// c per lane and wavelength.
-    pub base_color: SampledSpectra<N>,
+    pub base_color: SampledSpectra<N, X>,
     /// r per lane.
-    pub roughness: F32s<N>,
+    pub roughness: F32s<N, X>,
     /// Anisotropy per lane.
-    pub anisotropic: F32s<N>,
+    pub anisotropic: F32s<N, X>,
     /// s per lane.
-    pub spec_trans: F32s<N>,
+    pub spec_trans: F32s<N, X>,
     /// η of the sheet per lane.
-    pub eta: F32s<N>,
+    pub eta: F32s<N, X>,
     /// Specular tint per lane.
-    pub spec_tint: F32s<N>,
+    pub spec_tint: F32s<N, X>,
     /// Sheen weight per lane.
-    pub sheen: F32s<N>,
+    pub sheen: F32s<N, X>,
     /// Sheen tint per lane.
-    pub sheen_tint: F32s<N>,
+    pub sheen_tint: F32s<N, X>,
     /// Fake-subsurface blend per lane.
-    pub flatness: F32s<N>,
+    pub flatness: F32s<N, X>,
     /// Mitsuba's `diff_trans` per lane.
-    pub diff_trans: F32s<N>,
+    pub diff_trans: F32s<N, X>,
     /// Lobe-selection rates (floats in Mitsuba, shared by the lanes).
     pub rates: PrincipledThinRates,
     /// Each lane's wavelengths (ȳ is looked up at them only where some lane tints; a texture
@@ -52,7 +52,7 @@ pub struct PrincipledThinLanes<const N: usize> {
 impl PrincipledThin {
     /// This model at each lane's wavelengths, its parameters in every lane.
     #[inline]
-    pub fn lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> PrincipledThinLanes<N> {
+    pub fn lanes<const N: usize, X: Isa>(&self, wl: &[SampledWavelengths; N]) -> PrincipledThinLanes<N, X> {
         PrincipledThinLanes {
             base_color: self.base_color.sample_lanes(wl),
             roughness: F32s::splat(self.roughness),
@@ -70,7 +70,7 @@ impl PrincipledThin {
     }
 }
 
-impl<const N: usize> PrincipledThinLanes<N> {
+impl<const N: usize, X: Isa> PrincipledThinLanes<N, X> {
     /// Lane `k` as the scalar model (at lane `k`'s wavelengths).
     pub fn lane(&self, k: usize) -> PrincipledThin<SampledSpectrum> {
         PrincipledThin {
@@ -90,7 +90,7 @@ impl<const N: usize> PrincipledThinLanes<N> {
 
     /// The reflection's GGX and the transmission's, of roughness (0.65 η − 0.35) r, per lane.
     #[inline(always)]
-    fn distributions(&self) -> (MicrofacetLanes<N>, MicrofacetLanes<N>) {
+    fn distributions(&self) -> (MicrofacetLanes<N, X>, MicrofacetLanes<N, X>) {
         let (ax, ay) = ggx_alphas(self.roughness, self.anisotropic);
         let r_t = (0.65 * self.eta - 0.35) * self.roughness;
         let (tx, ty) = ggx_alphas(r_t, self.anisotropic);
@@ -103,7 +103,7 @@ impl<const N: usize> PrincipledThinLanes<N> {
     /// The scalar `probs` per lane: (specular reflection, specular transmission, diffuse
     /// reflection, diffuse transmission).
     #[inline(always)]
-    fn probs(&self, ctx: &BsdfContext) -> [F32s<N>; 4] {
+    fn probs(&self, ctx: &BsdfContext) -> [F32s<N, X>; 4] {
         let en = |l: BsdfFlags| if ctx.is_enabled(l) { 1.0f32 } else { 0.0 };
         let (s, t, r) = (self.spec_trans, 0.5 * self.diff_trans, &self.rates);
         [
@@ -116,7 +116,12 @@ impl<const N: usize> PrincipledThinLanes<N> {
 
     /// f·|cos θo| and the pdf per lane, the lobes of `ctx` (the scalar `eval_pdf_cos`).
     #[inline(always)]
-    fn eval_pdf_cos(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    fn eval_pdf_cos(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         let nonzero = wi.z.ne(0.0) & wo.z.ne(0.0);
         // The sheet is the same from both sides: turn ωi to +z and ωo with it.
         let flip = wi.z.lt(0.0).select(F32s::splat(-1.0), F32s::ONE);
@@ -225,13 +230,18 @@ impl<const N: usize> PrincipledThinLanes<N> {
     /// f(wi, wo) per lane (the scalar [`crate::Bsdf::eval`]): [`Self::eval_pdf`]'s value; the pdf's
     /// arithmetic, unused, is dropped by the compiler once this is inlined.
     #[inline(always)]
-    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> SampledSpectra<N, X> {
         self.eval_pdf(ctx, wi, wo).0
     }
 
     /// f(wi, wo) and the pdf of `sample` per lane (the scalar [`crate::Bsdf::eval_pdf`]).
     #[inline(always)]
-    pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    pub fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         let (v, pdf) = self.eval_pdf_cos(ctx, wi, wo);
         let mut black = Mask::ALL;
         for i in 0..v.0.len() {
@@ -245,7 +255,13 @@ impl<const N: usize> PrincipledThinLanes<N> {
     /// `u1`; the two glossy lobes share one visible-normal sampling (each lane with its lobe's
     /// roughness), the diffuse ones one cosine sampling, each only if some lane needs it.
     #[inline(always)]
-    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+    pub fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        u1: F32s<N, X>,
+        u2: [F32s<N, X>; 2],
+    ) -> BsdfSamples<N, X> {
         let flip = wi.z.lt(0.0).select(F32s::splat(-1.0), F32s::ONE);
         let wi_f = wi * flip;
         let choice = choose_lobe(self.probs(ctx), u1);

@@ -48,7 +48,7 @@ use crate::fresnel::fresnel_conductor_exterior;
 use crate::fresnel_polarized::{conductor_reflection, facet_mueller};
 use crate::ior::{Ior, IorValue, SampledIor};
 use crate::lanes::fresnel::fresnel_conductor;
-use crate::lanes::{BsdfSamples, F32s, Mask, MicrofacetLanes, SampledSpectra, Vec3s};
+use crate::lanes::{BsdfSamples, F32s, Isa, Mask, MicrofacetLanes, Portable, SampledSpectra, Vec3s};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use crate::microsurface::{Microsurface, eval_rng, sample_rng};
 use crate::mueller::Mueller;
@@ -115,22 +115,25 @@ impl RoughConductor {
 /// `N` hits at once, each lane with its own wavelengths and roughness. Lane `k` agrees with the
 /// scalar model at lane `k`'s parameters to rounding (`tests/lanes/`).
 #[derive(Clone, Copy, Debug)]
-pub struct RoughConductorLanes<const N: usize> {
+pub struct RoughConductorLanes<const N: usize, X: Isa = Portable> {
     /// η/η_ext per lane and wavelength.
-    pub eta: SampledSpectra<N>,
+    pub eta: SampledSpectra<N, X>,
     /// k/η_ext per lane and wavelength.
-    pub k: SampledSpectra<N>,
+    pub k: SampledSpectra<N, X>,
     /// The tint.
-    pub specular_reflectance: SampledSpectra<N>,
+    pub specular_reflectance: SampledSpectra<N, X>,
     /// Distribution and per-lane roughness.
-    pub distribution: MicrofacetLanes<N>,
+    pub distribution: MicrofacetLanes<N, X>,
 }
 
 impl RoughConductor {
     /// This model at each lane's wavelengths; `None` with `multiple_scattering`, whose random
     /// walk has no lane kernel.
     #[inline]
-    pub fn lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> Option<RoughConductorLanes<N>> {
+    pub fn lanes<const N: usize, X: Isa>(
+        &self,
+        wl: &[SampledWavelengths; N],
+    ) -> Option<RoughConductorLanes<N, X>> {
         if self.multiple_scattering {
             return None;
         }
@@ -148,10 +151,10 @@ impl RoughConductor {
     }
 }
 
-impl<const N: usize> RoughConductorLanes<N> {
+impl<const N: usize, X: Isa> RoughConductorLanes<N, X> {
     /// (f, pdf) per lane from the half vector of (wi, wo), as the scalar `eval_pdf_lobe`.
     #[inline(always)]
-    fn eval_pdf_lobe(&self, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    fn eval_pdf_lobe(&self, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> (SampledSpectra<N, X>, F32s<N, X>) {
         let h = (wi + wo).normalize_or(Vec3::ZERO);
         let valid = wi.z.gt(0.0) & wo.z.gt(0.0) & h.z.gt(0.0) & wi.dot(h).gt(0.0) & wo.dot(h).gt(0.0);
         let distr = &self.distribution;
@@ -174,13 +177,18 @@ impl<const N: usize> RoughConductorLanes<N> {
     /// f(wi, wo) per lane (the scalar [`Bsdf::eval`]): [`Self::eval_pdf`]'s value; the pdf's
     /// arithmetic, unused, is dropped by the compiler once this is inlined.
     #[inline(always)]
-    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> SampledSpectra<N, X> {
         self.eval_pdf(ctx, wi, wo).0
     }
 
     /// f(wi, wo) and the pdf of `sample` per lane ([`Bsdf::eval_pdf`]).
     #[inline(always)]
-    pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    pub fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         if !ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) {
             return (SampledSpectra::ZERO, F32s::ZERO);
         }
@@ -189,7 +197,7 @@ impl<const N: usize> RoughConductorLanes<N> {
 
     /// A direction per lane ([`Bsdf::sample`]; `u1` is not used, as in the scalar model).
     #[inline(always)]
-    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, u2: [F32s<N, X>; 2]) -> BsdfSamples<N, X> {
         let enabled = Mask::splat(ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION));
         let (m, pdf_m) = self.distribution.sample(wi, u2);
         let cos_im = wi.dot(m);

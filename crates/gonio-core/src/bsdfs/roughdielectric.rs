@@ -70,7 +70,7 @@ use crate::fresnel::{fresnel_dielectric, fresnel_dielectric_spectrum};
 use crate::fresnel_polarized::{dielectric_reflection, dielectric_transmission, facet_mueller};
 use crate::ior::{Ior, IorValue, SampledIor, relative_eta, relative_hero_eta};
 use crate::lanes::fresnel::fresnel_dielectric as fresnel_dielectric_lanes;
-use crate::lanes::{BsdfSamples, F32s, Mask, MicrofacetLanes, SampledSpectra, Vec3s};
+use crate::lanes::{BsdfSamples, F32s, Isa, Mask, MicrofacetLanes, Portable, SampledSpectra, Vec3s};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use crate::mueller::Mueller;
 use crate::spectra::{SpectralValue, Spectrum};
@@ -479,15 +479,15 @@ impl<S: SpectralValue, I: IorValue> RoughDielectric<S, I> {
 /// own relative index, tints and roughness. Lane `k` agrees with the scalar model to rounding
 /// (`tests/lanes/`).
 #[derive(Clone, Copy, Debug)]
-pub struct RoughDielectricLanes<const N: usize> {
+pub struct RoughDielectricLanes<const N: usize, X: Isa = Portable> {
     /// η = n_int/n_ext per lane.
-    pub eta: F32s<N>,
+    pub eta: F32s<N, X>,
     /// Tint of the reflection.
-    pub specular_reflectance: SampledSpectra<N>,
+    pub specular_reflectance: SampledSpectra<N, X>,
     /// Tint of the refraction.
-    pub specular_transmittance: SampledSpectra<N>,
+    pub specular_transmittance: SampledSpectra<N, X>,
     /// Distribution and per-lane roughness.
-    pub distribution: MicrofacetLanes<N>,
+    pub distribution: MicrofacetLanes<N, X>,
 }
 
 impl RoughDielectric {
@@ -495,7 +495,10 @@ impl RoughDielectric {
     /// terminates a lane's secondary wavelengths and gives each wavelength its own half vector)
     /// and for `multiple_scattering` (a random walk): those stay with the scalar model.
     #[inline]
-    pub fn lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> Option<RoughDielectricLanes<N>> {
+    pub fn lanes<const N: usize, X: Isa>(
+        &self,
+        wl: &[SampledWavelengths; N],
+    ) -> Option<RoughDielectricLanes<N, X>> {
         if self.multiple_scattering || self.int_ior.is_dispersive() || self.ext_ior.is_dispersive() {
             return None;
         }
@@ -509,17 +512,17 @@ impl RoughDielectric {
 }
 
 /// The facet terms of `N` queries ([`Facet`] per lane) and the lanes where they exist.
-struct Facets<const N: usize> {
-    valid: Mask<N>,
-    cos_fresnel: F32s<N>,
-    value: F32s<N>,
-    pdf: F32s<N>,
+struct Facets<const N: usize, X: Isa> {
+    valid: Mask<N, X>,
+    cos_fresnel: F32s<N, X>,
+    value: F32s<N, X>,
+    pdf: F32s<N, X>,
 }
 
-impl<const N: usize> RoughDielectricLanes<N> {
+impl<const N: usize, X: Isa> RoughDielectricLanes<N, X> {
     /// The sampling distribution per lane (Walter et al.'s widening for all-normal sampling).
     #[inline(always)]
-    fn sampling_distribution(&self, cos_theta_i: F32s<N>) -> MicrofacetLanes<N> {
+    fn sampling_distribution(&self, cos_theta_i: F32s<N, X>) -> MicrofacetLanes<N, X> {
         let d = self.distribution;
         if d.sample_visible {
             return d;
@@ -535,7 +538,7 @@ impl<const N: usize> RoughDielectricLanes<N> {
 
     /// The scalar `facet`, lane by lane.
     #[inline(always)]
-    fn facet(&self, wi: Vec3s<N>, wo: Vec3s<N>, mode: TransportMode) -> Facets<N> {
+    fn facet(&self, wi: Vec3s<N, X>, wo: Vec3s<N, X>, mode: TransportMode) -> Facets<N, X> {
         let eta = self.eta;
         let (cos_i, cos_o) = (wi.z, wo.z);
         let reflect = (cos_i * cos_o).gt(0.0);
@@ -587,7 +590,12 @@ impl<const N: usize> RoughDielectricLanes<N> {
 
     /// (f, pdf) per lane for the lobes enabled in `ctx`, as the scalar `eval_pdf_lobes`.
     #[inline(always)]
-    fn eval_pdf_lobes(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    fn eval_pdf_lobes(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         let has_r = ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION);
         let has_t = ctx.is_enabled(BsdfFlags::GLOSSY_TRANSMISSION);
         let reflect = (wi.z * wo.z).gt(0.0);
@@ -609,20 +617,31 @@ impl<const N: usize> RoughDielectricLanes<N> {
     /// f(wi, wo) per lane (the scalar [`Bsdf::eval`]): [`Self::eval_pdf`]'s value; the pdf's
     /// arithmetic, unused, is dropped by the compiler once this is inlined.
     #[inline(always)]
-    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> SampledSpectra<N, X> {
         self.eval_pdf(ctx, wi, wo).0
     }
 
     /// f(wi, wo) and the pdf of `sample` per lane ([`Bsdf::eval_pdf`]).
     #[inline(always)]
-    pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    pub fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         self.eval_pdf_lobes(ctx, wi, wo)
     }
 
     /// A direction per lane ([`Bsdf::sample`]): a facet normal seen from wi's side, then
     /// reflection with probability F, refraction otherwise.
     #[inline(always)]
-    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+    pub fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        u1: F32s<N, X>,
+        u2: [F32s<N, X>; 2],
+    ) -> BsdfSamples<N, X> {
         let has_r = ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION);
         let has_t = ctx.is_enabled(BsdfFlags::GLOSSY_TRANSMISSION);
         let cos_i = wi.z;

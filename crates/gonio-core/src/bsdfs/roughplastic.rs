@@ -64,7 +64,7 @@ use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
 use crate::fresnel::{fresnel_dielectric, refract_about};
 use crate::lanes::fresnel::fresnel_dielectric as fresnel_dielectric_lanes;
 use crate::lanes::warp::square_to_cosine_hemisphere as square_to_cosine_hemisphere_lanes;
-use crate::lanes::{BsdfSamples, F32s, Mask, SampledSpectra, Vec3s};
+use crate::lanes::{BsdfSamples, F32s, Isa, Mask, Portable, SampledSpectra, Vec3s};
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind, rough_reflectance, rough_transmittance};
 use crate::quadrature::gauss_legendre;
 use crate::spectra::{SpectralValue, Spectrum};
@@ -497,11 +497,11 @@ impl<S: SpectralValue, C: Borrow<RoughCoat> + Send + Sync> Bsdf for RoughPlastic
 /// Mitsuba does not texture, is shared). Lane `k` agrees with the scalar model to rounding
 /// (`tests/lanes/`).
 #[derive(Clone, Copy, Debug)]
-pub struct RoughPlasticLanes<'a, const N: usize> {
+pub struct RoughPlasticLanes<'a, const N: usize, X: Isa = Portable> {
     /// ρ per lane and wavelength.
-    pub diffuse_reflectance: SampledSpectra<N>,
+    pub diffuse_reflectance: SampledSpectra<N, X>,
     /// The coat's tint per lane and wavelength.
-    pub specular_reflectance: SampledSpectra<N>,
+    pub specular_reflectance: SampledSpectra<N, X>,
     /// The physical series 1/(1 − ρ R̄_int) (true) or Mitsuba's 1/(1 − R̄_int).
     pub nonlinear: bool,
     /// The coat and its averages.
@@ -512,7 +512,7 @@ pub struct RoughPlasticLanes<'a, const N: usize> {
 impl RoughPlastic {
     /// This model at each lane's wavelengths.
     #[inline]
-    pub fn lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> RoughPlasticLanes<'_, N> {
+    pub fn lanes<const N: usize, X: Isa>(&self, wl: &[SampledWavelengths; N]) -> RoughPlasticLanes<'_, N, X> {
         RoughPlasticLanes {
             diffuse_reflectance: self.diffuse_reflectance.sample_lanes(wl),
             specular_reflectance: self.specular_reflectance.sample_lanes(wl),
@@ -523,10 +523,10 @@ impl RoughPlastic {
     }
 }
 
-impl<const N: usize> RoughPlasticLanes<'_, N> {
+impl<const N: usize, X: Isa> RoughPlasticLanes<'_, N, X> {
     /// T(μ) per lane (the table, linearly interpolated).
     #[inline(always)]
-    fn transmittance(&self, mu: F32s<N>) -> F32s<N> {
+    fn transmittance(&self, mu: F32s<N, X>) -> F32s<N, X> {
         let n = self.coat.nodes;
         let x = mu.clamp(0.0, 1.0) * (n - 1) as f32;
         let t = &self.coat.transmittance[..n];
@@ -539,12 +539,12 @@ impl<const N: usize> RoughPlasticLanes<'_, N> {
             let w = x.0[k] - i as f32;
             *r = (1.0 - w) * t[i] + w * t[i + 1];
         }
-        F32s(r)
+        F32s::from_array(r)
     }
 
     /// The probability of sampling the coat's lobe at incidence `mu_i`, per lane.
     #[inline(always)]
-    fn prob_specular(&self, ctx: &BsdfContext, mu_i: F32s<N>) -> F32s<N> {
+    fn prob_specular(&self, ctx: &BsdfContext, mu_i: F32s<N, X>) -> F32s<N, X> {
         let has_spec = ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION);
         let has_diff = ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION);
         if has_spec != has_diff {
@@ -558,9 +558,14 @@ impl<const N: usize> RoughPlasticLanes<'_, N> {
 
     /// (f, pdf) per lane for μi, μo > 0, as the scalar `eval_pdf_lobes`.
     #[inline(always)]
-    fn eval_pdf_lobes(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    fn eval_pdf_lobes(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         let coat = self.coat;
-        let distr = coat.distribution.lanes::<N>();
+        let distr = coat.distribution.lanes::<N, X>();
         let p_spec = self.prob_specular(ctx, wi.z);
         let h = (wi + wo).normalize_or(Vec3::ZERO);
         let d = distr.d(h);
@@ -592,13 +597,18 @@ impl<const N: usize> RoughPlasticLanes<'_, N> {
     /// f(wi, wo) per lane (the scalar [`Bsdf::eval`]): [`Self::eval_pdf`]'s value; the pdf's
     /// arithmetic, unused, is dropped by the compiler once this is inlined.
     #[inline(always)]
-    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+    pub fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> SampledSpectra<N, X> {
         self.eval_pdf(ctx, wi, wo).0
     }
 
     /// f(wi, wo) and the pdf of `sample` per lane ([`Bsdf::eval_pdf`]).
     #[inline(always)]
-    pub fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    pub fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         let any =
             ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) || ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION);
         if !any {
@@ -611,7 +621,13 @@ impl<const N: usize> RoughPlasticLanes<'_, N> {
 
     /// A direction per lane ([`Bsdf::sample`]): the coat's lobe where `u1` < P_s, else the base's.
     #[inline(always)]
-    pub fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+    pub fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        u1: F32s<N, X>,
+        u2: [F32s<N, X>; 2],
+    ) -> BsdfSamples<N, X> {
         let any =
             ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) || ctx.is_enabled(BsdfFlags::DIFFUSE_REFLECTION);
         let p_spec = self.prob_specular(ctx, wi.z);
@@ -620,7 +636,7 @@ impl<const N: usize> RoughPlasticLanes<'_, N> {
         let mut ok = Mask::splat(any) & wi.z.gt(0.0);
         // Each strategy only where some lane takes it.
         if specular.any() {
-            let (m, pdf_m) = self.coat.distribution.lanes::<N>().sample(wi, u2);
+            let (m, pdf_m) = self.coat.distribution.lanes::<N, X>().sample(wi, u2);
             let cos_im = wi.dot(m);
             wo = wi.reflect_about(m).normalize();
             ok = ok & (!specular | (pdf_m.gt(0.0) & cos_im.gt(0.0)));

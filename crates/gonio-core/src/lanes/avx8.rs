@@ -3,18 +3,16 @@
 //! LLVM turns the lane loops of [`super::F32s`] into vector code by itself, but inside a long
 //! kernel it rebuilds many of them 4 wide or lane by lane (`bench/RESULTS.md`); written as one
 //! intrinsic per operation the 8-lane kernels ran 1.1–1.7× faster on AVX2. These forms are used
-//! only where the whole program is compiled for AVX (`RUSTFLAGS="-C target-cpu=native"` or
-//! `x86-64-v3`), where every function may use it: in a portable build they are never called
-//! (the unit tests below call them after checking the CPU), and the run-time dispatch keeps the
-//! loops, since an operation of a plain lane type cannot prove that the CPU has AVX.
+//! by lanes whose instruction set ([`super::Isa`]) has AVX: those [`super::dispatch`] makes after
+//! detecting it, and every lane where the whole program is compiled for AVX
+//! (`RUSTFLAGS="-C target-cpu=native"` or `x86-64-v3`). Inlined into a kernel running under
+//! `#[target_feature(enable = "avx2,fma")]`, each is one instruction.
 //!
 //! Each function gives the bits of the loop it replaces (IEEE operations, no fused
 //! multiply-add; `min`/`max` as `x < o ? x : o`, like `minps`), so the lane kernels agree with
 //! their scalar twins in both builds.
 
 #![allow(clippy::missing_safety_doc)]
-// A portable build calls these forms only from the tests.
-#![cfg_attr(not(target_feature = "avx"), allow(dead_code))]
 
 use std::arch::x86_64::*;
 
@@ -105,8 +103,8 @@ pub unsafe fn any(m: __m256) -> bool {
 #[cfg(test)]
 mod tests {
     //! Each form against the scalar expression its loop evaluates, bit for bit, over ordinary
-    //! values, signed zeros, infinities, NaN and subnormals (when the CPU has AVX; the portable
-    //! build's kernels never call these forms, a native build's always do).
+    //! values, signed zeros, infinities, NaN and subnormals (when the CPU has AVX: the kernels
+    //! `dispatch` runs on AVX2 call these forms in every build).
     use super::_CMP_EQ_OQ;
     use super::{_CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_NEQ_UQ};
 

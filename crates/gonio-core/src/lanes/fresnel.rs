@@ -1,11 +1,15 @@
 //! Fresnel reflectances on lanes: the formulas of [`crate::fresnel`], operation for operation.
 
-use super::F32s;
+use super::{F32s, Isa, Portable};
 
 /// Unpolarized reflectance ½(r_s + r_p) of a conductor of complex index η + ik per lane
 /// ([`crate::fresnel::fresnel_conductor_sp`], NaN-free for η = k = 0).
 #[inline(always)]
-pub fn fresnel_conductor<const N: usize>(cos_theta_i: F32s<N>, eta: F32s<N>, k: F32s<N>) -> F32s<N> {
+pub fn fresnel_conductor<const N: usize, X: Isa>(
+    cos_theta_i: F32s<N, X>,
+    eta: F32s<N, X>,
+    k: F32s<N, X>,
+) -> F32s<N, X> {
     let c = cos_theta_i.clamp(0.0, 1.0);
     let c2 = c * c;
     let s2 = F32s::ONE - c2;
@@ -26,21 +30,24 @@ pub fn fresnel_conductor<const N: usize>(cos_theta_i: F32s<N>, eta: F32s<N>, k: 
 
 /// [`crate::fresnel::FresnelDielectric`] per lane.
 #[derive(Clone, Copy, Debug)]
-pub struct FresnelDielectrics<const N: usize> {
+pub struct FresnelDielectrics<const N: usize, X: Isa = Portable> {
     /// F, the reflectance.
-    pub reflectance: F32s<N>,
+    pub reflectance: F32s<N, X>,
     /// cos θt, signed as the far side.
-    pub cos_theta_t: F32s<N>,
+    pub cos_theta_t: F32s<N, X>,
     /// η_it = n_t/n_i.
-    pub eta_it: F32s<N>,
+    pub eta_it: F32s<N, X>,
     /// η_ti = n_i/n_t.
-    pub eta_ti: F32s<N>,
+    pub eta_ti: F32s<N, X>,
 }
 
 /// Reflectance of a dielectric interface of relative index `eta` (interior over exterior) per
 /// lane, from either side ([`crate::fresnel::fresnel_dielectric`]).
 #[inline(always)]
-pub fn fresnel_dielectric<const N: usize>(cos_theta_i: F32s<N>, eta: F32s<N>) -> FresnelDielectrics<N> {
+pub fn fresnel_dielectric<const N: usize, X: Isa>(
+    cos_theta_i: F32s<N, X>,
+    eta: F32s<N, X>,
+) -> FresnelDielectrics<N, X> {
     let outside = cos_theta_i.ge(0.0);
     let rcp_eta = eta.recip();
     let eta_it = outside.select(eta, rcp_eta);

@@ -8,12 +8,13 @@
 //! ranges; `erf` within 6·10⁻⁷ absolute (Abramowitz & Stegun 7.1.26, 1.5·10⁻⁷, evaluated in single precision); `erf_inv` Giles' f32
 //! approximation (the scalar `microfacet` one, relative 4·10⁻⁷); `acos` within 3·10⁻⁷.
 
-use super::F32s;
+use super::{F32s, Isa};
 use crate::microfacet::{ERF_INV_CENTRAL, ERF_INV_TAIL};
+use std::marker::PhantomData;
 
 /// (sin x, cos x) per lane, for |x| ≤ 8192 (the reduction by π/4 loses accuracy beyond).
 #[inline(always)]
-pub fn sin_cos<const N: usize>(x: F32s<N>) -> (F32s<N>, F32s<N>) {
+pub fn sin_cos<const N: usize, X: Isa>(x: F32s<N, X>) -> (F32s<N, X>, F32s<N, X>) {
     const FOUR_OVER_PI: f32 = 1.273_239_5;
     const DP1: f32 = 0.785_156_25;
     const DP2: f32 = 2.418_756_5e-4;
@@ -44,12 +45,12 @@ pub fn sin_cos<const N: usize>(x: F32s<N>) -> (F32s<N>, F32s<N>) {
         s[k] = if sin_neg { -sv } else { sv };
         c[k] = if cos_neg { -cv } else { cv };
     }
-    (F32s(s), F32s(c))
+    (F32s(s, PhantomData), F32s(c, PhantomData))
 }
 
 /// eˣ per lane; 0 where the result would be subnormal (below about −87.3), +∞ above 88.38.
 #[inline(always)]
-pub fn exp<const N: usize>(x: F32s<N>) -> F32s<N> {
+pub fn exp<const N: usize, X: Isa>(x: F32s<N, X>) -> F32s<N, X> {
     const LOG2E: f32 = std::f32::consts::LOG2_E;
     const C1: f32 = 0.693_359_4;
     const C2: f32 = -2.121_944_4e-4;
@@ -83,7 +84,7 @@ pub fn exp<const N: usize>(x: F32s<N>) -> F32s<N> {
         let y = p * f32::from_bits(e);
         r[k] = if big { f32::INFINITY } else { y };
     }
-    F32s(r)
+    F32s(r, PhantomData)
 }
 
 /// ln x per lane: NaN below 0, −∞ at 0, +∞ at +∞ (denormal inputs are read as the smallest
@@ -94,7 +95,7 @@ pub fn exp<const N: usize>(x: F32s<N>) -> F32s<N> {
 /// and whole-lane `sin_cos` and `exp` were 15–20 % slower in the kernels than their loops
 /// (interleaved runs, 2026-12-03).
 #[inline(always)]
-pub fn ln<const N: usize>(x: F32s<N>) -> F32s<N> {
+pub fn ln<const N: usize, X: Isa>(x: F32s<N, X>) -> F32s<N, X> {
     const SQRTH: f32 = std::f32::consts::FRAC_1_SQRT_2;
     let mut r = [0.0f32; N];
     for k in 0..N {
@@ -135,18 +136,18 @@ pub fn ln<const N: usize>(x: F32s<N>) -> F32s<N> {
             f32::NAN
         };
     }
-    F32s(r)
+    F32s(r, PhantomData)
 }
 
 /// xʸ for x > 0 per lane, as exp(y ln x).
 #[inline(always)]
-pub fn powf<const N: usize>(x: F32s<N>, y: F32s<N>) -> F32s<N> {
+pub fn powf<const N: usize, X: Isa>(x: F32s<N, X>, y: F32s<N, X>) -> F32s<N, X> {
     exp(y * ln(x))
 }
 
 /// erf x per lane, Abramowitz & Stegun 7.1.26 (1.5·10⁻⁷; 6·10⁻⁷ absolute in single precision).
 #[inline(always)]
-pub fn erf<const N: usize>(x: F32s<N>) -> F32s<N> {
+pub fn erf<const N: usize, X: Isa>(x: F32s<N, X>) -> F32s<N, X> {
     let a = x.abs();
     let t = (a * 0.327_591_1 + 1.0).recip();
     let poly = ((((t * 1.061_405_4 - 1.453_152) * t + 1.421_413_8) * t - 0.284_496_74) * t + 0.254_829_6) * t;
@@ -157,7 +158,7 @@ pub fn erf<const N: usize>(x: F32s<N>) -> F32s<N> {
 /// erf⁻¹ x for |x| < 1 per lane: Giles' single-precision approximation (the scalar
 /// `microfacet::erf_inv`), its tail branch evaluated only when some lane needs it.
 #[inline(always)]
-pub fn erf_inv<const N: usize>(x: F32s<N>) -> F32s<N> {
+pub fn erf_inv<const N: usize, X: Isa>(x: F32s<N, X>) -> F32s<N, X> {
     let w = -ln((F32s::ONE - x) * (F32s::ONE + x));
     let central = {
         let w = w - 2.5;
@@ -185,7 +186,7 @@ pub fn erf_inv<const N: usize>(x: F32s<N>) -> F32s<N> {
 
 /// arccos x per lane for x in [−1, 1] (Cephes `asinf` on the reduced argument).
 #[inline(always)]
-pub fn acos<const N: usize>(x: F32s<N>) -> F32s<N> {
+pub fn acos<const N: usize, X: Isa>(x: F32s<N, X>) -> F32s<N, X> {
     use std::f32::consts::{FRAC_PI_2, PI};
     let mut r = [0.0f32; N];
     for k in 0..N {
@@ -205,5 +206,5 @@ pub fn acos<const N: usize>(x: F32s<N>) -> F32s<N> {
         let acos_a = if large { 2.0 * p } else { FRAC_PI_2 - p };
         r[k] = if v < 0.0 { PI - acos_a } else { acos_a };
     }
-    F32s(r)
+    F32s(r, PhantomData)
 }

@@ -2,7 +2,7 @@
 //! pdf and sampling, formula for formula, with a roughness per lane (textured α).
 
 use super::math::{acos, erf, erf_inv, exp, ln, powf, sin_cos};
-use super::{F32s, Mask, Vec3s};
+use super::{F32s, Isa, Mask, Portable, Vec3s};
 use crate::microfacet::{MAX_ALPHA, MIN_ALPHA, MicrofacetDistribution, MicrofacetKind};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -13,13 +13,13 @@ const INV_SQRT_PI: f32 = 0.564_189_6;
 /// A microfacet distribution with a roughness per lane (the kind and the sampling strategy are
 /// the same in every lane).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MicrofacetLanes<const N: usize> {
+pub struct MicrofacetLanes<const N: usize, X: Isa = Portable> {
     /// Beckmann or GGX.
     pub kind: MicrofacetKind,
     /// α along the tangent, per lane, in [[`MIN_ALPHA`], [`MAX_ALPHA`]].
-    pub alpha_u: F32s<N>,
+    pub alpha_u: F32s<N, X>,
     /// α along the bitangent, per lane.
-    pub alpha_v: F32s<N>,
+    pub alpha_v: F32s<N, X>,
     /// Sample visible normals (Mitsuba's default) or all normals.
     pub sample_visible: bool,
 }
@@ -27,7 +27,7 @@ pub struct MicrofacetLanes<const N: usize> {
 impl MicrofacetDistribution {
     /// This distribution in every lane.
     #[inline(always)]
-    pub fn lanes<const N: usize>(&self) -> MicrofacetLanes<N> {
+    pub fn lanes<const N: usize, X: Isa>(&self) -> MicrofacetLanes<N, X> {
         MicrofacetLanes {
             kind: self.kind,
             alpha_u: F32s::splat(self.alpha_u),
@@ -37,11 +37,11 @@ impl MicrofacetDistribution {
     }
 }
 
-impl<const N: usize> MicrofacetLanes<N> {
+impl<const N: usize, X: Isa> MicrofacetLanes<N, X> {
     /// A distribution with per-lane roughness, clamped as [`MicrofacetDistribution::new`] does
     /// (NaN becomes [`MIN_ALPHA`]).
     #[inline(always)]
-    pub fn new(kind: MicrofacetKind, alpha_u: F32s<N>, alpha_v: F32s<N>, sample_visible: bool) -> Self {
+    pub fn new(kind: MicrofacetKind, alpha_u: F32s<N, X>, alpha_v: F32s<N, X>, sample_visible: bool) -> Self {
         Self {
             kind,
             alpha_u: alpha_u.max(MIN_ALPHA).min(MAX_ALPHA),
@@ -62,7 +62,7 @@ impl<const N: usize> MicrofacetLanes<N> {
 
     /// D(m) per lane; 0 below the surface and where D cos θm < 10⁻²⁰.
     #[inline(always)]
-    pub fn d(&self, m: Vec3s<N>) -> F32s<N> {
+    pub fn d(&self, m: Vec3s<N, X>) -> F32s<N, X> {
         let cos_theta = m.z;
         let cos_theta_2 = cos_theta * cos_theta;
         let alpha_uv = self.alpha_u * self.alpha_v;
@@ -82,7 +82,7 @@ impl<const N: usize> MicrofacetLanes<N> {
 
     /// Smith's G1(v, m) per lane, as [`MicrofacetDistribution::g1`] (Mitsuba's).
     #[inline(always)]
-    pub fn g1(&self, v: Vec3s<N>, m: Vec3s<N>) -> F32s<N> {
+    pub fn g1(&self, v: Vec3s<N, X>, m: Vec3s<N, X>) -> F32s<N, X> {
         let facing = (v.dot(m) * v.z).gt(0.0);
         let (ax, ay) = (self.alpha_u * v.x, self.alpha_v * v.y);
         let xy = ax * ax + ay * ay;
@@ -101,13 +101,13 @@ impl<const N: usize> MicrofacetLanes<N> {
 
     /// G1(wi, m) G1(wo, m).
     #[inline(always)]
-    pub fn g(&self, wi: Vec3s<N>, wo: Vec3s<N>, m: Vec3s<N>) -> F32s<N> {
+    pub fn g(&self, wi: Vec3s<N, X>, wo: Vec3s<N, X>, m: Vec3s<N, X>) -> F32s<N, X> {
         self.g1(wi, m) * self.g1(wo, m)
     }
 
     /// The density of [`Self::sample`] at `m` per lane ([`MicrofacetDistribution::pdf`]).
     #[inline(always)]
-    pub fn pdf(&self, wi: Vec3s<N>, m: Vec3s<N>) -> F32s<N> {
+    pub fn pdf(&self, wi: Vec3s<N, X>, m: Vec3s<N, X>) -> F32s<N, X> {
         let d = self.d(m);
         let g1_wi = if self.sample_visible {
             self.g1(wi, m)
@@ -120,7 +120,7 @@ impl<const N: usize> MicrofacetLanes<N> {
     /// [`Self::pdf`] from D(m) and G1(wi, m) already computed (the latter only read for
     /// visible normals): what an eval that needs both anyway pays instead of a second D.
     #[inline(always)]
-    pub fn pdf_from(&self, wi: Vec3s<N>, m: Vec3s<N>, d: F32s<N>, g1_wi: F32s<N>) -> F32s<N> {
+    pub fn pdf_from(&self, wi: Vec3s<N, X>, m: Vec3s<N, X>, d: F32s<N, X>, g1_wi: F32s<N, X>) -> F32s<N, X> {
         let p = if self.sample_visible {
             wi.z.gt(0.0).and_then(d * g1_wi * wi.dot(m).abs() / wi.z)
         } else {
@@ -132,7 +132,7 @@ impl<const N: usize> MicrofacetLanes<N> {
     /// A normal per lane and its pdf (0 marks a failed sample), as
     /// [`MicrofacetDistribution::sample`].
     #[inline(always)]
-    pub fn sample(&self, wi: Vec3s<N>, u: [F32s<N>; 2]) -> (Vec3s<N>, F32s<N>) {
+    pub fn sample(&self, wi: Vec3s<N, X>, u: [F32s<N, X>; 2]) -> (Vec3s<N, X>, F32s<N, X>) {
         let (m, ok) = if self.sample_visible {
             let ok = wi.z.gt(0.0);
             (
@@ -148,7 +148,7 @@ impl<const N: usize> MicrofacetLanes<N> {
 
     /// All normals, pdf D(m) cos θm.
     #[inline(always)]
-    fn sample_all_normals(&self, u: [F32s<N>; 2]) -> Vec3s<N> {
+    fn sample_all_normals(&self, u: [F32s<N, X>; 2]) -> Vec3s<N, X> {
         let (s, c) = sin_cos(2.0 * PI * u[1]);
         let aniso = self.alpha_u.ne(self.alpha_v);
         let (sin_phi, cos_phi, alpha_2) = if aniso.any() {
@@ -181,7 +181,7 @@ impl<const N: usize> MicrofacetLanes<N> {
 
     /// Visible normals for wi.z > 0 (Heitz & d'Eon 2014; GGX: Heitz 2018).
     #[inline(always)]
-    fn sample_visible_normal(&self, wi: Vec3s<N>, u: [F32s<N>; 2]) -> Vec3s<N> {
+    fn sample_visible_normal(&self, wi: Vec3s<N, X>, u: [F32s<N, X>; 2]) -> Vec3s<N, X> {
         let (au, av) = (self.alpha_u, self.alpha_v);
         let wh = Vec3s::new(au * wi.x, av * wi.y, wi.z).normalize();
         match self.kind {
@@ -224,11 +224,11 @@ impl<const N: usize> MicrofacetLanes<N> {
 /// Newton–bisection of the scalar `beckmann_visible_slope_x_11` in the erf domain, iterated
 /// until every lane has converged (at most 24 steps); a converged lane keeps its value.
 #[inline(always)]
-fn beckmann_visible_slope_x_11<const N: usize>(
-    cos_theta: F32s<N>,
-    sin_theta: F32s<N>,
-    u1: F32s<N>,
-) -> F32s<N> {
+fn beckmann_visible_slope_x_11<const N: usize, X: Isa>(
+    cos_theta: F32s<N, X>,
+    sin_theta: F32s<N, X>,
+    u1: F32s<N, X>,
+) -> F32s<N, X> {
     let u1 = u1.clamp(1e-6, 1.0 - 1e-6);
     let degenerate = !(cos_theta.is_finite() & sin_theta.is_finite());
     let normal_incidence = sin_theta.lt(1e-7);

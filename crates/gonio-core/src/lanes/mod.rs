@@ -8,16 +8,20 @@
 //! `if`. [`math`] has the transcendental functions as branch-free polynomials (Cephes), since
 //! `f32::sin` and friends are library calls that would leave the vector registers lane by lane.
 //!
-//! In a program compiled for AVX as a whole (`RUSTFLAGS="-C target-cpu=native"`), the 8-lane
-//! operations are explicit AVX intrinsics instead ([`avx8`]): LLVM leaves much of the loops' code
-//! 4 wide or scalar inside long kernels, and the explicit forms made the kernels 1.1–1.7× faster.
-//! The portable build cannot use them soundly (a plain `F32s<8>` does not prove that the CPU has
-//! AVX), so it keeps the loops under run-time dispatch.
+//! Where the CPU is known to have AVX, the 8-lane operations are explicit AVX intrinsics
+//! instead (`lanes/avx8.rs`): LLVM leaves much of the loops' code 4 wide or scalar inside long
+//! kernels, and the explicit forms made the kernels 1.1–1.7× faster. What proves the CPU's extensions is the
+//! lanes' second type parameter, their instruction set ([`Isa`]): [`dispatch`] runs a kernel
+//! with lanes of an instruction set only it can name, after detecting it, so a portable binary
+//! uses the intrinsics wherever it runs on AVX2; lanes any code makes ([`Portable`], the
+//! default: `F32s<8>`) use them only in a program compiled for AVX as a whole
+//! (`RUSTFLAGS="-C target-cpu=native"`).
 //!
 //! Why our own type and not a crate: `std::simd` is not on stable Rust, and the stable crates
 //! (`wide`) pick their instruction set when the crate is compiled, not when the program runs, so
 //! a binary built for any x86-64 would never use AVX2 or AVX-512. Plain arrays under
-//! `#[target_feature]` give run-time dispatch with no `unsafe` in the kernels themselves.
+//! `#[target_feature]` give run-time dispatch with no `unsafe` in the kernels themselves (the
+//! `unsafe` is in the operations, behind the instruction-set type).
 //!
 //! Every kernel built on these types has a scalar twin that is the reference: the tests compare
 //! them lane by lane (`tests/lanes/`).
@@ -38,23 +42,72 @@ pub use microfacet::MicrofacetLanes;
 pub use spectrum::{BsdfSamples, SampledSpectra};
 pub use vec3::Vec3s;
 
+use std::marker::PhantomData;
 use std::ops::{Add, AddAssign, BitAnd, BitOr, Div, DivAssign, Mul, MulAssign, Neg, Not, Sub, SubAssign};
 
 /// `N` f32 lanes.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(transparent)]
-pub struct F32s<const N: usize>(pub [f32; N]);
+pub struct F32s<const N: usize, X: Isa = Portable>(pub [f32; N], PhantomData<X>);
 
 /// A per-lane condition: 0 (false) or −1 (all bits set, true) in each lane, the layout of the
 /// vector comparison instructions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(transparent)]
-pub struct Mask<const N: usize>(pub [i32; N]);
+pub struct Mask<const N: usize, X: Isa = Portable>(pub [i32; N], PhantomData<X>);
 
-impl<const N: usize> Default for F32s<N> {
+/// The instruction set lanes may use, a type parameter of every lane type: the proof, carried
+/// in the type, that an explicit vector form is safe to run.
+///
+/// [`Portable`] is what any code may name: its lanes use explicit AVX forms only where the whole
+/// program is compiled for AVX (`-C target-cpu=native`, `x86-64-v3`), and are loops otherwise.
+/// The other instruction sets are types only [`dispatch`] names, after detecting the CPU's
+/// extensions, when it runs a [`LaneKernel`]: code generic over `X` can hold their lanes, code
+/// outside cannot make them (the trait is sealed, the types unnameable). Inside the kernel's
+/// `#[target_feature]` function the explicit forms inline as single instructions (LLVM leaves
+/// many of the equivalent loops 4 wide or scalar inside long kernels).
+pub trait Isa:
+    sealed::Sealed + Copy + Clone + std::fmt::Debug + Default + PartialEq + Eq + Send + Sync + 'static
+{
+    /// Whether the CPU running code that holds these lanes has AVX.
+    const AVX: bool;
+}
+
+mod sealed {
+    pub trait Sealed {}
+}
+
+/// Lanes any code may make: explicit AVX forms where the program is compiled for AVX, loops
+/// otherwise. The default instruction set of the lane types.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Portable;
+impl sealed::Sealed for Portable {}
+impl Isa for Portable {
+    const AVX: bool = cfg!(all(target_arch = "x86_64", target_feature = "avx"));
+}
+
+/// The instruction sets [`dispatch`] detects (not re-exported: no code outside can name them).
+mod detected {
+    /// AVX2 + FMA, detected at run time.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+    pub struct Avx2;
+    impl super::sealed::Sealed for Avx2 {}
+    impl super::Isa for Avx2 {
+        const AVX: bool = true;
+    }
+    /// AVX-512 (F, VL, BW, DQ) with AVX2 + FMA, detected at run time.
+    #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+    pub struct Avx512;
+    impl super::sealed::Sealed for Avx512 {}
+    impl super::Isa for Avx512 {
+        const AVX: bool = true;
+    }
+}
+
+impl<const N: usize, X: Isa> Default for F32s<N, X> {
     #[inline(always)]
     fn default() -> Self {
-        Self([0.0; N])
+        Self([0.0; N], PhantomData)
     }
 }
 
@@ -65,19 +118,20 @@ macro_rules! lanewise {
             $(let $i = $src.0[k];)*
             r[k] = $e;
         }
-        F32s(r)
+        F32s(r, PhantomData)
     }};
 }
 
-/// In a program compiled for AVX (`-C target-cpu=native`, `x86-64-v3`), the 8-lane case of an
-/// operation as its [`avx8`] form, returned from the enclosing function; otherwise nothing, and
-/// the loop after it runs. `wide8!(a = self, b = o => avx8::add(a, b))` loads the named lanes
-/// (`F32s<8>` or `Mask<8>`) into registers; the form's register is stored as the result
-/// (`wide8!(.. => bool: expr)` for a `bool`).
+/// The 8-lane case of an operation as its [`avx8`] form, returned from the enclosing function,
+/// when `N = 8` and the lanes' instruction set `X` may use AVX ([`Isa::AVX`]); otherwise
+/// nothing, and the loop after it runs. `wide8!(a = self, b = o => avx8::add(a, b))` loads the
+/// named lanes (`F32s<8, X>` or `Mask<8, X>`) into registers; the form's register is stored as
+/// the result (`wide8!(.. => bool: expr)` for a `bool`). Both conditions are constants, so each
+/// instance of an operation compiles to the form alone or to the loop alone.
 macro_rules! wide8 {
     ($($v:ident = $src:expr),* => bool: $e:expr) => {
-        #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-        if N == 8 {
+        #[cfg(target_arch = "x86_64")]
+        if N == 8 && X::AVX {
             // SAFETY: as below.
             return unsafe {
                 $(let $v = std::arch::x86_64::_mm256_loadu_ps($src.0.as_ptr() as *const f32);)*
@@ -86,9 +140,10 @@ macro_rules! wide8 {
         }
     };
     ($($v:ident = $src:expr),* => $e:expr) => {
-        #[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
-        if N == 8 {
-            // SAFETY: AVX is a target feature of the whole program (cfg above), and N = 8 makes
+        #[cfg(target_arch = "x86_64")]
+        if N == 8 && X::AVX {
+            // SAFETY: `X::AVX` holds only where the CPU has AVX (`Isa`: the whole program is
+            // compiled for it, or `dispatch` detected it before naming `X`), and N = 8 makes
             // the lane arrays the 8 lanes (32 bytes) the forms take and give.
             #[allow(unused_unsafe, unused_imports)]
             return unsafe {
@@ -100,11 +155,11 @@ macro_rules! wide8 {
     };
 }
 
-/// The 8 lanes of `v` as `T` (`F32s<8>` or `Mask<8>`, 32 bytes).
+/// The 8 lanes of `v` as `T` (`F32s<8, X>` or `Mask<8, X>`, 32 bytes).
 ///
 /// # Safety
-/// `T` must be 32 bytes of lanes; the program is compiled for AVX.
-#[cfg(all(target_arch = "x86_64", target_feature = "avx"))]
+/// `T` must be 32 bytes of lanes; the CPU has AVX.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 unsafe fn store8<T: Copy>(v: std::arch::x86_64::__m256) -> T {
     debug_assert_eq!(std::mem::size_of::<T>(), 32);
@@ -120,33 +175,38 @@ macro_rules! compare {
     ($name:ident, $op:tt, $pred:ident, $doc:literal) => {
         #[doc = $doc]
         #[inline(always)]
-        pub fn $name(self, o: impl Into<Self>) -> Mask<N> {
+        pub fn $name(self, o: impl Into<Self>) -> Mask<N, X> {
             let o = o.into();
             wide8!(a = self, b = o => avx8::cmp::<$pred>(a, b));
             let mut r = [0i32; N];
             for k in 0..N {
                 r[k] = -((self.0[k] $op o.0[k]) as i32);
             }
-            Mask(r)
+            Mask(r, PhantomData)
         }
     };
 }
 
-impl<const N: usize> F32s<N> {
+impl<const N: usize, X: Isa> F32s<N, X> {
     /// All lanes zero.
-    pub const ZERO: Self = Self([0.0; N]);
+    pub const ZERO: Self = Self([0.0; N], PhantomData);
     /// All lanes one.
-    pub const ONE: Self = Self([1.0; N]);
+    pub const ONE: Self = Self([1.0; N], PhantomData);
 
+    /// The lanes `v`.
+    #[inline(always)]
+    pub const fn from_array(v: [f32; N]) -> Self {
+        Self(v, PhantomData)
+    }
     /// The same value in every lane.
     #[inline(always)]
     pub fn splat(v: f32) -> Self {
-        Self([v; N])
+        Self([v; N], PhantomData)
     }
     /// Lane `k` is `f(k)`.
     #[inline(always)]
     pub fn from_fn(f: impl FnMut(usize) -> f32) -> Self {
-        Self(std::array::from_fn(f))
+        Self(std::array::from_fn(f), PhantomData)
     }
     /// The lanes.
     #[inline(always)]
@@ -208,13 +268,13 @@ impl<const N: usize> F32s<N> {
     }
     /// Lanes that are neither infinite nor NaN.
     #[inline(always)]
-    pub fn is_finite(self) -> Mask<N> {
+    pub fn is_finite(self) -> Mask<N, X> {
         // |x| < ∞ is false for NaN and ±∞: one comparison instead of a classification.
         self.abs().lt(f32::INFINITY)
     }
     /// Lanes that are NaN.
     #[inline(always)]
-    pub fn is_nan(self) -> Mask<N> {
+    pub fn is_nan(self) -> Mask<N, X> {
         self.ne(self)
     }
     /// Sum of the lanes.
@@ -230,7 +290,7 @@ impl<const N: usize> F32s<N> {
     /// Lanes from bits.
     #[inline(always)]
     pub fn from_bits(b: [u32; N]) -> Self {
-        Self(b.map(f32::from_bits))
+        Self(b.map(f32::from_bits), PhantomData)
     }
 
     compare!(lt, <, _CMP_LT_OQ, "Lanes where `self < o`.");
@@ -241,7 +301,7 @@ impl<const N: usize> F32s<N> {
     compare!(ne, !=, _CMP_NEQ_UQ, "Lanes where `self != o` (NaN lanes included).");
 }
 
-impl<const N: usize> From<f32> for F32s<N> {
+impl<const N: usize, X: Isa> From<f32> for F32s<N, X> {
     #[inline(always)]
     fn from(v: f32) -> Self {
         Self::splat(v)
@@ -250,7 +310,7 @@ impl<const N: usize> From<f32> for F32s<N> {
 
 macro_rules! binary_op {
     ($tr:ident, $f:ident, $op:tt, $tra:ident, $fa:ident) => {
-        impl<const N: usize> $tr for F32s<N> {
+        impl<const N: usize, X: Isa> $tr for F32s<N, X> {
             type Output = Self;
             #[inline(always)]
             fn $f(self, o: Self) -> Self {
@@ -258,7 +318,7 @@ macro_rules! binary_op {
                 lanewise!(x = self, o = o => x $op o)
             }
         }
-        impl<const N: usize> $tr<f32> for F32s<N> {
+        impl<const N: usize, X: Isa> $tr<f32> for F32s<N, X> {
             type Output = Self;
             #[inline(always)]
             fn $f(self, o: f32) -> Self {
@@ -266,16 +326,16 @@ macro_rules! binary_op {
                 lanewise!(x = self => x $op o)
             }
         }
-        impl<const N: usize> $tr<F32s<N>> for f32 {
-            type Output = F32s<N>;
+        impl<const N: usize, X: Isa> $tr<F32s<N, X>> for f32 {
+            type Output = F32s<N, X>;
             #[inline(always)]
-            fn $f(self, o: F32s<N>) -> F32s<N> {
+            fn $f(self, o: F32s<N, X>) -> F32s<N, X> {
                 let s = self;
                 wide8!(b = o => avx8::$f(_mm256_set1_ps(s), b));
                 lanewise!(o = o => s $op o)
             }
         }
-        impl<const N: usize> $tra for F32s<N> {
+        impl<const N: usize, X: Isa> $tra for F32s<N, X> {
             #[inline(always)]
             fn $fa(&mut self, o: Self) {
                 *self = *self $op o;
@@ -289,7 +349,7 @@ binary_op!(Sub, sub, -, SubAssign, sub_assign);
 binary_op!(Mul, mul, *, MulAssign, mul_assign);
 binary_op!(Div, div, /, DivAssign, div_assign);
 
-impl<const N: usize> Neg for F32s<N> {
+impl<const N: usize, X: Isa> Neg for F32s<N, X> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -298,21 +358,26 @@ impl<const N: usize> Neg for F32s<N> {
     }
 }
 
-impl<const N: usize> Mask<N> {
+impl<const N: usize, X: Isa> Mask<N, X> {
     /// No lane set.
-    pub const NONE: Self = Self([0; N]);
+    pub const NONE: Self = Self([0; N], PhantomData);
     /// Every lane set.
-    pub const ALL: Self = Self([-1; N]);
+    pub const ALL: Self = Self([-1; N], PhantomData);
 
+    /// The conditions `m` (each lane 0 or −1).
+    #[inline(always)]
+    pub const fn from_array(m: [i32; N]) -> Self {
+        Self(m, PhantomData)
+    }
     /// The same condition in every lane.
     #[inline(always)]
     pub fn splat(b: bool) -> Self {
-        Self([-(b as i32); N])
+        Self([-(b as i32); N], PhantomData)
     }
     /// Lane `k` is `f(k)`.
     #[inline(always)]
     pub fn from_fn(mut f: impl FnMut(usize) -> bool) -> Self {
-        Self(std::array::from_fn(|k| -(f(k) as i32)))
+        Self(std::array::from_fn(|k| -(f(k) as i32)), PhantomData)
     }
     /// Whether lane `k` is set.
     #[inline(always)]
@@ -332,17 +397,17 @@ impl<const N: usize> Mask<N> {
     }
     /// Per lane: `a` where set, `b` where clear.
     #[inline(always)]
-    pub fn select(self, a: F32s<N>, b: F32s<N>) -> F32s<N> {
+    pub fn select(self, a: F32s<N, X>, b: F32s<N, X>) -> F32s<N, X> {
         wide8!(m = self, x = a, y = b => avx8::select(m, x, y));
         let mut r = [0.0f32; N];
         for k in 0..N {
             r[k] = if self.0[k] != 0 { a.0[k] } else { b.0[k] };
         }
-        F32s(r)
+        F32s(r, PhantomData)
     }
     /// `select(a, b)` on three coordinates.
     #[inline(always)]
-    pub fn select3(self, a: Vec3s<N>, b: Vec3s<N>) -> Vec3s<N> {
+    pub fn select3(self, a: Vec3s<N, X>, b: Vec3s<N, X>) -> Vec3s<N, X> {
         Vec3s::new(
             self.select(a.x, b.x),
             self.select(a.y, b.y),
@@ -351,12 +416,12 @@ impl<const N: usize> Mask<N> {
     }
     /// `a` where set, 0 where clear.
     #[inline(always)]
-    pub fn and_then(self, a: F32s<N>) -> F32s<N> {
+    pub fn and_then(self, a: F32s<N, X>) -> F32s<N, X> {
         self.select(a, F32s::ZERO)
     }
 }
 
-impl<const N: usize> BitAnd for Mask<N> {
+impl<const N: usize, X: Isa> BitAnd for Mask<N, X> {
     type Output = Self;
     #[inline(always)]
     fn bitand(self, o: Self) -> Self {
@@ -365,11 +430,11 @@ impl<const N: usize> BitAnd for Mask<N> {
         for k in 0..N {
             r[k] = self.0[k] & o.0[k];
         }
-        Mask(r)
+        Mask(r, PhantomData)
     }
 }
 
-impl<const N: usize> BitOr for Mask<N> {
+impl<const N: usize, X: Isa> BitOr for Mask<N, X> {
     type Output = Self;
     #[inline(always)]
     fn bitor(self, o: Self) -> Self {
@@ -378,16 +443,16 @@ impl<const N: usize> BitOr for Mask<N> {
         for k in 0..N {
             r[k] = self.0[k] | o.0[k];
         }
-        Mask(r)
+        Mask(r, PhantomData)
     }
 }
 
-impl<const N: usize> Not for Mask<N> {
+impl<const N: usize, X: Isa> Not for Mask<N, X> {
     type Output = Self;
     #[inline(always)]
     fn not(self) -> Self {
         wide8!(a = self => avx8::not(a));
-        Mask(self.0.map(|m| !m))
+        Mask(self.0.map(|m| !m), PhantomData)
     }
 }
 
@@ -398,8 +463,9 @@ impl<const N: usize> Not for Mask<N> {
 pub trait LaneKernel {
     /// What the computation returns (independent of the width).
     type Output;
-    /// The computation with `N` lanes.
-    fn run<const N: usize>(self) -> Self::Output;
+    /// The computation with `N` lanes of instruction set `X` (build every lane value of the
+    /// computation as `F32s<N, X>`, `Vec3s<N, X>`, …, so that it uses `X`'s forms).
+    fn run<const N: usize, X: Isa>(self) -> Self::Output;
 }
 
 /// The lane width [`dispatch`] picks on this CPU: 16 with AVX-512 (F, VL, BW, DQ), 8 with
@@ -455,23 +521,23 @@ pub fn dispatch<K: LaneKernel>(k: K) -> K::Output {
             Level::Avx512 => unsafe { run_avx512(k) },
             // SAFETY: as above.
             Level::Avx2 => unsafe { run_avx2(k) },
-            Level::Baseline => k.run::<4>(),
+            Level::Baseline => k.run::<4, Portable>(),
         }
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
-        k.run::<4>()
+        k.run::<4, Portable>()
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512vl,avx512bw,avx512dq,avx2,fma")]
 fn run_avx512<K: LaneKernel>(k: K) -> K::Output {
-    k.run::<16>()
+    k.run::<16, detected::Avx512>()
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn run_avx2<K: LaneKernel>(k: K) -> K::Output {
-    k.run::<8>()
+    k.run::<8, detected::Avx2>()
 }

@@ -1,7 +1,7 @@
 //! The spectral values of `N` paths at their four wavelengths each, and a BSDF sample of `N`
 //! lanes.
 
-use super::{F32s, Mask, Vec3s};
+use super::{F32s, Isa, Mask, Portable, Vec3s};
 use crate::bsdf::BsdfFlags;
 use crate::spectra::Spectrum;
 use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
@@ -10,9 +10,9 @@ use std::ops::{Add, Mul};
 /// A [`SampledSpectrum`] per lane, stored by wavelength: `self.0[i]` holds wavelength slot `i`
 /// of every lane, so that a spectral operation is [`N_SPECTRUM_SAMPLES`] vector operations.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct SampledSpectra<const N: usize>(pub [F32s<N>; N_SPECTRUM_SAMPLES]);
+pub struct SampledSpectra<const N: usize, X: Isa = Portable>(pub [F32s<N, X>; N_SPECTRUM_SAMPLES]);
 
-impl<const N: usize> SampledSpectra<N> {
+impl<const N: usize, X: Isa> SampledSpectra<N, X> {
     /// Zero everywhere.
     pub const ZERO: Self = Self([F32s::ZERO; N_SPECTRUM_SAMPLES]);
 
@@ -43,7 +43,7 @@ impl<const N: usize> SampledSpectra<N> {
     /// `std::array::from_fn`, is compiled for the baseline instruction set, outside the
     /// kernel's vector context.)
     #[inline(always)]
-    pub fn map(self, mut f: impl FnMut(F32s<N>) -> F32s<N>) -> Self {
+    pub fn map(self, mut f: impl FnMut(F32s<N, X>) -> F32s<N, X>) -> Self {
         let mut r = self;
         for v in r.0.iter_mut() {
             *v = f(*v);
@@ -52,7 +52,7 @@ impl<const N: usize> SampledSpectra<N> {
     }
     /// Per lane: `self` where `m` is set, 0 elsewhere.
     #[inline(always)]
-    pub fn masked(self, m: Mask<N>) -> Self {
+    pub fn masked(self, m: Mask<N, X>) -> Self {
         let mut r = self;
         for v in r.0.iter_mut() {
             *v = m.and_then(*v);
@@ -61,7 +61,7 @@ impl<const N: usize> SampledSpectra<N> {
     }
     /// Per lane: `a` where `m` is set, `b` elsewhere.
     #[inline(always)]
-    pub fn select(m: Mask<N>, a: Self, b: Self) -> Self {
+    pub fn select(m: Mask<N, X>, a: Self, b: Self) -> Self {
         let mut r = b;
         for i in 0..N_SPECTRUM_SAMPLES {
             r.0[i] = m.select(a.0[i], b.0[i]);
@@ -88,7 +88,7 @@ impl<const N: usize> SampledSpectra<N> {
     }
 }
 
-impl<const N: usize> Mul for SampledSpectra<N> {
+impl<const N: usize, X: Isa> Mul for SampledSpectra<N, X> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
@@ -100,10 +100,10 @@ impl<const N: usize> Mul for SampledSpectra<N> {
     }
 }
 
-impl<const N: usize> Mul<F32s<N>> for SampledSpectra<N> {
+impl<const N: usize, X: Isa> Mul<F32s<N, X>> for SampledSpectra<N, X> {
     type Output = Self;
     #[inline(always)]
-    fn mul(self, s: F32s<N>) -> Self {
+    fn mul(self, s: F32s<N, X>) -> Self {
         let mut r = self;
         for v in r.0.iter_mut() {
             *v = *v * s;
@@ -112,7 +112,7 @@ impl<const N: usize> Mul<F32s<N>> for SampledSpectra<N> {
     }
 }
 
-impl<const N: usize> Add for SampledSpectra<N> {
+impl<const N: usize, X: Isa> Add for SampledSpectra<N, X> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
@@ -127,7 +127,7 @@ impl<const N: usize> Add for SampledSpectra<N> {
 impl Spectrum {
     /// This spectrum at each lane's wavelengths (a broadcast for a constant).
     #[inline]
-    pub fn sample_lanes<const N: usize>(&self, wl: &[SampledWavelengths; N]) -> SampledSpectra<N> {
+    pub fn sample_lanes<const N: usize, X: Isa>(&self, wl: &[SampledWavelengths; N]) -> SampledSpectra<N, X> {
         match self {
             Spectrum::Constant(v) => SampledSpectra::splat(*v),
             _ => SampledSpectra::from_fn(|k| self.sample(&wl[k])),
@@ -138,17 +138,17 @@ impl Spectrum {
 /// [`crate::BsdfSample`] for `N` lanes: the lanes where `valid` is clear drew nothing (the
 /// scalar `sample` returned `None`), and their other fields are unspecified.
 #[derive(Clone, Copy, Debug)]
-pub struct BsdfSamples<const N: usize> {
+pub struct BsdfSamples<const N: usize, X: Isa = Portable> {
     /// Lanes holding a sample.
-    pub valid: Mask<N>,
+    pub valid: Mask<N, X>,
     /// Sampled direction, local frame.
-    pub wo: Vec3s<N>,
+    pub wo: Vec3s<N, X>,
     /// f·|cos θo|/pdf (smooth lobes) or the lobe's throughput over its probability (delta).
-    pub weight: SampledSpectra<N>,
+    pub weight: SampledSpectra<N, X>,
     /// Solid-angle density, or the discrete probability of a delta lobe.
-    pub pdf: F32s<N>,
+    pub pdf: F32s<N, X>,
     /// Relative index crossed, n(wo side)/n(wi side); 1 for reflections.
-    pub eta: F32s<N>,
+    pub eta: F32s<N, X>,
     /// The lobe sampled, per lane.
     pub flags: [BsdfFlags; N],
 }

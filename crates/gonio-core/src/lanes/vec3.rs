@@ -1,24 +1,24 @@
 //! Three coordinates of `N` lanes each: `N` directions at once (structure of arrays).
 
-use super::{F32s, Mask};
+use super::{F32s, Isa, Mask, Portable};
 use glam::Vec3;
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// `N` 3D vectors, one per lane, stored as three [`F32s`].
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct Vec3s<const N: usize> {
+pub struct Vec3s<const N: usize, X: Isa = Portable> {
     /// x of every lane.
-    pub x: F32s<N>,
+    pub x: F32s<N, X>,
     /// y of every lane.
-    pub y: F32s<N>,
+    pub y: F32s<N, X>,
     /// z of every lane.
-    pub z: F32s<N>,
+    pub z: F32s<N, X>,
 }
 
-impl<const N: usize> Vec3s<N> {
+impl<const N: usize, X: Isa> Vec3s<N, X> {
     /// From the three coordinates.
     #[inline(always)]
-    pub fn new(x: F32s<N>, y: F32s<N>, z: F32s<N>) -> Self {
+    pub fn new(x: F32s<N, X>, y: F32s<N, X>, z: F32s<N, X>) -> Self {
         Self { x, y, z }
     }
     /// The same vector in every lane.
@@ -43,12 +43,12 @@ impl<const N: usize> Vec3s<N> {
     }
     /// Dot product per lane.
     #[inline(always)]
-    pub fn dot(self, o: Self) -> F32s<N> {
+    pub fn dot(self, o: Self) -> F32s<N, X> {
         self.x * o.x + self.y * o.y + self.z * o.z
     }
     /// Squared length per lane.
     #[inline(always)]
-    pub fn length_squared(self) -> F32s<N> {
+    pub fn length_squared(self) -> F32s<N, X> {
         self.dot(self)
     }
     /// Unit vectors (NaN or ∞ lanes where the length is 0, as `glam::Vec3::normalize`).
@@ -81,12 +81,12 @@ impl<const N: usize> Vec3s<N> {
     }
     /// Lanes whose coordinates are all finite.
     #[inline(always)]
-    pub fn is_finite(self) -> Mask<N> {
+    pub fn is_finite(self) -> Mask<N, X> {
         self.x.is_finite() & self.y.is_finite() & self.z.is_finite()
     }
 }
 
-impl<const N: usize> Add for Vec3s<N> {
+impl<const N: usize, X: Isa> Add for Vec3s<N, X> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
@@ -94,7 +94,7 @@ impl<const N: usize> Add for Vec3s<N> {
     }
 }
 
-impl<const N: usize> Sub for Vec3s<N> {
+impl<const N: usize, X: Isa> Sub for Vec3s<N, X> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
@@ -102,7 +102,7 @@ impl<const N: usize> Sub for Vec3s<N> {
     }
 }
 
-impl<const N: usize> Neg for Vec3s<N> {
+impl<const N: usize, X: Isa> Neg for Vec3s<N, X> {
     type Output = Self;
     #[inline(always)]
     fn neg(self) -> Self {
@@ -110,18 +110,18 @@ impl<const N: usize> Neg for Vec3s<N> {
     }
 }
 
-impl<const N: usize> Mul<F32s<N>> for Vec3s<N> {
+impl<const N: usize, X: Isa> Mul<F32s<N, X>> for Vec3s<N, X> {
     type Output = Self;
     #[inline(always)]
-    fn mul(self, s: F32s<N>) -> Self {
+    fn mul(self, s: F32s<N, X>) -> Self {
         Self::new(self.x * s, self.y * s, self.z * s)
     }
 }
 
-impl<const N: usize> Mul<Vec3s<N>> for F32s<N> {
-    type Output = Vec3s<N>;
+impl<const N: usize, X: Isa> Mul<Vec3s<N, X>> for F32s<N, X> {
+    type Output = Vec3s<N, X>;
     #[inline(always)]
-    fn mul(self, v: Vec3s<N>) -> Vec3s<N> {
+    fn mul(self, v: Vec3s<N, X>) -> Vec3s<N, X> {
         v * self
     }
 }

@@ -2,13 +2,13 @@
 
 use super::{close, upper_dir};
 use glam::Vec3;
-use gonio_core::lanes::{F32s, MicrofacetLanes, Vec3s};
+use gonio_core::lanes::{F32s, Isa, MicrofacetLanes, Portable, Vec3s};
 use gonio_core::microfacet::MicrofacetKind;
 use gonio_core::rng::Pcg32;
 
 /// Every (kind, sample_visible, anisotropic) configuration, with a roughness per lane from
 /// 10⁻³ to 1.
-fn configurations<const N: usize>(rng: &mut Pcg32) -> Vec<MicrofacetLanes<N>> {
+fn configurations<const N: usize, X: Isa>(rng: &mut Pcg32) -> Vec<MicrofacetLanes<N, X>> {
     let mut out = Vec::new();
     for kind in [MicrofacetKind::Beckmann, MicrofacetKind::Ggx] {
         for visible in [true, false] {
@@ -26,12 +26,12 @@ fn configurations<const N: usize>(rng: &mut Pcg32) -> Vec<MicrofacetLanes<N>> {
     out
 }
 
-fn d_g1_pdf_agree<const N: usize>() {
+fn d_g1_pdf_agree<const N: usize, X: Isa>() {
     let mut rng = Pcg32::new(11, N as u64);
-    for distr in configurations::<N>(&mut rng) {
+    for distr in configurations::<N, X>(&mut rng) {
         for _ in 0..200 {
-            let wi = Vec3s::<N>::from_fn(|_| upper_dir(&mut rng, 0.01));
-            let m = Vec3s::<N>::from_fn(|_| upper_dir(&mut rng, -0.2));
+            let wi = Vec3s::<N, X>::from_fn(|_| upper_dir(&mut rng, 0.01));
+            let m = Vec3s::<N, X>::from_fn(|_| upper_dir(&mut rng, -0.2));
             let (d, g1, pdf) = (distr.d(m), distr.g1(wi, m), distr.pdf(wi, m));
             for k in 0..N {
                 let s = distr.lane(k);
@@ -56,20 +56,20 @@ fn d_g1_pdf_agree<const N: usize>() {
 
 #[test]
 fn d_g1_and_pdf_agree_with_the_scalar_distribution_at_every_width() {
-    d_g1_pdf_agree::<4>();
-    d_g1_pdf_agree::<8>();
-    d_g1_pdf_agree::<16>();
+    d_g1_pdf_agree::<4, Portable>();
+    d_g1_pdf_agree::<8, Portable>();
+    d_g1_pdf_agree::<16, Portable>();
 }
 
 /// The sampled normals and their pdfs, lane by lane. The normals differ by the polynomial
 /// sin/cos, erf and the Newton iteration's stopping point (the CDF within its tolerance), so
 /// they are compared in angle; the pdfs at the lane's own normal.
-fn samples_agree<const N: usize>() -> f32 {
+fn samples_agree<const N: usize, X: Isa>() -> f32 {
     let mut rng = Pcg32::new(12, N as u64);
     let mut worst = 0.0f32;
-    for distr in configurations::<N>(&mut rng) {
+    for distr in configurations::<N, X>(&mut rng) {
         for _ in 0..300 {
-            let wi = Vec3s::<N>::from_fn(|_| upper_dir(&mut rng, 0.02));
+            let wi = Vec3s::<N, X>::from_fn(|_| upper_dir(&mut rng, 0.02));
             let u = [
                 F32s::from_fn(|_| rng.next_f32()),
                 F32s::from_fn(|_| rng.next_f32()),
@@ -98,7 +98,11 @@ fn samples_agree<const N: usize>() -> f32 {
 
 #[test]
 fn sampled_normals_agree_with_the_scalar_sampler_at_every_width() {
-    let worst = [samples_agree::<4>(), samples_agree::<8>(), samples_agree::<16>()];
+    let worst = [
+        samples_agree::<4, Portable>(),
+        samples_agree::<8, Portable>(),
+        samples_agree::<16, Portable>(),
+    ];
     eprintln!(
         "largest distance between lane and scalar normals (measured 2e-5, asserted 1e-4): {worst:?} rad"
     );

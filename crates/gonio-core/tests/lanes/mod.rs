@@ -12,7 +12,7 @@ mod models;
 mod principled;
 
 use glam::Vec3;
-use gonio_core::lanes::SampledSpectra;
+use gonio_core::lanes::{Isa, SampledSpectra};
 use gonio_core::rng::Pcg32;
 
 /// A direction of the upper hemisphere with cos θ in [cos_min, 1], drawn uniformly in cos θ and φ.
@@ -30,7 +30,7 @@ pub fn close(a: f32, b: f32, tol: f32) -> bool {
 
 /// Every lane and wavelength of `a` and `b` bit for bit (a kernel's `eval` against the value of
 /// its `eval_pdf`: the same arithmetic, so the same bits, NaN included).
-pub fn same_bits<const N: usize>(a: SampledSpectra<N>, b: SampledSpectra<N>) -> bool {
+pub fn same_bits<const N: usize, X: Isa>(a: SampledSpectra<N, X>, b: SampledSpectra<N, X>) -> bool {
     a.0.iter().zip(b.0.iter()).all(|(x, y)| {
         x.0.iter()
             .zip(y.0.iter())

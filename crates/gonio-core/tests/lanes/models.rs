@@ -6,7 +6,8 @@ use gonio_core::bsdfs::roughconductor::RoughConductorLanes;
 use gonio_core::bsdfs::roughplastic::{CoatAverages, RoughCoat};
 use gonio_core::bsdfs::{RoughConductor, RoughDielectric, RoughPlastic};
 use gonio_core::lanes::{
-    BsdfSamples, F32s, LaneKernel, MicrofacetLanes, SampledSpectra, Vec3s, dispatch, lane_width,
+    BsdfSamples, F32s, Isa, LaneKernel, MicrofacetLanes, Portable, SampledSpectra, Vec3s, dispatch,
+    lane_width,
 };
 use gonio_core::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use gonio_core::rng::Pcg32;
@@ -48,15 +49,15 @@ fn conductors() -> Vec<RoughConductor> {
 }
 
 /// One batch of inputs: wavelengths, wi, wo and uniforms per lane.
-struct Batch<const N: usize> {
+struct Batch<const N: usize, X: Isa = Portable> {
     wl: [SampledWavelengths; N],
-    wi: Vec3s<N>,
-    wo: Vec3s<N>,
-    u1: F32s<N>,
-    u2: [F32s<N>; 2],
+    wi: Vec3s<N, X>,
+    wo: Vec3s<N, X>,
+    u1: F32s<N, X>,
+    u2: [F32s<N, X>; 2],
 }
 
-impl<const N: usize> Batch<N> {
+impl<const N: usize, X: Isa> Batch<N, X> {
     fn draw(rng: &mut Pcg32) -> Self {
         Self {
             wl: std::array::from_fn(|_| SampledWavelengths::sample_visible(rng.next_f32())),
@@ -78,21 +79,21 @@ fn spectra_close(a: SampledSpectrum, b: SampledSpectrum, tol: f32) -> bool {
 /// Compares eval, pdf and sample of `lanes` with `scalar(k)`, the scalar model of lane `k`.
 /// Returns the number of lanes whose sample validity differs (a direction on the boundary of
 /// the lobe, moved across it by rounding).
-fn compare<const N: usize, B: Bsdf>(
-    batch: &Batch<N>,
-    ev: (SampledSpectra<N>, F32s<N>),
-    s: &BsdfSamples<N>,
+fn compare<const N: usize, X: Isa, B: Bsdf>(
+    batch: &Batch<N, X>,
+    ev: (SampledSpectra<N, X>, F32s<N, X>),
+    s: &BsdfSamples<N, X>,
     scalar: impl Fn(usize) -> B,
 ) -> usize {
     compare_in(&BsdfContext::radiance(), batch, ev, s, scalar)
 }
 
 /// [`compare`] in a given context.
-fn compare_in<const N: usize, B: Bsdf>(
+fn compare_in<const N: usize, X: Isa, B: Bsdf>(
     ctx: &BsdfContext,
-    batch: &Batch<N>,
-    (f, pdf): (SampledSpectra<N>, F32s<N>),
-    s: &BsdfSamples<N>,
+    batch: &Batch<N, X>,
+    (f, pdf): (SampledSpectra<N, X>, F32s<N, X>),
+    s: &BsdfSamples<N, X>,
     scalar: impl Fn(usize) -> B,
 ) -> usize {
     let ctx = *ctx;
@@ -142,19 +143,22 @@ fn compare_in<const N: usize, B: Bsdf>(
 }
 
 /// A roughness per lane from 10^−2.5 to 1, as from a texture, with the model's anisotropy ratio.
-fn textured_roughness<const N: usize>(d: MicrofacetLanes<N>, rng: &mut Pcg32) -> MicrofacetLanes<N> {
+fn textured_roughness<const N: usize, X: Isa>(
+    d: MicrofacetLanes<N, X>,
+    rng: &mut Pcg32,
+) -> MicrofacetLanes<N, X> {
     let a = F32s::from_fn(|_| 10f32.powf(-2.5 * rng.next_f32()));
     MicrofacetLanes::new(d.kind, a, a * d.alpha_v / d.alpha_u, d.sample_visible)
 }
 
-fn conductor_agrees<const N: usize>() {
+fn conductor_agrees<const N: usize, X: Isa>() {
     let ctx = BsdfContext::radiance();
     let mut rng = Pcg32::new(21, N as u64);
     let (mut mismatches, mut total) = (0, 0);
     for model in conductors() {
         for round in 0..150 {
-            let batch = Batch::<N>::draw(&mut rng);
-            let mut lanes: RoughConductorLanes<N> = model.lanes(&batch.wl).unwrap();
+            let batch = Batch::<N, X>::draw(&mut rng);
+            let mut lanes: RoughConductorLanes<N, X> = model.lanes(&batch.wl).unwrap();
             if round % 2 == 1 {
                 lanes.distribution = textured_roughness(lanes.distribution, &mut rng);
             }
@@ -182,7 +186,7 @@ fn conductor_agrees<const N: usize>() {
 fn roughconductor_lanes_agree_with_the_scalar_model() {
     // Each width compiles the whole kernel once more (minutes of the CI build): 4 lanes here,
     // the dispatched widths (16, 8, 4 compiled; the CPU's run) below.
-    conductor_agrees::<4>();
+    conductor_agrees::<4, Portable>();
 }
 
 /// The same comparison with the kernel compiled for this CPU's vector extension.
@@ -194,12 +198,12 @@ struct ConductorAtDispatchWidth<'a> {
 impl LaneKernel for ConductorAtDispatchWidth<'_> {
     type Output = usize;
     #[inline(always)]
-    fn run<const N: usize>(self) -> usize {
+    fn run<const N: usize, X: Isa>(self) -> usize {
         let ctx = BsdfContext::radiance();
         let mut rng = Pcg32::new(self.seed, 3);
         let mut mismatches = 0;
         for _ in 0..200 {
-            let batch = Batch::<N>::draw(&mut rng);
+            let batch = Batch::<N, X>::draw(&mut rng);
             let lanes = self.model.lanes(&batch.wl).unwrap();
             let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
             assert!(
@@ -232,7 +236,7 @@ fn multiple_scattering_has_no_lane_kernel() {
         ..Default::default()
     };
     let wl = [SampledWavelengths::sample_visible(0.3); 4];
-    assert!(m.lanes(&wl).is_none());
+    assert!(m.lanes::<_, Portable>(&wl).is_none());
 }
 
 /// Mitsuba's default, GGX α = 0.3 over a spectral base, and the nonlinear series with Mitsuba's
@@ -263,13 +267,13 @@ fn plastics() -> Vec<RoughPlastic> {
     ]
 }
 
-fn plastic_agrees<const N: usize>() {
+fn plastic_agrees<const N: usize, X: Isa>() {
     let ctx = BsdfContext::radiance();
     let mut rng = Pcg32::new(41, N as u64);
     let (mut mismatches, mut total) = (0, 0);
     for model in plastics() {
         for _ in 0..150 {
-            let batch = Batch::<N>::draw(&mut rng);
+            let batch = Batch::<N, X>::draw(&mut rng);
             let lanes = model.lanes(&batch.wl);
             let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
             assert!(
@@ -289,7 +293,7 @@ fn plastic_agrees<const N: usize>() {
 
 #[test]
 fn roughplastic_lanes_agree_with_the_scalar_model() {
-    plastic_agrees::<4>();
+    plastic_agrees::<4, Portable>();
 }
 
 /// Only the coat's lobe, only the base's: the lane kernel honours the context's lobes.
@@ -346,7 +350,7 @@ fn dielectrics() -> Vec<RoughDielectric> {
     ]
 }
 
-fn dielectric_agrees<const N: usize>(mode: gonio_core::TransportMode) {
+fn dielectric_agrees<const N: usize, X: Isa>(mode: gonio_core::TransportMode) {
     let ctx = BsdfContext {
         mode,
         ..BsdfContext::radiance()
@@ -355,7 +359,7 @@ fn dielectric_agrees<const N: usize>(mode: gonio_core::TransportMode) {
     let (mut mismatches, mut total) = (0, 0);
     for model in dielectrics() {
         for round in 0..200 {
-            let mut batch = Batch::<N>::draw(&mut rng);
+            let mut batch = Batch::<N, X>::draw(&mut rng);
             // wi from either side, wo anywhere on the sphere.
             for k in 0..N {
                 if rng.next_f32() < 0.5 {
@@ -392,7 +396,7 @@ fn dielectric_agrees<const N: usize>(mode: gonio_core::TransportMode) {
 fn roughdielectric_lanes_agree_with_the_scalar_model() {
     use gonio_core::TransportMode::{Importance, Radiance};
     for mode in [Radiance, Importance] {
-        dielectric_agrees::<4>(mode);
+        dielectric_agrees::<4, Portable>(mode);
     }
 }
 
@@ -401,10 +405,10 @@ fn dispersive_and_multiple_scattering_dielectrics_have_no_lane_kernel() {
     let wl = [SampledWavelengths::sample_visible(0.3); 4];
     let mut dispersive = RoughDielectric::default();
     dispersive.int_ior = Ior::Dispersive(piecewise(&[400.0, 1.53, 700.0, 1.51]));
-    assert!(dispersive.lanes(&wl).is_none());
+    assert!(dispersive.lanes::<_, Portable>(&wl).is_none());
     let walk = RoughDielectric {
         multiple_scattering: true,
         ..Default::default()
     };
-    assert!(walk.lanes(&wl).is_none());
+    assert!(walk.lanes::<_, Portable>(&wl).is_none());
 }

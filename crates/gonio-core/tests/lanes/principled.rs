@@ -8,7 +8,7 @@ use glam::Vec2;
 use gonio_core::bsdfs::principled::PrincipledLanes;
 use gonio_core::bsdfs::principledthin::PrincipledThinLanes;
 use gonio_core::bsdfs::{Principled, PrincipledThin};
-use gonio_core::lanes::{BsdfSamples, F32s, SampledSpectra, Vec3s};
+use gonio_core::lanes::{BsdfSamples, F32s, Isa, Portable, SampledSpectra, Vec3s};
 #[cfg(feature = "lane-dispatch-tests")]
 use gonio_core::lanes::{LaneKernel, dispatch, lane_width};
 use gonio_core::rng::Pcg32;
@@ -17,15 +17,15 @@ use gonio_core::{Bsdf, BsdfContext, BsdfFlags, SampledSpectrum, SampledWavelengt
 use std::sync::Arc;
 
 /// One batch of inputs: wavelengths, wi (either side), wo (whole sphere) and uniforms per lane.
-pub(super) struct Batch<const N: usize> {
+pub(super) struct Batch<const N: usize, X: Isa = Portable> {
     pub wl: [SampledWavelengths; N],
-    pub wi: Vec3s<N>,
-    pub wo: Vec3s<N>,
-    pub u1: F32s<N>,
-    pub u2: [F32s<N>; 2],
+    pub wi: Vec3s<N, X>,
+    pub wo: Vec3s<N, X>,
+    pub u1: F32s<N, X>,
+    pub u2: [F32s<N, X>; 2],
 }
 
-impl<const N: usize> Batch<N> {
+impl<const N: usize, X: Isa> Batch<N, X> {
     /// wi within 89.4° of either pole (the lower side when `both_sides` and a coin says so).
     pub fn draw(rng: &mut Pcg32, both_sides: bool) -> Self {
         Self {
@@ -45,26 +45,48 @@ impl<const N: usize> Batch<N> {
 }
 
 /// The lane kernels' common interface, so that one comparison serves both models.
-pub(super) trait LaneModel<const N: usize> {
+pub(super) trait LaneModel<const N: usize, X: Isa> {
     type Scalar: Bsdf + std::fmt::Debug;
-    fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>);
-    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N>;
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N>;
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>);
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> SampledSpectra<N, X>;
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        u1: F32s<N, X>,
+        u2: [F32s<N, X>; 2],
+    ) -> BsdfSamples<N, X>;
     fn lane(&self, k: usize) -> Self::Scalar;
 }
 
-impl<const N: usize> LaneModel<N> for PrincipledLanes<N> {
+impl<const N: usize, X: Isa> LaneModel<N, X> for PrincipledLanes<N, X> {
     type Scalar = Principled<SampledSpectrum>;
     #[inline(always)]
-    fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         PrincipledLanes::eval_pdf(self, ctx, wi, wo)
     }
     #[inline(always)]
-    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> SampledSpectra<N, X> {
         PrincipledLanes::eval(self, ctx, wi, wo)
     }
     #[inline(always)]
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        u1: F32s<N, X>,
+        u2: [F32s<N, X>; 2],
+    ) -> BsdfSamples<N, X> {
         PrincipledLanes::sample(self, ctx, wi, u1, u2)
     }
     fn lane(&self, k: usize) -> Self::Scalar {
@@ -72,18 +94,29 @@ impl<const N: usize> LaneModel<N> for PrincipledLanes<N> {
     }
 }
 
-impl<const N: usize> LaneModel<N> for PrincipledThinLanes<N> {
+impl<const N: usize, X: Isa> LaneModel<N, X> for PrincipledThinLanes<N, X> {
     type Scalar = PrincipledThin<SampledSpectrum>;
     #[inline(always)]
-    fn eval_pdf(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> (SampledSpectra<N>, F32s<N>) {
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        wo: Vec3s<N, X>,
+    ) -> (SampledSpectra<N, X>, F32s<N, X>) {
         PrincipledThinLanes::eval_pdf(self, ctx, wi, wo)
     }
     #[inline(always)]
-    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N>, wo: Vec3s<N>) -> SampledSpectra<N> {
+    fn eval(&self, ctx: &BsdfContext, wi: Vec3s<N, X>, wo: Vec3s<N, X>) -> SampledSpectra<N, X> {
         PrincipledThinLanes::eval(self, ctx, wi, wo)
     }
     #[inline(always)]
-    fn sample(&self, ctx: &BsdfContext, wi: Vec3s<N>, u1: F32s<N>, u2: [F32s<N>; 2]) -> BsdfSamples<N> {
+    fn sample(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3s<N, X>,
+        u1: F32s<N, X>,
+        u2: [F32s<N, X>; 2],
+    ) -> BsdfSamples<N, X> {
         PrincipledThinLanes::sample(self, ctx, wi, u1, u2)
     }
     fn lane(&self, k: usize) -> Self::Scalar {
@@ -153,9 +186,9 @@ fn spectra_dev(a: SampledSpectrum, b: SampledSpectrum) -> f32 {
 /// (tolerances of `models.rs`: eval and pdf 2·10⁻⁵, the sampled direction's chord 4·10⁻⁴, the
 /// weight and pdf at the lane's own direction 10⁻⁴).
 #[inline(always)]
-pub(super) fn compare<const N: usize, L: LaneModel<N>>(
+pub(super) fn compare<const N: usize, X: Isa, L: LaneModel<N, X>>(
     ctx: &BsdfContext,
-    batch: &Batch<N>,
+    batch: &Batch<N, X>,
     lanes: &L,
 ) -> Stats {
     let (f, pdf) = lanes.eval_pdf(ctx, batch.wi, batch.wo);
@@ -235,7 +268,7 @@ pub(super) fn compare<const N: usize, L: LaneModel<N>>(
 
 /// A value in [lo, hi] per lane, 0 in about a third of the lanes (the scalar model's
 /// "parameter ≠ 0" branches).
-pub(super) fn param<const N: usize>(rng: &mut Pcg32, lo: f32, hi: f32) -> F32s<N> {
+pub(super) fn param<const N: usize, X: Isa>(rng: &mut Pcg32, lo: f32, hi: f32) -> F32s<N, X> {
     F32s::from_fn(|_| {
         if rng.next_f32() < 0.33 {
             0.0
@@ -246,7 +279,7 @@ pub(super) fn param<const N: usize>(rng: &mut Pcg32, lo: f32, hi: f32) -> F32s<N
 }
 
 /// A colour per lane and wavelength in [0, 1].
-pub(super) fn colours<const N: usize>(rng: &mut Pcg32) -> SampledSpectra<N> {
+pub(super) fn colours<const N: usize, X: Isa>(rng: &mut Pcg32) -> SampledSpectra<N, X> {
     SampledSpectra::from_fn(|_| SampledSpectrum::from_fn(|_| rng.next_f32()))
 }
 
@@ -291,7 +324,7 @@ fn principleds() -> Vec<Principled> {
 }
 
 /// Replaces every float parameter and the base colour by values per lane.
-fn vary<const N: usize>(l: &mut PrincipledLanes<N>, rng: &mut Pcg32) {
+fn vary<const N: usize, X: Isa>(l: &mut PrincipledLanes<N, X>, rng: &mut Pcg32) {
     l.base_color = colours(rng);
     l.roughness = F32s::from_fn(|_| 0.02 + 0.98 * rng.next_f32());
     l.anisotropic = param(rng, 0.0, 1.0);
@@ -306,12 +339,12 @@ fn vary<const N: usize>(l: &mut PrincipledLanes<N>, rng: &mut Pcg32) {
     l.clearcoat_gloss = param(rng, 0.0, 1.0);
 }
 
-fn principled_agrees<const N: usize>() -> Stats {
+fn principled_agrees<const N: usize, X: Isa>() -> Stats {
     let mut rng = Pcg32::new(51, N as u64);
     let mut st = Stats::default();
     for model in principleds() {
         for round in 0..200 {
-            let batch = Batch::<N>::draw(&mut rng, true);
+            let batch = Batch::<N, X>::draw(&mut rng, true);
             let mut lanes = model.lanes(&batch.wl);
             if round % 2 == 1 {
                 vary(&mut lanes, &mut rng);
@@ -329,7 +362,7 @@ fn principled_agrees<const N: usize>() -> Stats {
 
 #[test]
 fn principled_lanes_agree_with_the_scalar_model() {
-    for st in [principled_agrees::<4>()] {
+    for st in [principled_agrees::<4, Portable>()] {
         st.check("principled");
         // Every lobe was sampled, from both sides.
         assert!(st.lobes[..3].iter().all(|&n| n > 0) && st.from_below > 0);
@@ -371,11 +404,11 @@ struct PrincipledAtDispatchWidth<'a> {
 impl LaneKernel for PrincipledAtDispatchWidth<'_> {
     type Output = Stats;
     #[inline(always)]
-    fn run<const N: usize>(self) -> Stats {
+    fn run<const N: usize, X: Isa>(self) -> Stats {
         let mut rng = Pcg32::new(self.seed, 3);
         let mut st = Stats::default();
         for round in 0..300 {
-            let batch = Batch::<N>::draw(&mut rng, true);
+            let batch = Batch::<N, X>::draw(&mut rng, true);
             let mut lanes = self.model.lanes(&batch.wl);
             if round % 2 == 1 {
                 vary(&mut lanes, &mut rng);
@@ -429,7 +462,7 @@ fn thins() -> Vec<PrincipledThin> {
 }
 
 /// Replaces every float parameter and the base colour by values per lane.
-fn vary_thin<const N: usize>(l: &mut PrincipledThinLanes<N>, rng: &mut Pcg32) {
+fn vary_thin<const N: usize, X: Isa>(l: &mut PrincipledThinLanes<N, X>, rng: &mut Pcg32) {
     l.base_color = colours(rng);
     l.roughness = F32s::from_fn(|_| 0.02 + 0.98 * rng.next_f32());
     l.anisotropic = param(rng, 0.0, 1.0);
@@ -442,12 +475,12 @@ fn vary_thin<const N: usize>(l: &mut PrincipledThinLanes<N>, rng: &mut Pcg32) {
     l.diff_trans = param(rng, 0.0, 2.0);
 }
 
-fn thin_agrees<const N: usize>() -> Stats {
+fn thin_agrees<const N: usize, X: Isa>() -> Stats {
     let mut rng = Pcg32::new(71, N as u64);
     let mut st = Stats::default();
     for model in thins() {
         for round in 0..200 {
-            let batch = Batch::<N>::draw(&mut rng, true);
+            let batch = Batch::<N, X>::draw(&mut rng, true);
             let mut lanes = model.lanes(&batch.wl);
             if round % 2 == 1 {
                 vary_thin(&mut lanes, &mut rng);
@@ -460,7 +493,7 @@ fn thin_agrees<const N: usize>() -> Stats {
 
 #[test]
 fn principledthin_lanes_agree_with_the_scalar_model() {
-    for st in [thin_agrees::<4>()] {
+    for st in [thin_agrees::<4, Portable>()] {
         st.check("principledthin");
         assert!(st.lobes.iter().all(|&n| n > 0) && st.from_below > 0);
     }
@@ -499,11 +532,11 @@ struct ThinAtDispatchWidth<'a> {
 impl LaneKernel for ThinAtDispatchWidth<'_> {
     type Output = Stats;
     #[inline(always)]
-    fn run<const N: usize>(self) -> Stats {
+    fn run<const N: usize, X: Isa>(self) -> Stats {
         let mut rng = Pcg32::new(self.seed, 3);
         let mut st = Stats::default();
         for round in 0..300 {
-            let batch = Batch::<N>::draw(&mut rng, true);
+            let batch = Batch::<N, X>::draw(&mut rng, true);
             let mut lanes = self.model.lanes(&batch.wl);
             if round % 2 == 1 {
                 vary_thin(&mut lanes, &mut rng);
