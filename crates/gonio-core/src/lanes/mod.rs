@@ -31,6 +31,8 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx8;
+#[cfg(all(test, target_arch = "x86_64"))]
+mod forms_tests;
 pub mod fresnel;
 pub mod math;
 pub mod microfacet;
@@ -123,8 +125,9 @@ macro_rules! lanewise {
 }
 
 /// The 8-lane case of an operation as its [`avx8`] form, returned from the enclosing function,
-/// when `N = 8` and the lanes' instruction set `X` may use AVX ([`Isa::AVX`]); otherwise
-/// nothing, and the loop after it runs. `wide8!(a = self, b = o => avx8::add(a, b))` loads the
+/// when `N = 8` and the lanes' instruction set `X` may use AVX ([`Isa::AVX`]), and the 16-lane
+/// case as the same form on each half (two 256-bit registers: no 512-bit forms are written);
+/// otherwise nothing, and the loop after it runs. `wide8!(a = self, b = o => avx8::add(a, b))` loads the
 /// named lanes (`F32s<8, X>` or `Mask<8, X>`) into registers; the form's register is stored as
 /// the result (`wide8!(.. => bool: expr)` for a `bool`). Both conditions are constants, so each
 /// instance of an operation compiles to the form alone or to the loop alone.
@@ -136,6 +139,23 @@ macro_rules! wide8 {
             return unsafe {
                 $(let $v = std::arch::x86_64::_mm256_loadu_ps($src.0.as_ptr() as *const f32);)*
                 $e
+            };
+        }
+        #[cfg(target_arch = "x86_64")]
+        if N == 16 && X::AVX {
+            // SAFETY: as below.
+            return unsafe {
+                let lo = {
+                    $(let $v = std::arch::x86_64::_mm256_loadu_ps($src.0.as_ptr() as *const f32);)*
+                    $e
+                };
+                let hi = {
+                    $(let $v = std::arch::x86_64::_mm256_loadu_ps(
+                        ($src.0.as_ptr() as *const f32).add(8),
+                    );)*
+                    $e
+                };
+                lo || hi
             };
         }
     };
@@ -150,6 +170,23 @@ macro_rules! wide8 {
                 use std::arch::x86_64::*;
                 $(let $v = _mm256_loadu_ps($src.0.as_ptr() as *const f32);)*
                 store8($e)
+            };
+        }
+        #[cfg(target_arch = "x86_64")]
+        if N == 16 && X::AVX {
+            // SAFETY: as above; N = 16 makes the lane arrays two halves of 8 lanes (64 bytes).
+            #[allow(unused_unsafe, unused_imports)]
+            return unsafe {
+                use std::arch::x86_64::*;
+                let lo = {
+                    $(let $v = _mm256_loadu_ps($src.0.as_ptr() as *const f32);)*
+                    $e
+                };
+                let hi = {
+                    $(let $v = _mm256_loadu_ps(($src.0.as_ptr() as *const f32).add(8));)*
+                    $e
+                };
+                store16(lo, hi)
             };
         }
     };
@@ -167,6 +204,24 @@ unsafe fn store8<T: Copy>(v: std::arch::x86_64::__m256) -> T {
     // SAFETY: the caller's: `r` holds 32 bytes, AVX is available.
     unsafe {
         std::arch::x86_64::_mm256_storeu_ps(r.as_mut_ptr() as *mut f32, v);
+        r.assume_init()
+    }
+}
+
+/// The 16 lanes `lo`, `hi` as `T` (`F32s<16, X>` or `Mask<16, X>`, 64 bytes).
+///
+/// # Safety
+/// `T` must be 64 bytes of lanes; the CPU has AVX.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn store16<T: Copy>(lo: std::arch::x86_64::__m256, hi: std::arch::x86_64::__m256) -> T {
+    debug_assert_eq!(std::mem::size_of::<T>(), 64);
+    let mut r = std::mem::MaybeUninit::<T>::uninit();
+    // SAFETY: the caller's: `r` holds 64 bytes, AVX is available.
+    unsafe {
+        let p = r.as_mut_ptr() as *mut f32;
+        std::arch::x86_64::_mm256_storeu_ps(p, lo);
+        std::arch::x86_64::_mm256_storeu_ps(p.add(8), hi);
         r.assume_init()
     }
 }
