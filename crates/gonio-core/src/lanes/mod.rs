@@ -9,7 +9,7 @@
 //! `f32::sin` and friends are library calls that would leave the vector registers lane by lane.
 //!
 //! Where the CPU is known to have AVX, the 8-lane operations are explicit AVX intrinsics
-//! instead (`lanes/avx8.rs`): LLVM leaves much of the loops' code 4 wide or scalar inside long
+//! instead (`lanes/avx8.rs`; 16 lanes: the same on each half): LLVM leaves much of the loops' code 4 wide or scalar inside long
 //! kernels, and the explicit forms made the kernels 1.1–1.7× faster. What proves the CPU's extensions is the
 //! lanes' second type parameter, their instruction set ([`Isa`]): [`dispatch`] runs a kernel
 //! with lanes of an instruction set only it can name, after detecting it, so a portable binary
