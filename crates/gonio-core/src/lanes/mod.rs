@@ -8,14 +8,14 @@
 //! `if`. [`math`] has the transcendental functions as branch-free polynomials (Cephes), since
 //! `f32::sin` and friends are library calls that would leave the vector registers lane by lane.
 //!
-//! Where the CPU is known to have AVX, the 8-lane operations are explicit AVX intrinsics
-//! instead (`lanes/avx8.rs`; 16 lanes: the same on each half): LLVM leaves much of the loops' code 4 wide or scalar inside long
-//! kernels, and the explicit forms made the kernels 1.1–1.7× faster. What proves the CPU's extensions is the
-//! lanes' second type parameter, their instruction set ([`Isa`]): [`dispatch`] runs a kernel
-//! with lanes of an instruction set only it can name, after detecting it, so a portable binary
-//! uses the intrinsics wherever it runs on AVX2; lanes any code makes ([`Portable`], the
-//! default: `F32s<8>`) use them only in a program compiled for AVX as a whole
-//! (`RUSTFLAGS="-C target-cpu=native"`).
+//! Where the CPU is known to have AVX, the 8-lane operations are explicit AVX intrinsics instead
+//! (`lanes/avx8.rs`; 16 lanes: the same on each half): LLVM leaves much of the loops' code 4 wide
+//! or scalar inside long kernels, and the explicit forms made the kernels 1.1–1.7× faster. What
+//! proves the CPU's extensions is the lanes' second type parameter, their instruction set
+//! ([`Isa`]): [`dispatch`] runs a kernel with lanes of an instruction set only it can name, after
+//! detecting it, so a portable binary uses the intrinsics wherever it runs on AVX2; lanes any code
+//! makes ([`Portable`], the default: `F32s<8>`) use them only in a program compiled for AVX as a
+//! whole (`RUSTFLAGS="-C target-cpu=native"`).
 //!
 //! Why our own type and not a crate: `std::simd` is not on stable Rust, and the stable crates
 //! (`wide`) pick their instruction set when the crate is compiled, not when the program runs, so
