@@ -114,6 +114,7 @@ const INV_SQRT_PI: f64 = 0.564_189_583_547_756_3;
 impl MicrofacetDistribution {
     /// A distribution with roughness (`alpha_u`, `alpha_v`), each clamped to
     /// [[`MIN_ALPHA`], [`MAX_ALPHA`]] (NaN becomes [`MIN_ALPHA`]).
+    #[allow(clippy::manual_clamp)] // `clamp` would keep a NaN
     pub fn new(kind: MicrofacetKind, alpha_u: f32, alpha_v: f32, sample_visible: bool) -> Self {
         Self {
             kind,

@@ -287,13 +287,13 @@ fn zz_debug_cell() {
     let mut by_order = [0u32; 17];
     let mut by_cross = [0u32; 8];
     for _ in 0..n {
-        if let Some(w) = s.sample_dielectric(wi, SampledSpectrum::splat(1.5), &mut rng) {
-            if inside(w.wo) {
-                a += w.weight[0] as f64;
-                hits += 1;
-                by_order[w.order as usize] += 1;
-                by_cross[(w.crossings as usize).min(7)] += 1;
-            }
+        if let Some(w) = s.sample_dielectric(wi, SampledSpectrum::splat(1.5), &mut rng)
+            && inside(w.wo)
+        {
+            a += w.weight[0] as f64;
+            hits += 1;
+            by_order[w.order as usize] += 1;
+            by_cross[(w.crossings as usize).min(7)] += 1;
         }
     }
     let m = 200_000;

@@ -60,7 +60,7 @@ impl PiecewiseLinear {
 
     /// From interleaved `[λ₀, v₀, λ₁, v₁, ...]` static data.
     pub fn from_interleaved(data: &[f32], extrapolation: Extrapolation) -> Option<Self> {
-        if data.len() % 2 != 0 {
+        if !data.len().is_multiple_of(2) {
             return None;
         }
         let lambda = data.iter().step_by(2).copied().collect();

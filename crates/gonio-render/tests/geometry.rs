@@ -470,7 +470,7 @@ fn check_sampling(w: &WorldShape, r: Vec3, first_hit_only: bool, label: &str) {
                 );
                 let du = (h.uv.x - s.uv.x).abs();
                 assert!(
-                    (du < 1e-3 || du > 0.999) && (h.uv.y - s.uv.y).abs() < 1e-3,
+                    !(1e-3..=0.999).contains(&du) && (h.uv.y - s.uv.y).abs() < 1e-3,
                     "{label}: uv {:?} vs {:?}",
                     s.uv,
                     h.uv

@@ -220,14 +220,14 @@ fn legacy_camel_case_names() {
         Vec3::new(5.0, 0.0, 0.0)
     ));
     assert!(s.shapes[1].flip_normals);
-    let Some(DiffuseMaterial { reflectance, .. }) = (&s.materials[s.shapes[1].material]).get() else {
+    let Some(DiffuseMaterial { reflectance, .. }) = s.materials[s.shapes[1].material].get() else {
         panic!()
     };
     assert_eq!(reflectance.as_spectrum().unwrap().as_constant(), Some(0.3));
     let Some(DiffuseMaterial {
         reflectance: Texture::Checkerboard { to_uv, .. },
         ..
-    }) = (&s.materials[s.shapes[0].material]).get()
+    }) = s.materials[s.shapes[0].material].get()
     else {
         panic!()
     };
@@ -287,7 +287,7 @@ fn rgb_roles() {
 <emitter type="constant"><rgb name="radiance" value="0.5, 0.5, 0.5"/></emitter>
 <emitter type="point"><point name="position" x="1" y="2" z="3"/><rgb name="intensity" value="5"/></emitter>"#,
     );
-    let Some(ConductorMaterial { model, .. }) = (&s.materials[0]).get() else {
+    let Some(ConductorMaterial { model, .. }) = s.materials[0].get() else {
         panic!()
     };
     // Unbounded: values above 1 survive (k ≈ 3.9 in the red).

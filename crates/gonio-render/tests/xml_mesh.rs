@@ -543,7 +543,7 @@ fn a_volume_texture_is_its_grid_at_the_hit_and_bad_grids_are_refused() {
     let vol = |channels: i32| {
         let mut b = b"VOL\x03".to_vec();
         for v in [1, 2, 1, 1, channels] {
-            b.extend_from_slice(&(v as i32).to_le_bytes());
+            b.extend_from_slice(&v.to_le_bytes());
         }
         for v in [0f32, 0., 0., 1., 1., 1.] {
             b.extend_from_slice(&v.to_le_bytes());

@@ -179,7 +179,7 @@ fn shapes() {
     assert!(mesh(9).normals.is_empty() && s.shapes[9].face_normals);
     // Default materials: one shared diffuse 0.5 for all shapes without a BSDF.
     assert!(s.shapes.iter().all(|x| x.material == s.shapes[0].material));
-    let Some(DiffuseMaterial { reflectance, .. }) = (&s.materials[s.shapes[0].material]).get() else {
+    let Some(DiffuseMaterial { reflectance, .. }) = s.materials[s.shapes[0].material].get() else {
         panic!()
     };
     assert_eq!(reflectance.as_spectrum().unwrap().as_constant(), Some(0.5));
@@ -293,7 +293,7 @@ fn bsdf_defaults_and_parameters() {
     assert!((f_normal(&d, Vec2::ZERO, 550.0) - 0.5 * FRAC_1_PI).abs() < 1e-6);
     // conductor default: ideal mirror.
     let c = load_bsdf_str("<bsdf version=\"3.0.0\" type=\"conductor\"/>").unwrap();
-    let Some(ConductorMaterial { model, .. }) = (&c).get() else {
+    let Some(ConductorMaterial { model, .. }) = c.get() else {
         panic!()
     };
     assert_eq!(model.reflectance(0.7, &wl)[0], 1.0);
@@ -302,7 +302,7 @@ fn bsdf_defaults_and_parameters() {
         "<bsdf type=\"conductor\"><float name=\"eta\" value=\"0.2\"/><float name=\"k\" value=\"3\"/><string name=\"ext_ior\" value=\"water\"/></bsdf>",
     )
     .unwrap();
-    let Some(ConductorMaterial { model, .. }) = (&c).get() else {
+    let Some(ConductorMaterial { model, .. }) = c.get() else {
         panic!()
     };
     assert_eq!(
@@ -312,7 +312,7 @@ fn bsdf_defaults_and_parameters() {
     assert_eq!(model.ext_ior, Ior::Constant(1.333));
     // dielectric defaults bk7/air; presets by name; dispersive glass by name; spectrum.
     let g = load_bsdf_str("<bsdf type=\"dielectric\"/>").unwrap();
-    let Some(DielectricMaterial { model, .. }) = (&g).get() else {
+    let Some(DielectricMaterial { model, .. }) = g.get() else {
         panic!()
     };
     assert_eq!(
@@ -323,7 +323,7 @@ fn bsdf_defaults_and_parameters() {
         "<bsdf type=\"thindielectric\"><string name=\"int_ior\" value=\"Diamond\"/><string name=\"ext_ior\" value=\"water\"/></bsdf>",
     )
     .unwrap();
-    let Some(ThinDielectricMaterial { model, .. }) = (&g).get() else {
+    let Some(ThinDielectricMaterial { model, .. }) = g.get() else {
         panic!()
     };
     assert_eq!(
@@ -332,7 +332,7 @@ fn bsdf_defaults_and_parameters() {
     );
     let g =
         load_bsdf_str("<bsdf type=\"dielectric\"><string name=\"int_ior\" value=\"SF11\"/></bsdf>").unwrap();
-    let Some(DielectricMaterial { model, .. }) = (&g).get() else {
+    let Some(DielectricMaterial { model, .. }) = g.get() else {
         panic!()
     };
     assert!(model.int_ior.is_dispersive());
@@ -341,7 +341,7 @@ fn bsdf_defaults_and_parameters() {
         "<bsdf type=\"dielectric\"><spectrum name=\"int_ior\" value=\"400:1.55, 700:1.5\"/></bsdf>",
     )
     .unwrap();
-    let Some(DielectricMaterial { model, .. }) = (&g).get() else {
+    let Some(DielectricMaterial { model, .. }) = g.get() else {
         panic!()
     };
     assert!((model.int_ior.eval(550.0) - 1.525).abs() < 1e-6);
@@ -351,7 +351,7 @@ fn bsdf_defaults_and_parameters() {
     );
     // plastic defaults: polypropylene/air, linear, ρ 0.5.
     let p = load_bsdf_str("<bsdf type=\"plastic\"/>").unwrap();
-    let Some(PlasticMaterial { model, .. }) = (&p).get() else {
+    let Some(PlasticMaterial { model, .. }) = p.get() else {
         panic!()
     };
     assert_eq!(
@@ -363,7 +363,7 @@ fn bsdf_defaults_and_parameters() {
         "<bsdf type=\"plastic\"><boolean name=\"nonlinear\" value=\"true\"/><float name=\"int_ior\" value=\"1.5\"/><float name=\"ext_ior\" value=\"1\"/><spectrum name=\"diffuse_reflectance\" value=\"0.8\"/></bsdf>",
     )
     .unwrap();
-    let Some(PlasticMaterial { model, .. }) = (&p).get() else {
+    let Some(PlasticMaterial { model, .. }) = p.get() else {
         panic!()
     };
     assert!(model.nonlinear && model.int_ior() == 1.5 && model.ext_ior() == 1.0);
@@ -399,7 +399,7 @@ fn twosided_and_blend() {
     .unwrap();
     // Sorted by name: bsdf0 = "aa" (ρ 0), bsdf1 = "zz" (ρ 1) → 0.25/π.
     assert!((f_normal(&bl, Vec2::ZERO, 550.0) - 0.25 * FRAC_1_PI).abs() < 1e-6);
-    let Some(BlendMaterial { bsdf0, .. }) = (&bl).get() else {
+    let Some(BlendMaterial { bsdf0, .. }) = bl.get() else {
         panic!()
     };
     assert!(bsdf0.get::<DiffuseMaterial>().is_some());
@@ -454,7 +454,7 @@ fn textured_plastic_uses_texture_means_for_sampling() {
             <float name="color0" value="0.9"/><float name="color1" value="0.1"/></texture></bsdf>"#,
     )
     .unwrap();
-    let Some(PlasticMaterial { model, .. }) = (&p).get() else {
+    let Some(PlasticMaterial { model, .. }) = p.get() else {
         panic!()
     };
     // mean(ρ) = 0.5, mean(spec) = 1: s = 1/1.5.

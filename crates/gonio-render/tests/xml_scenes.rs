@@ -124,7 +124,7 @@ fn materials_scene() {
     let l = light.emitter.as_ref().unwrap().radiance.as_spectrum().unwrap();
     assert!(l.as_constant().is_none() && l.eval(560.0) > 4.0);
     // The emitter has no BSDF: default black diffuse.
-    let Some(DiffuseMaterial { reflectance, .. }) = (&s.materials[light.material]).get() else {
+    let Some(DiffuseMaterial { reflectance, .. }) = s.materials[light.material].get() else {
         panic!()
     };
     assert_eq!(constant(reflectance), 0.0);
@@ -138,7 +138,7 @@ fn furnace_scene() {
     assert_eq!((s.sensor.film.width, s.sensor.film.height), (256, 128));
     assert_eq!(s.shapes.len(), 3);
     assert_eq!(s.materials.len(), 3);
-    let Some(DiffuseMaterial { reflectance, .. }) = (&s.materials[s.shapes[0].material]).get() else {
+    let Some(DiffuseMaterial { reflectance, .. }) = s.materials[s.shapes[0].material].get() else {
         panic!()
     };
     // A white rgb reflectance is exactly 1 at every wavelength.

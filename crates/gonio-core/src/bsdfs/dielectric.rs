@@ -223,11 +223,11 @@ mod tests {
         let mut seen = BsdfFlags::NONE;
         for u1 in [0.0, 1.0 - f32::EPSILON] {
             let mut wl = SampledWavelengths::fixed(550.0);
-            if let Some(s) = b.sample(ctx, wi, u1, Vec2::splat(0.5), &mut wl) {
-                if s.flags != seen {
-                    total += s.pdf * s.weight[0];
-                    seen = s.flags;
-                }
+            if let Some(s) = b.sample(ctx, wi, u1, Vec2::splat(0.5), &mut wl)
+                && s.flags != seen
+            {
+                total += s.pdf * s.weight[0];
+                seen = s.flags;
             }
         }
         total

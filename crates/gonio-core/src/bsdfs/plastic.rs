@@ -412,7 +412,7 @@ mod tests {
             for deg in [0.0f32, 45.0, 80.0] {
                 let wi = dir(deg);
                 let a = albedo_by_quadrature(&p, wi);
-                assert!(a <= 1.0 + 1e-6 && a >= 1.0 - 1e-6, "θ {deg}: {a}");
+                assert!((1.0 - 1e-6..=1.0 + 1e-6).contains(&a), "θ {deg}: {a}");
                 let f = fresnel_dielectric(wi.z, p.eta()).reflectance as f64;
                 let with_fit = f
                     + (1.0 - f) * (1.0 - p.fdr_int() as f64)

@@ -84,9 +84,9 @@ fn both_forms_match_an_independent_evaluation() {
                     rho as f64,
                     alpha as f64,
                     fast,
-                    (ti as f64).to_radians(),
-                    (to as f64).to_radians(),
-                    ((po - pi) as f64).to_radians(),
+                    ti.to_radians(),
+                    to.to_radians(),
+                    (po - pi).to_radians(),
                 );
                 assert!(
                     (got - want).abs() <= 2e-5 * want.abs().max(1e-3),

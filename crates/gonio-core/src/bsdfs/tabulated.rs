@@ -91,10 +91,10 @@ impl TabulatedData {
         if let Some(k) = values.iter().position(|v| !v.is_finite()) {
             return Err(format!("value #{k} is not finite ({})", values[k]));
         }
-        if let Some(e) = &stderr {
-            if e.len() != n {
-                return Err(format!("expected {n} standard errors, found {}", e.len()));
-            }
+        if let Some(e) = &stderr
+            && e.len() != n
+        {
+            return Err(format!("expected {n} standard errors, found {}", e.len()));
         }
         Ok(Self {
             theta_i_deg,

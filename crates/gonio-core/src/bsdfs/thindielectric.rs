@@ -318,8 +318,10 @@ mod tests {
 
     #[test]
     fn transmittance_tint_applies_once() {
-        let mut d = ThinDielectric::default();
-        d.specular_transmittance = Spectrum::Constant(0.5);
+        let d = ThinDielectric {
+            specular_transmittance: Spectrum::Constant(0.5),
+            ..ThinDielectric::default()
+        };
         let wl = SampledWavelengths::fixed(550.0);
         assert!(close(
             d.null_transmission(Vec3::Z, &wl).unwrap()[0],

@@ -66,17 +66,18 @@ pub fn isotropy(bsdf: &dyn Bsdf, config: &CheckConfig) -> CheckResult {
         let (mut w1, mut w2) = (wl, wl);
         let s = bsdf.sample(&ctx, a, u1, u2, &mut w1);
         let sr = bsdf.sample(&ctx, ra, u1, u2, &mut w2);
-        if let (Some(s), Some(sr)) = (s, sr) {
-            if s.flags.is_delta() && sr.flags == s.flags {
-                let mut e = rel_diff(s.pdf as f64, sr.pdf as f64, TINY);
-                for i in 0..4 {
-                    e = e.max(rel_diff(s.weight[i] as f64, sr.weight[i] as f64, TINY));
-                }
-                e = e.max(((rot * s.wo) - sr.wo).length() as f64);
-                record(e, &|| {
-                    format!("delta sample at a={a:.4}: {s}; rotated by {psi:.3}: {sr}")
-                });
+        if let (Some(s), Some(sr)) = (s, sr)
+            && s.flags.is_delta()
+            && sr.flags == s.flags
+        {
+            let mut e = rel_diff(s.pdf as f64, sr.pdf as f64, TINY);
+            for i in 0..4 {
+                e = e.max(rel_diff(s.weight[i] as f64, sr.weight[i] as f64, TINY));
             }
+            e = e.max(((rot * s.wo) - sr.wo).length() as f64);
+            record(e, &|| {
+                format!("delta sample at a={a:.4}: {s}; rotated by {psi:.3}: {sr}")
+            });
         }
     }
     let (bound, claim) = if bsdf.flags().contains(BsdfFlags::ANISOTROPIC) {

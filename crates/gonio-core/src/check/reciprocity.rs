@@ -57,10 +57,12 @@ pub fn eta_across(bsdf: &dyn Bsdf, a: Vec3, wl: &SampledWavelengths) -> (f32, bo
     for u2 in std::iter::once(Vec2::splat(0.5)).chain(grid) {
         for u1 in u1_grid(64) {
             let mut wl2 = *wl;
-            if let Some(s) = bsdf.sample(&ctx, a, u1, u2, &mut wl2) {
-                if s.flags.is_transmission() && s.eta.is_finite() && s.eta > 0.0 {
-                    return (s.eta, wl2.secondary_terminated() && !wl.secondary_terminated());
-                }
+            if let Some(s) = bsdf.sample(&ctx, a, u1, u2, &mut wl2)
+                && s.flags.is_transmission()
+                && s.eta.is_finite()
+                && s.eta > 0.0
+            {
+                return (s.eta, wl2.secondary_terminated() && !wl.secondary_terminated());
             }
         }
     }

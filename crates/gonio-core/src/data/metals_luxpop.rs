@@ -635,8 +635,11 @@ static VN_ETA: [f32; 6] = [2.200000, 2.180000, 2.130000, 2.170000, 2.350000, 2.7
 /// VN: k.
 static VN_K: [f32; 6] = [1.540000, 1.580000, 1.700000, 1.980000, 2.470000, 2.920000];
 
+/// One preset: name (Mitsuba's spelling), wavelengths, η, k.
+pub type Preset = (&'static str, &'static [f32], &'static [f32], &'static [f32]);
+
 /// Preset name (Mitsuba's spelling) → (wavelengths, η, k).
-pub static LUXPOP: [(&str, &[f32], &[f32], &[f32]); 65] = [
+pub static LUXPOP: [Preset; 65] = [
     ("a-C", &A_C_LAMBDA, &A_C_ETA, &A_C_K),
     ("AlAs", &ALAS_LAMBDA, &ALAS_ETA, &ALAS_K),
     ("AlAs_palik", &ALAS_LAMBDA, &ALAS_ETA, &ALAS_K),

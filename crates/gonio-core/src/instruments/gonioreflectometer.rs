@@ -258,10 +258,12 @@ impl<'a> HeightfieldSpecimen<'a> {
             let t_exit = t_max_x.min(t_max_y);
             let mut best: Option<(f32, Vec3)> = None;
             for tri in self.cell_triangles(i, j) {
-                if let Some((t, nrm)) = ray_triangle(o, d, tri) {
-                    if t > 1e-5 && t <= t_exit + 1e-5 && best.is_none_or(|(bt, _)| t < bt) {
-                        best = Some((t, nrm));
-                    }
+                if let Some((t, nrm)) = ray_triangle(o, d, tri)
+                    && t > 1e-5
+                    && t <= t_exit + 1e-5
+                    && best.is_none_or(|(bt, _)| t < bt)
+                {
+                    best = Some((t, nrm));
                 }
             }
             if best.is_some() {

@@ -125,6 +125,7 @@ mod tests {
         }
         macro_rules! wrap {
             ($($n:ident($($a:ident: $t:ident),*) -> $r:ty;)*) => {$(
+                #[allow(clippy::useless_transmute)] // identity for the `bool` results
                 pub unsafe fn $n($($a: $t),*) -> $r {
                     // SAFETY: the caller's (the CPU has AVX); results are 32 bytes or a bool.
                     unsafe { transmute(f::$n($(wrap!(@in $t, $a)),*)) }

@@ -64,7 +64,7 @@ pub fn exp<const N: usize, X: Isa>(x: F32s<N, X>) -> F32s<N, X> {
         // floor by truncation (SSE2 has no rounding instruction; `f32::floor` would be a call):
         // |a·log₂e| < 128 fits an i32.
         let v2 = a * LOG2E + 0.5;
-        let v2 = if v2 == v2 { v2 } else { 0.0 };
+        let v2 = if v2.is_nan() { 0.0 } else { v2 };
         // SAFETY: |v2| < 128 (a is clamped, NaN replaced): within i32. (`as i32` saturates,
         // which LLVM does lane by lane.)
         let t = unsafe { v2.to_int_unchecked::<i32>() } as f32;

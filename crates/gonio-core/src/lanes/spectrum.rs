@@ -106,7 +106,7 @@ impl<const N: usize, X: Isa> Mul<F32s<N, X>> for SampledSpectra<N, X> {
     fn mul(self, s: F32s<N, X>) -> Self {
         let mut r = self;
         for v in r.0.iter_mut() {
-            *v = *v * s;
+            *v *= s;
         }
         r
     }

@@ -403,8 +403,10 @@ fn roughdielectric_lanes_agree_with_the_scalar_model() {
 #[test]
 fn dispersive_and_multiple_scattering_dielectrics_have_no_lane_kernel() {
     let wl = [SampledWavelengths::sample_visible(0.3); 4];
-    let mut dispersive = RoughDielectric::default();
-    dispersive.int_ior = Ior::Dispersive(piecewise(&[400.0, 1.53, 700.0, 1.51]));
+    let dispersive = RoughDielectric {
+        int_ior: Ior::Dispersive(piecewise(&[400.0, 1.53, 700.0, 1.51])),
+        ..Default::default()
+    };
     assert!(dispersive.lanes::<_, Portable>(&wl).is_none());
     let walk = RoughDielectric {
         multiple_scattering: true,

@@ -362,7 +362,8 @@ fn principled_agrees<const N: usize, X: Isa>() -> Stats {
 
 #[test]
 fn principled_lanes_agree_with_the_scalar_model() {
-    for st in [principled_agrees::<4, Portable>()] {
+    {
+        let st = principled_agrees::<4, Portable>();
         st.check("principled");
         // Every lobe was sampled, from both sides.
         assert!(st.lobes[..3].iter().all(|&n| n > 0) && st.from_below > 0);
@@ -493,7 +494,8 @@ fn thin_agrees<const N: usize, X: Isa>() -> Stats {
 
 #[test]
 fn principledthin_lanes_agree_with_the_scalar_model() {
-    for st in [thin_agrees::<4, Portable>()] {
+    {
+        let st = thin_agrees::<4, Portable>();
         st.check("principledthin");
         assert!(st.lobes.iter().all(|&n| n > 0) && st.from_below > 0);
     }

@@ -92,7 +92,11 @@ pub struct LightSample {
 }
 
 /// One emitter.
+///
+/// Unboxed although the variants differ in size: the list holds a few lights, read on every
+/// light sample, and an indirection would cost a cache miss there.
 #[derive(Clone, Debug)]
+#[allow(clippy::large_enum_variant)]
 pub enum Light {
     /// `area`, attached to a shape.
     Area(AreaLight),

@@ -42,7 +42,7 @@ impl PathTracer<'_> {
         } = sample;
         let camera = PathState::<W>::CAMERA;
         let mut l = W::ZERO;
-        let Some(si) = self.accel.intersect(&camera_ray) else {
+        let Some(si) = self.accel.intersect(camera_ray) else {
             if !self.hide_emitters {
                 self.add_escaped(&mut l, &camera, camera_ray.d, wl);
             }

@@ -90,7 +90,6 @@ impl SurfaceMaterial for RetarderMaterial {
                 transmittance: self.transmittance.eval(uv),
                 theta: self.theta.eval_1(uv),
                 delta: self.delta.eval_1(uv),
-                ..self.model.clone()
             })
         } else {
             f(&self.model)

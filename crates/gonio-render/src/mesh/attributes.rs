@@ -132,15 +132,15 @@ pub(crate) fn group_properties(
     let mut seen: Vec<String> = Vec::new();
     let mut run: Option<Run> = None;
     let flush = |run: &mut Option<Run>, groups: &mut Vec<AttributeGroup>, seen: &mut Vec<String>| {
-        if let Some(r) = run.take() {
-            if r.props.len() == 1 || r.props.len() == 3 {
-                let colour = if r.category == 1 { "_color" } else { "" };
-                groups.push(AttributeGroup {
-                    name: format!("{prefix}{}{colour}", r.prefix),
-                    props: r.props,
-                });
-                seen.push(r.prefix);
-            }
+        if let Some(r) = run.take()
+            && (r.props.len() == 1 || r.props.len() == 3)
+        {
+            let colour = if r.category == 1 { "_color" } else { "" };
+            groups.push(AttributeGroup {
+                name: format!("{prefix}{}{colour}", r.prefix),
+                props: r.props,
+            });
+            seen.push(r.prefix);
         }
     };
     let mut i = 0;

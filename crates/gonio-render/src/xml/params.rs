@@ -458,6 +458,7 @@ impl<'d> Params<'d> {
         }
     }
 
+    #[allow(clippy::wrong_self_convention)] // Mitsuba's parameter name, `to_uv`
     pub(crate) fn to_uv(&mut self) -> Result<Affine2> {
         Ok(match self.transform_opt("to_uv")? {
             None => Affine2::IDENTITY,

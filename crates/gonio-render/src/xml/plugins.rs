@@ -23,6 +23,10 @@ use std::sync::Arc;
 
 type Result<T> = std::result::Result<T, SceneError>;
 
+/// A texture that reads the hit, as the builder logs it: the attribute's name (`None` for a
+/// `volume`) and where the scene names it.
+pub(crate) type HitUse = (Option<String>, Location);
+
 /// The builder: caches so that a referenced BSDF, texture or mesh is built once.
 pub(crate) struct Builder<'d> {
     pub(crate) doc: &'d Doc,
@@ -44,9 +48,9 @@ pub(crate) struct Builder<'d> {
     /// The textures that read the hit (`mesh_attribute`: the attribute's name; `volume`: `None`)
     /// met so far, in order; with the slices of it each cached texture and BSDF object added, so
     /// that a reuse adds them again (a shape's material is bound to its mesh by them).
-    pub(crate) hit_log: Vec<(Option<String>, Location)>,
-    hit_textures: HashMap<(usize, u8), Vec<(Option<String>, Location)>>,
-    pub(crate) hit_bsdfs: HashMap<usize, Vec<(Option<String>, Location)>>,
+    pub(crate) hit_log: Vec<HitUse>,
+    hit_textures: HashMap<(usize, u8), Vec<HitUse>>,
+    pub(crate) hit_bsdfs: HashMap<usize, Vec<HitUse>>,
     /// The attributes of the PLY meshes loaded (by the address of their cached mesh).
     pub(crate) mesh_attributes: HashMap<usize, crate::mesh::attributes::MeshAttributes>,
     /// Where each area emitter whose radiance reads the hit has its first such texture.

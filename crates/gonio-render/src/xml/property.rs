@@ -25,14 +25,14 @@ impl Parser {
         let attrs = self.attrs(ctx, node, allowed)?;
         let (raw_name, _) = attrs.required("name", tag)?;
         let name = self.prop_name(ctx, raw_name);
-        if tag != "transform" {
-            if let Some(c) = node.children().find(|c| c.is_element()) {
-                return Err(SceneError::new(
-                    ctx.loc(c),
-                    ErrorKind::Grammar,
-                    format!("<{tag}> cannot contain <{}>", c.tag_name().name()),
-                ));
-            }
+        if tag != "transform"
+            && let Some(c) = node.children().find(|c| c.is_element())
+        {
+            return Err(SceneError::new(
+                ctx.loc(c),
+                ErrorKind::Grammar,
+                format!("<{tag}> cannot contain <{}>", c.tag_name().name()),
+            ));
         }
         let (value, value_loc) = match tag {
             "integer" => {

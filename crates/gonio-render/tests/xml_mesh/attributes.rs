@@ -153,7 +153,7 @@ fn an_attribute_radiance_is_the_same_through_nee_and_bsdf_sampling() {
             let runs: Vec<[[f64; 3]; 2]> = (1..=8)
                 .map(|seed| {
                     let im = render_at(scene_with(i), 8, seed);
-                    let (w, h) = (im.width as usize, im.height as usize);
+                    let (w, h) = (im.width, im.height);
                     let half = |x0: usize, x1: usize| {
                         let mut m = [0.0f64; 3];
                         let mut n = 0.0;

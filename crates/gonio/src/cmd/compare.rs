@@ -70,17 +70,17 @@ pub fn run(args: Args) -> Result<ExitCode> {
         println!("diff          {}", path.display());
     }
     let mut fail = false;
-    if let Some(t) = args.max_relmse {
-        if exceeds(m.relmse, t) {
-            println!("FAIL: relMSE {:.6e} > {t:e}", m.relmse);
-            fail = true;
-        }
+    if let Some(t) = args.max_relmse
+        && exceeds(m.relmse, t)
+    {
+        println!("FAIL: relMSE {:.6e} > {t:e}", m.relmse);
+        fail = true;
     }
-    if let Some(t) = args.max_block_relmse {
-        if exceeds(m.block_relmse, t) {
-            println!("FAIL: block relMSE {:.6e} > {t:e}", m.block_relmse);
-            fail = true;
-        }
+    if let Some(t) = args.max_block_relmse
+        && exceeds(m.block_relmse, t)
+    {
+        println!("FAIL: block relMSE {:.6e} > {t:e}", m.block_relmse);
+        fail = true;
     }
     if m.non_finite > 0 && (args.max_relmse.is_some() || args.max_block_relmse.is_some()) {
         println!("FAIL: {} non-finite pixels", m.non_finite);

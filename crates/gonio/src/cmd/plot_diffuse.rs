@@ -256,35 +256,6 @@ fn srgb_of(pts: &[(f64, f64)]) -> [u8; 3] {
         .map(|c| (srgb_encode(c.clamp(0.0, 1.0)) * 255.0).round() as u8)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use gonio_core::bsdfs::RoughDiffuse;
-
-    #[test]
-    fn rotation_average_keeps_an_isotropic_bsdf() {
-        let m = RoughDiffuse::default();
-        let avg = RotationAveraged { inner: &m, n: 7 };
-        let wl = SampledWavelengths::fixed(550.0);
-        let ctx = BsdfContext::radiance();
-        let (wi, wo) = (Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.3, 0.4, 0.866_025_4));
-        let (a, b) = (m.eval(&ctx, wi, wo, &wl)[0], avg.eval(&ctx, wi, wo, &wl)[0]);
-        assert!((a - b).abs() < 1e-5 * a, "{a} vs {b}");
-    }
-
-    #[test]
-    fn white_and_black_spectra_are_white_and_black() {
-        let flat = |v: f64| (0..=32).map(|k| (380.0 + 12.5 * k as f64, v)).collect::<Vec<_>>();
-        // 33 samples of D65 and the observer: the white point within 2/255.
-        assert!(
-            srgb_of(&flat(1.0)).iter().all(|&c| c >= 253),
-            "{:?}",
-            srgb_of(&flat(1.0))
-        );
-        assert_eq!(srgb_of(&flat(0.0)), [0, 0, 0]);
-    }
-}
-
 /// Runs `gonio plot multiple-scattering`: the directional albedo of a white GGX rough conductor
 /// (R) and of a rough dielectric (R + T, importance mode) against α, single scattering (Mitsuba's
 /// models) and with `multiple_scattering` (Heitz et al. 2016), by sampling.
@@ -346,4 +317,33 @@ pub fn multiple_scattering(a: MultipleArgs) -> anyhow::Result<ExitCode> {
         a.samples
     );
     written(save(&scattering_order_figure(&panels, &note), &a.output)?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gonio_core::bsdfs::RoughDiffuse;
+
+    #[test]
+    fn rotation_average_keeps_an_isotropic_bsdf() {
+        let m = RoughDiffuse::default();
+        let avg = RotationAveraged { inner: &m, n: 7 };
+        let wl = SampledWavelengths::fixed(550.0);
+        let ctx = BsdfContext::radiance();
+        let (wi, wo) = (Vec3::new(0.6, 0.0, 0.8), Vec3::new(-0.3, 0.4, 0.866_025_4));
+        let (a, b) = (m.eval(&ctx, wi, wo, &wl)[0], avg.eval(&ctx, wi, wo, &wl)[0]);
+        assert!((a - b).abs() < 1e-5 * a, "{a} vs {b}");
+    }
+
+    #[test]
+    fn white_and_black_spectra_are_white_and_black() {
+        let flat = |v: f64| (0..=32).map(|k| (380.0 + 12.5 * k as f64, v)).collect::<Vec<_>>();
+        // 33 samples of D65 and the observer: the white point within 2/255.
+        assert!(
+            srgb_of(&flat(1.0)).iter().all(|&c| c >= 253),
+            "{:?}",
+            srgb_of(&flat(1.0))
+        );
+        assert_eq!(srgb_of(&flat(0.0)), [0, 0, 0]);
+    }
 }

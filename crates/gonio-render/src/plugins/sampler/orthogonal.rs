@@ -40,7 +40,7 @@ pub static PLUGIN: Plugin<SamplerDesc> = Plugin {
 
 /// Mitsuba's count: p² for the smallest prime p ≥ max(⌈√n⌉, 2).
 pub fn rounded_count(n: u32) -> u32 {
-    let is_prime = |p: u64| p >= 2 && (2..).take_while(|d| d * d <= p).all(|d| p % d != 0);
+    let is_prime = |p: u64| p >= 2 && (2..).take_while(|d| d * d <= p).all(|d| !p.is_multiple_of(d));
     let mut p = (n as f64).sqrt().ceil().max(2.0) as u64;
     while !is_prime(p) {
         p += 1;

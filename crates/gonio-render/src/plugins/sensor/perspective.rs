@@ -224,14 +224,14 @@ pub(crate) fn build_projective<'d>(
         &[]
     };
     for &name in offsets {
-        if let Some((v, loc)) = p.float_opt(name)? {
-            if v != 0.0 {
-                return Err(err(
-                    loc,
-                    ErrorKind::BadValue,
-                    format!("{name} {v} is not supported (only 0)"),
-                ));
-            }
+        if let Some((v, loc)) = p.float_opt(name)?
+            && v != 0.0
+        {
+            return Err(err(
+                loc,
+                ErrorKind::BadValue,
+                format!("{name} {v} is not supported (only 0)"),
+            ));
         }
     }
     // Mitsuba's projective cameras all read it (default: far_clip); the pinhole never uses it.

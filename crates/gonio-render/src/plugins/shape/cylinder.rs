@@ -85,7 +85,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, Scene
         radius as f32,
         length as f32,
     );
-    c.to_world = c.to_world * local;
+    c.to_world *= local;
     assemble(b, p, c, Geometry::Mesh(Arc::new(unit_cylinder(SEGMENTS))), false)
 }
 
