@@ -19,6 +19,7 @@ mod image;
 mod integrator;
 mod layers;
 mod mitsuba_bsdf_values;
+mod mitsuba_json;
 mod mitsuba_principled_values;
 mod mitsuba_roughconductor_values;
 mod mitsuba_roughdielectric_values;

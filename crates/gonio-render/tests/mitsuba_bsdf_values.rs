@@ -14,6 +14,7 @@
 #[path = "mitsuba_polarized/mod.rs"]
 mod mitsuba_polarized;
 
+use crate::mitsuba_json::{self, num, vec3};
 use glam::{Vec2, Vec3};
 use gonio_core::albedo::directional_albedo;
 use gonio_core::bsdfs::Plastic;
@@ -27,22 +28,9 @@ use serde_json::Value;
 const MITSUBA_ALBEDO_SAMPLES: f64 = 2_097_152.0;
 
 fn reference() -> Value {
-    let text = include_str!("../../../testdata/mitsuba/reference/mitsuba-bsdf-values.json");
-    serde_json::from_str(text).expect("reference JSON parses")
-}
-
-fn vec3(v: &Value) -> Vec3 {
-    let a: Vec<f32> = v
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect();
-    Vec3::new(a[0], a[1], a[2])
-}
-
-fn num(v: &Value, key: &str) -> f64 {
-    v[key].as_f64().unwrap_or_else(|| panic!("missing {key}"))
+    mitsuba_json::parse(include_str!(
+        "../../../testdata/mitsuba/reference/mitsuba-bsdf-values.json"
+    ))
 }
 
 /// For `plastic`: factor by which Mitsuba's diffuse lobe differs from ours, (1 − D_exact)/(1 − D_fit).

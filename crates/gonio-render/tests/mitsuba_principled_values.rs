@@ -22,46 +22,17 @@
 //!   errors of the difference of Mitsuba's 2²⁰-sample estimate and ours (2²⁰ samples, the same
 //!   strategy), plus 2e-5 relative for f32 arithmetic.
 
-use glam::{Vec2, Vec3};
+use crate::mitsuba_json::{self, floats, mitsuba_eval_1_uv, num, vec2, vec3};
+use glam::Vec2;
 use gonio_core::rng::Pcg32;
 use gonio_core::{Bsdf, BsdfContext, SampledWavelengths};
 use gonio_render::xml::load_bsdf_str;
 use serde_json::Value;
 
 fn reference() -> Value {
-    let text = include_str!("../../../testdata/mitsuba/reference/mitsuba-principled-values.json");
-    serde_json::from_str(text).expect("reference JSON parses")
-}
-
-fn floats(v: &Value) -> Vec<f32> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect()
-}
-
-fn vec3(v: &Value) -> Vec3 {
-    let a = floats(v);
-    Vec3::new(a[0], a[1], a[2])
-}
-
-fn vec2(v: &Value) -> Vec2 {
-    let a = floats(v);
-    Vec2::new(a[0], a[1])
-}
-
-fn num(v: &Value, key: &str) -> f64 {
-    v[key].as_f64().unwrap_or_else(|| panic!("missing {key}"))
-}
-
-/// The uv at which gonio's checkerboards give what Mitsuba's `eval_1` gave at `uv`.
-fn query_uv(config: &Value, uv: Vec2) -> Vec2 {
-    if config["eval_1_swapped"].as_bool().unwrap() {
-        uv + Vec2::new(0.5, 0.0)
-    } else {
-        uv
-    }
+    mitsuba_json::parse(include_str!(
+        "../../../testdata/mitsuba/reference/mitsuba-principled-values.json"
+    ))
 }
 
 /// The four wavelengths of a query (their pdfs play no part in eval or pdf).
@@ -87,7 +58,7 @@ fn eval_and_pdf_agree(prefix: &str) -> (usize, usize, usize, usize) {
         let (mut cf, mut cp) = (0.0f64, 0.0f64);
         for q in config["eval"].as_array().unwrap() {
             let (wi, wo) = (vec3(&q["wi"]), vec3(&q["wo"]));
-            let uv = query_uv(config, vec2(&q["uv"]));
+            let uv = mitsuba_eval_1_uv(config["eval_1_swapped"].as_bool().unwrap(), vec2(&q["uv"]));
             let wl = wavelengths(q);
             let (f, pdf) = material.with_bsdf(uv, |b| b.eval_pdf(&BsdfContext::radiance(), wi, wo, &wl));
             let mf = floats(&q["f"]);
@@ -207,7 +178,10 @@ fn albedo_agrees(prefix: &str) -> usize {
         }
         let material = load_bsdf_str(config["xml"].as_str().unwrap()).unwrap();
         for q in config["albedo"].as_array().unwrap() {
-            let (wi, uv) = (vec3(&q["wi"]), query_uv(config, vec2(&q["uv"])));
+            let (wi, uv) = (
+                vec3(&q["wi"]),
+                mitsuba_eval_1_uv(config["eval_1_swapped"].as_bool().unwrap(), vec2(&q["uv"])),
+            );
             let wl = SampledWavelengths::fixed(num(q, "lambda_nm") as f32);
             let n = 1usize << 20;
             let (s1, s2) = material.with_bsdf(uv, |b: &dyn Bsdf| {

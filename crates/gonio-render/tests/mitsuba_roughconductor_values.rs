@@ -17,47 +17,16 @@
 //!   Mitsuba's 2²¹-sample estimate and ours (2²⁰ samples, the same strategy), plus 2e-5 relative
 //!   for f32 arithmetic where the weights barely vary.
 
-use glam::{Vec2, Vec3};
+use crate::mitsuba_json::{self, mitsuba_eval_1_uv, num, vec2, vec3};
 use gonio_core::rng::Pcg32;
 use gonio_core::{Bsdf, BsdfContext, SampledWavelengths};
 use gonio_render::xml::load_bsdf_str;
 use serde_json::Value;
 
 fn reference() -> Value {
-    let text = include_str!("../../../testdata/mitsuba/reference/mitsuba-roughconductor-values.json");
-    serde_json::from_str(text).expect("reference JSON parses")
-}
-
-fn floats(v: &Value) -> Vec<f32> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect()
-}
-
-fn vec3(v: &Value) -> Vec3 {
-    let a = floats(v);
-    Vec3::new(a[0], a[1], a[2])
-}
-
-fn vec2(v: &Value) -> Vec2 {
-    let a = floats(v);
-    Vec2::new(a[0], a[1])
-}
-
-fn num(v: &Value, key: &str) -> f64 {
-    v[key].as_f64().unwrap_or_else(|| panic!("missing {key}"))
-}
-
-/// The uv at which gonio's checkerboard gives what Mitsuba 3.9.1's `eval_1` gives at `uv`
-/// (the other cell), for configurations whose roughness is a checkerboard.
-fn mitsuba_eval_1_uv(xml: &str, uv: Vec2) -> Vec2 {
-    if xml.contains("checkerboard") {
-        uv + Vec2::new(0.5, 0.0)
-    } else {
-        uv
-    }
+    mitsuba_json::parse(include_str!(
+        "../../../testdata/mitsuba/reference/mitsuba-roughconductor-values.json"
+    ))
 }
 
 #[test]
@@ -84,7 +53,7 @@ fn roughconductor_eval_and_pdf_agree_with_mitsuba() {
         let material = load_bsdf_str(xml).unwrap_or_else(|e| panic!("{name}: {e}"));
         for q in config["eval"].as_array().unwrap() {
             let (wi, wo) = (vec3(&q["wi"]), vec3(&q["wo"]));
-            let uv = mitsuba_eval_1_uv(xml, vec2(&q["uv"]));
+            let uv = mitsuba_eval_1_uv(xml.contains("checkerboard"), vec2(&q["uv"]));
             let wl = SampledWavelengths::fixed(num(q, "lambda_nm") as f32);
             let (f, pdf) = material.with_bsdf(uv, |b| b.eval_pdf(&BsdfContext::radiance(), wi, wo, &wl));
             let (mf, mpdf) = (num(q, "f"), num(q, "pdf"));
@@ -123,7 +92,10 @@ fn roughconductor_albedo_agrees_with_mitsuba() {
         let xml = config["xml"].as_str().unwrap();
         let material = load_bsdf_str(xml).unwrap();
         for q in config["albedo"].as_array().unwrap() {
-            let (wi, uv) = (vec3(&q["wi"]), mitsuba_eval_1_uv(xml, vec2(&q["uv"])));
+            let (wi, uv) = (
+                vec3(&q["wi"]),
+                mitsuba_eval_1_uv(xml.contains("checkerboard"), vec2(&q["uv"])),
+            );
             let wl = SampledWavelengths::fixed(num(q, "lambda_nm") as f32);
             let n = 1usize << 20;
             let (s1, s2) = material.with_bsdf(uv, |b: &dyn Bsdf| {

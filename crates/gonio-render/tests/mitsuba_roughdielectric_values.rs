@@ -21,7 +21,8 @@
 //!   so its mean is that integral: the test checks ours against a deterministic quadrature of
 //!   `eval` and shows Mitsuba's estimate away from it.
 
-use glam::{Vec2, Vec3};
+use crate::mitsuba_json::{self, mitsuba_eval_1_uv, num, vec2, vec3};
+use glam::Vec3;
 use gonio_core::albedo::directional_albedo;
 use gonio_core::rng::Pcg32;
 use gonio_core::{Bsdf, BsdfContext, SampledWavelengths, TransportMode};
@@ -29,30 +30,9 @@ use gonio_render::xml::load_bsdf_str;
 use serde_json::Value;
 
 fn reference() -> Value {
-    let text = include_str!("../../../testdata/mitsuba/reference/mitsuba-roughdielectric-values.json");
-    serde_json::from_str(text).expect("reference JSON parses")
-}
-
-fn floats(v: &Value) -> Vec<f32> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect()
-}
-
-fn vec3(v: &Value) -> Vec3 {
-    let a = floats(v);
-    Vec3::new(a[0], a[1], a[2])
-}
-
-fn vec2(v: &Value) -> Vec2 {
-    let a = floats(v);
-    Vec2::new(a[0], a[1])
-}
-
-fn num(v: &Value, key: &str) -> f64 {
-    v[key].as_f64().unwrap_or_else(|| panic!("missing {key}"))
+    mitsuba_json::parse(include_str!(
+        "../../../testdata/mitsuba/reference/mitsuba-roughdielectric-values.json"
+    ))
 }
 
 fn mode(v: &Value) -> TransportMode {
@@ -67,15 +47,6 @@ fn context(mode: TransportMode) -> BsdfContext {
     BsdfContext {
         mode,
         ..BsdfContext::radiance()
-    }
-}
-
-/// The uv at which gonio's checkerboard gives what Mitsuba 3.9.1's `eval_1` gives at `uv`.
-fn mitsuba_eval_1_uv(xml: &str, uv: Vec2) -> Vec2 {
-    if xml.contains("checkerboard") {
-        uv + Vec2::new(0.5, 0.0)
-    } else {
-        uv
     }
 }
 
@@ -132,7 +103,7 @@ fn roughdielectric_eval_and_pdf_agree_with_mitsuba() {
         let material = load_bsdf_str(xml).unwrap_or_else(|e| panic!("{name}: {e}"));
         for q in config["eval"].as_array().unwrap() {
             let (wi, wo) = (vec3(&q["wi"]), vec3(&q["wo"]));
-            let uv = mitsuba_eval_1_uv(xml, vec2(&q["uv"]));
+            let uv = mitsuba_eval_1_uv(xml.contains("checkerboard"), vec2(&q["uv"]));
             let wl = SampledWavelengths::fixed(num(q, "lambda_nm") as f32);
             let ctx = context(mode(q));
             let (f, pdf) = material.with_bsdf(uv, |b| b.eval_pdf(&ctx, wi, wo, &wl));
@@ -180,7 +151,10 @@ fn roughdielectric_albedo_agrees_with_mitsuba() {
         }
         let material = load_bsdf_str(xml).unwrap();
         for (k, q) in config["albedo"].as_array().unwrap().iter().enumerate() {
-            let (wi, uv) = (vec3(&q["wi"]), mitsuba_eval_1_uv(xml, vec2(&q["uv"])));
+            let (wi, uv) = (
+                vec3(&q["wi"]),
+                mitsuba_eval_1_uv(xml.contains("checkerboard"), vec2(&q["uv"])),
+            );
             let wl = SampledWavelengths::fixed(num(q, "lambda_nm") as f32);
             let ctx = context(mode(q));
             let [r, r_se, t, t_se] = material.with_bsdf(uv, |b| {

@@ -16,6 +16,7 @@
 //! `white_coat_energy_exact_vs_mitsuba` states what the exact averages change: the albedo of a
 //! white base at 0°, 45°, 80° for α = 0.1, 0.5, 1.
 
+use crate::mitsuba_json::{self, num, vec2, vec3};
 use glam::{Vec2, Vec3};
 use gonio_core::rng::Pcg32;
 use gonio_core::{Bsdf, BsdfContext, SampledWavelengths};
@@ -24,30 +25,9 @@ use gonio_render::xml::load_bsdf_str;
 use serde_json::Value;
 
 fn reference() -> Value {
-    let text = include_str!("../../../testdata/mitsuba/reference/mitsuba-roughplastic-values.json");
-    serde_json::from_str(text).expect("reference JSON parses")
-}
-
-fn floats(v: &Value) -> Vec<f32> {
-    v.as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect()
-}
-
-fn vec3(v: &Value) -> Vec3 {
-    let a = floats(v);
-    Vec3::new(a[0], a[1], a[2])
-}
-
-fn vec2(v: &Value) -> Vec2 {
-    let a = floats(v);
-    Vec2::new(a[0], a[1])
-}
-
-fn num(v: &Value, key: &str) -> f64 {
-    v[key].as_f64().unwrap_or_else(|| panic!("missing {key}"))
+    mitsuba_json::parse(include_str!(
+        "../../../testdata/mitsuba/reference/mitsuba-roughplastic-values.json"
+    ))
 }
 
 /// Mitsuba's XML with gonio's `coat_averages` set to `averages`.
