@@ -593,6 +593,8 @@ fn differentiable_integrators_are_their_primal_integrators() {
 #[test]
 fn mitsuba_estimators_restore_mitsubas_defaults_only() {
     use gonio_core::bsdfs::roughplastic::CoatAverages;
+    use gonio_core::fresnel::fresnel_diffuse_reflectance_fit;
+    use gonio_render::material::plastic::PlasticMaterial;
     use gonio_render::material::roughplastic::RoughPlasticMaterial;
     use gonio_render::xml::{LoadOptions, load_scene_file_with};
     let scene = |integrator: &str, coat: &str, delta: &str| {
@@ -600,10 +602,12 @@ fn mitsuba_estimators_restore_mitsubas_defaults_only() {
             r#"<scene version="3.0.0">
                  <integrator type="path">{integrator}</integrator>
                  <bsdf type="roughplastic" id="rp">{coat}</bsdf>
+                 <bsdf type="plastic" id="pl">{coat}</bsdf>
                  <bsdf type="blendbsdf" id="bl"><float name="weight" value="0.5"/>{delta}
                    <bsdf type="diffuse"/><bsdf type="conductor"/></bsdf>
                  <shape type="sphere"><ref id="rp"/></shape>
                  <shape type="sphere"><ref id="bl"/></shape>
+                 <shape type="sphere"><ref id="pl"/></shape>
                </scene>"#
         )
     };
@@ -631,6 +635,19 @@ fn mitsuba_estimators_restore_mitsubas_defaults_only() {
             .find_map(|m| m.get::<BlendMaterial>())
             .unwrap()
             .mitsuba_delta_pdf;
+        // `plastic`'s averages are Mitsuba's when its r̃ is the polynomial fit.
+        let plastic = &s
+            .materials
+            .iter()
+            .find_map(|m| m.get::<PlasticMaterial>())
+            .unwrap()
+            .model;
+        let fits = plastic.fdr_int() == fresnel_diffuse_reflectance_fit(1.0 / plastic.eta());
+        assert_eq!(
+            fits,
+            coat == CoatAverages::Mitsuba,
+            "plastic follows roughplastic"
+        );
         (s.integrator.thin_shadows, s.integrator.caustic_paths, coat, delta)
     };
     let bare = scene("", "", "");

@@ -40,7 +40,7 @@ pub use principledthin::PrincipledThin;
 pub use roughconductor::RoughConductor;
 pub use roughdielectric::RoughDielectric;
 pub use roughdiffuse::RoughDiffuse;
-pub use roughplastic::RoughPlastic;
+pub use roughplastic::{CoatAverages, RoughPlastic};
 pub use surface::{LeafBsdf, SurfaceBsdf};
 pub use tabulated::Tabulated;
 pub use thindielectric::ThinDielectric;

@@ -20,7 +20,9 @@
 //! the exact quadrature ([`crate::fresnel::fresnel_diffuse_reflectance`], computed at
 //! construction), not Mitsuba's polynomial fits, which are off by ~5e-4 and make Mitsuba's albedo
 //! at ρ = 1 about 1.001. Every diffuse value is therefore (1 − r̃_fit)/(1 − r̃_exact) ≈ 0.9988
-//! times Mitsuba's (linear mode).
+//! times Mitsuba's (linear mode). [`Plastic::with_coat_averages`] with
+//! [`crate::bsdfs::CoatAverages::Mitsuba`] (the plugin's `coat_averages="mitsuba"`) restores the
+//! fits, and Mitsuba's values with them.
 //!
 //! Sampling (Mitsuba's): with s = mean(tint)/(mean(ρ) + mean(tint)) the
 //! `specular_sampling_weight`, the coat mirror is chosen with probability
@@ -39,7 +41,8 @@
 //! | `specular_reflectance` | spectrum    | 1 (tint; not physical)       |
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, reflect};
-use crate::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance};
+use crate::bsdfs::CoatAverages;
+use crate::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance, fresnel_diffuse_reflectance_fit};
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
@@ -105,6 +108,25 @@ impl Plastic {
         }
     }
 
+    /// The coat's averages r̃_int = Fdr(1/η) and r̃_ext = Fdr(η): exact (the default, by
+    /// quadrature: the albedo at ρ = 1 is 1) or Mitsuba 3.9.1's polynomial fits
+    /// ([`CoatAverages::Mitsuba`], for comparisons: they miss the identity
+    /// 1 − Fdr(1/η) = (1 − Fdr(η))/η² by ~1e-3, and the albedo at ρ = 1 exceeds 1 by as much).
+    pub fn with_coat_averages(mut self, averages: CoatAverages) -> Self {
+        let eta64 = self.int_ior as f64 / self.ext_ior as f64;
+        (self.fdr_int, self.fdr_ext) = match averages {
+            CoatAverages::Exact => (
+                fresnel_diffuse_reflectance(1.0 / eta64) as f32,
+                fresnel_diffuse_reflectance(eta64) as f32,
+            ),
+            CoatAverages::Mitsuba => (
+                fresnel_diffuse_reflectance_fit(1.0 / self.eta),
+                fresnel_diffuse_reflectance_fit(self.eta),
+            ),
+        };
+        self
+    }
+
     /// This model at the four wavelengths of a path (the per-hit `Copy` value).
     pub fn at(&self, wl: &SampledWavelengths) -> Plastic<SampledSpectrum> {
         Plastic {
@@ -142,11 +164,12 @@ impl<S: SpectralValue> Plastic<S> {
     pub fn ext_ior(&self) -> f32 {
         self.ext_ior
     }
-    /// r̃_int = Fdr(1/η), exact.
+    /// r̃_int = Fdr(1/η), exact unless Mitsuba's fits were asked for
+    /// ([`Plastic::with_coat_averages`]).
     pub fn fdr_int(&self) -> f32 {
         self.fdr_int
     }
-    /// r̃_ext = Fdr(η), exact.
+    /// r̃_ext = Fdr(η), exact unless Mitsuba's fits were asked for.
     pub fn fdr_ext(&self) -> f32 {
         self.fdr_ext
     }

@@ -27,6 +27,9 @@
 //! r_s (1 − w_bsdf (1 − F))) outside (diffuse, clearcoat, transmission, reflection; r the
 //! sampling rates) and (0, 0, 1 − F, F) inside, with F at the sampled visible GGX normal; the
 //! diffuse lobe is sampled cosine-weighted, the clearcoat by GTR1 normals; pdf is the mixture.
+//! Inside a material with no transmission (w_bsdf = 0: `spec_trans` 0 or `metallic` 1) f is
+//! zero and so is our pdf, where Mitsuba 3.9.1's `pdf` keeps the reflection's density
+//! D_vis/(4 |wo·h|): it samples nothing there either (no image differs), but its pdf is not 0.
 //!
 //! Energy: not conserved (Burley's model is artistic). Inside, the reflection is scaled by w_bsdf
 //! and the transmission by w_bsdf √c, so light inside a part-metallic or part-diffuse material

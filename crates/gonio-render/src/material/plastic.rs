@@ -1,5 +1,7 @@
 //! `plastic`: a Lambertian base under a smooth dielectric coat (core model
-//! [`gonio_core::bsdfs::Plastic`]; Mitsuba 3 `src/bsdfs/plastic.cpp`).
+//! [`gonio_core::bsdfs::Plastic`]; Mitsuba 3 `src/bsdfs/plastic.cpp`). Addition over Mitsuba:
+//! `coat_averages` (`exact`, gonio's default, or `mitsuba`: Mitsuba 3.9.1's fits of r̃, whose
+//! albedo at ρ = 1 exceeds 1, for comparisons).
 
 use super::{
     BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial, model_value, retint_at,
@@ -9,7 +11,7 @@ use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError};
 use glam::Vec2;
 use gonio_core::bsdfs::surface::TooManyNodes;
-use gonio_core::bsdfs::{LeafBsdf, Plastic, SurfaceBsdf};
+use gonio_core::bsdfs::{CoatAverages, LeafBsdf, Plastic, SurfaceBsdf};
 use gonio_core::spectra::RgbKind;
 use gonio_core::{Bsdf, BsdfFlags, Ior, SampledWavelengths};
 
@@ -44,6 +46,12 @@ pub(crate) const SPECULAR_REFLECTANCE: ParamSpec = ParamSpec::new(
     "tint of the coat's reflection (not physical)",
 );
 
+const COAT_AVERAGES: ParamSpec = ParamSpec::ours_or_mitsuba(
+    "coat_averages",
+    "exact",
+    "(ours) the coat's internal and external diffuse reflectances r̃: `exact` (energy ≤ 1) or `mitsuba` (Mitsuba 3.9.1's polynomial fits, whose albedo at ρ = 1 exceeds 1)",
+);
+
 /// The `plastic` plugin.
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
     name: "plastic",
@@ -54,6 +62,7 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
         INT_IOR,
         EXT_IOR,
         SPECULAR_REFLECTANCE,
+        COAT_AVERAGES,
     ],
     build,
 };
@@ -64,9 +73,11 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
     let int_ior = constant_ior(b, p, &INT_IOR, "plastic")?;
     let ext_ior = constant_ior(b, p, &EXT_IOR, "plastic")?;
     let s = b.texture(p, &SPECULAR_REFLECTANCE, RgbKind::Albedo)?;
-    Ok(Material::new(PlasticMaterial::new(
-        d, int_ior, ext_ior, nonlinear, s,
-    )))
+    let mut m = PlasticMaterial::new(d, int_ior, ext_ior, nonlinear, s);
+    if p.mitsuba_way(&COAT_AVERAGES)? {
+        m.model = m.model.with_coat_averages(CoatAverages::Mitsuba);
+    }
+    Ok(Material::new(m))
 }
 
 /// An index that must not be dispersive (the coat's r̃ is precomputed once); `plugin` names the

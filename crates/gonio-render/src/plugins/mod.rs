@@ -181,7 +181,12 @@ pub fn plugins_markdown() -> String {
          for BSDFs, `crates/gonio-render/src/material/`); a test keeps this file in step with them.\n\
          Names, types and defaults are Mitsuba 3's unless marked (ours). Where a default of ours\n\
          departs from Mitsuba's estimator, \"Mitsuba:\" gives the value that restores it, the default\n\
-         under `gonio render --mitsuba-estimators`.\n",
+         under `gonio render --mitsuba-estimators`.\n\n\
+         A spectrum written as wavelength:value pairs is 0 outside its range for reflectances and\n\
+         emission, as Mitsuba's `irregular` spectrum; for `eta`, `k` and indices of refraction\n\
+         gonio continues the end values there instead (Mitsuba's 0 would make the Fresnel terms\n\
+         NaN or absorb everything). Its `mean()`, which sets the lobe sampling weights of the\n\
+         plastics, is Mitsuba's: the average over its own range.\n",
     );
     let mut last = "";
     for kind in all_kinds() {

@@ -52,9 +52,10 @@ pub struct LoadOptions {
     /// Mitsuba 3.9.1's estimators where gonio's defaults depart from them to keep the physics
     /// right (`gonio render --mitsuba-estimators`): every parameter of ours whose table row has a
     /// [`ParamSpec::mitsuba`] value defaults to it (thin glass blocks shadow rays, no caustic
-    /// light subpaths, `roughplastic` with Mitsuba's coat tables, `blendbsdf` with Mitsuba's delta
-    /// pdf, `envmap` with Mitsuba's lookup, textured `projector` and `area` emitters without D65). A value written
-    /// in the scene still wins. For side-by-side comparisons with Mitsuba.
+    /// light subpaths, `plastic` and `roughplastic` with Mitsuba's coat fits and tables,
+    /// `blendbsdf` with Mitsuba's delta pdf, `envmap` with Mitsuba's lookup, textured `projector`
+    /// and `area` emitters without D65). A value written in the scene still wins. For
+    /// side-by-side comparisons with Mitsuba.
     pub mitsuba_estimators: bool,
 }
 
