@@ -330,13 +330,13 @@ fn plastic_with_mitsubas_coat_averages_evaluates_as_mitsuba() {
 /// `pplastic` is s_mean/(d_mean + s_mean), with Mitsuba's `mean()` of the reflectances: a
 /// spectrum given as wavelength:value pairs averages over its own range (400–700 nm here), not
 /// over 360–830 nm. The pdf shows it: before the fix it was 35 % off at the first query
-/// (`testdata/mitsuba/reference/mitsuba-spectrum-mean.json`, made by
-/// `crates/gonio-core/benches/mitsuba_spectrum_mean.py`; `roughplastic` read with Mitsuba's coat
+/// (`testdata/mitsuba/reference/mitsuba-spot-values.json`, made by
+/// `crates/gonio-core/benches/mitsuba_spot_values.py`; `roughplastic` read with Mitsuba's coat
 /// tables, whose transmittance enters the weight too).
 #[test]
 fn plastic_sampling_weight_uses_mitsubas_mean_of_a_sampled_spectrum() {
     let data = mitsuba_json::parse(include_str!(
-        "../../../testdata/mitsuba/reference/mitsuba-spectrum-mean.json"
+        "../../../testdata/mitsuba/reference/mitsuba-spot-values.json"
     ));
     let mut checked = 0;
     for config in data["configs"].as_array().unwrap() {

@@ -33,8 +33,8 @@
 //! unaffected. The weight is f·|cos θo|/pdf, which then includes D(m)/D_widened(m): Mitsuba
 //! 3.9.1's `sample` omits that ratio (its weight G (ωi·m)/(cos θi cos θm) is the unwidened
 //! one), so its mean weight differs from the integral of its own `eval` there (the test
-//! `mitsuba_roughdielectric_values` shows it); gonio keeps weight = f·|cos θo|/pdf. Below
-//! α = 10⁻² the widening is not applied (`WIDENING_MIN_ALPHA`).
+//! `mitsuba_roughdielectric_values` shows it); gonio keeps weight = f·|cos θo|/pdf. When both
+//! α are below 10⁻² the widening is not applied (`WIDENING_MIN_ALPHA`).
 //!
 //! **Zero roughness.** α is clamped to 10⁻⁴ (Mitsuba): the lobes then hold within 10⁻³ rad of
 //! the mirror and refraction directions with the smooth `dielectric`'s weights (1 and 1/η²).
@@ -98,7 +98,10 @@ pub struct RoughDielectric<S = Spectrum, I = Ior> {
 /// Walter et al.'s widening: the all-normal sampler computes cos θm = 1/√(1 + tan²θm) in `f32`,
 /// which rounds to 1 once tan²θm < 6·10⁻⁸, so at α ≈ 10⁻⁴ every normal lands on the pole where
 /// the weight f·|cos θo|/pdf = D(z)/D_widened(z) = s² (up to 1.12 at 60°) instead of averaging
-/// to 1. At α ≥ 10⁻² the sampled tilt is resolved to 0.1 % and the widening is Mitsuba's.
+/// to 1. At α ≥ 10⁻² the sampled tilt is resolved to 0.1 % and the widening is Mitsuba's. The
+/// test is on the larger α: tan²θm sums both axes' slopes, so one rough axis resolves the tilt
+/// however smooth the other is (an anisotropic surface with α = (0.5, 0.005) is widened, as in
+/// Mitsuba).
 const WIDENING_MIN_ALPHA: f32 = 1e-2;
 
 /// The lobe flags of the rough refraction.
@@ -168,7 +171,7 @@ impl<S: SpectralValue, I: IorValue> RoughDielectric<S, I> {
     #[inline]
     fn sampling_distribution(&self, cos_theta_i: f32) -> MicrofacetDistribution {
         let d = self.distribution;
-        if d.sample_visible || d.alpha_u.min(d.alpha_v) < WIDENING_MIN_ALPHA {
+        if d.sample_visible || d.alpha_u.max(d.alpha_v) < WIDENING_MIN_ALPHA {
             return d;
         }
         let scale = 1.2 - 0.2 * cos_theta_i.abs().sqrt();
@@ -527,7 +530,7 @@ impl<const N: usize, X: Isa> RoughDielectricLanes<N, X> {
         if d.sample_visible {
             return d;
         }
-        let narrow = d.alpha_u.min(d.alpha_v).lt(WIDENING_MIN_ALPHA);
+        let narrow = d.alpha_u.max(d.alpha_v).lt(WIDENING_MIN_ALPHA);
         let scale = narrow.select(F32s::ONE, 1.2 - 0.2 * cos_theta_i.abs().sqrt());
         MicrofacetLanes {
             alpha_u: d.alpha_u * scale,
