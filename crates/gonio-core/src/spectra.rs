@@ -259,6 +259,23 @@ impl RgbSpectrum {
         }
     }
 
+    /// Mitsuba's `mean()` of an RGB spectrum (`srgb_model_mean`): the average of [`Self::eval`]
+    /// at 16 wavelengths evenly spaced over 360–830 nm, four at a time (a bitmap takes it per
+    /// texel).
+    pub fn mean(&self) -> f32 {
+        const STEP: f32 = (830.0 - 360.0) / 15.0;
+        let mut acc = glam::Vec4::ZERO;
+        for k in 0..4 {
+            let lambda = glam::Vec4::from_array([0, 1, 2, 3].map(|i| 360.0 + STEP * (4 * k + i) as f32));
+            let v = self.sigmoid.eval4(lambda);
+            acc += match self.kind {
+                RgbKind::Illuminant => v * glam::Vec4::from_array(lambda.to_array().map(d65_normalized)),
+                _ => v,
+            };
+        }
+        self.scale * acc.element_sum() / 16.0
+    }
+
     /// Values at the four wavelengths of a path, each equal bit for bit to [`Self::eval`]'s (the
     /// sigmoid polynomial evaluated four lanes at once).
     #[inline]
@@ -545,11 +562,7 @@ impl Spectrum {
         }
         match self {
             Spectrum::PiecewiseLinear(p) => p.mean(),
-            Spectrum::Rgb(_) => {
-                const N: usize = 16;
-                let step = (830.0 - 360.0) / (N - 1) as f32;
-                (0..N).map(|i| self.eval(360.0 + step * i as f32)).sum::<f32>() / N as f32
-            }
+            Spectrum::Rgb(r) => r.mean(),
             _ => {
                 let n = 471;
                 (0..n).map(|i| self.eval(360.0 + i as f32)).sum::<f32>() / n as f32
@@ -760,7 +773,7 @@ mod tests {
     }
 
     /// Mitsuba 3.9.1's `mean()` of the same spectra (`testdata/mitsuba/reference/
-    /// mitsuba-spectrum-mean.json`, made by `crates/gonio-core/benches/mitsuba_spectrum_mean.py`): an `irregular` spectrum averages over its own range, not over the
+    /// mitsuba-spot-values.json`, made by `crates/gonio-core/benches/mitsuba_spot_values.py`): an `irregular` spectrum averages over its own range, not over the
     /// visible one (the sampling weight of `plastic` depends on it), and an RGB spectrum over 16
     /// wavelengths. RGB values differ by our own uplifting table (up to 2 % per wavelength).
     #[test]
