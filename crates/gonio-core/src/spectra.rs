@@ -772,10 +772,12 @@ mod tests {
         assert_eq!(Spectrum::constant(0.3).mean(), 0.3);
     }
 
-    /// Mitsuba 3.9.1's `mean()` of the same spectra (`testdata/mitsuba/reference/
-    /// mitsuba-spot-values.json`, made by `crates/gonio-core/benches/mitsuba_spot_values.py`): an `irregular` spectrum averages over its own range, not over the
-    /// visible one (the sampling weight of `plastic` depends on it), and an RGB spectrum over 16
-    /// wavelengths. RGB values differ by our own uplifting table (up to 2 % per wavelength).
+    /// Mitsuba 3.9.1's `mean()` of the same spectra (`means` in
+    /// `testdata/mitsuba/reference/mitsuba-spot-values.json`, made by
+    /// `crates/gonio-core/benches/mitsuba_spot_values.py`): an `irregular` spectrum averages over
+    /// its own range, not over the visible one (the sampling weight of `plastic` depends on it),
+    /// and an RGB spectrum over 16 wavelengths. RGB values differ by our own uplifting table (up
+    /// to 2 % per wavelength).
     #[test]
     fn mean_matches_mitsubas_for_sampled_and_rgb_spectra() {
         let p = PiecewiseLinear::new(

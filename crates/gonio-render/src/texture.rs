@@ -15,6 +15,7 @@
 use glam::{Affine2, Vec2};
 use gonio_core::Spectrum;
 use gonio_core::color::luminance;
+use gonio_core::hash::mix64;
 use gonio_core::rgb2spec::srgb_to_sigmoid;
 use gonio_core::spectra::{RgbKind, RgbSpectrum};
 use rayon::prelude::*;
@@ -258,19 +259,16 @@ impl Bitmap {
 /// skips the uplift of a colour met just before (photographs repeat colours).
 fn texel_mean(rgb: &[[f32; 3]], kind: RgbKind) -> f32 {
     const CHUNK: usize = 1 << 16;
-    const SLOTS: usize = 1 << 10;
+    const SLOT_BITS: u32 = 10;
     let partial: Vec<f64> = rgb
         .par_chunks(CHUNK)
         .map(|chunk| {
-            let mut cache = [([u32::MAX; 3], 0.0f32); SLOTS];
+            let mut cache = [([u32::MAX; 3], 0.0f32); 1 << SLOT_BITS];
             let mut sum = 0.0f64;
             for c in chunk {
                 let key = c.map(f32::to_bits);
-                let h = (key[0].wrapping_mul(0x9E37_79B1)
-                    ^ key[1].wrapping_mul(0x85EB_CA77)
-                    ^ key[2].wrapping_mul(0xC2B2_AE3D))
-                    >> 22;
-                let slot = &mut cache[h as usize % SLOTS];
+                let h = mix64((((key[0] as u64) << 32) | key[1] as u64) ^ mix64(key[2] as u64));
+                let slot = &mut cache[(h >> (64 - SLOT_BITS)) as usize];
                 if slot.0 != key {
                     *slot = (key, uplift(*c, kind).mean());
                 }

@@ -49,6 +49,27 @@ use crate::warp::{square_to_cosine_hemisphere, square_to_cosine_hemisphere_pdf};
 use glam::{Vec2, Vec3};
 use std::f32::consts::FRAC_1_PI;
 
+/// (r̃_int, r̃_ext) = (Fdr(1/η), Fdr(η)) of a coat between `int_ior` and `ext_ior`: exact (by
+/// quadrature, in f64) or Mitsuba's polynomial fits of them (in f32, as Mitsuba computes them).
+fn coat_fdr(int_ior: f32, ext_ior: f32, averages: CoatAverages) -> (f32, f32) {
+    match averages {
+        CoatAverages::Exact => {
+            let eta = int_ior as f64 / ext_ior as f64;
+            (
+                fresnel_diffuse_reflectance(1.0 / eta) as f32,
+                fresnel_diffuse_reflectance(eta) as f32,
+            )
+        }
+        CoatAverages::Mitsuba => {
+            let eta = int_ior / ext_ior;
+            (
+                fresnel_diffuse_reflectance_fit(1.0 / eta),
+                fresnel_diffuse_reflectance_fit(eta),
+            )
+        }
+    }
+}
+
 /// Smooth dielectric coating over a Lambertian base (Mitsuba `plastic`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plastic<S = Spectrum> {
@@ -91,9 +112,9 @@ impl Plastic {
         specular_reflectance: Spectrum,
     ) -> Self {
         let eta = int_ior / ext_ior;
-        let eta64 = int_ior as f64 / ext_ior as f64;
         let (d, s) = (diffuse_reflectance.mean(), specular_reflectance.mean());
         let specular_sampling_weight = if d + s > 0.0 { s / (d + s) } else { 0.5 };
+        let (fdr_int, fdr_ext) = coat_fdr(int_ior, ext_ior, CoatAverages::Exact);
         Self {
             diffuse_reflectance,
             specular_reflectance,
@@ -102,8 +123,8 @@ impl Plastic {
             ext_ior,
             eta,
             inv_eta2: 1.0 / (eta * eta),
-            fdr_int: fresnel_diffuse_reflectance(1.0 / eta64) as f32,
-            fdr_ext: fresnel_diffuse_reflectance(eta64) as f32,
+            fdr_int,
+            fdr_ext,
             specular_sampling_weight,
         }
     }
@@ -113,17 +134,7 @@ impl Plastic {
     /// ([`CoatAverages::Mitsuba`], for comparisons: they miss the identity
     /// 1 − Fdr(1/η) = (1 − Fdr(η))/η² by ~1e-3, and the albedo at ρ = 1 exceeds 1 by as much).
     pub fn with_coat_averages(mut self, averages: CoatAverages) -> Self {
-        let eta64 = self.int_ior as f64 / self.ext_ior as f64;
-        (self.fdr_int, self.fdr_ext) = match averages {
-            CoatAverages::Exact => (
-                fresnel_diffuse_reflectance(1.0 / eta64) as f32,
-                fresnel_diffuse_reflectance(eta64) as f32,
-            ),
-            CoatAverages::Mitsuba => (
-                fresnel_diffuse_reflectance_fit(1.0 / self.eta),
-                fresnel_diffuse_reflectance_fit(self.eta),
-            ),
-        };
+        (self.fdr_int, self.fdr_ext) = coat_fdr(self.int_ior, self.ext_ior, averages);
         self
     }
 
