@@ -588,5 +588,8 @@ pub enum EmitterDesc {
         mitsuba_lookup: bool,
         /// Next-event samples ∝ max(L − L̄, 0) where the BSDF is sampled too (`mis_compensation`).
         mis_compensation: bool,
+        /// Next-event samples × the clamped cosine where the BSDF is sampled too and only
+        /// reflects (`product_sampling`, ours).
+        product_sampling: bool,
     },
 }

@@ -664,3 +664,47 @@ fn mitsuba_estimators_restore_mitsubas_defaults_only() {
     assert_eq!(load(written, true), (true, true, CoatAverages::Exact, false));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The environment map's estimator switches of ours (`mis_compensation`, Mitsuba's parameter
+/// with our default, and `product_sampling`) are on by default, off under
+/// `LoadOptions::mitsuba_estimators`, and what the scene writes either way.
+#[test]
+fn envmap_estimator_switches_follow_mitsuba_estimators() {
+    use gonio_render::image::RgbImage;
+    use gonio_render::xml::{LoadOptions, load_scene_file_with};
+    let dir = std::env::temp_dir().join(format!("gonio-envmap-switches-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    RgbImage::from_fn(8, 4, |x, y| [0.1 * (x + y) as f32; 3])
+        .write_exr(dir.join("sky.exr"))
+        .unwrap();
+    let load = |params: &str, mitsuba: bool| {
+        let path = dir.join("scene.xml");
+        let text = format!(
+            r#"<scene version="3.0.0"><emitter type="envmap"><string name="filename" value="sky.exr"/>{params}</emitter></scene>"#
+        );
+        std::fs::write(&path, text).unwrap();
+        let options = LoadOptions {
+            mitsuba_estimators: mitsuba,
+            ..LoadOptions::default()
+        };
+        match &load_scene_file_with(&path, &options).unwrap().scene.emitters[..] {
+            [
+                EmitterDesc::EnvMap {
+                    mis_compensation,
+                    product_sampling,
+                    ..
+                },
+            ] => (*mis_compensation, *product_sampling),
+            other => panic!("{other:?}"),
+        }
+    };
+    assert_eq!(load("", false), (true, true));
+    assert_eq!(load("", true), (false, false));
+    let on =
+        r#"<boolean name="mis_compensation" value="true"/><boolean name="product_sampling" value="true"/>"#;
+    let off =
+        r#"<boolean name="mis_compensation" value="false"/><boolean name="product_sampling" value="false"/>"#;
+    assert_eq!(load(on, true), (true, true));
+    assert_eq!(load(off, false), (false, false));
+    let _ = std::fs::remove_dir_all(&dir);
+}

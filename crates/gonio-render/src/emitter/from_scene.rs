@@ -114,6 +114,7 @@ impl Light {
                 to_world,
                 mitsuba_lookup,
                 mis_compensation,
+                product_sampling,
             } => {
                 let env = EnvMapLight::new(
                     image.width,
@@ -129,8 +130,13 @@ impl Light {
                 } else {
                     env
                 };
-                Light::EnvMap(if *mis_compensation {
+                let env = if *mis_compensation {
                     env.with_mis_compensation()
+                } else {
+                    env
+                };
+                Light::EnvMap(if *product_sampling {
+                    env.with_product_sampling()
                 } else {
                     env
                 })

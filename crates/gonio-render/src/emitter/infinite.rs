@@ -5,7 +5,8 @@
 //! * `constant`: `radiance` (spectrum, default 1; an RGB value is uplifted as an illuminant, i.e.
 //!   × D65, by the scene reader).
 //! * `envmap`: `filename` (lat-long EXR/HDR image, linear RGB), `scale` (default 1), `to_world`
-//!   (default identity), `mis_compensation` (Mitsuba's default false; ours true: see Sampling).
+//!   (default identity), `mis_compensation` (Mitsuba's default false; ours true: see Sampling);
+//!   ours: `product_sampling` (default true: see Sampling).
 //!
 //! # Orientation (Mitsuba 3 `envmap.cpp`)
 //!
@@ -45,8 +46,14 @@
 //! emission sampling (the particle tracer) and NEE without BSDF samples keep the plain density,
 //! whose support is the whole lit sphere. A map with no texel above its mean (a uniform one)
 //! keeps the plain density everywhere.
+//!
+//! With product sampling (ours), next-event estimation at a surface that only reflects draws
+//! directions ∝ that density × max(0, n·ω) for the cell of its shading normal
+//! ([`super::envmap_product`]), under the same condition as compensation (the BSDF is sampled
+//! too).
 
 use super::LightRef;
+use super::envmap_product::CosineProduct;
 use glam::Vec4;
 use glam::{Affine3A, Vec2, Vec3};
 use gonio_core::color::{d65_normalized, luminance};
@@ -120,6 +127,8 @@ pub struct EnvMapLight {
     /// The compensated density of next-event estimation (module docs), if built and if some
     /// texel outshines the mean.
     compensated: Option<Distribution2D>,
+    /// Next-event sampling × the clamped cosine (module docs), if asked for.
+    product: Option<CosineProduct>,
     mean_luminance: f32,
     /// Mitsuba 3.9.1's row layout and separate interpolation of shapes and scales (module docs).
     mitsuba_lookup: bool,
@@ -175,6 +184,7 @@ impl EnvMapLight {
             to_local: to_world.inverse(),
             distribution,
             compensated: None,
+            product: None,
             mean_luminance,
             mitsuba_lookup: false,
         })
@@ -189,6 +199,21 @@ impl EnvMapLight {
         let weights = texel_weights(&self.rgb, w, h, |l| (l - mean).max(0.0));
         let any = weights.iter().any(|&x| x > 0.0);
         self.compensated = (any && mean.is_finite()).then(|| Distribution2D::new(&weights, w, h));
+        if self.product.is_some() {
+            self = self.with_product_sampling();
+        }
+        self
+    }
+
+    /// The same light whose next-event samples, where the caller also samples the BSDF and it
+    /// only reflects, follow its next-event density × the clamped cosine at the shading normal
+    /// (module docs, [`super::envmap_product`]).
+    pub fn with_product_sampling(mut self) -> Self {
+        let (w, h) = (self.width, self.height);
+        let weights = texel_weights(&self.rgb, w, h, |l| l);
+        // Compensated locally, by half each normal cell's own mean, where the light compensates.
+        let compensation = if self.compensated.is_some() { 0.5 } else { 0.0 };
+        self.product = CosineProduct::new(&weights, w, h, compensation, |uv| self.uv_to_dir(uv));
         self
     }
 
@@ -202,6 +227,13 @@ impl EnvMapLight {
         }
     }
 
+    /// The product tables when next-event estimation from `r` uses them: the BSDF there is
+    /// sampled too and only reflects.
+    #[inline]
+    fn nee_product(&self, r: &LightRef) -> Option<&CosineProduct> {
+        self.product.as_ref().filter(|_| r.mis && r.hemisphere)
+    }
+
     /// The same light with Mitsuba 3.9.1's lookup: rows at v = j/(H − 1), texel shapes and
     /// scales interpolated separately and multiplied (module docs).
     pub fn with_mitsuba_lookup(mut self) -> Self {
@@ -211,11 +243,18 @@ impl EnvMapLight {
 
     /// World direction → image coordinates in [0, 1)².
     pub fn dir_to_uv(&self, dir: Vec3) -> Vec2 {
+        self.dir_to_uv_sin(dir).0
+    }
+
+    /// [`Self::dir_to_uv`] and sin θ of the direction, taken from its components (near a pole
+    /// acos(cos θ) rounds to 0 in single precision, sin(π v) with it, but the direction's own
+    /// distance from the axis does not).
+    fn dir_to_uv_sin(&self, dir: Vec3) -> (Vec2, f32) {
         let v = self.to_local.transform_vector3(dir).normalize_or_zero();
         let mut u = v.x.atan2(-v.z) / TAU;
         u -= u.floor();
         let t = v.y.clamp(-1.0, 1.0).acos() / PI;
-        Vec2::new(u.min(1.0 - f32::EPSILON), t)
+        (Vec2::new(u.min(1.0 - f32::EPSILON), t), v.x.hypot(v.z))
     }
 
     /// Image coordinates → world direction (unit).
@@ -325,27 +364,31 @@ impl EnvMapLight {
     /// Direction towards the light ∝ luminance·sin θ, and its solid-angle density (the plain
     /// density, whose support is every direction the map lights: emission sampling).
     pub fn sample_dir(&self, u: Vec2) -> Option<(Vec3, f32)> {
-        self.sample_uv(u, false)
+        self.sample_uv(u, &LightRef::EMISSION)
             .map(|(uv, pdf)| (self.uv_to_dir(uv), pdf))
     }
 
-    /// A next-event direction with the radiance arriving from it, looked up at the sampled
-    /// image coordinates: the compensated density when `mis` (the caller samples the BSDF too
-    /// and weighs both by MIS) and the light has one, else [`Self::sample_dir`]'s.
+    /// A next-event direction from `r` with the radiance arriving from it, looked up at the
+    /// sampled image coordinates: where `r` also samples the BSDF and weighs both by MIS
+    /// (`r.mis`), the compensated density if the light has one, × the clamped cosine if the
+    /// light does product sampling and the BSDF only reflects; else [`Self::sample_dir`]'s.
     pub fn sample_dir_le(
         &self,
         u: Vec2,
         wl: &SampledWavelengths,
-        mis: bool,
+        r: &LightRef,
     ) -> Option<(Vec3, f32, SampledSpectrum)> {
-        self.sample_uv(u, mis)
+        self.sample_uv(u, r)
             .map(|(uv, pdf)| (self.uv_to_dir(uv), pdf, self.le_uv(uv, wl)))
     }
 
-    /// Image coordinates from [`Self::nee_distribution`] and the solid-angle density of their
-    /// direction.
-    fn sample_uv(&self, u: Vec2, mis: bool) -> Option<(Vec2, f32)> {
-        let (uv, pdf_uv) = self.nee_distribution(mis).sample(u);
+    /// Image coordinates from the next-event density for `r` and the solid-angle density of
+    /// their direction.
+    fn sample_uv(&self, u: Vec2, r: &LightRef) -> Option<(Vec2, f32)> {
+        let (uv, pdf_uv) = match self.nee_product(r) {
+            Some(p) => p.sample(r.n, u)?,
+            None => self.nee_distribution(r.mis).sample(u),
+        };
         let sin_theta = (PI * uv.y).sin();
         if pdf_uv <= 0.0 || sin_theta <= 0.0 {
             return None;
@@ -353,25 +396,30 @@ impl EnvMapLight {
         Some((uv, pdf_uv / (2.0 * PI * PI * sin_theta)))
     }
 
-    /// Density with which [`Self::sample_dir_le`] (same `mis`) draws world direction `dir`.
-    pub fn pdf_dir(&self, dir: Vec3, mis: bool) -> f32 {
-        self.pdf_uv(self.dir_to_uv(dir), mis)
+    /// Density with which [`Self::sample_dir_le`] (same `r`) draws world direction `dir`.
+    pub fn pdf_dir(&self, dir: Vec3, r: &LightRef) -> f32 {
+        let (uv, sin_theta) = self.dir_to_uv_sin(dir);
+        self.pdf_uv(uv, sin_theta, r)
     }
 
     /// [`Self::le`] and [`Self::pdf_dir`] of one direction, mapped to the image once (a ray that
     /// escapes after a BSDF sample needs both).
-    pub fn le_pdf(&self, dir: Vec3, wl: &SampledWavelengths, mis: bool) -> (SampledSpectrum, f32) {
-        let uv = self.dir_to_uv(dir);
-        (self.le_uv(uv, wl), self.pdf_uv(uv, mis))
+    pub fn le_pdf(&self, dir: Vec3, wl: &SampledWavelengths, r: &LightRef) -> (SampledSpectrum, f32) {
+        let (uv, sin_theta) = self.dir_to_uv_sin(dir);
+        (self.le_uv(uv, wl), self.pdf_uv(uv, sin_theta, r))
     }
 
-    /// Solid-angle density of the direction at image coordinates `uv`.
-    fn pdf_uv(&self, uv: Vec2, mis: bool) -> f32 {
-        let sin_theta = (PI * uv.y).sin();
+    /// Solid-angle density of the direction at image coordinates `uv`, whose sin θ is
+    /// `sin_theta`.
+    fn pdf_uv(&self, uv: Vec2, sin_theta: f32, r: &LightRef) -> f32 {
         if sin_theta <= 0.0 {
             return 0.0;
         }
-        self.nee_distribution(mis).pdf(uv) / (2.0 * PI * PI * sin_theta)
+        let pdf_uv = match self.nee_product(r) {
+            Some(p) => p.pdf(r.n, uv),
+            None => self.nee_distribution(r.mis).pdf(uv),
+        };
+        pdf_uv / (2.0 * PI * PI * sin_theta)
     }
 
     /// Mean luminance over the sphere, × scale (for light selection).

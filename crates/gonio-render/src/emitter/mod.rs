@@ -31,6 +31,7 @@
 pub mod area;
 pub mod delta;
 mod emission;
+pub mod envmap_product;
 mod from_scene;
 pub mod infinite;
 pub mod projector;
@@ -71,6 +72,17 @@ pub struct LightRef {
     /// (the environment map's MIS compensation). False where the light's samples must cover
     /// everything it lights (no BSDF samples, the particle tracer).
     pub mis: bool,
+}
+
+impl LightRef {
+    /// No surface to light: the light's plain density over everything it lights (emission
+    /// sampling).
+    pub const EMISSION: Self = Self {
+        p: Vec3::ZERO,
+        n: Vec3::Z,
+        hemisphere: false,
+        mis: false,
+    };
 }
 
 /// A direction towards a light, drawn from a reference point.
@@ -228,7 +240,7 @@ impl Light {
                 }
             }
             Light::EnvMap(e) => {
-                let (wi, pdf, li) = e.sample_dir_le(u, wl, r.mis)?;
+                let (wi, pdf, li) = e.sample_dir_le(u, wl, r)?;
                 LightSample {
                     wi,
                     dist: f32::INFINITY,
@@ -252,7 +264,7 @@ impl Light {
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
         match self {
-            Light::EnvMap(e) => e.le_pdf(dir, wl, r.mis),
+            Light::EnvMap(e) => e.le_pdf(dir, wl, r),
             _ => (self.le_infinite(dir, wl), self.pdf_li_infinite(r, dir)),
         }
     }
@@ -262,7 +274,7 @@ impl Light {
     pub fn pdf_li_infinite(&self, r: &LightRef, dir: Vec3) -> f32 {
         match self {
             Light::Constant(c) => c.pdf_dir(r, dir),
-            Light::EnvMap(e) => e.pdf_dir(dir, r.mis),
+            Light::EnvMap(e) => e.pdf_dir(dir, r),
             _ => 0.0,
         }
     }

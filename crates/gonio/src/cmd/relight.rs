@@ -184,6 +184,7 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
         to_world: Affine3A::IDENTITY,
         mitsuba_lookup: false,
         mis_compensation: true,
+        product_sampling: true,
     };
     let direct = render_with(&scene, vec![env_emitter], &options)?;
     eprintln!(

@@ -2,7 +2,9 @@
 //! `src/emitters/envmap.cpp`; runtime [`crate::emitter::EnvMapLight`], whose docs give the texel
 //! layout and the lookup). `lookup="mitsuba"` is ours: Mitsuba 3.9.1's lookup (rows from pole to
 //! pole, texel shapes and scales interpolated separately). `mis_compensation` is Mitsuba's, but on
-//! by default here: it changes the noise, never the expected image.
+//! by default here: it changes the noise, never the expected image. So does `product_sampling`,
+//! ours: next-event directions × the clamped cosine at the shading point
+//! (`crate::emitter::envmap_product`).
 
 use crate::image::RgbImage;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
@@ -35,6 +37,13 @@ const MIS_COMPENSATION: ParamSpec = ParamSpec::new(
     "next-event samples ∝ max(L − mean, 0), leaving the dimmer directions to BSDF sampling (Karlík et al. 2019): less noise, the same image",
 )
 .mitsuba(DefaultValue::Bool(false));
+const PRODUCT_SAMPLING: ParamSpec = ParamSpec::new(
+    "product_sampling",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) next-event samples at a reflecting surface ∝ that density × the clamped cosine at its shading normal: less noise, the same image",
+)
+.mitsuba(DefaultValue::Bool(false));
 
 const LOOKUP: ParamSpec = ParamSpec::ours_or_mitsuba(
     "lookup",
@@ -46,7 +55,14 @@ const LOOKUP: ParamSpec = ParamSpec::ours_or_mitsuba(
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "envmap",
     summary: "Environment map: radiance from every direction read from an equirectangular image.",
-    params: &[FILENAME, SCALE, TO_WORLD, MIS_COMPENSATION, LOOKUP],
+    params: &[
+        FILENAME,
+        SCALE,
+        TO_WORLD,
+        MIS_COMPENSATION,
+        PRODUCT_SAMPLING,
+        LOOKUP,
+    ],
     build,
 };
 
@@ -68,6 +84,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
     )? as f32;
     let to_world = p.affine(TO_WORLD.name)?;
     let mis_compensation = p.bool(MIS_COMPENSATION.name, p.default_of(&MIS_COMPENSATION).bool())?;
+    let product_sampling = p.bool(PRODUCT_SAMPLING.name, p.default_of(&PRODUCT_SAMPLING).bool())?;
     let mitsuba_lookup = p.mitsuba_way(&LOOKUP)?;
     Ok(EmitterDesc::EnvMap {
         image: Arc::new(image),
@@ -75,5 +92,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
         to_world,
         mitsuba_lookup,
         mis_compensation,
+        product_sampling,
     })
 }
