@@ -44,7 +44,13 @@
 //! ([`super::LightRef::mis`]), and only reflects ([`super::LightRef::hemisphere`]). The density
 //! is zero for tiles below the horizon of the cell's centre, which a normal elsewhere in the
 //! cell may still see a little of; BSDF sampling covers those directions, and the MIS weight
-//! gives it their whole contribution, so the estimate stays unbiased.
+//! gives it their whole contribution, so the estimate stays unbiased. Maps smaller than 32 × 16
+//! texels have no tables (a tile would be too wide for the cosine at its centre).
+//!
+//! # Memory
+//!
+//! Four bytes per texel (the texels' CDFs within their tiles) and at most 1024 × 2049 × 4 bytes
+//! (8.4 MB) for the cells' tables, whatever the map's size.
 
 use glam::{Vec2, Vec3};
 use gonio_core::rng::ONE_MINUS_EPSILON;
@@ -53,6 +59,10 @@ use std::sync::OnceLock;
 /// Normal cells per side of the octahedral map (32 × 32 = 1024 cells of ≈ 0.012 sr).
 pub const CELLS: usize = 32;
 const MAX_TILES_X: usize = 64;
+/// The smallest map with product tables (texels of at most 11.25° × 11.25°).
+pub const MIN_WIDTH: usize = 32;
+/// See [`MIN_WIDTH`].
+pub const MIN_HEIGHT: usize = 16;
 const MAX_TILES_Y: usize = 32;
 
 /// The product tables of one environment map (module docs).
@@ -83,7 +93,10 @@ impl CosineProduct {
     /// The tables for a `width × height` map whose texel weights (luminance × sin θ, row-major)
     /// are `weights`, compensated by `compensation` × each cell's mean (module docs: ½ with MIS
     /// compensation, 0 without); `uv_to_dir` maps image coordinates to world directions. `None`
-    /// when no weight is positive.
+    /// when no weight is positive, or when the map is smaller than [`MIN_WIDTH`] ×
+    /// [`MIN_HEIGHT`] texels: a texel, and so a tile, would span more than 11.25°, too much for
+    /// the cosine at its centre to stand for it (a 1 × 1 map is a constant environment whose one
+    /// tile would face one way); the light's own density serves there.
     pub fn new(
         weights: &[f32],
         width: usize,
@@ -91,7 +104,11 @@ impl CosineProduct {
         compensation: f32,
         uv_to_dir: impl Fn(Vec2) -> Vec3,
     ) -> Option<Self> {
-        if width == 0 || height == 0 || weights.len() != width * height || !weights.iter().any(|&w| w > 0.0) {
+        if width < MIN_WIDTH
+            || height < MIN_HEIGHT
+            || weights.len() != width * height
+            || !weights.iter().any(|&w| w > 0.0)
+        {
             return None;
         }
         let tile_w = width.div_ceil(MAX_TILES_X);
@@ -297,6 +314,23 @@ mod tests {
         for k in 0..CELLS * CELLS {
             assert_eq!(octahedral_cell(octahedral_centre(k)), k, "cell {k}");
         }
+    }
+
+    #[test]
+    fn maps_too_coarse_for_the_cosine_have_no_product_tables() {
+        let dir = |uv: Vec2| {
+            let (st, ct) = (std::f32::consts::PI * uv.y).sin_cos();
+            let (sp, cp) = (std::f32::consts::TAU * uv.x).sin_cos();
+            Vec3::new(st * sp, ct, -st * cp)
+        };
+        for (w, h) in [(1, 1), (31, 16), (32, 15)] {
+            assert!(
+                CosineProduct::new(&vec![1.0; w * h], w, h, 0.5, dir).is_none(),
+                "{w} × {h}"
+            );
+        }
+        assert!(CosineProduct::new(&vec![1.0; 32 * 16], 32, 16, 0.5, dir).is_some());
+        assert!(CosineProduct::new(&vec![0.0; 32 * 16], 32, 16, 0.5, dir).is_none());
     }
 
     #[test]
