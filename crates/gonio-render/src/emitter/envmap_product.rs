@@ -24,13 +24,14 @@
 //! luminance of the cell's hemisphere, c_k = ½ Σ W(T)·cos_T / Σ S(T)·cos_T (0 without MIS
 //! compensation). It is MIS compensation (Karlík et al. 2019) made local: tiles dimmer than
 //! c_k are left to BSDF sampling. The map's *global* mean, which `mis_compensation` subtracts
-//! without the cosine, is the wrong reference here: a floor under `museum.exr` sees the map's
-//! dim half, two thirds of its light comes from texels below the global mean, and for an
-//! unoccluded floor point the relative variance of one light and one BSDF sample is 0.26 with
-//! the global mean, 0.14 with none and 0.05 with c_k (0.05–0.07 over five normals; quadrature
-//! over the map's texels, `bench/RESULTS.md`). A texel t of T is then drawn with probability
-//! w(t)/W(T), and a point of the texel uniformly. The density at image coordinates (u, v) in
-//! texel t of tile T is
+//! without the cosine, is a reference that suits some normals and fails others: under
+//! `museum.exr`, a surface facing the map's dim half gets two thirds of its light from texels
+//! below the global mean, and the relative variance of one light and one BSDF sample at an
+//! unoccluded point is 0.25 with the global mean, 0.12 with none and 0.05 with c_k; facing the
+//! bright half (the preview's floor) 0.02, 0.15 and 0.05; c_k keeps it at 0.05–0.07 over five
+//! normals (quadrature over the map's texels, `bench/RESULTS.md`). A texel t of T is then
+//! drawn with probability w(t)/W(T), and a point of the texel uniformly. The density at image
+//! coordinates (u, v) in texel t of tile T is
 //!
 //! `p(u, v) = P_k(T) · w(t)/W(T) · W·H`
 //!
