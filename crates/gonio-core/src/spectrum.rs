@@ -326,16 +326,67 @@ impl SampledWavelengths {
     }
 }
 
-/// Hero-wavelength sampling from the visible pdf through a table: the inverse CDF of
-/// [`sample_visible_wavelength`] (Radziszewski's sech² fit, as in pbrt and Mitsuba) tabulated at
-/// 4096 points and interpolated linearly. Linear interpolation of the inverse CDF samples the
-/// piecewise-constant density p = (1/N)/(λᵢ₊₁ − λᵢ) on each interval, which is returned with each
-/// wavelength, so the estimator stays exactly unbiased; the density differs from the sech² curve
-/// by less than 1 % (at the far tails, where few samples land). It replaces four `f64` atanh and
-/// cosh per camera sample (a fifth of a render's time) by table lookups. The four wavelengths are
-/// the hero and its rotations by ¼, ½ and ¾ in sample space, as in
-/// [`SampledWavelengths::sample_visible`]. The table is computed once per process
-/// ([`VisibleWavelengthTable::get`]).
+/// Weight of the visible sech² pdf in [`render_wavelength_pdf`]; the rest goes to the mean of
+/// the normalized colour matching functions.
+pub const RENDER_VISIBLE_WEIGHT: f64 = 0.65;
+
+/// The CIE 1931 matching functions' mean, each normalized to unit integral, at the 1 nm knots
+/// (x̄/∫x̄ + ȳ/∫ȳ + z̄/∫z̄)/3, and its integral; the integrals are the trapezoid sums, exact for the
+/// linear interpolation between knots that [`crate::color::cie_xyz`] does.
+fn cmf_mean_knots() -> (Vec<f64>, f64) {
+    use crate::data::cie1931::{CIE_SAMPLES, CIE_X, CIE_Y, CIE_Z};
+    let trapezoid = |t: &[f32]| -> f64 {
+        (0..CIE_SAMPLES - 1)
+            .map(|i| 0.5 * (t[i] as f64 + t[i + 1] as f64))
+            .sum()
+    };
+    let (ix, iy, iz) = (trapezoid(&CIE_X), trapezoid(&CIE_Y), trapezoid(&CIE_Z));
+    let g: Vec<f64> = (0..CIE_SAMPLES)
+        .map(|i| (CIE_X[i] as f64 / ix + CIE_Y[i] as f64 / iy + CIE_Z[i] as f64 / iz) / 3.0)
+        .collect();
+    let total = (0..CIE_SAMPLES - 1).map(|i| 0.5 * (g[i] + g[i + 1])).sum();
+    (g, total)
+}
+
+/// Density of the hero wavelengths the renderer draws, in 1/nm on [360, 830]:
+///
+/// ```text
+///     p(λ) = 0.65 · p_sech²(λ) + 0.35 · (x̄/∫x̄ + ȳ/∫ȳ + z̄/∫z̄)(λ) / 3
+/// ```
+///
+/// The visible pdf alone ([`visible_wavelength_pdf`], fitted to x̄ + ȳ + z̄) puts few samples
+/// below 450 nm, where z̄ (blue) has most of its weight and ȳ little, so the blue channel is the
+/// noisiest under warm light; the matching functions' mean, each normalized, gives the three
+/// channels equal shares. Measured on the bench scenes: 0.74–1.00× the relMSE of the sech² pdf
+/// (`bench/RESULTS.md`), and under a 2700 K blackbody the worst channel's variance falls by
+/// more than a quarter (test `render_wavelengths_balance_the_channels_under_warm_light`).
+/// The sech² part keeps the density well away from zero at the ends of the range.
+pub fn render_wavelength_pdf(lambda: f32) -> f32 {
+    if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
+        return 0.0;
+    }
+    static CMF: std::sync::OnceLock<(Vec<f64>, f64)> = std::sync::OnceLock::new();
+    let (g, total) = CMF.get_or_init(cmf_mean_knots);
+    let x = (lambda - LAMBDA_MIN) as f64;
+    let i = (x as usize).min(g.len() - 2);
+    let t = x - i as f64;
+    let cmf = (g[i] + t * (g[i + 1] - g[i])) / total;
+    (RENDER_VISIBLE_WEIGHT * visible_wavelength_pdf(lambda) as f64 + (1.0 - RENDER_VISIBLE_WEIGHT) * cmf)
+        as f32
+}
+
+/// Hero-wavelength sampling for rendering through a table: the inverse CDF of
+/// [`render_wavelength_pdf`] (the visible sech² pdf of Radziszewski et al., as in pbrt and
+/// Mitsuba, blended with the colour matching functions' mean), tabulated at 4096 points and
+/// interpolated linearly. The table's points are the CDF inverted exactly (bisection in `f64` of
+/// the closed-form sech² CDF plus the piecewise-quadratic integral of the linearly interpolated
+/// matching functions). Linear interpolation of the inverse CDF samples the piecewise-constant
+/// density p = (1/N)/(λᵢ₊₁ − λᵢ) on each interval, which is returned with each wavelength, so the
+/// estimator stays exactly unbiased; that density is within 1.5 % of [`render_wavelength_pdf`]
+/// everywhere. Lookups replace four `f64` atanh and cosh per camera sample (a fifth of a render's
+/// time, with the analytic sech² sampler). The four wavelengths are the hero and its rotations
+/// by ¼, ½ and ¾ in sample space, as in [`SampledWavelengths::sample_visible`]. The table is
+/// computed once per process ([`VisibleWavelengthTable::get`]).
 #[derive(Clone, Debug)]
 pub struct VisibleWavelengthTable {
     lambda: Vec<f32>,
@@ -345,8 +396,39 @@ impl VisibleWavelengthTable {
     const N: usize = 4096;
 
     fn new() -> Self {
+        let (g, total) = cmf_mean_knots();
+        // Cumulative integral of the matching functions' mean at each knot.
+        let mut prefix = vec![0.0f64; g.len()];
+        for i in 1..g.len() {
+            prefix[i] = prefix[i - 1] + 0.5 * (g[i - 1] + g[i]);
+        }
+        let (lo, hi) = visible_tanh_range();
+        let cdf = |l: f64| -> f64 {
+            let sech = ((VISIBLE_B * (l - VISIBLE_CENTER)).tanh() - lo) / (hi - lo);
+            let x = (l - LAMBDA_MIN as f64).clamp(0.0, (g.len() - 1) as f64);
+            let i = (x as usize).min(g.len() - 2);
+            let t = x - i as f64;
+            let cmf = (prefix[i] + g[i] * t + 0.5 * (g[i + 1] - g[i]) * t * t) / total;
+            RENDER_VISIBLE_WEIGHT * sech + (1.0 - RENDER_VISIBLE_WEIGHT) * cmf
+        };
         let lambda = (0..=Self::N)
-            .map(|i| sample_visible_wavelength(i as f32 / Self::N as f32))
+            .map(|k| {
+                let u = k as f64 / Self::N as f64;
+                let (mut a, mut b) = (LAMBDA_MIN as f64, LAMBDA_MAX as f64);
+                for _ in 0..60 {
+                    let m = 0.5 * (a + b);
+                    if cdf(m) < u {
+                        a = m;
+                    } else {
+                        b = m;
+                    }
+                }
+                match k {
+                    0 => LAMBDA_MIN,
+                    _ if k == Self::N => LAMBDA_MAX,
+                    _ => (0.5 * (a + b)) as f32,
+                }
+            })
             .collect();
         Self { lambda }
     }
@@ -388,7 +470,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn wavelength_table_density_is_exact_and_close_to_the_visible_pdf() {
+    fn wavelength_table_density_is_exact_and_close_to_the_render_pdf() {
         let t = VisibleWavelengthTable::get();
         let n = 100_000;
         // The returned density integrates to one over [360, 830] (Σ p·Δλ per interval = 1/N).
@@ -398,12 +480,12 @@ mod tests {
             let u = (k as f32 + 0.5) / n as f32;
             let (l, p) = t.one(u);
             assert!((360.0..=830.0).contains(&l));
-            worst = worst.max((p / visible_wavelength_pdf(l) - 1.0).abs());
+            worst = worst.max((p / render_wavelength_pdf(l) - 1.0).abs());
             y_est += (crate::color::cie_y(l) / p) as f64;
         }
         assert!(
-            worst < 1e-2,
-            "table density departs from the sech² pdf by {worst}"
+            worst < 1.5e-2,
+            "table density departs from the render pdf by {worst}"
         );
         // Unbiased: the estimate of ∫ȳ dλ with the table's density matches CIE_Y_INTEGRAL.
         let y = y_est / n as f64;
@@ -416,6 +498,60 @@ mod tests {
         for k in 0..4 {
             assert!((wl.lambda(k) - t.one(0.1 + 0.25 * k as f32).0).abs() < 1e-3);
         }
+    }
+
+    #[test]
+    fn render_pdf_integrates_to_one() {
+        let n = 47_000;
+        let h = (LAMBDA_MAX - LAMBDA_MIN) as f64 / n as f64;
+        let s: f64 = (0..n)
+            .map(|i| render_wavelength_pdf(LAMBDA_MIN + ((i as f64 + 0.5) * h) as f32) as f64 * h)
+            .sum();
+        assert!((s - 1.0).abs() < 1e-5, "integral {s}");
+    }
+
+    /// Relative variance of the one-wavelength estimate ∫ c̄·S dλ ≈ c̄(λ)S(λ)/p(λ) of each linear
+    /// sRGB channel c̄ (rows of XYZ → sRGB applied to x̄, ȳ, z̄): ∫ (c̄S)²/p dλ / (∫ c̄S dλ)² − 1,
+    /// by 0.01 nm midpoint quadrature; the worst of the three.
+    fn worst_channel_relative_variance(s: impl Fn(f32) -> f64, pdf: impl Fn(f32) -> f32) -> f64 {
+        let m = crate::color::LINEAR_SRGB_FROM_XYZ;
+        let (mut first, mut second) = ([0.0f64; 3], [0.0f64; 3]);
+        let h = 0.01f64;
+        let n = ((LAMBDA_MAX - LAMBDA_MIN) as f64 / h) as usize;
+        for i in 0..n {
+            let l = LAMBDA_MIN + ((i as f64 + 0.5) * h) as f32;
+            let c = m * crate::color::cie_xyz(l);
+            let (sv, p) = (s(l), pdf(l) as f64);
+            for (k, ck) in c.to_array().into_iter().enumerate() {
+                let g = ck as f64 * sv;
+                first[k] += g * h;
+                second[k] += g * g / p * h;
+            }
+        }
+        (0..3)
+            .map(|k| second[k] / (first[k] * first[k]) - 1.0)
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn render_wavelengths_balance_the_channels_under_warm_light() {
+        // Under a 2700 K blackbody (an incandescent bulb), the sech² pdf leaves the blue channel
+        // with few samples; the blend lowers the worst channel's variance by more than a quarter.
+        let warm = |l: f32| crate::spectra::planck(l as f64, 2700.0);
+        let sech = worst_channel_relative_variance(warm, visible_wavelength_pdf);
+        let blend = worst_channel_relative_variance(warm, render_wavelength_pdf);
+        assert!(
+            blend < 0.75 * sech,
+            "2700 K: worst channel relvar {blend} vs sech² {sech}"
+        );
+        // Under D65 (the white of sRGB, what an RGB scene's lights are) it costs at most 10 %.
+        let d65 = |l: f32| crate::color::d65(l) as f64;
+        let sech = worst_channel_relative_variance(d65, visible_wavelength_pdf);
+        let blend = worst_channel_relative_variance(d65, render_wavelength_pdf);
+        assert!(
+            blend < 1.1 * sech,
+            "D65: worst channel relvar {blend} vs sech² {sech}"
+        );
     }
 
     #[test]

@@ -28,8 +28,10 @@
 //!
 //! # Sampling
 //!
-//! Dimensions 0–1 place the sample in its pixel, dimension 2 draws the hero wavelength (visible
-//! pdf, through [`gonio_core::spectrum::VisibleWavelengthTable`]), the integrator takes the rest
+//! Dimensions 0–1 place the sample in its pixel, dimension 2 draws the hero wavelength (the
+//! visible sech² pdf blended with the colour matching functions,
+//! [`gonio_core::spectrum::render_wavelength_pdf`], through
+//! [`gonio_core::spectrum::VisibleWavelengthTable`]), the integrator takes the rest
 //! ([`Sampler::padded`]; see [`crate::sampler::STRUCTURED_DIMS`] for where the structured
 //! pattern hands over to independent numbers).
 
