@@ -1,11 +1,11 @@
 //! Every lane operation with an explicit form against its loop, bit for bit, through the lane
 //! types themselves (so the loads, stores and halves of `wide8!` are tested along with the
 //! forms): lanes of the instruction set `dispatch` names on AVX2, at 8 lanes (one register) and
-//! 16 (two halves, the AVX-512 dispatch's path), against `Portable` lanes, whose operations are
-//! the loops in a portable build. Runs where the CPU has AVX2 (the condition for naming
-//! `detected::Avx2`), as the dispatch does.
+//! 16 (two halves), and of the one it names on AVX-512 at 16 lanes (one 512-bit register),
+//! against `Portable` lanes, whose operations are the loops in a portable build. Each runs where
+//! the CPU has what its instruction set names, as the dispatch does.
 
-use super::detected::Avx2;
+use super::detected::{Avx2, Avx512};
 use super::{F32s, Isa, Mask, Portable};
 use crate::rng::Pcg32;
 
@@ -82,14 +82,14 @@ fn run<const N: usize, X: Isa>(a: [f32; N], b: [f32; N], s: f32) -> Vec<Vec<u32>
     ]
 }
 
-fn agree<const N: usize>(seed: u64) {
+fn agree<const N: usize, X: Isa>(seed: u64) {
     let mut rng = Pcg32::new(seed, 1);
     for round in 0..2000 {
         let (a, b) = (values::<N>(&mut rng), values::<N>(&mut rng));
         // Lanes equal in some rounds, so that comparisons and masks see ties.
         let b = if round % 5 == 0 { a } else { b };
         let s = values::<1>(&mut rng)[0];
-        let forms = run::<N, Avx2>(a, b, s);
+        let forms = run::<N, X>(a, b, s);
         let loops = run::<N, Portable>(a, b, s);
         for (i, (f, l)) in forms.iter().zip(&loops).enumerate() {
             assert_eq!(f, l, "operation {i}, {N} lanes, a = {a:?}, b = {b:?}, s = {s}");
@@ -103,6 +103,17 @@ fn the_dispatched_lanes_give_the_loops_bits_at_8_and_16_lanes() {
         eprintln!("skipped: this CPU has no AVX2 + FMA, so dispatch never names these lanes");
         return;
     }
-    agree::<8>(1);
-    agree::<16>(2);
+    agree::<8, Avx2>(1);
+    agree::<16, Avx2>(2);
+}
+
+#[test]
+fn the_avx512_lanes_give_the_loops_bits_at_16_lanes() {
+    if !is_x86_feature_detected!("avx512f") {
+        eprintln!("skipped: this CPU has no AVX-512F, so dispatch never names these lanes");
+        return;
+    }
+    agree::<16, Avx512>(3);
+    // Where AVX-512 lanes are 8 wide (a kernel run at 8 lanes on such a CPU), the AVX forms.
+    agree::<8, Avx512>(4);
 }

@@ -9,8 +9,9 @@
 //! `f32::sin` and friends are library calls that would leave the vector registers lane by lane.
 //!
 //! Where the CPU is known to have AVX, the 8-lane operations are explicit AVX intrinsics instead
-//! (`lanes/avx8.rs`; 16 lanes: the same on each half): LLVM leaves much of the loops' code 4 wide
-//! or scalar inside long kernels, and the explicit forms made the kernels 1.1–1.7× faster. What
+//! (`lanes/avx8.rs`; 16 lanes: the AVX-512 forms of `lanes/avx16.rs` where the CPU has it, else
+//! the 8-lane forms on each half): LLVM leaves much of the loops' code 4 wide or scalar inside
+//! long kernels, and the explicit forms made the kernels 1.1–1.7× faster. What
 //! proves the CPU's extensions is the lanes' second type parameter, their instruction set
 //! ([`Isa`]): [`dispatch`] runs a kernel with lanes of an instruction set only it can name, after
 //! detecting it, so a portable binary uses the intrinsics wherever it runs on AVX2; lanes any code
@@ -29,6 +30,8 @@
 // Indexed loops over lanes are the form LLVM vectorizes; Cephes' constants are kept as published.
 #![allow(clippy::needless_range_loop, clippy::excessive_precision)]
 
+#[cfg(target_arch = "x86_64")]
+mod avx16;
 #[cfg(target_arch = "x86_64")]
 mod avx8;
 #[cfg(all(test, target_arch = "x86_64"))]
@@ -73,6 +76,8 @@ pub trait Isa:
 {
     /// Whether the CPU running code that holds these lanes has AVX.
     const AVX: bool;
+    /// Whether it has AVX-512F (16 lanes are then one register).
+    const AVX512: bool;
 }
 
 mod sealed {
@@ -86,6 +91,7 @@ pub struct Portable;
 impl sealed::Sealed for Portable {}
 impl Isa for Portable {
     const AVX: bool = cfg!(all(target_arch = "x86_64", target_feature = "avx"));
+    const AVX512: bool = cfg!(all(target_arch = "x86_64", target_feature = "avx512f"));
 }
 
 /// The instruction sets [`dispatch`] detects (not re-exported: no code outside can name them).
@@ -96,6 +102,7 @@ mod detected {
     impl super::sealed::Sealed for Avx2 {}
     impl super::Isa for Avx2 {
         const AVX: bool = true;
+        const AVX512: bool = false;
     }
     /// AVX-512 (F, VL, BW, DQ) with AVX2 + FMA, detected at run time.
     #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -103,6 +110,7 @@ mod detected {
     impl super::sealed::Sealed for Avx512 {}
     impl super::Isa for Avx512 {
         const AVX: bool = true;
+        const AVX512: bool = true;
     }
 }
 
@@ -125,14 +133,27 @@ macro_rules! lanewise {
 }
 
 /// The 8-lane case of an operation as its [`avx8`] form, returned from the enclosing function,
-/// when `N = 8` and the lanes' instruction set `X` may use AVX ([`Isa::AVX`]), and the 16-lane
-/// case as the same form on each half (two 256-bit registers: no 512-bit forms are written);
-/// otherwise nothing, and the loop after it runs. `wide8!(a = self, b = o => avx8::add(a, b))` loads the
+/// when `N = 8` and the lanes' instruction set `X` may use AVX ([`Isa::AVX`]); the 16-lane case
+/// as the [`avx16`] form of the same name (one 512-bit register) where `X` may use AVX-512
+/// ([`Isa::AVX512`]), else as the `avx8` form on each half (two 256-bit registers); otherwise
+/// nothing, and the loop after it runs. In the 512-bit case the expression's `avx8` and
+/// `_mm256_set1_ps` name `avx16`'s forms (block-scoped imports shadow the module's). `wide8!(a = self, b = o => avx8::add(a, b))` loads the
 /// named lanes (`F32s<8, X>` or `Mask<8, X>`) into registers; the form's register is stored as
 /// the result (`wide8!(.. => bool: expr)` for a `bool`). Both conditions are constants, so each
 /// instance of an operation compiles to the form alone or to the loop alone.
 macro_rules! wide8 {
     ($($v:ident = $src:expr),* => bool: $e:expr) => {
+        #[cfg(target_arch = "x86_64")]
+        if N == 16 && X::AVX512 {
+            // SAFETY: `X::AVX512` holds only where the CPU has AVX-512F (see below for AVX);
+            // N = 16 makes the lane arrays 16 lanes (64 bytes).
+            #[allow(unused_imports)]
+            return unsafe {
+                use crate::lanes::avx16 as avx8;
+                $(let $v = std::arch::x86_64::_mm512_loadu_ps($src.0.as_ptr() as *const f32);)*
+                $e
+            };
+        }
         #[cfg(target_arch = "x86_64")]
         if N == 8 && X::AVX {
             // SAFETY: as below.
@@ -160,6 +181,19 @@ macro_rules! wide8 {
         }
     };
     ($($v:ident = $src:expr),* => $e:expr) => {
+        #[cfg(target_arch = "x86_64")]
+        if N == 16 && X::AVX512 {
+            // SAFETY: `X::AVX512` holds only where the CPU has AVX-512F (as `X::AVX` below);
+            // N = 16 makes the lane arrays 16 lanes (64 bytes), one 512-bit register.
+            #[allow(unused_unsafe, unused_imports)]
+            return unsafe {
+                use std::arch::x86_64::*;
+                use crate::lanes::avx16 as avx8;
+                use crate::lanes::avx16::_mm256_set1_ps;
+                $(let $v = _mm512_loadu_ps($src.0.as_ptr() as *const f32);)*
+                store16x($e)
+            };
+        }
         #[cfg(target_arch = "x86_64")]
         if N == 8 && X::AVX {
             // SAFETY: `X::AVX` holds only where the CPU has AVX (`Isa`: the whole program is
@@ -204,6 +238,22 @@ unsafe fn store8<T: Copy>(v: std::arch::x86_64::__m256) -> T {
     // SAFETY: the caller's: `r` holds 32 bytes, AVX is available.
     unsafe {
         std::arch::x86_64::_mm256_storeu_ps(r.as_mut_ptr() as *mut f32, v);
+        r.assume_init()
+    }
+}
+
+/// The 16 lanes of `v` as `T` (`F32s<16, X>` or `Mask<16, X>`, 64 bytes).
+///
+/// # Safety
+/// `T` must be 64 bytes of lanes; the CPU has AVX-512F.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn store16x<T: Copy>(v: std::arch::x86_64::__m512) -> T {
+    debug_assert_eq!(std::mem::size_of::<T>(), 64);
+    let mut r = std::mem::MaybeUninit::<T>::uninit();
+    // SAFETY: the caller's: `r` holds 64 bytes, AVX-512F is available.
+    unsafe {
+        std::arch::x86_64::_mm512_storeu_ps(r.as_mut_ptr() as *mut f32, v);
         r.assume_init()
     }
 }
