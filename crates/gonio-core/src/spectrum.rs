@@ -500,16 +500,6 @@ mod tests {
         }
     }
 
-    #[test]
-    fn render_pdf_integrates_to_one() {
-        let n = 47_000;
-        let h = (LAMBDA_MAX - LAMBDA_MIN) as f64 / n as f64;
-        let s: f64 = (0..n)
-            .map(|i| render_wavelength_pdf(LAMBDA_MIN + ((i as f64 + 0.5) * h) as f32) as f64 * h)
-            .sum();
-        assert!((s - 1.0).abs() < 1e-5, "integral {s}");
-    }
-
     /// Relative variance of the one-wavelength estimate ∫ c̄·S dλ ≈ c̄(λ)S(λ)/p(λ) of each linear
     /// sRGB channel c̄ (rows of XYZ → sRGB applied to x̄, ȳ, z̄): ∫ (c̄S)²/p dλ / (∫ c̄S dλ)² − 1,
     /// by 0.01 nm midpoint quadrature; the worst of the three.
@@ -555,13 +545,21 @@ mod tests {
     }
 
     #[test]
-    fn visible_pdf_integrates_to_one() {
+    fn visible_and_render_pdfs_integrate_to_one() {
         let n = 47_000;
         let h = (LAMBDA_MAX - LAMBDA_MIN) as f64 / n as f64;
-        let s: f64 = (0..n)
-            .map(|i| visible_wavelength_pdf(LAMBDA_MIN + ((i as f64 + 0.5) * h) as f32) as f64 * h)
-            .sum();
-        assert!((s - 1.0).abs() < 1e-5, "integral {s}");
+        let integral = |pdf: fn(f32) -> f32| -> f64 {
+            (0..n)
+                .map(|i| pdf(LAMBDA_MIN + ((i as f64 + 0.5) * h) as f32) as f64 * h)
+                .sum()
+        };
+        for (name, pdf) in [
+            ("visible", visible_wavelength_pdf as fn(f32) -> f32),
+            ("render", render_wavelength_pdf),
+        ] {
+            let s = integral(pdf);
+            assert!((s - 1.0).abs() < 1e-5, "{name} pdf: integral {s}");
+        }
     }
 
     #[test]
