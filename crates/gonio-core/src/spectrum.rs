@@ -390,6 +390,8 @@ pub fn render_wavelength_pdf(lambda: f32) -> f32 {
 #[derive(Clone, Debug)]
 pub struct VisibleWavelengthTable {
     lambda: Vec<f32>,
+    /// The density on each interval, 1/(N (λᵢ₊₁ − λᵢ)) (the division done once, here).
+    pdf: Vec<f32>,
 }
 
 impl VisibleWavelengthTable {
@@ -411,7 +413,7 @@ impl VisibleWavelengthTable {
             let cmf = (prefix[i] + g[i] * t + 0.5 * (g[i + 1] - g[i]) * t * t) / total;
             RENDER_VISIBLE_WEIGHT * sech + (1.0 - RENDER_VISIBLE_WEIGHT) * cmf
         };
-        let lambda = (0..=Self::N)
+        let lambda: Vec<f32> = (0..=Self::N)
             .map(|k| {
                 let u = k as f64 / Self::N as f64;
                 let (mut a, mut b) = (LAMBDA_MIN as f64, LAMBDA_MAX as f64);
@@ -430,7 +432,11 @@ impl VisibleWavelengthTable {
                 }
             })
             .collect();
-        Self { lambda }
+        let pdf = lambda
+            .windows(2)
+            .map(|w: &[f32]| 1.0 / (Self::N as f32 * (w[1] - w[0])))
+            .collect();
+        Self { lambda, pdf }
     }
 
     /// The table (built on first use).
@@ -446,7 +452,7 @@ impl VisibleWavelengthTable {
         let i = (x as usize).min(Self::N - 1);
         let (a, b) = (self.lambda[i], self.lambda[i + 1]);
         let t = x - i as f32;
-        (a + t * (b - a), 1.0 / (Self::N as f32 * (b - a)))
+        (a + t * (b - a), self.pdf[i])
     }
 
     /// The hero wavelength for `u` and its three rotations, with their densities.
