@@ -23,7 +23,7 @@ use std::f32::consts::FRAC_1_PI;
 
 /// [`Principled`] for `N` lanes, each with its own wavelengths and parameters.
 #[derive(Clone, Copy, Debug)]
-pub struct PrincipledLanes<const N: usize, X: Isa = Portable> {
+pub struct PrincipledLanes<'a, const N: usize, X: Isa = Portable> {
     /// c per lane and wavelength.
     pub base_color: SampledSpectra<N, X>,
     /// r per lane.
@@ -51,14 +51,18 @@ pub struct PrincipledLanes<const N: usize, X: Isa = Portable> {
     /// Lobe-selection rates (floats in Mitsuba, shared by the lanes).
     pub rates: PrincipledRates,
     /// Each lane's wavelengths (ȳ is looked up at them only where some lane tints; a texture
-    /// may replace `base_color` without touching them).
-    wavelengths: [SampledWavelengths; N],
+    /// may replace `base_color` without touching them), borrowed: a copy of 16 lanes' sets is
+    /// 512 bytes per call.
+    wavelengths: &'a [SampledWavelengths; N],
 }
 
 impl Principled {
     /// This model at each lane's wavelengths, its parameters in every lane.
     #[inline]
-    pub fn lanes<const N: usize, X: Isa>(&self, wl: &[SampledWavelengths; N]) -> PrincipledLanes<N, X> {
+    pub fn lanes<'a, const N: usize, X: Isa>(
+        &self,
+        wl: &'a [SampledWavelengths; N],
+    ) -> PrincipledLanes<'a, N, X> {
         PrincipledLanes {
             base_color: self.base_color.sample_lanes(wl),
             roughness: F32s::splat(self.roughness),
@@ -73,7 +77,7 @@ impl Principled {
             clearcoat: F32s::splat(self.clearcoat),
             clearcoat_gloss: F32s::splat(self.clearcoat_gloss),
             rates: self.rates,
-            wavelengths: *wl,
+            wavelengths: wl,
         }
     }
 }
@@ -90,7 +94,7 @@ struct Geometry<const N: usize, X: Isa> {
     cos_oh: F32s<N, X>,
 }
 
-impl<const N: usize, X: Isa> PrincipledLanes<N, X> {
+impl<const N: usize, X: Isa> PrincipledLanes<'_, N, X> {
     /// Lane `k` as the scalar model (at lane `k`'s wavelengths).
     pub fn lane(&self, k: usize) -> Principled<SampledSpectrum> {
         Principled {
@@ -232,7 +236,7 @@ impl<const N: usize, X: Isa> PrincipledLanes<N, X> {
         let sheen_tinted = self.sheen_tint.ne(0.0);
         let tinted = spec_tinted | sheen_tinted;
         let lum = if tinted.any() {
-            tinted.select(tint_luminance(c, cie_y_lanes(&self.wavelengths)), F32s::ONE)
+            tinted.select(tint_luminance(c, cie_y_lanes(self.wavelengths)), F32s::ONE)
         } else {
             F32s::ONE
         };

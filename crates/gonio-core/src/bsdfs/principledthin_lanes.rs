@@ -21,7 +21,7 @@ use std::f32::consts::FRAC_1_PI;
 
 /// [`PrincipledThin`] for `N` lanes, each with its own wavelengths and parameters.
 #[derive(Clone, Copy, Debug)]
-pub struct PrincipledThinLanes<const N: usize, X: Isa = Portable> {
+pub struct PrincipledThinLanes<'a, const N: usize, X: Isa = Portable> {
     /// c per lane and wavelength.
     pub base_color: SampledSpectra<N, X>,
     /// r per lane.
@@ -45,14 +45,18 @@ pub struct PrincipledThinLanes<const N: usize, X: Isa = Portable> {
     /// Lobe-selection rates (floats in Mitsuba, shared by the lanes).
     pub rates: PrincipledThinRates,
     /// Each lane's wavelengths (ȳ is looked up at them only where some lane tints; a texture
-    /// may replace `base_color` without touching them).
-    wavelengths: [SampledWavelengths; N],
+    /// may replace `base_color` without touching them), borrowed: a copy of 16 lanes' sets is
+    /// 512 bytes per call, a quarter of `principledthin`'s instructions at its defaults.
+    wavelengths: &'a [SampledWavelengths; N],
 }
 
 impl PrincipledThin {
     /// This model at each lane's wavelengths, its parameters in every lane.
     #[inline]
-    pub fn lanes<const N: usize, X: Isa>(&self, wl: &[SampledWavelengths; N]) -> PrincipledThinLanes<N, X> {
+    pub fn lanes<'a, const N: usize, X: Isa>(
+        &self,
+        wl: &'a [SampledWavelengths; N],
+    ) -> PrincipledThinLanes<'a, N, X> {
         PrincipledThinLanes {
             base_color: self.base_color.sample_lanes(wl),
             roughness: F32s::splat(self.roughness),
@@ -65,12 +69,12 @@ impl PrincipledThin {
             flatness: F32s::splat(self.flatness),
             diff_trans: F32s::splat(self.diff_trans),
             rates: self.rates,
-            wavelengths: *wl,
+            wavelengths: wl,
         }
     }
 }
 
-impl<const N: usize, X: Isa> PrincipledThinLanes<N, X> {
+impl<const N: usize, X: Isa> PrincipledThinLanes<'_, N, X> {
     /// Lane `k` as the scalar model (at lane `k`'s wavelengths).
     pub fn lane(&self, k: usize) -> PrincipledThin<SampledSpectrum> {
         PrincipledThin {
@@ -139,7 +143,7 @@ impl<const N: usize, X: Isa> PrincipledThinLanes<N, X> {
         let sheen_tinted = self.sheen_tint.ne(0.0);
         let tinted = spec_tinted | sheen_tinted;
         let lum = if tinted.any() {
-            tinted.select(tint_luminance(c, cie_y_lanes(&self.wavelengths)), F32s::ONE)
+            tinted.select(tint_luminance(c, cie_y_lanes(self.wavelengths)), F32s::ONE)
         } else {
             F32s::ONE
         };

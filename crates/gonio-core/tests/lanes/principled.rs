@@ -64,7 +64,7 @@ pub(super) trait LaneModel<const N: usize, X: Isa> {
     fn lane(&self, k: usize) -> Self::Scalar;
 }
 
-impl<const N: usize, X: Isa> LaneModel<N, X> for PrincipledLanes<N, X> {
+impl<const N: usize, X: Isa> LaneModel<N, X> for PrincipledLanes<'_, N, X> {
     type Scalar = Principled<SampledSpectrum>;
     #[inline(always)]
     fn eval_pdf(
@@ -94,7 +94,7 @@ impl<const N: usize, X: Isa> LaneModel<N, X> for PrincipledLanes<N, X> {
     }
 }
 
-impl<const N: usize, X: Isa> LaneModel<N, X> for PrincipledThinLanes<N, X> {
+impl<const N: usize, X: Isa> LaneModel<N, X> for PrincipledThinLanes<'_, N, X> {
     type Scalar = PrincipledThin<SampledSpectrum>;
     #[inline(always)]
     fn eval_pdf(
@@ -324,7 +324,7 @@ fn principleds() -> Vec<Principled> {
 }
 
 /// Replaces every float parameter and the base colour by values per lane.
-fn vary<const N: usize, X: Isa>(l: &mut PrincipledLanes<N, X>, rng: &mut Pcg32) {
+fn vary<const N: usize, X: Isa>(l: &mut PrincipledLanes<'_, N, X>, rng: &mut Pcg32) {
     l.base_color = colours(rng);
     l.roughness = F32s::from_fn(|_| 0.02 + 0.98 * rng.next_f32());
     l.anisotropic = param(rng, 0.0, 1.0);
@@ -463,7 +463,7 @@ fn thins() -> Vec<PrincipledThin> {
 }
 
 /// Replaces every float parameter and the base colour by values per lane.
-fn vary_thin<const N: usize, X: Isa>(l: &mut PrincipledThinLanes<N, X>, rng: &mut Pcg32) {
+fn vary_thin<const N: usize, X: Isa>(l: &mut PrincipledThinLanes<'_, N, X>, rng: &mut Pcg32) {
     l.base_color = colours(rng);
     l.roughness = F32s::from_fn(|_| 0.02 + 0.98 * rng.next_f32());
     l.anisotropic = param(rng, 0.0, 1.0);
