@@ -311,6 +311,16 @@ impl Accel {
         self.embree.is_some()
     }
 
+    /// Whether Embree would trace this structure's triangles had the process loaded it: it has
+    /// triangle meshes, more primitives than the flat list holds, and Embree is not available
+    /// (not installed, or `GONIO_EMBREE=off`), so the meshes went to our own BVH.
+    pub fn misses_embree(&self) -> bool {
+        self.embree.is_none()
+            && !embree::available()
+            && self.prim_count() > flat::MAX_PRIMS
+            && self.shapes.iter().any(|s| matches!(s.kind, ShapeKind::Mesh(_)))
+    }
+
     /// The closest hit in our own structure (all primitives, or the analytic ones beside
     /// Embree): (hit, shape, primitive).
     #[inline]

@@ -394,3 +394,51 @@ fn mitsuba_estimators_flag_equals_writing_mitsubas_values() {
     assert_ne!(flagged, render(&plain, "plain.exr", false));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_mesh_scene_without_embree_says_its_meshes_use_our_bvh() {
+    // Two cubes (24 triangles, past the flat list's 16 primitives): Embree's work when loaded.
+    let dir = tempdir("embree-note");
+    let xml = r#"<scene version="3.0.0">
+    <integrator type="path"/>
+    <sensor type="perspective">
+        <float name="fov" value="40"/>
+        <transform name="to_world"><lookat origin="0, 0, 8" target="0, 0, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film>
+        <sampler type="independent"><integer name="sample_count" value="1"/></sampler>
+    </sensor>
+    <shape type="cube"><transform name="to_world"><translate x="-1.5"/></transform></shape>
+    <shape type="cube"><transform name="to_world"><translate x="1.5"/></transform></shape>
+    <emitter type="constant"/>
+</scene>"#;
+    let s = dir.join("cubes.xml");
+    std::fs::write(&s, xml).unwrap();
+    let render = |embree: Option<&str>| {
+        let mut c = gonio();
+        c.args(["render", s.to_str().unwrap(), "-o", "cubes.exr"])
+            .current_dir(&dir);
+        if let Some(v) = embree {
+            c.env("GONIO_EMBREE", v);
+        }
+        let out = c.output().expect("gonio runs");
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let note = "traced by gonio's own BVH";
+    let off = render(Some("off"));
+    assert!(off.contains(note), "GONIO_EMBREE=off: no note in {off:?}");
+    // As the process finds it: the note exactly when Embree is missing.
+    let default = render(None);
+    assert_eq!(
+        default.contains(note),
+        !gonio_render::accel::embree::available(),
+        "{default:?}"
+    );
+    // Quiet stays quiet.
+    let mut c = gonio();
+    c.args(["render", s.to_str().unwrap(), "-o", "cubes.exr", "--quiet"])
+        .current_dir(&dir)
+        .env("GONIO_EMBREE", "off");
+    let out = c.output().expect("gonio runs");
+    assert!(out.status.success() && out.stderr.is_empty(), "{:?}", out);
+}

@@ -68,7 +68,7 @@ pub struct RenderArgs {
     /// `stratified`, `multijitter`, `sobol` to force one.
     #[arg(long, default_value = "auto", value_parser = ["auto", "independent", "stratified", "multijitter", "sobol"])]
     pub sampler: String,
-    /// No progress bar and no summary line.
+    /// No progress bar, no summary line, no notes.
     #[arg(short, long)]
     pub quiet: bool,
     /// Render polarized (paths carry Mueller matrices; the image is the intensity S0). Scenes
@@ -237,6 +237,13 @@ fn render_one(args: &RenderArgs, mut scene: Scene, outputs: Vec<PathBuf>) -> Res
     let prepared = PreparedScene::new(scene).context("preparing the scene")?;
     let (width, height) = prepared.size();
     let t_prep = t0.elapsed();
+    if !args.quiet && prepared.accel().misses_embree() {
+        eprintln!(
+            "note: Embree 3 (libembree3.so.3) is not loaded (not installed, or GONIO_EMBREE=off): \
+             this scene's triangle meshes are traced by gonio's own BVH, slower (Debian: apt-get \
+             install libembree3-3)"
+        );
+    }
 
     // Ctrl-C: the first stops the render (the image so far is still written), the second exits.
     let _ = ctrlc::set_handler(|| {
