@@ -14,6 +14,9 @@
 //!   through the model's construction at their wavelengths, `sample` and `eval` at the sampled
 //!   direction, as Mitsuba's vectorized variants are measured (`mitsuba_bsdf.py`). The figure
 //!   is per iteration: divide by 4096 for ns per lane (divan's `items/s` column gives it).
+//! * `sample_lanes`: the same without `eval`, beside the sample column of `mitsuba_bsdf.py`
+//!   (whose sample + eval costs what its sample does: Dr.Jit traces both calls into one kernel
+//!   and drops the repeated evaluation).
 //!
 //! Run with `cargo bench -p gonio-core --bench bsdf`.
 
@@ -199,6 +202,7 @@ trait LaneBench {
         wl: &[SampledWavelengths; N],
         wi: Vec3s<N, X>,
         u2: [F32s<N, X>; 2],
+        with_eval: bool,
     ) -> F32s<N, X>;
 }
 
@@ -206,13 +210,16 @@ macro_rules! lane_bench {
     ($ty:ty, |$m:ident, $wl:ident| $lanes:expr, $sample:ident) => {
         impl LaneBench for $ty {
             #[inline(always)]
-            fn sample_eval<const N: usize, X: Isa>(&self, $wl: &[SampledWavelengths; N], wi: Vec3s<N, X>, u2: [F32s<N, X>; 2]) -> F32s<N, X> {
+            fn sample_eval<const N: usize, X: Isa>(&self, $wl: &[SampledWavelengths; N], wi: Vec3s<N, X>, u2: [F32s<N, X>; 2], with_eval: bool) -> F32s<N, X> {
                 let ctx = BsdfContext::radiance();
                 let $m = self;
                 let lanes = $lanes;
                 let s = lane_bench!(@sample $sample, lanes, ctx, wi, u2);
-                let f = lanes.eval(&ctx, wi, s.wo);
-                s.weight.0[0] + s.pdf + f.0[0]
+                let mut r = s.weight.0[0] + s.pdf + s.wo.z;
+                if with_eval {
+                    r += lanes.eval(&ctx, wi, s.wo).0[0];
+                }
+                r
             }
         }
     };
@@ -232,12 +239,13 @@ lane_bench!(PrincipledThin, |m, wl| m.lanes(wl), u1_u2);
 
 /// One model's kernel over a batch of lanes: one function per model, so that each stays small
 /// enough for LLVM (one kernel matching over every model took a quarter of an hour to compile).
-struct LaneBatch<'a, M> {
+/// `EVAL`: `eval` after `sample` (`sample_eval_lanes`) or not (`sample_lanes`).
+struct LaneBatch<'a, M, const EVAL: bool> {
     model: &'a M,
     inputs: &'a LaneInputs,
 }
 
-impl<M: LaneBench> LaneKernel for LaneBatch<'_, M> {
+impl<M: LaneBench, const EVAL: bool> LaneKernel for LaneBatch<'_, M, EVAL> {
     type Output = f32;
     #[inline(always)]
     fn run<const N: usize, X: Isa>(self) -> f32 {
@@ -256,36 +264,54 @@ impl<M: LaneBench> LaneKernel for LaneBatch<'_, M> {
                 F32s::from_array(u0.try_into().unwrap()),
                 F32s::from_array(u1.try_into().unwrap()),
             ];
-            acc += self.model.sample_eval(wl, wi, u2);
+            acc += self.model.sample_eval(wl, wi, u2, EVAL);
         }
         acc.sum()
     }
 }
 
-fn bench_lanes<M: LaneBench>(bencher: Bencher, model: &M) {
+fn bench_lanes<M: LaneBench>(bencher: Bencher, model: &M, with_eval: bool) {
     let inputs = LaneInputs::new();
-    bencher
-        .counter(divan::counter::ItemsCount::new(LANE_BATCH))
-        .bench_local(|| {
-            black_box(dispatch(LaneBatch {
+    let bencher = bencher.counter(divan::counter::ItemsCount::new(LANE_BATCH));
+    if with_eval {
+        bencher.bench_local(|| {
+            black_box(dispatch(LaneBatch::<M, true> {
                 model,
                 inputs: &inputs,
             }))
         });
+    } else {
+        bencher.bench_local(|| {
+            black_box(dispatch(LaneBatch::<M, false> {
+                model,
+                inputs: &inputs,
+            }))
+        });
+    }
 }
 
 #[divan::bench(args = LANE_MODELS)]
 fn sample_eval_lanes(bencher: Bencher, name: &str) {
+    lane_model(bencher, name, true)
+}
+
+#[divan::bench(args = LANE_MODELS)]
+fn sample_lanes(bencher: Bencher, name: &str) {
+    lane_model(bencher, name, false)
+}
+
+/// The lane bench of model `name`, with or without `eval` after `sample`.
+fn lane_model(bencher: Bencher, name: &str, with_eval: bool) {
     match name {
-        "roughconductor_beckmann" => bench_lanes(bencher, &RoughConductor::default()),
-        "roughconductor_ggx_au" => bench_lanes(bencher, &gold_ggx()),
-        "roughdielectric" => bench_lanes(bencher, &RoughDielectric::default()),
-        "roughdielectric_ggx" => bench_lanes(bencher, &glass_ggx()),
-        "roughplastic" => bench_lanes(bencher, &RoughPlastic::default()),
-        "roughplastic_ggx" => bench_lanes(bencher, &plastic_ggx()),
-        "principled" => bench_lanes(bencher, &Principled::default()),
-        "principled_full" => bench_lanes(bencher, &principled_full()),
-        "principledthin" => bench_lanes(bencher, &PrincipledThin::default()),
+        "roughconductor_beckmann" => bench_lanes(bencher, &RoughConductor::default(), with_eval),
+        "roughconductor_ggx_au" => bench_lanes(bencher, &gold_ggx(), with_eval),
+        "roughdielectric" => bench_lanes(bencher, &RoughDielectric::default(), with_eval),
+        "roughdielectric_ggx" => bench_lanes(bencher, &glass_ggx(), with_eval),
+        "roughplastic" => bench_lanes(bencher, &RoughPlastic::default(), with_eval),
+        "roughplastic_ggx" => bench_lanes(bencher, &plastic_ggx(), with_eval),
+        "principled" => bench_lanes(bencher, &Principled::default(), with_eval),
+        "principled_full" => bench_lanes(bencher, &principled_full(), with_eval),
+        "principledthin" => bench_lanes(bencher, &PrincipledThin::default(), with_eval),
         _ => unreachable!("no lane kernel for {name}"),
     }
 }
