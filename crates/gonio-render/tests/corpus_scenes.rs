@@ -98,9 +98,8 @@ fn ci_spp(name: &str) -> u32 {
 /// 2026-12-05) the gonio-vs-gonio levels lie below the table's (most by 2–3×, from the
 /// environment map's estimators since) but for `integrator_direct_lum` (4.12e-2 against 3.70e-2,
 /// light sampling alone; seed 0 at 1.40e-2 against the reference), so the thresholds above stay
-/// as measured; at this spp
-/// most gonio-vs-reference levels now exceed the gonio-vs-gonio ones, the 256-spp references'
-/// own noise being the larger part (e.g. `bsdf_diffuse_plain` 2.57e-4 against 2.51e-4–2.79e-4,
+/// as measured; at this spp most gonio-vs-reference levels now exceed the gonio-vs-gonio ones,
+/// the 256-spp references' own noise being the larger part (e.g. `bsdf_diffuse_plain` 2.57e-4 against 2.51e-4–2.79e-4,
 /// `shape_cylinder_onesided` 1.71e-4 against 2.31e-4–2.79e-4).
 ///
 /// `shape_sphere_light_analytic` (film 120 × 90) has a reference of 4096 spp: its rough floor
@@ -124,12 +123,14 @@ fn ci_spp(name: &str) -> u32 {
 /// colour-balanced wavelengths (2026-12-05): 2.79e-4 9.16e-4 2.61e-4 2.55e-4 4.81e-4. Against
 /// the 8192-spp reference, seeds 0–9 at 128 spp give 1.8e-4–6.1e-4 and one 1.24e-3 (seed 4,
 /// whose firefly also makes the pair's 9.16e-4); at 32 spp 5.3e-4–3.1e-3, over the old threshold
-/// (1.38e-3, one pair) in three seeds of ten, with the sech² wavelengths as with the blend.
+/// (1.38e-3, one pair) in three seeds of ten with the blend and four with the sech² wavelengths.
 /// Mitsuba's own renders at 128 spp lie 6.1e-4–1.37e-3 from that reference. The former 256-spp
 /// reference was 1.2–2.4 % brighter than the 8192-spp one (its fireflies), which is what this
 /// table used to read as gonio's mean lying 0.7–1.5 % below Mitsuba's; gonio's mean over ten
-/// seeds is 0.5 % above the new one (within its noise). The BSDF-sampling-only scene (`integrator_direct_bsdf`) is too noisy at this spp to test anything
-/// and is left out (gonio-vs-gonio 1.19, gonio-vs-reference 0.32–0.44). The cylinder scenes
+/// seeds is 0.5 % above the new one (within its noise).
+///
+/// The BSDF-sampling-only scene (`integrator_direct_bsdf`) is too noisy at this spp to test
+/// anything and is left out (gonio-vs-gonio 1.19, gonio-vs-reference 0.32–0.44). The cylinder scenes
 /// (`include/shape_scene.xml`, 120 × 90) compare our tessellated cylinder with Mitsuba's quadric.
 ///
 /// The principled scenes (Mitsuba's `principled_blend_creation/`, a `principled` and a
