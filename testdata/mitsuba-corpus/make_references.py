@@ -29,7 +29,8 @@ import mitsuba as mi
 
 # SPP=N in the environment overrides it (shape_sphere_light_analytic: 4096, its rough floor
 # reflects the small bright sphere in fireflies that 256 spp leave in the reference;
-# integrator_direct_both: 8192, one light sample on Veach's sharper plates leaves fireflies too).
+# integrator_direct_both and integrator_direct_lum: 8192, one light sample on Veach's sharper
+# plates leaves fireflies too).
 SPP = int(os.environ.get("SPP", 256))
 
 mi.set_variant("scalar_spectral")
