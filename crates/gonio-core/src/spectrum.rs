@@ -330,10 +330,11 @@ impl SampledWavelengths {
 /// the normalized colour matching functions.
 pub const RENDER_VISIBLE_WEIGHT: f64 = 0.65;
 
-/// The CIE 1931 matching functions' mean, each normalized to unit integral, at the 1 nm knots
-/// (x̄/∫x̄ + ȳ/∫ȳ + z̄/∫z̄)/3, and its integral; the integrals are the trapezoid sums, exact for the
-/// linear interpolation between knots that [`crate::color::cie_xyz`] does.
-fn cmf_mean_knots() -> (Vec<f64>, f64) {
+/// The CIE 1931 matching functions' mean, each normalized to unit integral, at the 1 nm knots:
+/// (x̄/∫x̄ + ȳ/∫ȳ + z̄/∫z̄)/3. The integrals are the trapezoid sums, exact for the linear
+/// interpolation between knots that [`crate::color::cie_xyz`] does, so the mean integrates to 1
+/// under the same rule.
+fn cmf_mean_knots() -> Vec<f64> {
     use crate::data::cie1931::{CIE_SAMPLES, CIE_X, CIE_Y, CIE_Z};
     let trapezoid = |t: &[f32]| -> f64 {
         (0..CIE_SAMPLES - 1)
@@ -341,11 +342,9 @@ fn cmf_mean_knots() -> (Vec<f64>, f64) {
             .sum()
     };
     let (ix, iy, iz) = (trapezoid(&CIE_X), trapezoid(&CIE_Y), trapezoid(&CIE_Z));
-    let g: Vec<f64> = (0..CIE_SAMPLES)
+    (0..CIE_SAMPLES)
         .map(|i| (CIE_X[i] as f64 / ix + CIE_Y[i] as f64 / iy + CIE_Z[i] as f64 / iz) / 3.0)
-        .collect();
-    let total = (0..CIE_SAMPLES - 1).map(|i| 0.5 * (g[i] + g[i + 1])).sum();
-    (g, total)
+        .collect()
 }
 
 /// Density of the hero wavelengths the renderer draws, in 1/nm on [360, 830]:
@@ -365,12 +364,12 @@ pub fn render_wavelength_pdf(lambda: f32) -> f32 {
     if !(LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
         return 0.0;
     }
-    static CMF: std::sync::OnceLock<(Vec<f64>, f64)> = std::sync::OnceLock::new();
-    let (g, total) = CMF.get_or_init(cmf_mean_knots);
+    static CMF: std::sync::OnceLock<Vec<f64>> = std::sync::OnceLock::new();
+    let g = CMF.get_or_init(cmf_mean_knots);
     let x = (lambda - LAMBDA_MIN) as f64;
     let i = (x as usize).min(g.len() - 2);
     let t = x - i as f64;
-    let cmf = (g[i] + t * (g[i + 1] - g[i])) / total;
+    let cmf = g[i] + t * (g[i + 1] - g[i]);
     (RENDER_VISIBLE_WEIGHT * visible_wavelength_pdf(lambda) as f64 + (1.0 - RENDER_VISIBLE_WEIGHT) * cmf)
         as f32
 }
@@ -398,7 +397,7 @@ impl VisibleWavelengthTable {
     const N: usize = 4096;
 
     fn new() -> Self {
-        let (g, total) = cmf_mean_knots();
+        let g = cmf_mean_knots();
         // Cumulative integral of the matching functions' mean at each knot.
         let mut prefix = vec![0.0f64; g.len()];
         for i in 1..g.len() {
@@ -410,7 +409,7 @@ impl VisibleWavelengthTable {
             let x = (l - LAMBDA_MIN as f64).clamp(0.0, (g.len() - 1) as f64);
             let i = (x as usize).min(g.len() - 2);
             let t = x - i as f64;
-            let cmf = (prefix[i] + g[i] * t + 0.5 * (g[i + 1] - g[i]) * t * t) / total;
+            let cmf = prefix[i] + g[i] * t + 0.5 * (g[i + 1] - g[i]) * t * t;
             RENDER_VISIBLE_WEIGHT * sech + (1.0 - RENDER_VISIBLE_WEIGHT) * cmf
         };
         let lambda: Vec<f32> = (0..=Self::N)
