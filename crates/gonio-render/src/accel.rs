@@ -79,6 +79,13 @@ fn prim_count(shape: &WorldShape) -> usize {
     }
 }
 
+/// Whether Embree is the tracer of these shapes' triangles where the process has it: some shapes
+/// are meshes, and there are more primitives than the flat list holds.
+fn embree_applies(shapes: &[WorldShape]) -> bool {
+    shapes.iter().map(prim_count).sum::<usize>() > flat::MAX_PRIMS
+        && shapes.iter().any(|s| matches!(s.kind, ShapeKind::Mesh(_)))
+}
+
 /// [`prim_count`] in our own structure: none for a mesh when Embree holds the triangles.
 fn own_prim_count(shape: &WorldShape, meshes_elsewhere: bool) -> usize {
     match &shape.kind {
@@ -237,9 +244,8 @@ impl Accel {
     /// [`Self::new`], with Embree allowed or not (`false`: our BVH for everything, the
     /// structure the Embree path is compared with).
     pub fn with_embree(shapes: Vec<WorldShape>, allow_embree: bool) -> Self {
-        let total: usize = shapes.iter().map(prim_count).sum();
         let start = std::time::Instant::now();
-        let embree = (allow_embree && total > flat::MAX_PRIMS)
+        let embree = (allow_embree && embree_applies(&shapes))
             .then(|| embree::Triangles::new(&shapes))
             .flatten();
         let meshes_elsewhere = embree.is_some();
@@ -315,10 +321,7 @@ impl Accel {
     /// triangle meshes, more primitives than the flat list holds, and Embree is not available
     /// (not installed, or `GONIO_EMBREE=off`), so the meshes went to our own BVH.
     pub fn misses_embree(&self) -> bool {
-        self.embree.is_none()
-            && !embree::available()
-            && self.prim_count() > flat::MAX_PRIMS
-            && self.shapes.iter().any(|s| matches!(s.kind, ShapeKind::Mesh(_)))
+        self.embree.is_none() && !embree::available() && embree_applies(&self.shapes)
     }
 
     /// The closest hit in our own structure (all primitives, or the analytic ones beside
