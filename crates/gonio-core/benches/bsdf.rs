@@ -270,48 +270,40 @@ impl<M: LaneBench, const EVAL: bool> LaneKernel for LaneBatch<'_, M, EVAL> {
     }
 }
 
-fn bench_lanes<M: LaneBench>(bencher: Bencher, model: &M, with_eval: bool) {
+fn bench_lanes<M: LaneBench, const EVAL: bool>(bencher: Bencher, model: &M) {
     let inputs = LaneInputs::new();
-    let bencher = bencher.counter(divan::counter::ItemsCount::new(LANE_BATCH));
-    if with_eval {
-        bencher.bench_local(|| {
-            black_box(dispatch(LaneBatch::<M, true> {
+    bencher
+        .counter(divan::counter::ItemsCount::new(LANE_BATCH))
+        .bench_local(|| {
+            black_box(dispatch(LaneBatch::<M, EVAL> {
                 model,
                 inputs: &inputs,
             }))
         });
-    } else {
-        bencher.bench_local(|| {
-            black_box(dispatch(LaneBatch::<M, false> {
-                model,
-                inputs: &inputs,
-            }))
-        });
-    }
 }
 
 #[divan::bench(args = LANE_MODELS)]
 fn sample_eval_lanes(bencher: Bencher, name: &str) {
-    lane_model(bencher, name, true)
+    lane_model::<true>(bencher, name)
 }
 
 #[divan::bench(args = LANE_MODELS)]
 fn sample_lanes(bencher: Bencher, name: &str) {
-    lane_model(bencher, name, false)
+    lane_model::<false>(bencher, name)
 }
 
 /// The lane bench of model `name`, with or without `eval` after `sample`.
-fn lane_model(bencher: Bencher, name: &str, with_eval: bool) {
+fn lane_model<const EVAL: bool>(bencher: Bencher, name: &str) {
     match name {
-        "roughconductor_beckmann" => bench_lanes(bencher, &RoughConductor::default(), with_eval),
-        "roughconductor_ggx_au" => bench_lanes(bencher, &gold_ggx(), with_eval),
-        "roughdielectric" => bench_lanes(bencher, &RoughDielectric::default(), with_eval),
-        "roughdielectric_ggx" => bench_lanes(bencher, &glass_ggx(), with_eval),
-        "roughplastic" => bench_lanes(bencher, &RoughPlastic::default(), with_eval),
-        "roughplastic_ggx" => bench_lanes(bencher, &plastic_ggx(), with_eval),
-        "principled" => bench_lanes(bencher, &Principled::default(), with_eval),
-        "principled_full" => bench_lanes(bencher, &principled_full(), with_eval),
-        "principledthin" => bench_lanes(bencher, &PrincipledThin::default(), with_eval),
+        "roughconductor_beckmann" => bench_lanes::<_, EVAL>(bencher, &RoughConductor::default()),
+        "roughconductor_ggx_au" => bench_lanes::<_, EVAL>(bencher, &gold_ggx()),
+        "roughdielectric" => bench_lanes::<_, EVAL>(bencher, &RoughDielectric::default()),
+        "roughdielectric_ggx" => bench_lanes::<_, EVAL>(bencher, &glass_ggx()),
+        "roughplastic" => bench_lanes::<_, EVAL>(bencher, &RoughPlastic::default()),
+        "roughplastic_ggx" => bench_lanes::<_, EVAL>(bencher, &plastic_ggx()),
+        "principled" => bench_lanes::<_, EVAL>(bencher, &Principled::default()),
+        "principled_full" => bench_lanes::<_, EVAL>(bencher, &principled_full()),
+        "principledthin" => bench_lanes::<_, EVAL>(bencher, &PrincipledThin::default()),
         _ => unreachable!("no lane kernel for {name}"),
     }
 }

@@ -137,8 +137,8 @@ macro_rules! lanewise {
 /// as the [`avx16`] form of the same name (one 512-bit register) where `X` may use AVX-512
 /// ([`Isa::AVX512`]), else as the `avx8` form on each half (two 256-bit registers); otherwise
 /// nothing, and the loop after it runs. In the 512-bit case the expression's `avx8` and
-/// `_mm256_set1_ps` name `avx16`'s forms (block-scoped imports shadow the module's). `wide8!(a = self, b = o => avx8::add(a, b))` loads the
-/// named lanes (`F32s<8, X>` or `Mask<8, X>`) into registers; the form's register is stored as
+/// `_mm256_set1_ps` name `avx16`'s forms (block-scoped imports shadow the module's).
+/// `wide8!(a = self, b = o => avx8::add(a, b))` loads the named lanes (`F32s<8, X>` or `Mask<8, X>`) into registers; the form's register is stored as
 /// the result (`wide8!(.. => bool: expr)` for a `bool`). Both conditions are constants, so each
 /// instance of an operation compiles to the form alone or to the loop alone.
 macro_rules! wide8 {
