@@ -58,7 +58,7 @@ pub struct PrincipledLanes<'a, const N: usize, X: Isa = Portable> {
 
 impl Principled {
     /// This model at each lane's wavelengths, its parameters in every lane.
-    #[inline]
+    #[inline(always)]
     pub fn lanes<'a, const N: usize, X: Isa>(
         &self,
         wl: &'a [SampledWavelengths; N],

@@ -53,7 +53,7 @@ pub struct PrincipledThinLanes<'a, const N: usize, X: Isa = Portable> {
 
 impl PrincipledThin {
     /// This model at each lane's wavelengths, its parameters in every lane.
-    #[inline]
+    #[inline(always)]
     pub fn lanes<'a, const N: usize, X: Isa>(
         &self,
         wl: &'a [SampledWavelengths; N],

@@ -129,7 +129,7 @@ pub struct RoughConductorLanes<const N: usize, X: Isa = Portable> {
 impl RoughConductor {
     /// This model at each lane's wavelengths; `None` with `multiple_scattering`, whose random
     /// walk has no lane kernel.
-    #[inline]
+    #[inline(always)]
     pub fn lanes<const N: usize, X: Isa>(
         &self,
         wl: &[SampledWavelengths; N],

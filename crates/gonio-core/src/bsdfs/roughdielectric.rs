@@ -497,7 +497,7 @@ impl RoughDielectric {
     /// This model at each lane's wavelengths; `None` for a dispersive index (a refraction there
     /// terminates a lane's secondary wavelengths and gives each wavelength its own half vector)
     /// and for `multiple_scattering` (a random walk): those stay with the scalar model.
-    #[inline]
+    #[inline(always)]
     pub fn lanes<const N: usize, X: Isa>(
         &self,
         wl: &[SampledWavelengths; N],

@@ -511,7 +511,7 @@ pub struct RoughPlasticLanes<'a, const N: usize, X: Isa = Portable> {
 
 impl RoughPlastic {
     /// This model at each lane's wavelengths.
-    #[inline]
+    #[inline(always)]
     pub fn lanes<const N: usize, X: Isa>(&self, wl: &[SampledWavelengths; N]) -> RoughPlasticLanes<'_, N, X> {
         RoughPlasticLanes {
             diffuse_reflectance: self.diffuse_reflectance.sample_lanes(wl),

@@ -126,7 +126,7 @@ impl<const N: usize, X: Isa> Add for SampledSpectra<N, X> {
 
 impl Spectrum {
     /// This spectrum at each lane's wavelengths (a broadcast for a constant).
-    #[inline]
+    #[inline(always)]
     pub fn sample_lanes<const N: usize, X: Isa>(&self, wl: &[SampledWavelengths; N]) -> SampledSpectra<N, X> {
         match self {
             Spectrum::Constant(v) => SampledSpectra::splat(*v),
