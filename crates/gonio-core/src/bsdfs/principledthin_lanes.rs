@@ -137,8 +137,6 @@ impl<const N: usize, X: Isa> PrincipledThinLanes<'_, N, X> {
         let h = (wi + wo_r).normalize();
         let active = nonzero & h.is_finite();
         let (s, t) = (self.spec_trans, 0.5 * self.diff_trans);
-        let refl_ok = active & reflect & facet_compatible(h, wi, wo, ci, true);
-        let refr_ok = active & !reflect & facet_compatible(h, wi, wo, ci, false);
         let c = self.base_color;
         let spec_tinted = self.spec_tint.ne(0.0);
         let sheen_tinted = self.sheen_tint.ne(0.0);
@@ -149,52 +147,52 @@ impl<const N: usize, X: Isa> PrincipledThinLanes<'_, N, X> {
             F32s::ONE
         };
         let mut value = SampledSpectra::ZERO;
-        let specular = s.gt(0.0);
-        let en_gr = ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION);
-        let en_gt = ctx.is_enabled(BsdfFlags::GLOSSY_TRANSMISSION);
         let probs = self.probs(ctx);
         let total = probs[0] + probs[1] + probs[2] + probs[3];
         let has_total = !total.is_nan() & total.gt(0.0);
-        let [p_sr, p_st, p_dr, p_dt] = [
-            probs[0] / total,
-            probs[1] / total,
-            probs[2] / total,
-            probs[3] / total,
-        ];
-        let (m_r, m_t) = (refl_ok & p_sr.gt(0.0), refr_ok & p_st.gt(0.0));
-        let (spec_r, spec_t) = (refl_ok & specular, refr_ok & specular);
-        // The glossy lobes' D, G1(wi) (eval or pdf) and F, only where some lane has them.
-        let (mut d_r, mut g1i_r, mut d_t, mut g1i_t) = (F32s::ZERO, F32s::ZERO, F32s::ZERO, F32s::ZERO);
-        let unset = MicrofacetLanes::new(MicrofacetKind::Ggx, F32s::ONE, F32s::ONE, true);
-        let (mut distr_r, mut distr_t) = (unset, unset);
-        let (mut cos_ih, mut fr) = (F32s::ZERO, F32s::ZERO);
-        let glossy = spec_r | m_r | spec_t | m_t;
-        if glossy.any() {
-            (distr_r, distr_t) = self.distributions();
-            cos_ih = wi.dot(h);
-            fr = fresnel_dielectric(cos_ih, self.eta).reflectance;
-        }
-        if (spec_r | m_r).any() {
-            (d_r, g1i_r) = (distr_r.d(h), distr_r.g1(wi, h));
-        }
-        if en_gr && spec_r.any() {
-            let mut f_t = SampledSpectra([fr; N_SPECTRUM_SAMPLES]);
-            if spec_tinted.any() {
-                let r0 = tint_color(c, lum) * schlick_r0(self.eta);
-                let f_s = schlick_fresnel_spectrum(r0, cos_ih, self.eta);
-                for i in 0..N_SPECTRUM_SAMPLES {
-                    f_t.0[i] = spec_tinted.select(fr + (f_s.0[i] - fr) * self.spec_tint, fr);
+        let (p_dr, p_dt) = (probs[2] / total, probs[3] / total);
+        let mut pdf = F32s::ZERO;
+        // The glossy lobes (the dielectric sheet), only where some lane has them: their masks,
+        // D, G1(wi) (eval or pdf) and F.
+        let specular = s.gt(0.0);
+        if specular.any() {
+            let refl_ok = active & reflect & facet_compatible(h, wi, wo, ci, true);
+            let refr_ok = active & !reflect & facet_compatible(h, wi, wo, ci, false);
+            let (p_sr, p_st) = (probs[0] / total, probs[1] / total);
+            let (m_r, m_t) = (refl_ok & p_sr.gt(0.0), refr_ok & p_st.gt(0.0));
+            let (spec_r, spec_t) = (refl_ok & specular, refr_ok & specular);
+            let (distr_r, distr_t) = self.distributions();
+            let cos_ih = wi.dot(h);
+            let fr = fresnel_dielectric(cos_ih, self.eta).reflectance;
+            let dwh_dwo = (4.0 * wo_r.dot(h)).recip().abs();
+            if (spec_r | m_r).any() {
+                let (d_r, g1i_r) = (distr_r.d(h), distr_r.g1(wi, h));
+                if ctx.is_enabled(BsdfFlags::GLOSSY_REFLECTION) && spec_r.any() {
+                    let mut f_t = SampledSpectra([fr; N_SPECTRUM_SAMPLES]);
+                    if spec_tinted.any() {
+                        let r0 = tint_color(c, lum) * schlick_r0(self.eta);
+                        let f_s = schlick_fresnel_spectrum(r0, cos_ih, self.eta);
+                        for i in 0..N_SPECTRUM_SAMPLES {
+                            f_t.0[i] = spec_tinted.select(fr + (f_s.0[i] - fr) * self.spec_tint, fr);
+                        }
+                    }
+                    let dg = d_r * (g1i_r * distr_r.g1(wo, h));
+                    value = value + (f_t * (s * dg / (4.0 * ci))).masked(spec_r);
+                }
+                if m_r.any() {
+                    pdf += m_r.and_then(p_sr * distr_r.pdf_from(wi, h, d_r, g1i_r) * dwh_dwo);
                 }
             }
-            let dg = d_r * (g1i_r * distr_r.g1(wo, h));
-            value = value + (f_t * (s * dg / (4.0 * ci))).masked(spec_r);
-        }
-        if (spec_t | m_t).any() {
-            (d_t, g1i_t) = (distr_t.d(h), distr_t.g1(wi, h));
-        }
-        if en_gt && spec_t.any() {
-            let dg = d_t * (g1i_t * distr_t.g1(wo, h));
-            value = value + (c * (s * (F32s::ONE - fr) * dg / (4.0 * ci))).masked(spec_t);
+            if (spec_t | m_t).any() {
+                let (d_t, g1i_t) = (distr_t.d(h), distr_t.g1(wi, h));
+                if ctx.is_enabled(BsdfFlags::GLOSSY_TRANSMISSION) && spec_t.any() {
+                    let dg = d_t * (g1i_t * distr_t.g1(wo, h));
+                    value = value + (c * (s * (F32s::ONE - fr) * dg / (4.0 * ci))).masked(spec_t);
+                }
+                if m_t.any() {
+                    pdf += m_t.and_then(p_st * distr_t.pdf_from(wi, h, d_t, g1i_t) * dwh_dwo);
+                }
+            }
         }
         let cos_d = h.dot(wo);
         let diffuse = active & reflect & s.lt(1.0) & t.lt(1.0);
@@ -216,16 +214,7 @@ impl<const N: usize, X: Isa> PrincipledThinLanes<'_, N, X> {
             value = value + (c * k).masked(diff_t);
         }
 
-        // The pdf of `sample`.
-        let dwh_dwo = (4.0 * wo_r.dot(h)).recip().abs();
-        let mut pdf = F32s::ZERO;
-        if m_r.any() {
-            pdf += m_r.and_then(p_sr * distr_r.pdf_from(wi, h, d_r, g1i_r) * dwh_dwo);
-        }
-        if m_t.any() {
-            pdf += m_t.and_then(p_st * distr_t.pdf_from(wi, h, d_t, g1i_t) * dwh_dwo);
-        }
-        // The cosine densities of ±ωo (p_dr above, p_dt below).
+        // The rest of the pdf of `sample`: the cosine densities of ±ωo (p_dr above, p_dt below).
         let cos_pdf = wo.z.abs() * FRAC_1_PI;
         pdf += reflect.select(p_dr * cos_pdf, wo.z.lt(0.0).and_then(p_dt * cos_pdf));
         let pdf = (active & has_total & pdf.is_finite()).and_then(pdf);

@@ -4,7 +4,7 @@
 //! Functions*, 1989; the `sinf`, `cosf`, `expf`, `logf`, `asinf` routines): a range reduction, a
 //! short polynomial, a reconstruction, each step a lane-wise operation. Accuracy (tested against
 //! the standard library over their ranges in `tests/lanes/`): `sin_cos` within 2·10⁻⁷
-//! absolute on [−8192, 8192]; `exp` and `ln` within 3 ulp (relative 2·10⁻⁷) on their finite
+//! absolute on [−8192, 8192], `sin_cos_quarter` on [−π/4, π/4]; `exp` and `ln` within 3 ulp (relative 2·10⁻⁷) on their finite
 //! ranges; `erf` within 6·10⁻⁷ absolute (Abramowitz & Stegun 7.1.26, 1.5·10⁻⁷, evaluated in single precision); `erf_inv` Giles' f32
 //! approximation (the scalar `microfacet` one, relative 4·10⁻⁷); `acos` within 3·10⁻⁷.
 
@@ -46,6 +46,16 @@ pub fn sin_cos<const N: usize, X: Isa>(x: F32s<N, X>) -> (F32s<N, X>, F32s<N, X>
         c[k] = if cos_neg { -cv } else { cv };
     }
     (F32s(s, PhantomData), F32s(c, PhantomData))
+}
+
+/// (sin x, cos x) per lane for |x| ≤ π/4: [`sin_cos`]'s polynomials without its range
+/// reduction (the concentric disk map's angles, which it offsets by π/2 itself).
+#[inline(always)]
+pub fn sin_cos_quarter<const N: usize, X: Isa>(x: F32s<N, X>) -> (F32s<N, X>, F32s<N, X>) {
+    let z = x * x;
+    let pc = ((2.443_315_7e-5 * z - 1.388_731_6e-3) * z + 4.166_664_6e-2) * z * z - 0.5 * z + 1.0;
+    let ps = ((-1.951_529_6e-4 * z + 8.332_161e-3) * z - 1.666_665_5e-1) * z * x + x;
+    (ps, pc)
 }
 
 /// eˣ per lane; 0 where the result would be subnormal (below about −87.3), +∞ above 88.38.

@@ -1,8 +1,8 @@
 //! Sampling warps on lanes ([`crate::warp`]).
 
-use super::math::sin_cos;
+use super::math::sin_cos_quarter;
 use super::{F32s, Isa, Vec3s};
-use std::f32::consts::{FRAC_PI_2, FRAC_PI_4};
+use std::f32::consts::FRAC_PI_4;
 
 /// Shirley & Chiu's concentric map of [0, 1)² onto the unit disk per lane
 /// ([`crate::warp::square_to_uniform_disk_concentric`]).
@@ -14,9 +14,13 @@ pub fn square_to_uniform_disk_concentric<const N: usize, X: Isa>(
     let oy = 2.0 * u[1] - 1.0;
     let x_major = ox.abs().gt(oy.abs());
     let r = x_major.select(ox, oy);
-    // The ratio of the minor to the major coordinate (0/0 at the centre: masked below).
-    let theta = x_major.select(FRAC_PI_4 * (oy / ox), FRAC_PI_2 - FRAC_PI_4 * (ox / oy));
-    let (s, c) = sin_cos(theta);
+    // The ratio of the minor to the major coordinate (0/0 at the centre: masked below), one
+    // division for both branches of the scalar map. Its angle θ is φ = π/4 · ratio where x is
+    // the major coordinate and π/2 − φ where y is: (sin θ, cos θ) = (cos φ, sin φ) there, so
+    // one polynomial on |φ| ≤ π/4 serves both, with no range reduction.
+    let ratio = x_major.select(oy, ox) / r;
+    let (sp, cp) = sin_cos_quarter(FRAC_PI_4 * ratio);
+    let (s, c) = (x_major.select(sp, cp), x_major.select(cp, sp));
     let centre = ox.eq(0.0) & oy.eq(0.0);
     (centre.select(F32s::ZERO, r * c), centre.select(F32s::ZERO, r * s))
 }

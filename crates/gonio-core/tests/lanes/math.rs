@@ -1,7 +1,7 @@
 //! `lanes::math` against the standard library (and libm for erf) over each function's range.
 
 use gonio_core::lanes::F32s;
-use gonio_core::lanes::math::{acos, erf, erf_inv, exp, ln, sin_cos};
+use gonio_core::lanes::math::{acos, erf, erf_inv, exp, ln, sin_cos, sin_cos_quarter};
 
 /// How a deviation is measured.
 #[derive(Clone, Copy)]
@@ -53,6 +53,24 @@ fn sin_cos_within_2e7_of_std() {
     let c = max_err(
         grid(-100.0, 100.0, 200_000),
         |x| sin_cos(x).1,
+        |x| (x as f64).cos() as f32,
+        Absolute,
+    );
+    assert!(s < 2e-7 && c < 2e-7, "sin {s:e}, cos {c:e}");
+}
+
+#[test]
+fn sin_cos_quarter_within_2e7_of_std_on_its_range() {
+    let q = std::f32::consts::FRAC_PI_4;
+    let s = max_err(
+        grid(-q, q, 200_000),
+        |x| sin_cos_quarter(x).0,
+        |x| (x as f64).sin() as f32,
+        Absolute,
+    );
+    let c = max_err(
+        grid(-q, q, 200_000),
+        |x| sin_cos_quarter(x).1,
         |x| (x as f64).cos() as f32,
         Absolute,
     );
