@@ -502,11 +502,16 @@ impl RoughDielectric {
         &self,
         wl: &[SampledWavelengths; N],
     ) -> Option<RoughDielectricLanes<N, X>> {
-        if self.multiple_scattering || self.int_ior.is_dispersive() || self.ext_ior.is_dispersive() {
+        // Constant indices: η = n_int/n_ext is the same in every lane (`relative_eta`'s value
+        // at any wavelength, the same division), one splat instead of two spectra per lane.
+        let (Ior::Constant(n_int), Ior::Constant(n_ext)) = (&self.int_ior, &self.ext_ior) else {
+            return None;
+        };
+        if self.multiple_scattering {
             return None;
         }
         Some(RoughDielectricLanes {
-            eta: F32s::from_fn(|k| relative_eta(&self.int_ior, &self.ext_ior, &wl[k])[0]),
+            eta: F32s::splat(n_int / n_ext),
             specular_reflectance: self.specular_reflectance.sample_lanes(wl),
             specular_transmittance: self.specular_transmittance.sample_lanes(wl),
             distribution: self.distribution.lanes(),
