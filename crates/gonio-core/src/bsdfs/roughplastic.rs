@@ -528,18 +528,7 @@ impl<const N: usize, X: Isa> RoughPlasticLanes<'_, N, X> {
     #[inline(always)]
     fn transmittance(&self, mu: F32s<N, X>) -> F32s<N, X> {
         let n = self.coat.nodes;
-        let x = mu.clamp(0.0, 1.0) * (n - 1) as f32;
-        let t = &self.coat.transmittance[..n];
-        let mut r = [0.0f32; N];
-        for (k, r) in r.iter_mut().enumerate() {
-            // SAFETY: 0 ≤ x ≤ n − 1 (the clamp turns NaN into 0), within i32. (`as usize`
-            // saturates, which LLVM may spell out lane by lane or, vectorized, as a long
-            // float-to-u64 sequence: twice this kernel's instructions in one build.)
-            let i = unsafe { x.0[k].to_int_unchecked::<i32>() }.min(n as i32 - 2) as usize;
-            let w = x.0[k] - i as f32;
-            *r = (1.0 - w) * t[i] + w * t[i + 1];
-        }
-        F32s::from_array(r)
+        (mu.clamp(0.0, 1.0) * (n - 1) as f32).lerp_table(&self.coat.transmittance[..n])
     }
 
     /// The probability of sampling the coat's lobe at incidence `mu_i`, per lane.

@@ -79,8 +79,14 @@ fn run<const N: usize, X: Isa>(a: [f32; N], b: [f32; N], s: f32) -> Vec<Vec<u32>
         ],
         f(m.select(x, y)),
         f(n.and_then(y)),
+        // Positions inside, at and past both ends of a 5-entry table, and the specials.
+        f((x * 0.01 + 2.0).lerp_table(&TABLE)),
+        f(x.lerp_table(&TABLE)),
     ]
 }
+
+/// A table for `lerp_table` (a zero among its entries, as a coat table's end may be).
+const TABLE: [f32; 5] = [0.9, 0.75, 0.5, 0.125, 0.0];
 
 fn agree<const N: usize, X: Isa>(seed: u64) {
     let mut rng = Pcg32::new(seed, 1);

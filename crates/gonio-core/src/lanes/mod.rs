@@ -76,6 +76,8 @@ pub trait Isa:
 {
     /// Whether the CPU running code that holds these lanes has AVX.
     const AVX: bool;
+    /// Whether it has AVX2 (the integer and gather forms).
+    const AVX2: bool;
     /// Whether it has AVX-512F (16 lanes are then one register).
     const AVX512: bool;
 }
@@ -91,6 +93,7 @@ pub struct Portable;
 impl sealed::Sealed for Portable {}
 impl Isa for Portable {
     const AVX: bool = cfg!(all(target_arch = "x86_64", target_feature = "avx"));
+    const AVX2: bool = cfg!(all(target_arch = "x86_64", target_feature = "avx2"));
     const AVX512: bool = cfg!(all(target_arch = "x86_64", target_feature = "avx512f"));
 }
 
@@ -102,6 +105,7 @@ mod detected {
     impl super::sealed::Sealed for Avx2 {}
     impl super::Isa for Avx2 {
         const AVX: bool = true;
+        const AVX2: bool = true;
         const AVX512: bool = false;
     }
     /// AVX-512 (F, VL, BW, DQ) with AVX2 + FMA, detected at run time.
@@ -110,6 +114,7 @@ mod detected {
     impl super::sealed::Sealed for Avx512 {}
     impl super::Isa for Avx512 {
         const AVX: bool = true;
+        const AVX2: bool = true;
         const AVX512: bool = true;
     }
 }
@@ -359,6 +364,65 @@ impl<const N: usize, X: Isa> F32s<N, X> {
     #[inline(always)]
     pub fn clamp(self, lo: f32, hi: f32) -> Self {
         self.max(lo).min(hi)
+    }
+    /// Linear interpolation in `table` at positions `self` ∈ [0, len − 1] per lane:
+    /// (1 − w)·table[i] + w·table[i + 1] with i = ⌊x⌋ clamped to len − 2 and w = x − i (a
+    /// position past the end extrapolates from the last interval). NaN or a negative position
+    /// reads interval 0. Panics if `table` has fewer than 2 entries. With AVX-512F at 16 lanes or
+    /// AVX2 at 8 the reads are two gathers (the loop's bits: the same products and sum, no FMA).
+    #[inline(always)]
+    pub fn lerp_table(self, table: &[f32]) -> Self {
+        let n = table.len();
+        assert!(n >= 2, "lerp_table needs two entries");
+        #[cfg(target_arch = "x86_64")]
+        if N == 16 && X::AVX512 {
+            // SAFETY: `X::AVX512` holds only where the CPU has AVX-512F (`Isa`), and N = 16
+            // makes the lanes 64 bytes; every index is clamped to [0, n − 2], so both gathers
+            // read inside `table`.
+            return unsafe {
+                use std::arch::x86_64::*;
+                let x = _mm512_loadu_ps(self.0.as_ptr());
+                // Clamped as floats (max gives 0 for NaN), then truncated: the loop's index.
+                let last = _mm512_set1_ps((n - 2) as f32);
+                let i = _mm512_cvttps_epi32(_mm512_min_ps(_mm512_max_ps(x, _mm512_setzero_ps()), last));
+                let w = _mm512_sub_ps(x, _mm512_cvtepi32_ps(i));
+                let t0 = _mm512_i32gather_ps::<4>(i, table.as_ptr());
+                let t1 = _mm512_i32gather_ps::<4>(i, table.as_ptr().add(1));
+                let one_minus_w = _mm512_sub_ps(_mm512_set1_ps(1.0), w);
+                store16x(_mm512_add_ps(
+                    _mm512_mul_ps(one_minus_w, t0),
+                    _mm512_mul_ps(w, t1),
+                ))
+            };
+        }
+        #[cfg(target_arch = "x86_64")]
+        if N == 8 && X::AVX2 {
+            // SAFETY: `X::AVX2` holds only where the CPU has AVX2 (`Isa`), N = 8 makes the lanes
+            // 32 bytes; indices clamped as above.
+            return unsafe {
+                use std::arch::x86_64::*;
+                let x = _mm256_loadu_ps(self.0.as_ptr());
+                let last = _mm256_set1_ps((n - 2) as f32);
+                let i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(x, _mm256_setzero_ps()), last));
+                let w = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
+                let t0 = _mm256_i32gather_ps::<4>(table.as_ptr(), i);
+                let t1 = _mm256_i32gather_ps::<4>(table.as_ptr().add(1), i);
+                let one_minus_w = _mm256_sub_ps(_mm256_set1_ps(1.0), w);
+                store8(_mm256_add_ps(
+                    _mm256_mul_ps(one_minus_w, t0),
+                    _mm256_mul_ps(w, t1),
+                ))
+            };
+        }
+        let mut r = [0.0f32; N];
+        for (k, r) in r.iter_mut().enumerate() {
+            let x = self.0[k];
+            // `as i32` saturates (NaN to 0), then the clamp keeps both reads inside the table.
+            let i = (x as i32).clamp(0, n as i32 - 2) as usize;
+            let w = x - i as f32;
+            *r = (1.0 - w) * table[i] + w * table[i + 1];
+        }
+        Self(r, PhantomData)
     }
     /// The magnitude of `self` with the sign of `s`.
     #[inline(always)]
