@@ -4,9 +4,10 @@
 //! Functions*, 1989; the `sinf`, `cosf`, `expf`, `logf`, `asinf` routines): a range reduction, a
 //! short polynomial, a reconstruction, each step a lane-wise operation. Accuracy (tested against
 //! the standard library over their ranges in `tests/lanes/`): `sin_cos` within 2·10⁻⁷
-//! absolute on [−8192, 8192], `sin_cos_quarter` on [−π/4, π/4]; `exp` and `ln` within 3 ulp (relative 2·10⁻⁷) on their finite
-//! ranges; `erf` within 6·10⁻⁷ absolute (Abramowitz & Stegun 7.1.26, 1.5·10⁻⁷, evaluated in single precision); `erf_inv` Giles' f32
-//! approximation (the scalar `microfacet` one, relative 4·10⁻⁷); `acos` within 3·10⁻⁷.
+//! absolute on [−8192, 8192], `sin_cos_quarter` on [−π/4, π/4]; `exp` and `ln` within 3 ulp
+//! (relative 2·10⁻⁷) on their finite ranges; `erf` within 6·10⁻⁷ absolute (Abramowitz &
+//! Stegun 7.1.26, 1.5·10⁻⁷, evaluated in single precision); `erf_inv` Giles' f32 approximation
+//! (the scalar `microfacet` one, relative 4·10⁻⁷); `acos` within 3·10⁻⁷.
 
 use super::{F32s, Isa};
 use crate::microfacet::{ERF_INV_CENTRAL, ERF_INV_TAIL};

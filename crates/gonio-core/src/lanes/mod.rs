@@ -414,11 +414,15 @@ impl<const N: usize, X: Isa> F32s<N, X> {
                 ))
             };
         }
+        let last = (n - 2) as f32;
         let mut r = [0.0f32; N];
         for (k, r) in r.iter_mut().enumerate() {
             let x = self.0[k];
-            // `as i32` saturates (NaN to 0), then the clamp keeps both reads inside the table.
-            let i = (x as i32).clamp(0, n as i32 - 2) as usize;
+            // Clamped as floats (NaN to 0), as the forms do; `as i32` would saturate, which
+            // LLVM may spell out lane by lane.
+            let xc = if x > 0.0 { x.min(last) } else { 0.0 };
+            // SAFETY: 0 ≤ xc ≤ n − 2, within i32.
+            let i = unsafe { xc.to_int_unchecked::<i32>() } as usize;
             let w = x - i as f32;
             *r = (1.0 - w) * table[i] + w * table[i + 1];
         }
