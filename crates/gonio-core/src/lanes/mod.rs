@@ -369,64 +369,65 @@ impl<const N: usize, X: Isa> F32s<N, X> {
     /// (1 − w)·table[i] + w·table[i + 1] with i = ⌊x⌋ clamped to len − 2 and w = x − i (a
     /// position past the end extrapolates from the last interval). NaN or a negative position
     /// reads interval 0. Panics if `table` has fewer than 2 entries. With AVX-512F at 16 lanes or
-    /// AVX2 at 8 the reads are two gathers (the loop's bits: the same products and sum, no FMA).
+    /// AVX2 at 8 the two reads are gathers ([`Self::interval_ends`]).
     #[inline(always)]
     pub fn lerp_table(self, table: &[f32]) -> Self {
-        let n = table.len();
-        assert!(n >= 2, "lerp_table needs two entries");
+        assert!(table.len() >= 2, "lerp_table needs two entries");
+        // Clamped as floats (`max` gives 0 for NaN), so that truncation gives the interval.
+        let x = self.max(0.0).min((table.len() - 2) as f32);
+        // SAFETY: every lane of `x` lies in [0, len − 2], and len ≥ 2.
+        let (i, t0, t1) = unsafe { x.interval_ends(table) };
+        let w = self - i;
+        (1.0 - w) * t0 + w * t1
+    }
+    /// ⌊x⌋ as a float, table[⌊x⌋] and table[⌊x⌋ + 1], per lane; two gathers where the
+    /// instruction set has them.
+    ///
+    /// # Safety
+    /// `table` has at least 2 entries and every lane lies in [0, len − 2].
+    #[inline(always)]
+    unsafe fn interval_ends(self, table: &[f32]) -> (Self, Self, Self) {
         #[cfg(target_arch = "x86_64")]
         if N == 16 && X::AVX512 {
             // SAFETY: `X::AVX512` holds only where the CPU has AVX-512F (`Isa`), and N = 16
-            // makes the lanes 64 bytes; every index is clamped to [0, n − 2], so both gathers
-            // read inside `table`.
+            // makes the lanes 64 bytes; 0 ≤ ⌊x⌋ ≤ len − 2 (the caller's), so both gathers read
+            // inside `table`.
             return unsafe {
                 use std::arch::x86_64::*;
-                let x = _mm512_loadu_ps(self.0.as_ptr());
-                // Clamped as floats (max gives 0 for NaN), then truncated: the loop's index.
-                let last = _mm512_set1_ps((n - 2) as f32);
-                let i = _mm512_cvttps_epi32(_mm512_min_ps(_mm512_max_ps(x, _mm512_setzero_ps()), last));
-                let w = _mm512_sub_ps(x, _mm512_cvtepi32_ps(i));
-                let t0 = _mm512_i32gather_ps::<4>(i, table.as_ptr());
-                let t1 = _mm512_i32gather_ps::<4>(i, table.as_ptr().add(1));
-                let one_minus_w = _mm512_sub_ps(_mm512_set1_ps(1.0), w);
-                store16x(_mm512_add_ps(
-                    _mm512_mul_ps(one_minus_w, t0),
-                    _mm512_mul_ps(w, t1),
-                ))
+                let i = _mm512_cvttps_epi32(_mm512_loadu_ps(self.0.as_ptr()));
+                (
+                    store16x(_mm512_cvtepi32_ps(i)),
+                    store16x(_mm512_i32gather_ps::<4>(i, table.as_ptr())),
+                    store16x(_mm512_i32gather_ps::<4>(i, table.as_ptr().add(1))),
+                )
             };
         }
         #[cfg(target_arch = "x86_64")]
         if N == 8 && X::AVX2 {
             // SAFETY: `X::AVX2` holds only where the CPU has AVX2 (`Isa`), N = 8 makes the lanes
-            // 32 bytes; indices clamped as above.
+            // 32 bytes; indices as above.
             return unsafe {
                 use std::arch::x86_64::*;
-                let x = _mm256_loadu_ps(self.0.as_ptr());
-                let last = _mm256_set1_ps((n - 2) as f32);
-                let i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(x, _mm256_setzero_ps()), last));
-                let w = _mm256_sub_ps(x, _mm256_cvtepi32_ps(i));
-                let t0 = _mm256_i32gather_ps::<4>(table.as_ptr(), i);
-                let t1 = _mm256_i32gather_ps::<4>(table.as_ptr().add(1), i);
-                let one_minus_w = _mm256_sub_ps(_mm256_set1_ps(1.0), w);
-                store8(_mm256_add_ps(
-                    _mm256_mul_ps(one_minus_w, t0),
-                    _mm256_mul_ps(w, t1),
-                ))
+                let i = _mm256_cvttps_epi32(_mm256_loadu_ps(self.0.as_ptr()));
+                (
+                    store8(_mm256_cvtepi32_ps(i)),
+                    store8(_mm256_i32gather_ps::<4>(table.as_ptr(), i)),
+                    store8(_mm256_i32gather_ps::<4>(table.as_ptr().add(1), i)),
+                )
             };
         }
-        let last = (n - 2) as f32;
-        let mut r = [0.0f32; N];
-        for (k, r) in r.iter_mut().enumerate() {
+        let i: [usize; N] = std::array::from_fn(|k| {
             let x = self.0[k];
-            // Clamped as floats (NaN to 0), as the forms do; `as i32` would saturate, which
-            // LLVM may spell out lane by lane.
-            let xc = if x > 0.0 { x.min(last) } else { 0.0 };
-            // SAFETY: 0 ≤ xc ≤ n − 2, within i32.
-            let i = unsafe { xc.to_int_unchecked::<i32>() } as usize;
-            let w = x - i as f32;
-            *r = (1.0 - w) * table[i] + w * table[i + 1];
-        }
-        Self(r, PhantomData)
+            debug_assert!((0.0..=(table.len() - 2) as f32).contains(&x));
+            // SAFETY: 0 ≤ x ≤ len − 2 (the caller's), within i32. (`as usize` would saturate,
+            // which LLVM may spell out lane by lane.)
+            unsafe { x.to_int_unchecked::<i32>() as usize }
+        });
+        (
+            Self::from_fn(|k| i[k] as f32),
+            Self::from_fn(|k| table[i[k]]),
+            Self::from_fn(|k| table[i[k] + 1]),
+        )
     }
     /// The magnitude of `self` with the sign of `s`.
     #[inline(always)]
