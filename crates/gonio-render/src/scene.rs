@@ -59,6 +59,9 @@ pub struct IntegratorDesc {
     /// surface → camera) instead of finding them by BSDF sampling (default true; see
     /// `integrator::caustics`).
     pub caustic_paths: bool,
+    /// Ours: next-event estimation follows shadow rays through smooth glass, refracting
+    /// (default true; see `integrator::refracted`).
+    pub refracted_nee: bool,
     /// Which algorithm: `path` (the fields above), `direct` or `depth`.
     pub kind: IntegratorKind,
     /// Mitsuba's `stokes` wrapper around this integrator: also write the Stokes vector S0..S3
@@ -182,7 +185,7 @@ pub enum IntegratorKind {
 }
 
 impl Default for IntegratorDesc {
-    /// Mitsuba's `path` defaults plus `thin_shadows = true` and `caustic_paths = true`.
+    /// Mitsuba's `path` defaults plus our `thin_shadows`, `caustic_paths` and `refracted_nee` on.
     fn default() -> Self {
         Self {
             max_depth: -1,
@@ -190,6 +193,7 @@ impl Default for IntegratorDesc {
             hide_emitters: false,
             thin_shadows: true,
             caustic_paths: true,
+            refracted_nee: true,
             kind: IntegratorKind::Path,
             stokes: false,
             polarized: false,

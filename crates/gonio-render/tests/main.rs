@@ -28,6 +28,7 @@ mod path_weight;
 mod plugins;
 mod ptracer;
 mod reference_scenes;
+mod refracted;
 mod render;
 mod sampler;
 mod xml_errors;

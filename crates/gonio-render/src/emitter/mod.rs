@@ -506,12 +506,28 @@ impl Lights {
         u: Vec2,
         wl: &SampledWavelengths,
     ) -> Option<LightSample> {
+        self.sample_li_indexed(shapes, r, u_sel, u, wl).map(|(_, ls)| ls)
+    }
+
+    /// [`Self::sample_li`] with the index of the light it chose.
+    #[inline]
+    pub fn sample_li_indexed(
+        &self,
+        shapes: &[WorldShape],
+        r: &LightRef,
+        u_sel: f32,
+        u: Vec2,
+        wl: &SampledWavelengths,
+    ) -> Option<(usize, LightSample)> {
         let (li, p_sel) = self.select_at(r, u_sel)?;
         let ls = self.lights[li].sample_li(shapes, r, u, wl)?;
-        Some(LightSample {
-            pdf: p_sel * ls.pdf,
-            ..ls
-        })
+        Some((
+            li,
+            LightSample {
+                pdf: p_sel * ls.pdf,
+                ..ls
+            },
+        ))
     }
 
     /// The density with which [`Self::sample_li`] from `r` produces the point of `hit` on area

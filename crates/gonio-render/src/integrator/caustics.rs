@@ -54,7 +54,10 @@
 //! while walking away from the camera ([`ChainState`]), the light tracer while walking towards it
 //! ([`LightVertex`]). The power heuristic gives the path tracer `r²/(1 + r²)` and the connection
 //! `1/(1 + r²)`. Where `x` sampled a delta lobe there is no connection and the path tracer keeps
-//! weight 1.
+//! weight 1. Where the chain next to the light is all refraction, refracted next-event estimation
+//! ([`super::refracted`]) is a third strategy for the same path; the three share it by the power
+//! heuristic ([`shares`]), from `r` and that strategy's ratio `s = p₃/p₁` at the smooth vertex
+//! nearest the light.
 //!
 //! Both sides count the same vertices: with `thin_shadows` a straight pass through a
 //! `thindielectric` sheet is not a vertex (connections cross sheets with their transmittance, as
@@ -85,6 +88,7 @@
 mod trace;
 
 use super::PathTracer;
+use super::refracted::shares;
 use crate::emitter::{AreaLight, BoundingSphere, Distribution1D, Light, Lights};
 use crate::geometry::{ShapeKind, SurfaceInteraction, WorldShape, spawn_ray_between};
 use crate::material::Material;
@@ -357,15 +361,40 @@ pub struct LightVertex<L = SampledSpectrum> {
     eta2: f32,
     /// Segments from the light to this vertex.
     segments: u32,
+    /// Refracted next-event estimation's density of the paths joined here.
+    refracted: RefractedDensity,
 }
 
 impl<L> LightVertex<L> {
-    /// The connection's MIS weight `1/(1 + r²)` for a camera-side density `arrival` = `p_x(z)`
-    /// per unit area and the BSDF density `pdf_z` at this vertex of the direction towards the
-    /// light (the ratio `r` of the module documentation, from this end).
-    fn connection_weight(&self, arrival: f32, pdf_z: f32) -> f32 {
-        1.0 - weight_of_ratio(arrival * pdf_z * self.eta2 / (self.light_density * self.cos_chain))
+    /// The connection's MIS weight for a camera-side density `arrival` = `p_x(z)` per unit area,
+    /// the BSDF density `pdf_z` at this vertex of the direction towards the light and `wi_z` the
+    /// direction towards the camera side in its shading frame: `1/(1 + r²)` (the ratio `r` of the
+    /// module documentation, from this end), or with refracted next-event estimation its share
+    /// of three ([`super::refracted::shares`]).
+    fn connection_weight(&self, arrival: f32, pdf_z: f32, wi_z: Vec3) -> f32 {
+        let r = arrival * pdf_z * self.eta2 / (self.light_density * self.cos_chain);
+        let s = match self.refracted {
+            RefractedDensity::None => 0.0,
+            RefractedDensity::Here(num) => num[usize::from(wi_z.z < 0.0)] / pdf_z,
+            RefractedDensity::Earlier(s) => s,
+        };
+        shares(r, s)[1]
     }
+}
+
+/// What a light vertex knows of refracted next-event estimation ([`super::refracted`]) at the
+/// smooth vertex nearest the light of the paths it joins: that vertex is this one when no smooth
+/// vertex lies between it and the light, an earlier one of the subpath otherwise.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum RefractedDensity {
+    /// The strategy cannot produce the paths (a reflection or another material in the chain
+    /// from the light, or the strategy off).
+    None,
+    /// The light-selection × straight-line density of the direction towards the chain from
+    /// this vertex, for a camera side along +n_s ([0]) or −n_s ([1]) of its shading normal.
+    Here([f32; 2]),
+    /// The ratio `s = p₃/p₁` at the earlier vertex.
+    Earlier(f32),
 }
 
 /// The kept vertices of one light subpath (at most [`MAX_CHAIN`]: each follows its own delta
@@ -476,17 +505,41 @@ impl ChainState {
         reverse_pdf: f32,
     ) -> Option<Self> {
         if bs.flags.is_delta() {
-            return state.map(|s| Self {
-                eta: s.eta * bs.eta,
-                deltas: s.deltas + 1,
-                ..s
-            });
+            return state.map(|s| s.after_delta(bs.eta));
         }
+        Self::after_smooth(state, bs.pdf, arrival, cos_in, cos_out, reverse_pdf)
+    }
+
+    /// The state after a delta vertex of relative index `eta`.
+    #[inline]
+    pub fn after_delta(self, eta: f32) -> Self {
+        self.after_deltas(1, eta)
+    }
+
+    /// The state after `count` delta vertices whose relative indices multiply to `eta`.
+    #[inline]
+    pub fn after_deltas(self, count: u32, eta: f32) -> Self {
+        Self {
+            eta: self.eta * eta,
+            deltas: self.deltas + count,
+            ..self
+        }
+    }
+
+    /// The state after a smooth sample of density `pdf` ([`ChainState::after_sample`]).
+    pub fn after_smooth(
+        state: Option<Self>,
+        pdf: f32,
+        arrival: Arrival,
+        cos_in: f32,
+        cos_out: f32,
+        reverse_pdf: f32,
+    ) -> Option<Self> {
         if !matches!(arrival, Arrival::Delta) {
             // Reached from a smooth vertex or the camera: the new candidate.
             return Some(Self {
                 arrival,
-                pdf_z: bs.pdf,
+                pdf_z: pdf,
                 cos_z: cos_out,
                 ratio: 1.0,
                 eta: 1.0,
@@ -499,7 +552,7 @@ impl ChainState {
             let denom = reverse_pdf * cos_out;
             Self {
                 ratio: if denom > 0.0 {
-                    s.ratio * bs.pdf * cos_in / denom
+                    s.ratio * pdf * cos_in / denom
                 } else {
                     f32::INFINITY
                 },
@@ -507,15 +560,6 @@ impl ChainState {
             }
         })
     }
-}
-
-/// The power heuristic's share of strategy 1 for the ratio `r = p₁/p₂`.
-#[inline]
-fn weight_of_ratio(r: f32) -> f32 {
-    let r2 = r * r;
-    // Infinite r (the connection cannot produce the path) and NaN (0/0, neither can): the path
-    // tracer keeps it; both sides evaluate this same function, so the weights still sum to one.
-    if r2.is_finite() { r2 / (1.0 + r2) } else { 1.0 }
 }
 
 impl PathTracer<'_> {
@@ -545,10 +589,11 @@ impl PathTracer<'_> {
         }
     }
 
-    /// The path tracer's MIS weight for area light `li` hit at the end of `chain`.
+    /// The ratio `r = p₁/p₂` of the path tracer's density to the connection's for area light
+    /// `li` hit at the end of `chain` (infinite where no connection can produce the path).
     /// `l`, `n_l`: the point hit on the light and its geometric normal; `w_l`: the direction from
     /// it back along the path.
-    pub(super) fn caustic_path_weight(
+    pub(super) fn caustic_ratio(
         &self,
         chain: Option<&ChainState>,
         li: usize,
@@ -558,17 +603,17 @@ impl PathTracer<'_> {
         w_l: Vec3,
     ) -> f32 {
         let (Some(c), Some(emission)) = (chain, &self.caustics) else {
-            return 1.0;
+            return f32::INFINITY;
         };
         if c.deltas == 0 || c.deltas > MAX_CHAIN {
-            return 1.0;
+            return f32::INFINITY;
         }
         let arrival = self.arrival_density(c.arrival);
         if !(arrival > 0.0) {
-            return 1.0;
+            return f32::INFINITY;
         }
         let p2 = emission.light_density(li, area, l, n_l, w_l) * c.cos_z;
-        weight_of_ratio(arrival * c.pdf_z * c.ratio * c.eta * c.eta / p2)
+        arrival * c.pdf_z * c.ratio * c.eta * c.eta / p2
     }
 
     /// Σ over the light subpath's vertices of the connection from camera-path vertex `si`
@@ -624,7 +669,7 @@ impl PathTracer<'_> {
             if c.is_black() || !c.intensity().is_finite() || (f_x * c).is_black() {
                 continue;
             }
-            let w = y.connection_weight(pdf_x * cos_y / d2, pdf_y);
+            let w = y.connection_weight(pdf_x * cos_y / d2, pdf_y, wi_y);
             if !(w > 0.0) {
                 continue;
             }
@@ -732,7 +777,7 @@ mod tests {
         let rs = [0.0, 1e-6, 0.3, 1.0, 7.0, 1e15, 1e20, f32::MAX, f32::INFINITY];
         let mut last = -1.0;
         for r in rs {
-            let w = weight_of_ratio(r);
+            let w = shares(r, 0.0)[0];
             assert!((0.0..=1.0).contains(&w), "r = {r}: weight {w}");
             assert!(w >= last, "not increasing at r = {r}");
             if r < 1e15 {
@@ -741,9 +786,9 @@ mod tests {
             }
             last = w;
         }
-        assert_eq!(weight_of_ratio(0.0), 0.0);
-        assert_eq!(weight_of_ratio(f32::INFINITY), 1.0);
-        assert_eq!(weight_of_ratio(f32::NAN), 1.0);
-        assert!((weight_of_ratio(1.0) - 0.5).abs() < 1e-7);
+        assert_eq!(shares(0.0, 0.0)[0], 0.0);
+        assert_eq!(shares(f32::INFINITY, 0.0)[0], 1.0);
+        assert_eq!(shares(f32::NAN, 0.0)[0], 1.0);
+        assert!((shares(1.0, 0.0)[0] - 0.5).abs() < 1e-7);
     }
 }

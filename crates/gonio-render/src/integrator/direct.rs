@@ -70,7 +70,7 @@ impl PathTracer<'_> {
             for _ in 0..emitter_samples {
                 let u_sel = sampler.next_1d();
                 let u = sampler.next_2d();
-                sum += self.next_event(&v, &light_ref, W::ONE, u_sel, u, wl, (n_l, n_b));
+                sum += self.next_event(&v, &light_ref, W::ONE, u_sel, u, wl, (n_l, n_b), None);
             }
             l += sum / n_l;
         }

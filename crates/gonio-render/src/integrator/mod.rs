@@ -58,6 +58,13 @@
 //! transmission is an ordinary delta event and sheets block shadow rays: Mitsuba's exact
 //! behaviour (the light behind a window then arrives only through BSDF sampling).
 //!
+//! # Refracted next-event estimation (beyond Mitsuba)
+//!
+//! With `refracted_nee` (the default), a light sample whose shadow ray meets smooth glass is
+//! followed through it, refracting, and counts if it still reaches the light it was drawn on;
+//! the path tracer, the light subpaths below and this strategy share such paths by MIS
+//! ([`refracted`]). Without it, glass blocks shadow rays as in Mitsuba.
+//!
 //! # Caustic light paths (beyond Mitsuba)
 //!
 //! With `caustic_paths` (the default; active when the scene has an area light and a delta lobe),
@@ -84,6 +91,7 @@ mod direct;
 pub mod layers;
 pub mod polarized;
 mod ptracer;
+mod refracted;
 
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
@@ -166,6 +174,12 @@ pub struct PathTracer<'a> {
     /// Per material: true when its BSDF can pass light straight through (`thindielectric`).
     thin: Vec<bool>,
     any_thin: bool,
+    /// Per material: a refractor ([`refracted`]).
+    refractor: Vec<bool>,
+    /// Per light: refracted next-event estimation may end on it.
+    refracted_light: Vec<bool>,
+    /// Next-event estimation through refraction ([`refracted`]) takes part.
+    refracted_nee: bool,
     max_depth: u32,
     rr_depth: u32,
     hide_emitters: bool,
@@ -216,6 +230,9 @@ struct PathState<W: Weight = SampledSpectrum> {
     /// The last smooth vertex and the delta chain after it, for the MIS weight against the
     /// light-path connections ([`caustics`]).
     chain: Option<caustics::ChainState>,
+    /// The last smooth vertex and the refractions after it, for the MIS weight against refracted
+    /// next-event estimation ([`refracted`]).
+    refr: Option<refracted::RefractedStart>,
 }
 
 impl<W: Weight> PathState<W> {
@@ -226,6 +243,7 @@ impl<W: Weight> PathState<W> {
         null_crossings: 0,
         prev: None,
         chain: None,
+        refr: None,
     };
 
     /// The previous vertex when it sampled a smooth lobe: a light found from there is weighted
@@ -280,13 +298,17 @@ impl<'a> PathTracer<'a> {
         } else {
             None
         };
-        Self {
+        let refractor = refracted::refractors(materials);
+        let mut tracer = Self {
             accel,
             lights,
             materials,
             shape_material,
             thin,
             any_thin,
+            refractor,
+            refracted_light: Vec::new(),
+            refracted_nee: false,
             max_depth: if settings.max_depth < 0 {
                 u32::MAX
             } else {
@@ -301,7 +323,13 @@ impl<'a> PathTracer<'a> {
             polarized,
             stokes: settings.stokes,
             sensor_up: Vec3::Y,
-        }
+        };
+        tracer.refracted_light = tracer.refracted_lights();
+        tracer.refracted_nee = settings.refracted_nee
+            && settings.kind == IntegratorKind::Path
+            && tracer.refractor.iter().any(|&r| r)
+            && tracer.refracted_light.iter().any(|&l| l);
+        tracer
     }
 
     /// The camera, which enables light tracing of caustics (when the settings ask for it and the
@@ -425,7 +453,7 @@ impl<'a> PathTracer<'a> {
                 si: &si,
                 wi: si.shading.to_local(wi_world),
             };
-            let outcome = self.scatter(&v, &state, light, sampler, wl);
+            let outcome = self.scatter(&v, &state, arrival, light, sampler, wl);
             l += outcome.nee;
 
             let Some(bs) = outcome.sample else { break };
@@ -443,6 +471,13 @@ impl<'a> PathTracer<'a> {
             }
 
             state.eta *= bs.eta;
+            if self.refracted_nee {
+                state.refr = if bs.flags.is_delta() {
+                    self.refracted_after_delta(state.refr, si.shape, &bs)
+                } else {
+                    Some(refracted::RefractedStart::new(outcome.light_ref, ray, bs.pdf))
+                };
+            }
             if self.traces_caustics() {
                 state.chain = caustics::ChainState::after_sample(
                     state.chain,
@@ -493,7 +528,15 @@ impl<'a> PathTracer<'a> {
             if le.is_black() {
                 continue;
             }
-            let w = prev.map_or(1.0, |p| mis_power(p.bsdf_pdf, pdf_light));
+            let w = match prev {
+                Some(p) => mis_power(p.bsdf_pdf, pdf_light),
+                // From the camera or after a delta lobe: refracted next-event estimation may
+                // have found this path too.
+                None => refracted::shares(
+                    f32::INFINITY,
+                    self.refracted_ratio(state.refr.as_ref(), i as usize, wl),
+                )[0],
+            };
             *l += state.beta * W::from_spectrum(le) * w;
         }
     }
@@ -522,8 +565,13 @@ impl<'a> PathTracer<'a> {
                 p.bsdf_pdf,
                 self.lights.pdf_li_hit(self.accel.shapes(), &p.light_ref, li, si),
             ),
-            // From the camera or after a delta lobe: light paths may have found this path too.
-            None => self.caustic_path_weight(state.chain.as_ref(), li, area, si.p, si.n, -d),
+            // From the camera or after a delta lobe: light paths and refracted next-event
+            // estimation may have found this path too.
+            None => {
+                let r = self.caustic_ratio(state.chain.as_ref(), li, area, si.p, si.n, -d);
+                let s = self.refracted_ratio(state.refr.as_ref(), li, wl);
+                refracted::shares(r, s)[0]
+            }
         };
         *l += state.beta * W::from_spectrum(le) * w;
     }
@@ -534,6 +582,7 @@ impl<'a> PathTracer<'a> {
         &self,
         v: &Vertex,
         state: &PathState<W>,
+        arrival: caustics::Arrival,
         light: &caustics::LightSubpath<L>,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
@@ -554,7 +603,22 @@ impl<'a> PathTracer<'a> {
         if smooth {
             let u_sel = sampler.next_1d();
             let u_light = sampler.next_2d();
-            nee = self.next_event(v, &light_ref, state.beta, u_sel, u_light, wl, (1.0, 1.0));
+            let path = refracted::PathContext {
+                depth: state.depth,
+                null_crossings: state.null_crossings,
+                arrival,
+                chain: state.chain,
+            };
+            nee = self.next_event(
+                v,
+                &light_ref,
+                state.beta,
+                u_sel,
+                u_light,
+                wl,
+                (1.0, 1.0),
+                Some(&path),
+            );
             if !light.is_empty() {
                 let c: W = self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
                 nee += state.beta * c;
@@ -617,7 +681,8 @@ impl<'a> PathTracer<'a> {
     /// Next-event estimation from `v`: β·f·|cos|·Lᵢ·T/p·w for one light sample (`u_sel` picks
     /// the light, `u` the point), w the power heuristic against the BSDF density. `counts`
     /// (light samples, BSDF samples) scale the two densities in the heuristic (`(1, 1)` for the
-    /// path tracer; `direct` takes several of each).
+    /// path tracer; `direct` takes several of each). With `path` (the camera path's state at
+    /// `v`), a sample whose shadow ray meets glass is followed through it ([`refracted`]).
     #[allow(clippy::too_many_arguments)]
     fn next_event<W: Weight>(
         &self,
@@ -628,11 +693,15 @@ impl<'a> PathTracer<'a> {
         u: Vec2,
         wl: &SampledWavelengths,
         counts: (f32, f32),
+        path: Option<&refracted::PathContext>,
     ) -> W
     where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
-        let Some(ls) = self.lights.sample_li(self.accel.shapes(), r, u_sel, u, wl) else {
+        let Some((li, ls)) = self
+            .lights
+            .sample_li_indexed(self.accel.shapes(), r, u_sel, u, wl)
+        else {
             return W::ZERO;
         };
         let wo = v.si.shading.to_local(ls.wi);
@@ -646,7 +715,19 @@ impl<'a> PathTracer<'a> {
         if f.is_black() {
             return W::ZERO;
         }
-        let t = self.transmittance(v.si, &ls, wl);
+        let t = match path {
+            // Through glass too, when the strategy takes part ([`refracted`]).
+            Some(c) if self.refracted_nee => {
+                match self.trace_light_sample::<W>(v, c, li, &ls, bsdf_pdf, wl) {
+                    refracted::LightPath::Straight(t) => t,
+                    refracted::LightPath::Refracted(tr, le, w) => {
+                        return (beta * f).through_then_source(tr, le) * (wo.z.abs() * w / ls.pdf);
+                    }
+                    refracted::LightPath::Blocked => return W::ZERO,
+                }
+            }
+            _ => self.transmittance(v.si, &ls, wl),
+        };
         if t.is_black() {
             return W::ZERO;
         }

@@ -12,7 +12,7 @@
 //! β ← M·β, so β's first column is the Stokes vector of the light travelling along the walk.
 
 use super::super::{MAX_NULL_CROSSINGS, PathSampler, PathTracer};
-use super::{EmissionSampler, LightSubpath, LightVertex, MAX_CHAIN};
+use super::{EmissionSampler, LightSubpath, LightVertex, MAX_CHAIN, RefractedDensity};
 use crate::accel::Intersect;
 use crate::camera::Camera;
 use crate::emitter::Light;
@@ -26,6 +26,8 @@ use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledWavelengths};
 /// A light subpath being traced: where it goes and what it carries.
 #[derive(Clone, Copy, Debug)]
 struct LightWalk<L> {
+    /// Index of the light it started from.
+    light: usize,
     ray: Ray,
     /// Emitted radiance over the sampling densities, times the vertices' weights.
     beta: L,
@@ -43,6 +45,12 @@ struct LightWalk<L> {
     after_smooth: bool,
     /// Straight passes through sheets so far.
     null_crossings: u32,
+    /// True while refracted next-event estimation could produce the path so far in reverse: the
+    /// light is one it ends on and every delta vertex was a refraction at a refractor.
+    refracted_ok: bool,
+    /// At the first smooth vertex: its [`RefractedDensity::Here`] numerators; after it, the
+    /// ratio `s` there ([`RefractedDensity::Earlier`]); `None` while no smooth vertex was met.
+    refracted: Option<RefractedDensity>,
 }
 
 /// What a light subpath needs besides its state: the emission sampler, the camera, and where
@@ -136,6 +144,7 @@ impl PathTracer<'_> {
             return None;
         }
         Some(LightWalk {
+            light: li,
             ray: Ray::new(offset_ray_origin(s.p, s.n, dir), dir),
             // Emitters are unpolarized: a depolarizer.
             beta: L::from_spectrum(le * (cos_l / (p_sel * s.pdf * dir_pdf))),
@@ -147,6 +156,8 @@ impl PathTracer<'_> {
             // The light itself counts as a smooth vertex: the next one must be a delta.
             after_smooth: true,
             null_crossings: 0,
+            refracted_ok: self.refracted_nee && self.refracted_light.get(li).copied().unwrap_or(false),
+            refracted: None,
         })
     }
 
@@ -190,8 +201,16 @@ impl PathTracer<'_> {
                     // the path tracer's alone.
                     return None;
                 }
+                // At the first smooth vertex, refracted next-event estimation's numerators.
+                let here = match walk.refracted {
+                    None if walk.refracted_ok && flags.has_smooth() => {
+                        RefractedDensity::Here(self.refracted_density_at(si, flags, wi_world, walk.light, wl))
+                    }
+                    None => RefractedDensity::None,
+                    Some(d) => d,
+                };
                 if !walk.after_smooth && flags.has_smooth() && hit.cos_in_g > 0.0 {
-                    self.keep_light_vertex(sink, walk, &hit, bsdf, wl);
+                    self.keep_light_vertex(sink, walk, &hit, bsdf, here, wl);
                 }
                 let bs: BsdfSample<L> =
                     bsdf.sample_weight(&BsdfContext::importance(), hit.wi, u_lobe, u_bsdf, wl)?;
@@ -201,13 +220,13 @@ impl PathTracer<'_> {
                 } else {
                     bsdf.pdf(&BsdfContext::radiance(), bs.wo, hit.wi, wl)
                 };
-                Some((bs, eye_pdf))
+                Some((bs, eye_pdf, here))
             },
         );
-        let Some(Some((bs, eye_pdf))) = sample else {
+        let Some(Some((bs, eye_pdf, here))) = sample else {
             return false;
         };
-        self.advance_light_walk(walk, &hit, &bs, eye_pdf, u_rr)
+        self.advance_light_walk(walk, &hit, &bs, eye_pdf, here, u_rr)
     }
 
     /// Keeps the smooth vertex `hit` (BSDF `bsdf`) for the camera path's connections and
@@ -218,6 +237,7 @@ impl PathTracer<'_> {
         walk: &LightWalk<L>,
         hit: &LightHit,
         bsdf: &SurfaceBsdf<'_>,
+        refracted: RefractedDensity,
         wl: &SampledWavelengths,
     ) where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<L>,
@@ -235,20 +255,22 @@ impl PathTracer<'_> {
             light_density: walk.light_density,
             eta2: 1.0 / (walk.eta * walk.eta),
             segments: walk.segments,
+            refracted,
         };
         sink.out.push(vertex);
         self.splat_to_camera(sink.camera, bsdf, &vertex, wl, &mut *sink.splat);
     }
 
     /// After a BSDF sample at `hit`: the weight with the shading-normal correction, sheets
-    /// crossed, the light-side MIS density, the chain bounds and Russian roulette. False when the
-    /// subpath ends.
+    /// crossed, the light-side MIS densities, the chain bounds and Russian roulette. False when
+    /// the subpath ends. `here`: refracted next-event estimation's density at this vertex.
     fn advance_light_walk<L: Weight>(
         &self,
         walk: &mut LightWalk<L>,
         hit: &LightHit,
         bs: &BsdfSample<L>,
         eye_pdf: f32,
+        here: RefractedDensity,
         u_rr: f32,
     ) -> bool {
         let smooth = !bs.flags.is_delta();
@@ -285,7 +307,18 @@ impl PathTracer<'_> {
             }
             walk.light_density *= bs.pdf * hit.cos_in_g / d;
             walk.after_smooth = true;
+            if walk.refracted.is_none() {
+                // Leaving the first smooth vertex towards the camera side: `s` there is fixed.
+                walk.refracted = Some(match here {
+                    RefractedDensity::Here(num) => {
+                        RefractedDensity::Earlier(num[usize::from(bs.wo.z < 0.0)] / eye_pdf)
+                    }
+                    other => other,
+                });
+            }
         } else {
+            walk.refracted_ok &=
+                self.is_refractor(si.shape) && bs.flags.contains(BsdfFlags::DELTA_TRANSMISSION);
             walk.eta *= bs.eta;
             walk.deltas += 1;
             walk.after_smooth = false;
@@ -332,7 +365,7 @@ impl PathTracer<'_> {
         if value.is_black() || !value.intensity().is_finite() {
             return;
         }
-        let w = y.connection_weight(c.film_pdf * cos_cam / c.dist2, pdf_y);
+        let w = y.connection_weight(c.film_pdf * cos_cam / c.dist2, pdf_y, wo_cam);
         if !(w > 0.0) {
             return;
         }

@@ -18,6 +18,7 @@ fn build<'d>(_: &mut Builder<'d>, _: &mut Params<'d>) -> Result<IntegratorDesc, 
     Ok(IntegratorDesc {
         kind: IntegratorKind::Depth,
         caustic_paths: false,
+        refracted_nee: false,
         ..IntegratorDesc::default()
     })
 }

@@ -1,6 +1,6 @@
 //! `path`: the unidirectional path tracer with next-event estimation and MIS (Mitsuba 3
-//! `src/integrators/path.cpp`); ours adds shadow rays through thin sheets and light subpaths for
-//! caustics (`crate::integrator`).
+//! `src/integrators/path.cpp`); ours adds shadow rays through thin sheets and through glass, and
+//! light subpaths for caustics (`crate::integrator`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{IntegratorDesc, IntegratorKind};
@@ -38,6 +38,13 @@ const CAUSTIC_PATHS: ParamSpec = ParamSpec::new(
     "(ours) light subpaths for caustics, weighted by MIS against the path tracer",
 )
 .mitsuba(DefaultValue::Bool(false));
+const REFRACTED_NEE: ParamSpec = ParamSpec::new(
+    "refracted_nee",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) next-event estimation follows shadow rays through smooth glass, refracting, weighted by MIS",
+)
+.mitsuba(DefaultValue::Bool(false));
 pub(super) const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
     "samples_per_pass",
     ParamType::Integer,
@@ -61,6 +68,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         HIDE_EMITTERS,
         THIN_SHADOWS,
         CAUSTIC_PATHS,
+        REFRACTED_NEE,
         SAMPLES_PER_PASS,
         TIMEOUT,
     ],
@@ -89,6 +97,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     let (max_depth, rr_depth, hide_emitters) = read_path_rows(p, &MAX_DEPTH)?;
     let thin_shadows = p.bool(THIN_SHADOWS.name, p.default_of(&THIN_SHADOWS).bool())?;
     let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
+    let refracted_nee = p.bool(REFRACTED_NEE.name, p.default_of(&REFRACTED_NEE).bool())?;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     Ok(IntegratorDesc {
         max_depth,
@@ -96,6 +105,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         hide_emitters,
         thin_shadows,
         caustic_paths,
+        refracted_nee,
         kind: IntegratorKind::Path,
         stokes: false,
         polarized: false,

@@ -162,6 +162,7 @@ fn build_direct<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrato
         hide_emitters,
         thin_shadows: false,
         caustic_paths: false,
+        refracted_nee: false,
         kind: IntegratorKind::Direct {
             emitter_samples: 1,
             bsdf_samples: 1,
