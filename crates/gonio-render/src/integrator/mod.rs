@@ -784,37 +784,56 @@ impl<'a> PathTracer<'a> {
             if !self.is_thin(h.shape) {
                 return W::ZERO;
             }
-            let wi = h.shading.to_local(if light_along_ray { ray.d } else { -ray.d });
-            let t = self.bsdf_at(h.shape, &ShadingPoint::from(&h), wl, |bsdf: &SurfaceBsdf<'_>| {
-                bsdf.null_transmission_weight(wi, wl)
-                    .map(|t| t.local_to_world(&h.shading))
-            });
-            match t.flatten() {
-                // Light order: a sheet nearer the light first.
-                Some(t) if light_along_ray => tr = t * tr,
-                Some(t) => tr *= t,
-                None => return W::ZERO,
-            }
+            let Some((t, next)) = self.pass_sheet::<W>(&h, &ray, wl, light_along_ray) else {
+                return W::ZERO;
+            };
+            // Light order: a sheet nearer the light first.
+            tr = if light_along_ray { t * tr } else { tr * t };
             if tr.is_black() {
                 return tr;
             }
-            // Continue from the sheet towards the same end point (already offset off the light).
-            let o = crate::geometry::offset_ray_origin(h.p, h.n, ray.d);
-            let remaining = if ray.tmax.is_finite() {
-                (ray.o + ray.d * ray.tmax - o).dot(ray.d)
-            } else {
-                f32::INFINITY
-            };
-            if !(remaining > 0.0) {
-                return tr;
+            match next {
+                Some(r) => ray = r,
+                None => return tr,
             }
-            ray = Ray {
-                o,
-                d: ray.d,
-                tmax: remaining,
-            };
         }
         W::ZERO
+    }
+
+    /// A shadow ray's straight pass through the sheet it hit at `h`: the sheet's transmittance
+    /// (for light travelling towards the ray's origin, or along the ray when `light_along_ray`)
+    /// and the ray on towards the same end point, `None` once that is reached; `None` when the
+    /// sheet lets nothing through.
+    fn pass_sheet<W: Weight>(
+        &self,
+        h: &SurfaceInteraction,
+        ray: &Ray,
+        wl: &SampledWavelengths,
+        light_along_ray: bool,
+    ) -> Option<(W, Option<Ray>)>
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
+        let wi = h.shading.to_local(if light_along_ray { ray.d } else { -ray.d });
+        let t = self
+            .bsdf_at(h.shape, &ShadingPoint::from(h), wl, |bsdf: &SurfaceBsdf<'_>| {
+                bsdf.null_transmission_weight(wi, wl)
+                    .map(|t| t.local_to_world(&h.shading))
+            })
+            .flatten()?;
+        // On from the sheet towards the same end point (already offset off the light).
+        let o = crate::geometry::offset_ray_origin(h.p, h.n, ray.d);
+        let remaining = if ray.tmax.is_finite() {
+            (ray.o + ray.d * ray.tmax - o).dot(ray.d)
+        } else {
+            f32::INFINITY
+        };
+        let next = (remaining > 0.0).then_some(Ray {
+            o,
+            d: ray.d,
+            tmax: remaining,
+        });
+        Some((t, next))
     }
 }
 

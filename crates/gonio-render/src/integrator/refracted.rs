@@ -64,7 +64,7 @@ use super::{MAX_NULL_CROSSINGS, PathTracer, Vertex};
 use crate::accel::Intersect;
 use crate::emitter::{Light, LightRef, LightSample};
 use crate::geometry::triangle::TriRay;
-use crate::geometry::{Ray, ShapeKind, SurfaceInteraction, offset_ray_origin};
+use crate::geometry::{Ray, ShapeKind, SurfaceInteraction};
 use crate::material::{Material, ShadingPoint, dielectric::DielectricMaterial};
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
@@ -332,44 +332,22 @@ impl PathTracer<'_> {
                 return LightPath::refracted(tr, le, w);
             };
             if sheets && self.is_thin(h.shape) {
-                // Straight through a sheet, as a shadow ray crosses it.
+                // Straight through a sheet, as a shadow ray crosses it (at most as many as
+                // `visibility` crosses).
                 crossed += 1;
-                if crossed > MAX_NULL_CROSSINGS {
+                if crossed >= MAX_NULL_CROSSINGS {
                     return LightPath::Blocked;
                 }
-                let wi = h.shading.to_local(-ray.d);
-                let Some(t) = self
-                    .bsdf_at(h.shape, &ShadingPoint::from(&h), wl, |b: &SurfaceBsdf<'_>| {
-                        b.null_transmission_weight(wi, wl)
-                            .map(|t| t.local_to_world(&h.shading))
-                    })
-                    .flatten()
-                else {
+                let Some((t, next)) = self.pass_sheet::<W>(&h, &ray, wl, false) else {
                     return LightPath::Blocked;
                 };
                 tr *= t;
-                if tr.is_black() {
-                    return LightPath::Blocked;
+                match next {
+                    _ if tr.is_black() => return LightPath::Blocked,
+                    Some(r) => ray = r,
+                    None if deltas == 0 => return LightPath::Straight(tr),
+                    None => return LightPath::Blocked,
                 }
-                // On towards the same end point (already offset off the light), or unbounded.
-                let o = offset_ray_origin(h.p, h.n, ray.d);
-                let remaining = if ray.tmax.is_finite() {
-                    (ray.o + ray.d * ray.tmax - o).dot(ray.d)
-                } else {
-                    f32::INFINITY
-                };
-                if !(remaining > 0.0) {
-                    return if deltas == 0 {
-                        LightPath::Straight(tr)
-                    } else {
-                        LightPath::Blocked
-                    };
-                }
-                ray = Ray {
-                    o,
-                    d: ray.d,
-                    tmax: remaining,
-                };
                 continue;
             }
             if !may_refract || !self.is_refractor(h.shape) {
