@@ -425,3 +425,51 @@ impl<W: Weight> LightPath<W> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::shares;
+
+    /// The three shares are the power heuristic's for densities (1, 1/r, s), numbers in [0, 1]
+    /// that sum to one for every pair, including the limits where a strategy cannot produce the
+    /// path (r = ∞ or NaN: no connection; s = 0 or NaN: no refracted sample) and where the path
+    /// tracer cannot (r = 0 or s = ∞).
+    #[test]
+    fn shares_are_the_power_heuristic_and_sum_to_one() {
+        let values = [
+            0.0,
+            1e-20,
+            1e-3,
+            0.5,
+            1.0,
+            3.0,
+            1e4,
+            1e30,
+            f32::MAX,
+            f32::INFINITY,
+            f32::NAN,
+        ];
+        for r in values {
+            for s in values {
+                let w = shares(r, s);
+                let sum: f32 = w.iter().sum();
+                assert!(
+                    w.iter().all(|x| (0.0..=1.0).contains(x)),
+                    "r = {r}, s = {s}: {w:?}"
+                );
+                assert!((sum - 1.0).abs() < 1e-6, "r = {r}, s = {s}: {w:?} sums to {sum}");
+            }
+        }
+        let (r, s) = (2.0f64, 0.5f64);
+        let (p1, p2, p3) = (1.0, 1.0 / r, s);
+        let total = p1 * p1 + p2 * p2 + p3 * p3;
+        let w = shares(r as f32, s as f32);
+        for (got, want) in w.iter().zip([p1 * p1 / total, p2 * p2 / total, p3 * p3 / total]) {
+            assert!((*got as f64 - want).abs() < 1e-6, "{w:?}");
+        }
+        assert_eq!(shares(f32::INFINITY, 0.0), [1.0, 0.0, 0.0]);
+        assert_eq!(shares(0.0, 1.0), [0.0, 1.0, 0.0]);
+        assert_eq!(shares(f32::INFINITY, f32::INFINITY), [0.0, 0.0, 1.0]);
+        assert_eq!(shares(f32::INFINITY, 1.0), [0.5, 0.0, 0.5]);
+    }
+}
