@@ -154,7 +154,7 @@ impl PreparedScene {
         let mut shape_material = Vec::with_capacity(scene.shapes.len());
         for (index, shape) in scene.shapes.iter_mut().enumerate() {
             let name = shape.id.clone().unwrap_or_else(|| format!("#{index}"));
-            let w = WorldShape::from_scene_moving_mesh(shape, &name).map_err(|e| RenderError::Shape {
+            let mut w = WorldShape::from_scene_moving_mesh(shape, &name).map_err(|e| RenderError::Shape {
                 index,
                 message: e.to_string(),
             })?;
@@ -165,6 +165,11 @@ impl PreparedScene {
                     count: scene.materials.len(),
                 });
             }
+            // A sphere's uv costs two inverse trigonometric functions per hit: only where a
+            // texture or an AOV reads it.
+            w.uv = scene.materials[shape.material].is_textured()
+                || shape.emitter.as_ref().is_some_and(|e| e.radiance.is_textured())
+                || scene.integrator.layers.is_some();
             world.push(w);
             shape_material.push(shape.material);
         }

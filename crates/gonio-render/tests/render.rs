@@ -270,3 +270,48 @@ fn straight_down_directional_light_casts_a_shadow() {
         "the shadow's centre {centre} should be dark (lit ground {lit})"
     );
 }
+
+/// A sphere's hits carry their uv wherever something reads it (a textured material or emitter,
+/// AOVs) and skip its two inverse trigonometric functions elsewhere; the skipped uv is never
+/// what an image shows.
+#[test]
+fn sphere_uv_is_computed_where_a_texture_or_an_aov_reads_it() {
+    use gonio_render::accel::Intersect;
+    use gonio_render::geometry::Ray;
+    let scene = |integrator: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+    {integrator}
+    <sensor type="perspective"><film type="hdrfilm"><integer name="width" value="8"/><integer name="height" value="8"/></film></sensor>
+    <shape type="sphere"><point name="center" value="-3, 0, 0"/>
+        <bsdf type="diffuse"><texture type="checkerboard" name="reflectance"/></bsdf></shape>
+    <shape type="sphere"><point name="center" value="0, 0, 0"/>
+        <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf></shape>
+    <shape type="sphere"><point name="center" value="3, 0, 0"/>
+        <emitter type="area"><texture type="checkerboard" name="radiance"/></emitter></shape>
+</scene>"#
+        )
+    };
+    let uv_at = |p: &PreparedScene, x: f32| {
+        let ray = Ray::new(
+            glam::Vec3::new(x + 0.3, 0.4, 5.0),
+            glam::Vec3::new(0.0, 0.0, -1.0),
+        );
+        p.accel().intersect(&ray).expect("the sphere is hit").uv
+    };
+    let plain = PreparedScene::new(gonio_render::xml::load_scene_str(&scene(""), ".", &[]).unwrap()).unwrap();
+    let flags: Vec<bool> = plain.accel().shapes().iter().map(|s| s.uv).collect();
+    assert_eq!(flags, [true, false, true]);
+    assert!(uv_at(&plain, -3.0).x > 0.0 && uv_at(&plain, 3.0).x > 0.0);
+    assert_eq!(uv_at(&plain, 0.0), glam::Vec2::ZERO);
+    let aov =
+        r#"<integrator type="aov"><string name="aovs" value="uv:uv"/><integrator type="path"/></integrator>"#;
+    let with_aov =
+        PreparedScene::new(gonio_render::xml::load_scene_str(&scene(aov), ".", &[]).unwrap()).unwrap();
+    assert!(with_aov.accel().shapes().iter().all(|s| s.uv));
+    let (a, b) = (uv_at(&with_aov, 0.0), uv_at(&plain, -3.0));
+    assert!(
+        (a - b).abs().max_element() < 1e-6,
+        "the same point of each sphere: {a} vs {b}"
+    );
+}

@@ -164,6 +164,10 @@ pub struct WorldShape {
     pub flip_normals: bool,
     /// Meshes: shade with face normals even where vertex normals exist.
     pub face_normals: bool,
+    /// Spheres: give hits their uv (an `atan2` and an `acos` per hit). True unless the renderer
+    /// finds that nothing reads it (`render::PreparedScene`: no texture on the shape's material
+    /// or emitter, no AOVs); the frame and the derivatives do not need it.
+    pub uv: bool,
 }
 
 /// What a primitive intersection records before the full [`SurfaceInteraction`] is built:
@@ -327,6 +331,7 @@ impl WorldShape {
             kind,
             flip_normals: shape.flip_normals,
             face_normals: shape.face_normals,
+            uv: true,
         })
     }
 
@@ -465,12 +470,16 @@ impl WorldShape {
         };
         let n = (p - *center).normalize();
         let local = to_object.transform_point3(p).normalize();
-        let mut phi = local.y.atan2(local.x);
-        if phi < 0.0 {
-            phi += TAU;
-        }
-        let theta = local.z.clamp(-1.0, 1.0).acos();
-        let uv = Vec2::new(phi / TAU, theta / PI);
+        let uv = if self.uv {
+            let mut phi = local.y.atan2(local.x);
+            if phi < 0.0 {
+                phi += TAU;
+            }
+            let theta = local.z.clamp(-1.0, 1.0).acos();
+            Vec2::new(phi / TAU, theta / PI)
+        } else {
+            Vec2::ZERO
+        };
         let dpdu = *to_world * Vec3::new(-local.y, local.x, 0.0) * TAU;
         // ∂p/∂v = π (cos θ cos φ, cos θ sin φ, −sin θ) (zero at the poles).
         let sin_theta = (local.x * local.x + local.y * local.y).sqrt();
