@@ -126,6 +126,8 @@ pub enum ShapeKind {
         /// The orthonormal edge frame for spherical-rectangle sampling (`None` for a
         /// parallelogram).
         basis: Option<RectBasis>,
+        /// The shading frame of every point (`n` and ∂p/∂u), made once.
+        frame: Frame,
     },
     /// The image of the unit disk in z = 0 under `to_world` (an ellipse in general).
     Disk {
@@ -283,12 +285,14 @@ impl WorldShape {
             (Geometry::Rectangle, _) => {
                 let ex = Vec3::from(m.matrix3.x_axis);
                 let ey = Vec3::from(m.matrix3.y_axis);
+                let n = plane_normal(&m);
                 ShapeKind::Rectangle {
                     basis: RectBasis::new(&m),
                     to_world: m,
                     to_object: m.inverse(),
-                    n: plane_normal(&m),
+                    n,
                     area: 4.0 * ex.cross(ey).length(),
+                    frame: Frame::from_normal_tangent(n, ex * 2.0),
                 }
             }
             (Geometry::Disk, _) => {
@@ -512,14 +516,16 @@ impl WorldShape {
     /// or disk.
     pub(crate) fn planar_point(&self, x: f32, y: f32) -> SurfaceInteraction {
         match &self.kind {
-            ShapeKind::Rectangle { to_world, n, .. } => {
+            ShapeKind::Rectangle {
+                to_world, n, frame, ..
+            } => {
                 let p = to_world.transform_point3(Vec3::new(x, y, 0.0));
                 let dpdu = Vec3::from(to_world.matrix3.x_axis) * 2.0;
                 SurfaceInteraction {
                     p,
                     t: 0.0,
                     n: *n,
-                    shading: Frame::from_normal_tangent(*n, dpdu),
+                    shading: *frame,
                     uv: Vec2::new(0.5 * (x + 1.0), 0.5 * (y + 1.0)),
                     dpdu,
                     dpdv: Vec3::from(to_world.matrix3.y_axis) * 2.0,
