@@ -89,13 +89,14 @@
 pub mod caustics;
 mod direct;
 pub mod layers;
+mod nee;
 pub mod polarized;
 mod ptracer;
 mod refracted;
 
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
-use crate::emitter::{Light, LightRef, LightSample, Lights};
+use crate::emitter::{Light, LightRef, Lights};
 use crate::film::Channels;
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::material::{Material, ShadingPoint};
@@ -659,181 +660,6 @@ impl<'a> PathTracer<'a> {
             light_ref,
             reverse_pdf,
         }
-    }
-
-    /// Where lights are sampled from at vertex `v` (its side of the shading normal; a whole
-    /// sphere of directions when the BSDF transmits); `mis` when the BSDF is sampled there too
-    /// ([`LightRef::mis`]).
-    fn light_ref(v: &Vertex, flags: BsdfFlags, mis: bool) -> LightRef {
-        let n_side = if v.wi.z >= 0.0 {
-            v.si.shading.n
-        } else {
-            -v.si.shading.n
-        };
-        LightRef {
-            p: v.si.p,
-            n: n_side,
-            hemisphere: !flags.is_transmission(),
-            mis,
-        }
-    }
-
-    /// Next-event estimation from `v`: β·f·|cos|·Lᵢ·T/p·w for one light sample (`u_sel` picks
-    /// the light, `u` the point), w the power heuristic against the BSDF density. `counts`
-    /// (light samples, BSDF samples) scale the two densities in the heuristic (`(1, 1)` for the
-    /// path tracer; `direct` takes several of each). With `path` (the camera path's state at
-    /// `v`), a sample whose shadow ray meets glass is followed through it ([`refracted`]).
-    #[allow(clippy::too_many_arguments)]
-    fn next_event<W: Weight>(
-        &self,
-        v: &Vertex,
-        r: &LightRef,
-        beta: W,
-        u_sel: f32,
-        u: Vec2,
-        wl: &SampledWavelengths,
-        counts: (f32, f32),
-        path: Option<&refracted::PathContext>,
-    ) -> W
-    where
-        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
-    {
-        let Some((li, ls)) = self
-            .lights
-            .sample_li_indexed(self.accel.shapes(), r, u_sel, u, wl)
-        else {
-            return W::ZERO;
-        };
-        let wo = v.si.shading.to_local(ls.wi);
-        let ctx = BsdfContext::radiance();
-        let (f, bsdf_pdf): (W, f32) = (
-            v.bsdf
-                .eval_weight(&ctx, v.wi, wo, wl)
-                .local_to_world(&v.si.shading),
-            v.bsdf.pdf(&ctx, v.wi, wo, wl),
-        );
-        if f.is_black() {
-            return W::ZERO;
-        }
-        let t = match path {
-            // Through glass too, when the strategy takes part ([`refracted`]).
-            Some(c) if self.refracted_nee => {
-                match self.trace_light_sample::<W>(v, c, li, &ls, bsdf_pdf, wl) {
-                    refracted::LightPath::Straight(t) => t,
-                    refracted::LightPath::Refracted(tr, le, w) => {
-                        return (beta * f).through_then_source(tr, le) * (wo.z.abs() * w / ls.pdf);
-                    }
-                    refracted::LightPath::Blocked => return W::ZERO,
-                }
-            }
-            _ => self.transmittance(v.si, &ls, wl),
-        };
-        if t.is_black() {
-            return W::ZERO;
-        }
-        let w = if ls.delta {
-            1.0
-        } else {
-            mis_power(ls.pdf * counts.0, bsdf_pdf * counts.1)
-        };
-        // Light order: the source, the sheets the shadow ray crossed, then f (a polarized path
-        // does not commute).
-        (beta * f).through_then_source(t, ls.li) * (wo.z.abs() * w / ls.pdf)
-    }
-
-    /// Visibility of a light sample from `si`: 0/1, or with thin shadows the transmittance of the
-    /// sheets crossed.
-    fn transmittance<W: Weight>(
-        &self,
-        si: &SurfaceInteraction,
-        ls: &LightSample,
-        wl: &SampledWavelengths,
-    ) -> W
-    where
-        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
-    {
-        let ray = if ls.dist.is_finite() {
-            si.spawn_ray_to(si.p + ls.wi * ls.dist, ls.normal)
-        } else {
-            si.spawn_ray(ls.wi)
-        };
-        self.visibility(ray, wl, false)
-    }
-
-    /// Visibility along a shadow ray: 0/1, or with thin shadows the transmittance of the sheets
-    /// crossed, for light travelling towards the ray's origin, or along the ray when
-    /// `light_along_ray` (a light vertex's connection to the camera). The direction matters only
-    /// for the Stokes bases of a polarized transmittance.
-    fn visibility<W: Weight>(&self, ray: Ray, wl: &SampledWavelengths, light_along_ray: bool) -> W
-    where
-        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
-    {
-        if !(self.thin_shadows && self.any_thin) {
-            return if self.accel.occluded(&ray) {
-                W::ZERO
-            } else {
-                W::ONE
-            };
-        }
-        let mut ray = ray;
-        let mut tr = W::ONE;
-        for _ in 0..MAX_NULL_CROSSINGS {
-            let Some(h) = self.accel.intersect(&ray) else {
-                return tr;
-            };
-            if !self.is_thin(h.shape) {
-                return W::ZERO;
-            }
-            let Some((t, next)) = self.pass_sheet::<W>(&h, &ray, wl, light_along_ray) else {
-                return W::ZERO;
-            };
-            // Light order: a sheet nearer the light first.
-            tr = if light_along_ray { t * tr } else { tr * t };
-            if tr.is_black() {
-                return tr;
-            }
-            match next {
-                Some(r) => ray = r,
-                None => return tr,
-            }
-        }
-        W::ZERO
-    }
-
-    /// A shadow ray's straight pass through the sheet it hit at `h`: the sheet's transmittance
-    /// (for light travelling towards the ray's origin, or along the ray when `light_along_ray`)
-    /// and the ray on towards the same end point, `None` once that is reached; `None` when the
-    /// sheet lets nothing through.
-    fn pass_sheet<W: Weight>(
-        &self,
-        h: &SurfaceInteraction,
-        ray: &Ray,
-        wl: &SampledWavelengths,
-        light_along_ray: bool,
-    ) -> Option<(W, Option<Ray>)>
-    where
-        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
-    {
-        let wi = h.shading.to_local(if light_along_ray { ray.d } else { -ray.d });
-        let t = self
-            .bsdf_at(h.shape, &ShadingPoint::from(h), wl, |bsdf: &SurfaceBsdf<'_>| {
-                bsdf.null_transmission_weight(wi, wl)
-                    .map(|t| t.local_to_world(&h.shading))
-            })
-            .flatten()?;
-        // On from the sheet towards the same end point (already offset off the light).
-        let o = crate::geometry::offset_ray_origin(h.p, h.n, ray.d);
-        let remaining = if ray.tmax.is_finite() {
-            (ray.o + ray.d * ray.tmax - o).dot(ray.d)
-        } else {
-            f32::INFINITY
-        };
-        let next = (remaining > 0.0).then_some(Ray {
-            o,
-            d: ray.d,
-            tmax: remaining,
-        });
-        Some((t, next))
     }
 }
 
