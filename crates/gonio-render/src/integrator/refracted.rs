@@ -202,17 +202,32 @@ impl PathTracer<'_> {
         li: usize,
         wl: &SampledWavelengths,
     ) -> f32 {
+        match self.lights.lights().get(li) {
+            Some(Light::Area(_)) => {
+                let dir_pdf = self.straight_area_pdf(r.p, ray, li, wl);
+                if dir_pdf == 0.0 {
+                    0.0
+                } else {
+                    self.lights.pmf_at(r, li) * dir_pdf
+                }
+            }
+            // At infinity: the direction's own density (zero where the light is black).
+            Some(_) if self.refracted_light(li) => self.lights.le_escaped(Some(r), li, ray.d, wl).1,
+            _ => 0.0,
+        }
+    }
+
+    /// The solid-angle density from `p` (selection excluded) with which area light `li`'s
+    /// sampling produces the point where `ray` (from `p`) meets it; zero as in
+    /// [`PathTracer::straight_light_pdf`].
+    fn straight_area_pdf(&self, p: Vec3, ray: &Ray, li: usize, wl: &SampledWavelengths) -> f32 {
         if !self.refracted_light(li) {
             return 0.0;
         }
-        let area = match self.lights.lights().get(li) {
-            Some(Light::Area(area)) => area,
-            // At infinity: the direction's own density (zero where the light is black).
-            Some(_) => return self.lights.le_escaped(Some(r), li, ray.d, wl).1,
-            None => return 0.0,
+        let Some(Light::Area(area)) = self.lights.lights().get(li) else {
+            return 0.0;
         };
-        let shapes = self.accel.shapes();
-        let Some(shape) = shapes.get(area.shape) else {
+        let Some(shape) = self.accel.shapes().get(area.shape) else {
             return 0.0;
         };
         let ray = Ray::new(ray.o, ray.d);
@@ -223,7 +238,7 @@ impl PathTracer<'_> {
         if area.le(&(&si).into(), -ray.d, wl).is_black() {
             return 0.0;
         }
-        self.lights.pdf_li_hit(shapes, r, li, &si)
+        area.pdf_li(shape, p, &si)
     }
 
     /// The path tracer's record after a delta vertex on shape `shape` that sampled `bs`: kept
@@ -257,7 +272,7 @@ impl PathTracer<'_> {
     }
 
     /// The light-side factor of `s` at a light subpath's first smooth vertex `si` (lobes
-    /// `flags`), reached along `−to_chain`: `p_sel·p(ω)` for ω = `to_chain` with the camera side
+    /// `flags`) on area light `li`'s subpath, reached along `−to_chain`: `p_sel·p(ω)` for ω = `to_chain` with the camera side
     /// along +n_s ([0]) and −n_s ([1]) of its shading normal.
     pub(super) fn refracted_density_at(
         &self,
@@ -267,17 +282,21 @@ impl PathTracer<'_> {
         li: usize,
         wl: &SampledWavelengths,
     ) -> [f32; 2] {
-        let ray = si.spawn_ray(to_chain);
-        let side = |n: Vec3| LightRef {
-            p: si.p,
-            n,
-            hemisphere: !flags.is_transmission(),
-            mis: true,
+        // One straight line for both sides; only the light selection depends on the side.
+        let dir_pdf = self.straight_area_pdf(si.p, &si.spawn_ray(to_chain), li, wl);
+        if dir_pdf == 0.0 {
+            return [0.0; 2];
+        }
+        let selected = |n: Vec3| {
+            let r = LightRef {
+                p: si.p,
+                n,
+                hemisphere: !flags.is_transmission(),
+                mis: true,
+            };
+            self.lights.pmf_at(&r, li) * dir_pdf
         };
-        [
-            self.straight_light_pdf(&side(si.shading.n), &ray, li, wl),
-            self.straight_light_pdf(&side(-si.shading.n), &ray, li, wl),
-        ]
+        [selected(si.shading.n), selected(-si.shading.n)]
     }
 
     /// The shadow ray of the light sample `ls` of light `li` drawn at `v`, followed through the
