@@ -604,12 +604,13 @@ impl<'a> PathTracer<'a> {
         if smooth {
             let u_sel = sampler.next_1d();
             let u_light = sampler.next_2d();
-            let path = refracted::PathContext {
+            // What the walk through glass needs of the path, only where it can take place.
+            let path = self.refracted_nee.then_some(refracted::PathContext {
                 depth: state.depth,
                 null_crossings: state.null_crossings,
                 arrival,
                 chain: state.chain,
-            };
+            });
             nee = self.next_event(
                 v,
                 &light_ref,
@@ -618,7 +619,7 @@ impl<'a> PathTracer<'a> {
                 u_light,
                 wl,
                 (1.0, 1.0),
-                Some(&path),
+                path.as_ref(),
             );
             if !light.is_empty() {
                 let c: W = self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);

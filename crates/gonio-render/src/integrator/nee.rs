@@ -36,7 +36,8 @@ impl PathTracer<'_> {
     /// the light, `u` the point), w the power heuristic against the BSDF density. `counts`
     /// (light samples, BSDF samples) scale the two densities in the heuristic (`(1, 1)` for the
     /// path tracer; `direct` takes several of each). With `path` (the camera path's state at
-    /// `v`), a sample whose shadow ray meets glass is followed through it ([`refracted`]).
+    /// `v`, given where refracted next-event estimation takes part), a sample whose shadow ray
+    /// meets glass is followed through it ([`refracted`]).
     #[allow(clippy::too_many_arguments)]
     pub(super) fn next_event<W: Weight>(
         &self,
@@ -70,16 +71,14 @@ impl PathTracer<'_> {
             return W::ZERO;
         }
         let t = match path {
-            // Through glass too, when the strategy takes part ([`refracted`]).
-            Some(c) if self.refracted_nee => {
-                match self.trace_light_sample::<W>(v, c, li, &ls, bsdf_pdf, wl) {
-                    refracted::LightPath::Straight(t) => t,
-                    refracted::LightPath::Refracted(tr, le, w) => {
-                        return (beta * f).through_then_source(tr, le) * (wo.z.abs() * w / ls.pdf);
-                    }
-                    refracted::LightPath::Blocked => return W::ZERO,
+            // Through glass too ([`refracted`]).
+            Some(c) => match self.trace_light_sample::<W>(v, c, li, &ls, bsdf_pdf, wl) {
+                refracted::LightPath::Straight(t) => t,
+                refracted::LightPath::Refracted(tr, le, w) => {
+                    return (beta * f).through_then_source(tr, le) * (wo.z.abs() * w / ls.pdf);
                 }
-            }
+                refracted::LightPath::Blocked => return W::ZERO,
+            },
             _ => self.transmittance(v.si, &ls, wl),
         };
         if t.is_black() {
