@@ -69,7 +69,14 @@ pub struct Sampler {
     index: u32,
     dim: u32,
     rng: Pcg32,
+    /// [`Sampler::key`] of the first [`CACHED_KEYS`] dimensions of the current pixel, made once
+    /// per pixel rather than once per sample and dimension (a pixel's samples run one after
+    /// another).
+    dim_keys: [u32; CACHED_KEYS],
 }
+
+/// Dimensions whose keys a sampler keeps per pixel: the structured ones a path draws.
+const CACHED_KEYS: usize = STRUCTURED_DIMS as usize + 1;
 
 #[inline]
 fn u32_to_f32(x: u32) -> f32 {
@@ -213,7 +220,9 @@ impl Sampler {
             index: 0,
             dim: 0,
             rng: Pcg32::new(0, 0),
+            dim_keys: [0; CACHED_KEYS],
         };
+        s.set_pixel(UVec2::ZERO);
         s.start_pixel_sample(UVec2::ZERO, 0);
         s
     }
@@ -235,8 +244,9 @@ impl Sampler {
 
     /// Starts sample `index` (in `0..spp`, larger values continue the sequences) of `pixel`.
     pub fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
-        self.pixel_key = mix64(self.seed ^ mix64(((pixel.y as u64) << 32) | pixel.x as u64));
-        self.pixel = pixel;
+        if pixel != self.pixel {
+            self.set_pixel(pixel);
+        }
         self.index = index;
         self.dim = 0;
         if self.pattern == Pattern::Independent
@@ -246,10 +256,34 @@ impl Sampler {
         }
     }
 
+    /// Moves to `pixel`: its key and its dimensions' keys.
+    fn set_pixel(&mut self, pixel: UVec2) {
+        self.pixel_key = Self::pixel_key(self.seed, pixel);
+        self.pixel = pixel;
+        for (dim, k) in self.dim_keys.iter_mut().enumerate() {
+            *k = Self::dim_key(self.pixel_key, dim as u32);
+        }
+    }
+
+    /// The key of `pixel` under `seed`.
+    #[inline]
+    fn pixel_key(seed: u64, pixel: UVec2) -> u64 {
+        mix64(seed ^ mix64(((pixel.y as u64) << 32) | pixel.x as u64))
+    }
+
+    /// The key of dimension `dim` of the pixel whose key is `pixel_key`.
+    #[inline]
+    fn dim_key(pixel_key: u64, dim: u32) -> u32 {
+        mix64(pixel_key ^ (dim as u64).wrapping_mul(GOLDEN_GAMMA)) as u32
+    }
+
     /// The key of dimension `dim` of the current pixel.
     #[inline]
     fn key(&self, dim: u32) -> u32 {
-        mix64(self.pixel_key ^ (dim as u64).wrapping_mul(GOLDEN_GAMMA)) as u32
+        match self.dim_keys.get(dim as usize) {
+            Some(&k) => k,
+            None => Self::dim_key(self.pixel_key, dim),
+        }
     }
 
     /// The next sample dimension.
@@ -482,6 +516,46 @@ mod tests {
             let x = owen_scramble(idx.reverse_bits(), k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb);
             let y = owen_scramble(sobol_y_loop(idx), k.wrapping_mul(0x9e37_79b9) ^ 0x02e5_be93);
             assert_eq!(owen_sobol(i, k), (x, y));
+        }
+    }
+
+    /// The per-pixel key cache: a sampler that has visited other pixels has each dimension's
+    /// key as the definition gives it, and draws, for a pixel sample, exactly the numbers of a
+    /// fresh sampler started there, over the cached dimensions and past them.
+    #[test]
+    fn cached_dimension_keys_give_the_numbers_of_a_fresh_sampler() {
+        for pattern in [Pattern::Sobol, Pattern::MultiJitter { jitter: true }] {
+            let draw = |s: &mut Sampler| -> Vec<f32> {
+                (0..2 * CACHED_KEYS)
+                    .flat_map(|_| {
+                        let v = s.next_2d();
+                        [v.x, v.y, s.next_1d()]
+                    })
+                    .collect()
+            };
+            let mut walked = Sampler::new(pattern, 16, 9);
+            for (pixel, index) in [
+                (UVec2::new(3, 4), 0),
+                (UVec2::new(5, 6), 1),
+                (UVec2::new(3, 4), 2),
+            ] {
+                walked.start_pixel_sample(pixel, index);
+                let pixel_key = Sampler::pixel_key(9, pixel);
+                for dim in 0..2 * CACHED_KEYS as u32 {
+                    assert_eq!(
+                        walked.key(dim),
+                        Sampler::dim_key(pixel_key, dim),
+                        "{pixel}, {dim}"
+                    );
+                }
+                let mut fresh = Sampler::new(pattern, 16, 9);
+                fresh.start_pixel_sample(pixel, index);
+                assert_eq!(
+                    draw(&mut walked),
+                    draw(&mut fresh),
+                    "{pattern:?} at {pixel}, {index}"
+                );
+            }
         }
     }
 }
