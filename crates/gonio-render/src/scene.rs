@@ -62,6 +62,9 @@ pub struct IntegratorDesc {
     /// Ours: next-event estimation follows shadow rays through smooth glass, refracting
     /// (default true; see `integrator::refracted`).
     pub refracted_nee: bool,
+    /// Ours: manifold next-event estimation through mirror spheres, for caustics seen through
+    /// delta surfaces (default true; see `integrator::manifold`).
+    pub manifold_nee: bool,
     /// Which algorithm: `path` (the fields above), `direct` or `depth`.
     pub kind: IntegratorKind,
     /// Mitsuba's `stokes` wrapper around this integrator: also write the Stokes vector S0..S3
@@ -185,7 +188,8 @@ pub enum IntegratorKind {
 }
 
 impl Default for IntegratorDesc {
-    /// Mitsuba's `path` defaults plus our `thin_shadows`, `caustic_paths` and `refracted_nee` on.
+    /// Mitsuba's `path` defaults plus our `thin_shadows`, `caustic_paths`, `refracted_nee` and
+    /// `manifold_nee` on.
     fn default() -> Self {
         Self {
             max_depth: -1,
@@ -194,6 +198,7 @@ impl Default for IntegratorDesc {
             thin_shadows: true,
             caustic_paths: true,
             refracted_nee: true,
+            manifold_nee: true,
             kind: IntegratorKind::Path,
             stokes: false,
             polarized: false,

@@ -89,6 +89,7 @@
 pub mod caustics;
 mod direct;
 pub mod layers;
+mod manifold;
 mod nee;
 pub mod polarized;
 mod ptracer;
@@ -181,6 +182,8 @@ pub struct PathTracer<'a> {
     refracted_light: Vec<bool>,
     /// Next-event estimation through refraction ([`refracted`]) takes part.
     refracted_nee: bool,
+    /// Manifold next-event estimation through mirror spheres ([`manifold`]), where it takes part.
+    manifold: Option<manifold::Setup>,
     max_depth: u32,
     rr_depth: u32,
     hide_emitters: bool,
@@ -234,6 +237,9 @@ struct PathState<W: Weight = SampledSpectrum> {
     /// The last smooth vertex and the refractions after it, for the MIS weight against refracted
     /// next-event estimation ([`refracted`]).
     refr: Option<refracted::RefractedStart>,
+    /// The last smooth vertex after a delta one and the mirror sphere after it, for the MIS
+    /// weight against manifold next-event estimation ([`manifold`]).
+    mnee: Option<manifold::Start>,
 }
 
 impl<W: Weight> PathState<W> {
@@ -245,6 +251,7 @@ impl<W: Weight> PathState<W> {
         prev: None,
         chain: None,
         refr: None,
+        mnee: None,
     };
 
     /// The previous vertex when it sampled a smooth lobe: a light found from there is weighted
@@ -310,6 +317,7 @@ impl<'a> PathTracer<'a> {
             refractor,
             refracted_light: Vec::new(),
             refracted_nee: false,
+            manifold: None,
             max_depth: if settings.max_depth < 0 {
                 u32::MAX
             } else {
@@ -330,6 +338,9 @@ impl<'a> PathTracer<'a> {
             && settings.kind == IntegratorKind::Path
             && tracer.refractor.iter().any(|&r| r)
             && tracer.refracted_light.iter().any(|&l| l);
+        if settings.manifold_nee && settings.kind == IntegratorKind::Path && !polarized && !any_thin {
+            tracer.manifold = manifold::Setup::new(&tracer);
+        }
         tracer
     }
 
@@ -454,6 +465,7 @@ impl<'a> PathTracer<'a> {
                 si: &si,
                 wi: si.shading.to_local(wi_world),
             };
+            let manifold_here = self.manifold_applies(&state);
             let outcome = self.scatter(&v, &state, arrival, light, sampler, wl);
             l += outcome.nee;
 
@@ -472,6 +484,15 @@ impl<'a> PathTracer<'a> {
             }
 
             state.eta *= bs.eta;
+            if self.manifold.is_some() {
+                state.mnee = self.manifold_after_sample(
+                    state.mnee,
+                    manifold_here,
+                    (&si, dir),
+                    &bs,
+                    state.null_crossings,
+                );
+            }
             if self.refracted_nee {
                 state.refr = if bs.flags.is_delta() {
                     self.refracted_after_delta(state.refr, si.shape, &bs)
@@ -566,12 +587,14 @@ impl<'a> PathTracer<'a> {
                 p.bsdf_pdf,
                 self.lights.pdf_li_hit(self.accel.shapes(), &p.light_ref, li, si),
             ),
-            // From the camera or after a delta lobe: light paths and refracted next-event
-            // estimation may have found this path too.
+            // From the camera or after a delta lobe: light paths, refracted and manifold
+            // next-event estimation may have found this path too (the last only where the first
+            // two cannot: a path through a mirror sphere from a vertex after a delta one).
             None => {
                 let r = self.caustic_ratio(state.chain.as_ref(), li, area, si.p, si.n, -d);
                 let s = self.refracted_ratio(state.refr.as_ref(), li, wl);
-                refracted::shares(r, s)[0]
+                let m = self.manifold_ratio(state.mnee.as_ref(), li, si, state.null_crossings);
+                refracted::shares(r, s)[0] * mis_power(1.0, m)
             }
         };
         *l += state.beta * W::from_spectrum(le) * w;
@@ -621,6 +644,11 @@ impl<'a> PathTracer<'a> {
                 (1.0, 1.0),
                 path.as_ref(),
             );
+            if self.manifold_applies(state) {
+                // Spectral paths only (`manifold` is off in polarized mode).
+                let c = self.manifold_next_event(v, u_sel, u_light, wl);
+                nee += state.beta * W::from_spectrum(c);
+            }
             if !light.is_empty() {
                 let c: W = self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
                 nee += state.beta * c;

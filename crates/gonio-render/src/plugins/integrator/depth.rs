@@ -19,6 +19,7 @@ fn build<'d>(_: &mut Builder<'d>, _: &mut Params<'d>) -> Result<IntegratorDesc, 
         kind: IntegratorKind::Depth,
         caustic_paths: false,
         refracted_nee: false,
+        manifold_nee: false,
         ..IntegratorDesc::default()
     })
 }

@@ -88,6 +88,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         thin_shadows: false,
         caustic_paths: false,
         refracted_nee: false,
+        manifold_nee: false,
         kind: IntegratorKind::Direct {
             emitter_samples,
             bsdf_samples,

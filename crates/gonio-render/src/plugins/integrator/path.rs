@@ -45,6 +45,13 @@ const REFRACTED_NEE: ParamSpec = ParamSpec::new(
     "(ours) next-event estimation follows shadow rays through smooth glass, refracting, weighted by MIS",
 )
 .mitsuba(DefaultValue::Bool(false));
+const MANIFOLD_NEE: ParamSpec = ParamSpec::new(
+    "manifold_nee",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) caustics seen through delta surfaces: a light sample reflected by a mirror sphere (manifold next-event estimation), weighted by MIS",
+)
+.mitsuba(DefaultValue::Bool(false));
 pub(super) const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
     "samples_per_pass",
     ParamType::Integer,
@@ -69,6 +76,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         THIN_SHADOWS,
         CAUSTIC_PATHS,
         REFRACTED_NEE,
+        MANIFOLD_NEE,
         SAMPLES_PER_PASS,
         TIMEOUT,
     ],
@@ -98,6 +106,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     let thin_shadows = p.bool(THIN_SHADOWS.name, p.default_of(&THIN_SHADOWS).bool())?;
     let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
     let refracted_nee = p.bool(REFRACTED_NEE.name, p.default_of(&REFRACTED_NEE).bool())?;
+    let manifold_nee = p.bool(MANIFOLD_NEE.name, p.default_of(&MANIFOLD_NEE).bool())?;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     Ok(IntegratorDesc {
         max_depth,
@@ -106,6 +115,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         thin_shadows,
         caustic_paths,
         refracted_nee,
+        manifold_nee,
         kind: IntegratorKind::Path,
         stokes: false,
         polarized: false,

@@ -163,6 +163,7 @@ fn build_direct<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrato
         thin_shadows: false,
         caustic_paths: false,
         refracted_nee: false,
+        manifold_nee: false,
         kind: IntegratorKind::Direct {
             emitter_samples: 1,
             bsdf_samples: 1,
