@@ -31,6 +31,7 @@ mod ptracer;
 mod reference_scenes;
 mod refracted;
 mod render;
+mod render_stats;
 mod sampler;
 mod xml_errors;
 mod xml_grammar;

@@ -9,23 +9,7 @@
 //! caustic light subpaths off and on, with a rectangular and a spherical light and with the
 //! gold of Mitsuba's `conductor` (a coloured Fresnel weight at the mirror).
 
-use gonio_render::image::RgbImage;
-use gonio_render::render::{PreparedScene, RenderOptions, render};
-use std::sync::atomic::AtomicBool;
-
-fn prepare(xml: &str) -> PreparedScene {
-    let scene = gonio_render::xml::load_scene_str(xml, ".", &[]).expect("test scene loads");
-    PreparedScene::new(scene).expect("test scene prepares")
-}
-
-/// The green channel of a render.
-fn green(p: &PreparedScene, spp: u32, seed: u64) -> Vec<f64> {
-    let mut options = RenderOptions::from_scene(&p.scene);
-    options.spp = spp;
-    options.seed = seed;
-    let img: RgbImage = render(p, &options, &|_, _| {}, &AtomicBool::new(false)).image;
-    img.data.iter().map(|c| c[1] as f64).collect()
-}
+use crate::render_stats::{prepare, stats};
 
 /// Beside the second sphere, at its height, facing it: the floor sees the light only at grazing
 /// angles, and its reflection in the sphere far more.
@@ -71,37 +55,16 @@ fn scene(manifold: bool, caustics: bool, light: &str, metal: &str) -> String {
     )
 }
 
+/// Samples per pixel of each render.
 const SPP: u32 = 128;
-
-/// Over `runs` independent renders: (mean of the image means, variance of one render's image
-/// mean, variance of one render's pixel averaged over the pixels).
-fn stats(p: &PreparedScene, runs: u64, spp: u32, seed0: u64) -> (f64, f64, f64) {
-    let images: Vec<Vec<f64>> = (0..runs).map(|k| green(p, spp, seed0 + k)).collect();
-    let n = runs as f64;
-    let means: Vec<f64> = images
-        .iter()
-        .map(|g| g.iter().sum::<f64>() / g.len() as f64)
-        .collect();
-    let m = means.iter().sum::<f64>() / n;
-    let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0);
-    let pixels = images[0].len();
-    let pixel_var = (0..pixels)
-        .map(|i| {
-            let mi = images.iter().map(|g| g[i]).sum::<f64>() / n;
-            images.iter().map(|g| (g[i] - mi).powi(2)).sum::<f64>() / (n - 1.0)
-        })
-        .sum::<f64>()
-        / pixels as f64;
-    (m, var, pixel_var)
-}
 
 /// With and without the strategy: the same image mean within four standard errors, and the
 /// pixels' variance at most `gain` times the one without (measured 0.05 for the rectangle light
 /// and 0.004 for the sphere light and gold; with the path tracer's share of these paths left at
 /// one, as if the strategy did not take part, the means differ by 4–6 standard errors).
 fn same_expectation_less_noise(caustics: bool, light: &str, metal: &str, what: &str, gain: f64) {
-    let on = prepare(&scene(true, caustics, light, metal));
-    let off = prepare(&scene(false, caustics, light, metal));
+    let on = prepare(&scene(true, caustics, light, metal), false);
+    let off = prepare(&scene(false, caustics, light, metal), false);
     let runs = 16;
     let (m_on, var_on, px_on) = stats(&on, runs, SPP, 100);
     let (m_off, var_off, px_off) = stats(&off, runs, SPP, 200);

@@ -12,25 +12,7 @@
 //!
 //! Tolerances come from the spread of the means of independent renders (four standard errors).
 
-use gonio_render::image::RgbImage;
-use gonio_render::render::{PreparedScene, RenderOptions, render};
-use std::sync::atomic::AtomicBool;
-
-/// The scene, rendered polarized (Mueller matrices along the paths) when `polarized`.
-fn prepare(xml: &str, polarized: bool) -> PreparedScene {
-    let mut scene = gonio_render::xml::load_scene_str(xml, ".", &[]).expect("test scene loads");
-    scene.integrator.polarized |= polarized;
-    PreparedScene::new(scene).expect("test scene prepares")
-}
-
-/// The green channel of a render.
-fn green(p: &PreparedScene, spp: u32, seed: u64) -> Vec<f64> {
-    let mut options = RenderOptions::from_scene(&p.scene);
-    options.spp = spp;
-    options.seed = seed;
-    let img: RgbImage = render(p, &options, &|_, _| {}, &AtomicBool::new(false)).image;
-    img.data.iter().map(|c| c[1] as f64).collect()
-}
+use crate::render_stats::{prepare, stats};
 
 const RECTANGLE_LIGHT: &str = r#"<shape type="rectangle">
         <transform name="to_world"><scale value="0.2"/><rotate x="1" angle="90"/><translate x="0.1" y="2"/></transform>
@@ -72,28 +54,6 @@ fn slab_scene(refracted: bool, caustics: bool, light: &str) -> String {
     {light}
 </scene>"#
     )
-}
-
-/// Over `runs` independent renders: (mean of the image means, variance of one render's image
-/// mean, variance of one render's pixel averaged over the pixels).
-fn stats(p: &PreparedScene, runs: u64, spp: u32, seed0: u64) -> (f64, f64, f64) {
-    let images: Vec<Vec<f64>> = (0..runs).map(|k| green(p, spp, seed0 + k)).collect();
-    let n = runs as f64;
-    let means: Vec<f64> = images
-        .iter()
-        .map(|g| g.iter().sum::<f64>() / g.len() as f64)
-        .collect();
-    let m = means.iter().sum::<f64>() / n;
-    let var = means.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0);
-    let pixels = images[0].len();
-    let pixel_var = (0..pixels)
-        .map(|i| {
-            let mi = images.iter().map(|g| g[i]).sum::<f64>() / n;
-            images.iter().map(|g| (g[i] - mi).powi(2)).sum::<f64>() / (n - 1.0)
-        })
-        .sum::<f64>()
-        / pixels as f64;
-    (m, var, pixel_var)
 }
 
 /// With and without the strategy: the same image mean within four standard errors, and the
