@@ -65,6 +65,9 @@ pub struct IntegratorDesc {
     /// Ours: manifold next-event estimation through mirror spheres, for caustics seen through
     /// delta surfaces (default true; see `integrator::manifold`).
     pub manifold_nee: bool,
+    /// Ours: next-event estimation samples every light at each vertex when the scene has at most
+    /// this many (and at least two); 0 chooses one light per vertex, as Mitsuba (default 2).
+    pub split_lights: u32,
     /// Which algorithm: `path` (the fields above), `direct` or `depth`.
     pub kind: IntegratorKind,
     /// Mitsuba's `stokes` wrapper around this integrator: also write the Stokes vector S0..S3
@@ -199,6 +202,7 @@ impl Default for IntegratorDesc {
             caustic_paths: true,
             refracted_nee: true,
             manifold_nee: true,
+            split_lights: 2,
             kind: IntegratorKind::Path,
             stokes: false,
             polarized: false,

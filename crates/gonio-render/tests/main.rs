@@ -18,6 +18,7 @@ mod geometry;
 mod image;
 mod integrator;
 mod layers;
+mod light_splitting;
 mod manifold;
 mod mitsuba_bsdf_values;
 mod mitsuba_json;

@@ -172,6 +172,6 @@ impl Lights {
         for (index, e) in scene.emitters.iter().enumerate() {
             lights.push(Light::from_emitter(e).map_err(|message| EmitterError { index, message })?);
         }
-        Ok(Lights::new(lights, world.len(), scene_area, bounds))
+        Ok(Lights::new(lights, world.len(), scene_area, bounds).with_split(scene.integrator.split_lights))
     }
 }

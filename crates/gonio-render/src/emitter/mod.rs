@@ -378,6 +378,8 @@ pub struct Lights {
     bounds: BoundingSphere,
     /// [`Light::mean_emission`] of each light.
     means: Vec<f32>,
+    /// Every light sampled at each vertex ([`Self::with_split`]).
+    split: bool,
 }
 
 impl Lights {
@@ -403,6 +405,7 @@ impl Lights {
             infinite,
             bounds,
             means,
+            split: false,
         }
     }
 
@@ -484,9 +487,27 @@ impl Lights {
         last
     }
 
+    /// True when next-event estimation samples every light at each vertex instead of choosing
+    /// one ([`Self::with_split`]); [`Self::pmf_at`] is then 1 for every light.
+    #[inline]
+    pub fn split(&self) -> bool {
+        self.split
+    }
+
+    /// The same lights, sampled each at every vertex when the scene has between two and
+    /// `max_lights` of them (the `path` integrator's `split_lights`): no noise from choosing
+    /// between a sun and a sky, or a lamp and a sky, at the cost of a shadow ray per light.
+    pub fn with_split(mut self, max_lights: u32) -> Self {
+        self.split = (2..=max_lights as usize).contains(&self.lights.len());
+        self
+    }
+
     /// Probability that [`Self::select_at`] from `r` picks light `i`.
     #[inline]
     pub fn pmf_at(&self, r: &LightRef, i: usize) -> f32 {
+        if self.split() {
+            return 1.0;
+        }
         let mut p = [0.0f32; MAX_LOCAL_LIGHTS];
         if !self.local_pmf(r, &mut p) {
             return self.pmf(i);

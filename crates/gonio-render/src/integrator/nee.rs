@@ -53,12 +53,39 @@ impl PathTracer<'_> {
     where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
+        if self.lights.split() {
+            // Every light, each with the same numbers (the lights are independent).
+            let mut sum = W::ZERO;
+            for (li, light) in self.lights.lights().iter().enumerate() {
+                if let Some(ls) = light.sample_li(self.accel.shapes(), r, u, wl) {
+                    sum += self.light_contribution(v, beta, (li, &ls), wl, counts, path);
+                }
+            }
+            return sum;
+        }
         let Some((li, ls)) = self
             .lights
             .sample_li_indexed(self.accel.shapes(), r, u_sel, u, wl)
         else {
             return W::ZERO;
         };
+        self.light_contribution(v, beta, (li, &ls), wl, counts, path)
+    }
+
+    /// One light sample `ls` of light `li` (density `ls.pdf`, selection included) at `v`:
+    /// β·f·|cos|·Lᵢ·T/p·w (see [`Self::next_event`]).
+    fn light_contribution<W: Weight>(
+        &self,
+        v: &Vertex,
+        beta: W,
+        (li, ls): (usize, &LightSample),
+        wl: &SampledWavelengths,
+        counts: (f32, f32),
+        path: Option<&refracted::PathContext>,
+    ) -> W
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
         let wo = v.si.shading.to_local(ls.wi);
         let ctx = BsdfContext::radiance();
         let (f, bsdf_pdf): (W, f32) = (
@@ -72,14 +99,14 @@ impl PathTracer<'_> {
         }
         let t = match path {
             // Through glass too ([`refracted`]).
-            Some(c) => match self.trace_light_sample::<W>(v, c, li, &ls, bsdf_pdf, wl) {
+            Some(c) => match self.trace_light_sample::<W>(v, c, li, ls, bsdf_pdf, wl) {
                 refracted::LightPath::Straight(t) => t,
                 refracted::LightPath::Refracted(tr, le, w) => {
                     return (beta * f).through_then_source(tr, le) * (wo.z.abs() * w / ls.pdf);
                 }
                 refracted::LightPath::Blocked => return W::ZERO,
             },
-            _ => self.transmittance(v.si, &ls, wl),
+            _ => self.transmittance(v.si, ls, wl),
         };
         if t.is_black() {
             return W::ZERO;

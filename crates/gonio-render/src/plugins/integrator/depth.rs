@@ -20,6 +20,7 @@ fn build<'d>(_: &mut Builder<'d>, _: &mut Params<'d>) -> Result<IntegratorDesc, 
         caustic_paths: false,
         refracted_nee: false,
         manifold_nee: false,
+        split_lights: 0,
         ..IntegratorDesc::default()
     })
 }

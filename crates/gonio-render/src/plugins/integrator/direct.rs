@@ -89,6 +89,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         caustic_paths: false,
         refracted_nee: false,
         manifold_nee: false,
+        split_lights: 0,
         kind: IntegratorKind::Direct {
             emitter_samples,
             bsdf_samples,

@@ -52,6 +52,13 @@ const MANIFOLD_NEE: ParamSpec = ParamSpec::new(
     "(ours) caustics seen through delta surfaces: a light sample reflected by a mirror sphere (manifold next-event estimation), weighted by MIS",
 )
 .mitsuba(DefaultValue::Bool(false));
+const SPLIT_LIGHTS: ParamSpec = ParamSpec::new(
+    "split_lights",
+    ParamType::Integer,
+    DefaultValue::Int(2),
+    "(ours) next-event estimation samples every light at each vertex when the scene has at most this many; 0 chooses one per vertex",
+)
+.mitsuba(DefaultValue::Int(0));
 pub(super) const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
     "samples_per_pass",
     ParamType::Integer,
@@ -77,6 +84,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         CAUSTIC_PATHS,
         REFRACTED_NEE,
         MANIFOLD_NEE,
+        SPLIT_LIGHTS,
         SAMPLES_PER_PASS,
         TIMEOUT,
     ],
@@ -107,6 +115,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
     let refracted_nee = p.bool(REFRACTED_NEE.name, p.default_of(&REFRACTED_NEE).bool())?;
     let manifold_nee = p.bool(MANIFOLD_NEE.name, p.default_of(&MANIFOLD_NEE).bool())?;
+    let split_lights = p.int_in(SPLIT_LIGHTS.name, p.default_of(&SPLIT_LIGHTS).int(), 0, 1024)? as u32;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     Ok(IntegratorDesc {
         max_depth,
@@ -116,6 +125,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         caustic_paths,
         refracted_nee,
         manifold_nee,
+        split_lights,
         kind: IntegratorKind::Path,
         stokes: false,
         polarized: false,

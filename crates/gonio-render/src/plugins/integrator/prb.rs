@@ -164,6 +164,7 @@ fn build_direct<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrato
         caustic_paths: false,
         refracted_nee: false,
         manifold_nee: false,
+        split_lights: 0,
         kind: IntegratorKind::Direct {
             emitter_samples: 1,
             bsdf_samples: 1,
