@@ -112,6 +112,16 @@ fn refracted_nee_keeps_the_expectation_of_a_sky_seen_through_a_glass_slab() {
     same_expectation_less_noise(true, SKY, "constant sky", 0.8);
 }
 
+/// A rectangle light and the sky, each sampled at every vertex (`split_lights`: the selection
+/// probability is then 1 in all three strategies' densities), with the light subpaths on
+/// (measured: means 0.85 standard errors apart, 0.22× the pixel variance).
+#[test]
+fn refracted_nee_keeps_the_expectation_with_two_lights_each_sampled() {
+    let lights = format!("{RECTANGLE_LIGHT}{SKY}");
+    assert!(prepare(&slab_scene(true, true, &lights), false).lights().split());
+    same_expectation_less_noise(true, &lights, "rectangle light and sky, split", 0.5);
+}
+
 #[test]
 fn refracted_nee_parses_and_a_bad_value_is_refused() {
     let s =
