@@ -152,8 +152,6 @@ pub(super) struct Start {
     x: Vec3,
     omega: Vec3,
     bsdf_pdf: f32,
-    /// The path's sheet crossings when it left `x`.
-    crossings: u32,
     /// The sphere (index in [`Setup`]) once the direction reflected on one.
     sphere: Option<u32>,
 }
@@ -168,48 +166,39 @@ impl PathTracer<'_> {
     }
 
     /// The path tracer's record after the vertex at `si` sampled `bs` (world direction `dir`),
-    /// given the record before it, whether the strategy applied there and the path's sheet
-    /// crossings so far.
+    /// given the record before it and whether the strategy applied there. (No sheet can lie on
+    /// the segments: the strategy is off in scenes with a material that passes light straight
+    /// through, [`Self::new`].)
     pub(super) fn manifold_after_sample<W>(
         &self,
         start: Option<Start>,
         applies_here: bool,
         (si, dir): (&SurfaceInteraction, Vec3),
         bs: &BsdfSample<W>,
-        crossings: u32,
     ) -> Option<Start> {
-        let (pdf, flags) = (bs.pdf, bs.flags);
         let setup = self.manifold.as_ref()?;
-        if !flags.is_delta() {
+        if !bs.flags.is_delta() {
             return applies_here.then_some(Start {
                 x: si.p,
                 omega: dir,
-                bsdf_pdf: pdf,
-                crossings,
+                bsdf_pdf: bs.pdf,
                 sphere: None,
             });
         }
         let s = start?;
         let k = setup.sphere_of_shape.get(si.shape as usize).copied().flatten()?;
-        (s.sphere.is_none() && s.crossings == crossings && flags.contains(BsdfFlags::DELTA_REFLECTION))
+        (s.sphere.is_none() && bs.flags.contains(BsdfFlags::DELTA_REFLECTION))
             .then_some(Start { sphere: Some(k), ..s })
     }
 
     /// The ratio `p_M/p_x` for a path the path tracer traced from `start` that hit area light
-    /// `li` at `hit` with `crossings` sheet crossings so far (zero where the strategy cannot
-    /// produce it).
-    pub(super) fn manifold_ratio(
-        &self,
-        start: Option<&Start>,
-        li: usize,
-        hit: &SurfaceInteraction,
-        crossings: u32,
-    ) -> f32 {
+    /// `li` at `hit` (zero where the strategy cannot produce it).
+    pub(super) fn manifold_ratio(&self, start: Option<&Start>, li: usize, hit: &SurfaceInteraction) -> f32 {
         let (Some(setup), Some(s)) = (self.manifold.as_ref(), start) else {
             return 0.0;
         };
         let Some(k) = s.sphere else { return 0.0 };
-        if s.crossings != crossings || !(s.bsdf_pdf > 0.0) {
+        if !(s.bsdf_pdf > 0.0) {
             return 0.0;
         }
         setup.density(self, (s.x, s.omega), k, li, &LightPoint::from(hit)) / s.bsdf_pdf
@@ -263,16 +252,11 @@ impl PathTracer<'_> {
         let pdf_x = v.bsdf.pdf(&ctx, v.wi, local, wl);
         // x → s: nothing in between (the sphere itself is not: x is in front of its tangent
         // plane at s), and the sphere's record at s.
-        let shapes = self.accel.shapes();
-        let sphere = &shapes[sphere_shape as usize];
-        if self.accel.occluded(
-            &v.si
-                .spawn_ray_to(s, Some((s.as_dvec3() - c).normalize().as_vec3())),
-        ) {
-            return None;
-        }
+        let sphere = &self.accel.shapes()[sphere_shape as usize];
         let at_s = hit_on(sphere, sphere_shape, &v.si.spawn_ray(omega))?;
-        if (at_s.p - s).length() > 1e-3 * radius as f32 {
+        if (at_s.p - s).length() > 1e-3 * radius as f32
+            || self.accel.occluded(&v.si.spawn_ray_to(at_s.p, Some(at_s.n)))
+        {
             return None;
         }
         // The mirror's reflection there, and s → l.

@@ -484,15 +484,7 @@ impl<'a> PathTracer<'a> {
             }
 
             state.eta *= bs.eta;
-            if self.manifold.is_some() {
-                state.mnee = self.manifold_after_sample(
-                    state.mnee,
-                    manifold_here,
-                    (&si, dir),
-                    &bs,
-                    state.null_crossings,
-                );
-            }
+            state.mnee = self.manifold_after_sample(state.mnee, manifold_here, (&si, dir), &bs);
             if self.refracted_nee {
                 state.refr = if bs.flags.is_delta() {
                     self.refracted_after_delta(state.refr, si.shape, &bs)
@@ -593,7 +585,7 @@ impl<'a> PathTracer<'a> {
             None => {
                 let r = self.caustic_ratio(state.chain.as_ref(), li, area, si.p, si.n, -d);
                 let s = self.refracted_ratio(state.refr.as_ref(), li, wl);
-                let m = self.manifold_ratio(state.mnee.as_ref(), li, si, state.null_crossings);
+                let m = self.manifold_ratio(state.mnee.as_ref(), li, si);
                 refracted::shares(r, s)[0] * mis_power(1.0, m)
             }
         };
