@@ -418,7 +418,7 @@ fn light_samples_and_their_densities_agree_for_every_light_kind() {
             hemisphere: true,
             mis: false,
         };
-        let Some(ls) = lights.sample_li(shapes, &r, rng.next_f32(), rng.next_2d(), &wl) else {
+        let Some((_, ls)) = lights.sample_li_indexed(shapes, &r, rng.next_f32(), rng.next_2d(), &wl) else {
             continue;
         };
         assert!(ls.pdf > 0.0 && ls.pdf.is_finite());

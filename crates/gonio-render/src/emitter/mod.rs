@@ -5,7 +5,8 @@
 //! reference point ([`LightSample`]: unit direction, distance, arriving radiance, solid-angle
 //! density), give the density of that strategy for a direction found by BSDF sampling (for MIS),
 //! and give a scalar power for light selection. [`Lights`] adds the choice of a light: the
-//! integrators ask it for a light sample from a reference point ([`Lights::sample_li`]) and for
+//! integrators ask it for light samples from a reference point ([`Lights::for_each_sample`]:
+//! one light chosen, or every light in a scene of few, `split_lights`) and for
 //! the density of a light found by BSDF sampling ([`Lights::pdf_li_hit`],
 //! [`Lights::le_escaped`]), selection included; the sampling policy of each light kind
 //! (solid angle, area, spherical rectangle) lives with the light. Parameters and defaults of
@@ -502,7 +503,8 @@ impl Lights {
         self
     }
 
-    /// Probability that [`Self::select_at`] from `r` picks light `i`.
+    /// Probability that next-event estimation from `r` samples light `i`: that
+    /// [`Self::select_at`] picks it, or 1 when every light is sampled ([`Self::with_split`]).
     #[inline]
     pub fn pmf_at(&self, r: &LightRef, i: usize) -> f32 {
         if self.split() {
@@ -515,22 +517,33 @@ impl Lights {
         p.get(i).copied().unwrap_or(0.0)
     }
 
-    /// Next-event estimation from `r`: picks a light ([`Self::select_at`] with `u_sel`) and draws
-    /// a direction towards it with `u`. The sample's `pdf` includes the selection probability.
-    /// `shapes` are the scene's shapes in the world (area lights sample them).
+    /// Next-event estimation's light samples from `r`, each handed to `f` with its light's
+    /// index: the light [`Self::select_at`] picks with `u_sel`, or every light when they are
+    /// split ([`Self::with_split`]), all drawn with `u`. Each sample's `pdf` includes the
+    /// probability of sampling its light ([`Self::pmf_at`]). `shapes` are the scene's shapes in
+    /// the world (area lights sample them).
     #[inline]
-    pub fn sample_li(
+    pub fn for_each_sample(
         &self,
         shapes: &[WorldShape],
         r: &LightRef,
-        u_sel: f32,
-        u: Vec2,
+        (u_sel, u): (f32, Vec2),
         wl: &SampledWavelengths,
-    ) -> Option<LightSample> {
-        self.sample_li_indexed(shapes, r, u_sel, u, wl).map(|(_, ls)| ls)
+        mut f: impl FnMut(usize, &LightSample),
+    ) {
+        if self.split {
+            for (li, light) in self.lights.iter().enumerate() {
+                if let Some(ls) = light.sample_li(shapes, r, u, wl) {
+                    f(li, &ls);
+                }
+            }
+        } else if let Some((li, ls)) = self.sample_li_indexed(shapes, r, u_sel, u, wl) {
+            f(li, &ls);
+        }
     }
 
-    /// [`Self::sample_li`] with the index of the light it chose.
+    /// One light picked by [`Self::select_at`] with `u_sel` and a direction towards it drawn with
+    /// `u`, with the light's index; the sample's `pdf` includes the selection probability.
     #[inline]
     pub fn sample_li_indexed(
         &self,
@@ -551,7 +564,7 @@ impl Lights {
         ))
     }
 
-    /// The density with which [`Self::sample_li`] from `r` produces the point of `hit` on area
+    /// The density with which [`Self::for_each_sample`] from `r` produces the point of `hit` on area
     /// light `li` (selection × solid angle), for the MIS weight of a light found by BSDF
     /// sampling; 0 when `li` is not an area light.
     #[inline]
@@ -574,7 +587,7 @@ impl Lights {
 
     /// The radiance of the light at infinity `li` arriving along −`dir` (a ray that left the
     /// scene) and, when `r` is the vertex that drew `dir` by its BSDF, the density with which
-    /// [`Self::sample_li`] from `r` produces `dir` (selection × solid angle; 0 without `r` or
+    /// [`Self::for_each_sample`] from `r` produces `dir` (selection × solid angle; 0 without `r` or
     /// where the light is black, which nothing then weighs).
     #[inline]
     pub fn le_escaped(

@@ -33,7 +33,8 @@
 //!    light's solid-angle density from the previous vertex). `hide_emitters` drops what the
 //!    camera sees directly.
 //! 2. **Next-event estimation**, only when the BSDF has a smooth (diffuse or glossy) lobe: pick a
-//!    light and draw a direction on it ([`Lights::sample_li`]; each light kind has its own
+//!    light (or each light, `split_lights`) and draw a direction on it
+//!    ([`Lights::for_each_sample`]; each light kind has its own
 //!    policy, e.g. [`crate::emitter::area`]), add β·f·|cos|·Lᵢ·T/(p_sel·p_dir)·w, with w the
 //!    power heuristic against the BSDF density (w = 1 for delta lights). T is the visibility: 0 or 1, or, with
 //!    `thin_shadows`, the product of the straight-through transmittances

@@ -53,23 +53,12 @@ impl PathTracer<'_> {
     where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
-        if self.lights.split() {
-            // Every light, each with the same numbers (the lights are independent).
-            let mut sum = W::ZERO;
-            for (li, light) in self.lights.lights().iter().enumerate() {
-                if let Some(ls) = light.sample_li(self.accel.shapes(), r, u, wl) {
-                    sum += self.light_contribution(v, beta, (li, &ls), wl, counts, path);
-                }
-            }
-            return sum;
-        }
-        let Some((li, ls)) = self
-            .lights
-            .sample_li_indexed(self.accel.shapes(), r, u_sel, u, wl)
-        else {
-            return W::ZERO;
-        };
-        self.light_contribution(v, beta, (li, &ls), wl, counts, path)
+        let mut sum = W::ZERO;
+        self.lights
+            .for_each_sample(self.accel.shapes(), r, (u_sel, u), wl, |li, ls| {
+                sum += self.light_contribution(v, beta, (li, ls), wl, counts, path);
+            });
+        sum
     }
 
     /// One light sample `ls` of light `li` (density `ls.pdf`, selection included) at `v`:
