@@ -55,9 +55,9 @@
 //! ([`LightVertex`]). The power heuristic gives the path tracer `r²/(1 + r²)` and the connection
 //! `1/(1 + r²)`. Where `x` sampled a delta lobe there is no connection and the path tracer keeps
 //! weight 1. Where the chain next to the light is all refraction, refracted next-event estimation
-//! ([`super::refracted`]) is a third strategy for the same path; the three share it by the power
-//! heuristic ([`shares`]), from `r` and that strategy's ratio `s = p₃/p₁` at the smooth vertex
-//! nearest the light.
+//! (`integrator/refracted.rs`) is a third strategy for the same path; the three share it by the
+//! power heuristic (`refracted::shares`), from `r` and that strategy's ratio `s = p₃/p₁` at the
+//! smooth vertex nearest the light.
 //!
 //! Both sides count the same vertices: with `thin_shadows` a straight pass through a
 //! `thindielectric` sheet is not a vertex (connections cross sheets with their transmittance, as

@@ -64,7 +64,14 @@
 //! With `refracted_nee` (the default), a light sample whose shadow ray meets smooth glass is
 //! followed through it, refracting, and counts if it still reaches the light it was drawn on;
 //! the path tracer, the light subpaths below and this strategy share such paths by MIS
-//! ([`refracted`]). Without it, glass blocks shadow rays as in Mitsuba.
+//! (`integrator/refracted.rs`). Without it, glass blocks shadow rays as in Mitsuba.
+//!
+//! # Manifold next-event estimation (beyond Mitsuba)
+//!
+//! With `manifold_nee` (the default), a vertex whose camera-side neighbour is delta also joins a
+//! point drawn on an area light through the one point of a mirror sphere that reflects it there
+//! (`integrator/manifold.rs`); the path tracer evaluates that strategy's density for the same
+//! paths and the two share them by the power heuristic.
 //!
 //! # Caustic light paths (beyond Mitsuba)
 //!
