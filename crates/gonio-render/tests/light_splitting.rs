@@ -7,7 +7,7 @@
 //! errors of the means of independent renders); with it the noise of choosing between the
 //! lights is gone, and the pixels' variance is lower.
 
-use crate::render_stats::{prepare, stats};
+use crate::render_stats::{prepare, same_mean_less_noise};
 
 const SUN: &str = r#"<emitter type="directional">
         <vector name="direction" value="-0.5, -0.8, -0.3"/><rgb name="irradiance" value="3"/>
@@ -54,21 +54,7 @@ fn same_expectation_less_noise(light: &str, what: &str, gain: f64) {
     let on = prepare(&scene(2, light), false);
     let off = prepare(&scene(0, light), false);
     assert!(on.lights().split() && !off.lights().split());
-    let runs = 16;
-    let (m_on, var_on, px_on) = stats(&on, runs, 32, 100);
-    let (m_off, var_off, px_off) = stats(&off, runs, 32, 200);
-    let se = ((var_on + var_off) / runs as f64).sqrt();
-    println!(
-        "{what}: split {m_on:.6} (pixel variance {px_on:.3e}), one light {m_off:.6} (pixel variance {px_off:.3e}), se {se:.2e}"
-    );
-    assert!(
-        (m_on - m_off).abs() < 4.0 * se,
-        "{what}: means differ: {m_on} split, {m_off} with one light per vertex (se {se})"
-    );
-    assert!(
-        px_on < gain * px_off,
-        "{what}: splitting should lower the noise: pixel variance {px_on} vs {px_off}"
-    );
+    same_mean_less_noise(&on, &off, 32, what, gain);
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! Statistics over independent renders, shared by the tests that compare two estimators of the
-//! same image (`refracted.rs`, `manifold.rs`): the green channel of a render, and the mean,
-//! the variance of the mean and the mean pixel variance over several seeds.
+//! same image (`refracted.rs`, `manifold.rs`, `light_splitting.rs`): the green channel of a
+//! render; the mean, the variance of the mean and the mean pixel variance over several seeds;
+//! and the comparison itself (the same mean, less noise).
 
 use gonio_render::image::RgbImage;
 use gonio_render::render::{PreparedScene, RenderOptions, render};
@@ -26,7 +27,7 @@ pub fn green(p: &PreparedScene, spp: u32, seed: u64) -> Vec<f64> {
 /// Over `runs` independent renders (seeds `seed0`, `seed0 + 1`, …): (mean of the image means,
 /// variance of one render's image mean, variance of one render's pixel averaged over the
 /// pixels).
-pub fn stats(p: &PreparedScene, runs: u64, spp: u32, seed0: u64) -> (f64, f64, f64) {
+fn stats(p: &PreparedScene, runs: u64, spp: u32, seed0: u64) -> (f64, f64, f64) {
     let images: Vec<Vec<f64>> = (0..runs).map(|k| green(p, spp, seed0 + k)).collect();
     let n = runs as f64;
     let means: Vec<f64> = images
@@ -44,4 +45,35 @@ pub fn stats(p: &PreparedScene, runs: u64, spp: u32, seed0: u64) -> (f64, f64, f
         .sum::<f64>()
         / pixels as f64;
     (m, var, pixel_var)
+}
+
+/// Two estimators of one image, `with` (the strategy under test) and `without`: over 16 renders
+/// of `spp` samples each (seeds 100… and 200…), the same mean within four standard errors of the
+/// difference, and `with`'s pixel variance at most `gain` times `without`'s. Returns `with`'s
+/// mean.
+pub fn same_mean_less_noise(
+    with: &PreparedScene,
+    without: &PreparedScene,
+    spp: u32,
+    what: &str,
+    gain: f64,
+) -> f64 {
+    let runs = 16;
+    let (m_on, var_on, px_on) = stats(with, runs, spp, 100);
+    let (m_off, var_off, px_off) = stats(without, runs, spp, 200);
+    let se = ((var_on + var_off) / runs as f64).sqrt();
+    println!(
+        "{what}: with {m_on:.6} (sd of a render {:.2e}, pixel variance {px_on:.3e}), without {m_off:.6} (sd {:.2e}, pixel variance {px_off:.3e}), se {se:.2e}",
+        var_on.sqrt(),
+        var_off.sqrt()
+    );
+    assert!(
+        (m_on - m_off).abs() < 4.0 * se,
+        "{what}: means differ: {m_on} with, {m_off} without (se {se})"
+    );
+    assert!(
+        px_on < gain * px_off,
+        "{what}: the strategy should lower the noise: pixel variance {px_on} with, {px_off} without"
+    );
+    m_on
 }
