@@ -51,6 +51,9 @@ pub struct IntegratorDesc {
     pub max_depth: i32,
     /// Depth at which Russian roulette starts (Mitsuba `rr_depth`, default 5).
     pub rr_depth: u32,
+    /// Ours: the highest probability with which Russian roulette continues a path, in (0, 1)
+    /// (default 0.99; Mitsuba's is 0.95, fixed).
+    pub rr_survival: f32,
     /// Hide directly visible emitters (Mitsuba `hide_emitters`, default false).
     pub hide_emitters: bool,
     /// Ours: shadow rays pass through `thindielectric` sheets, attenuated (default true).
@@ -197,6 +200,7 @@ impl Default for IntegratorDesc {
         Self {
             max_depth: -1,
             rr_depth: 5,
+            rr_survival: 0.99,
             hide_emitters: false,
             thin_shadows: true,
             caustic_paths: true,

@@ -33,6 +33,7 @@ mod reference_scenes;
 mod refracted;
 mod render;
 mod render_stats;
+mod russian_roulette;
 mod sampler;
 mod xml_errors;
 mod xml_grammar;

@@ -42,9 +42,13 @@
 //! 3. **BSDF sampling**: β ← β·weight, η_path ← η_path·η (the relative index crossed). A
 //!    dispersive refraction terminates the secondary wavelengths inside the BSDF; the estimator
 //!    that turns the result into colour divides by the pdfs, so nothing else changes here.
-//! 4. **Russian roulette** from `rr_depth` on: continue with q = min(max(β)·η_path², 0.95), then
+//! 4. **Russian roulette** from `rr_depth` on: continue with q = min(max(β)·η_path², q_max), then
 //!    β ← β/q. The η² undoes the radiance compression of refraction, so a path inside glass is
-//!    not killed more often than outside it.
+//!    not killed more often than outside it. `q_max` is `rr_survival` (ours, 0.99; Mitsuba's
+//!    fixed 0.95): where β stays near 1 for many bounces (light trapped in glass by total
+//!    internal reflection, a white furnace) a path that survives n capped roulettes carries
+//!    q_max⁻ⁿ, and at 0.95 the rare survivors of 50 bounces are fireflies 13× too bright
+//!    (`tests/russian_roulette.rs`).
 //!
 //! `max_depth` counts path segments as Mitsuba does: −1 = unbounded, 0 = black, 1 = only emitters
 //! seen directly, 2 = direct lighting.
@@ -194,6 +198,8 @@ pub struct PathTracer<'a> {
     manifold: Option<manifold::Setup>,
     max_depth: u32,
     rr_depth: u32,
+    /// Highest probability of continuing a path at Russian roulette (`rr_survival`).
+    rr_survival: f32,
     hide_emitters: bool,
     thin_shadows: bool,
     /// Light tracing of the caustics, when enabled and useful.
@@ -332,6 +338,7 @@ impl<'a> PathTracer<'a> {
                 settings.max_depth as u32
             },
             rr_depth: settings.rr_depth,
+            rr_survival: settings.rr_survival,
             hide_emitters: settings.hide_emitters,
             thin_shadows: settings.thin_shadows,
             caustics,
@@ -531,7 +538,7 @@ impl<'a> PathTracer<'a> {
         let beta_max = state.beta.intensity().max_component();
         if state.depth >= self.rr_depth {
             let u_rr = sampler.next_1d();
-            let q = (beta_max * state.eta * state.eta).min(0.95);
+            let q = (beta_max * state.eta * state.eta).min(self.rr_survival);
             if !(u_rr < q) {
                 return false;
             }

@@ -18,6 +18,13 @@ pub(super) const RR_DEPTH: ParamSpec = ParamSpec::new(
     DefaultValue::Int(5),
     "path depth at which Russian roulette starts (≥ 1)",
 );
+const RR_SURVIVAL: ParamSpec = ParamSpec::new(
+    "rr_survival",
+    ParamType::Float,
+    DefaultValue::Float(0.99),
+    "(ours) highest probability with which Russian roulette continues a path, in (0, 1): light trapped in glass by total internal reflection is not boosted into fireflies",
+)
+.mitsuba(DefaultValue::Float(0.95));
 pub(super) const HIDE_EMITTERS: ParamSpec = ParamSpec::new(
     "hide_emitters",
     ParamType::Boolean,
@@ -79,6 +86,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
     params: &[
         MAX_DEPTH,
         RR_DEPTH,
+        RR_SURVIVAL,
         HIDE_EMITTERS,
         THIN_SHADOWS,
         CAUSTIC_PATHS,
@@ -111,6 +119,12 @@ pub(super) fn read_path_rows(
 
 fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
     let (max_depth, rr_depth, hide_emitters) = read_path_rows(p, &MAX_DEPTH)?;
+    let rr_survival = p.float_checked(
+        RR_SURVIVAL.name,
+        p.default_of(&RR_SURVIVAL).float(),
+        |v| v > 0.0 && v < 1.0,
+        "a probability above 0 and below 1",
+    )? as f32;
     let thin_shadows = p.bool(THIN_SHADOWS.name, p.default_of(&THIN_SHADOWS).bool())?;
     let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
     let refracted_nee = p.bool(REFRACTED_NEE.name, p.default_of(&REFRACTED_NEE).bool())?;
@@ -120,6 +134,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     Ok(IntegratorDesc {
         max_depth,
         rr_depth,
+        rr_survival,
         hide_emitters,
         thin_shadows,
         caustic_paths,

@@ -34,6 +34,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     Ok(IntegratorDesc {
         max_depth,
         rr_depth,
+        rr_survival: 0.95,
         hide_emitters,
         thin_shadows: false,
         caustic_paths: false,
