@@ -68,6 +68,9 @@ pub struct IntegratorDesc {
     /// Ours: manifold next-event estimation through mirror spheres, for caustics seen through
     /// delta surfaces (default true; see `integrator::manifold`).
     pub manifold_nee: bool,
+    /// Ours: at rough glass, a reflection or refraction that leaves the scene is added whole and
+    /// the path follows the other lobe (default true; see `integrator::lobe_split`).
+    pub split_escapes: bool,
     /// Ours: next-event estimation samples every light at each vertex when the scene has at most
     /// this many (and at least two); 0 chooses one light per vertex, as Mitsuba (default 2).
     pub split_lights: u32,
@@ -206,6 +209,7 @@ impl Default for IntegratorDesc {
             caustic_paths: true,
             refracted_nee: true,
             manifold_nee: true,
+            split_escapes: true,
             split_lights: 2,
             kind: IntegratorKind::Path,
             stokes: false,

@@ -19,6 +19,7 @@ mod image;
 mod integrator;
 mod layers;
 mod light_splitting;
+mod lobe_split;
 mod manifold;
 mod mitsuba_bsdf_values;
 mod mitsuba_json;

@@ -107,6 +107,28 @@ const WIDENING_MIN_ALPHA: f32 = 1e-2;
 /// The lobe flags of the rough refraction.
 const TRANSMISSION: BsdfFlags = BsdfFlags(BsdfFlags::GLOSSY_TRANSMISSION.0 | BsdfFlags::NON_SYMMETRIC.0);
 
+/// Both lobes of one facet ([`RoughDielectric::sample_split`]).
+#[derive(Clone, Copy, Debug)]
+pub struct LobeSplit {
+    /// The reflection, weighted as that lobe alone (f·|cos θo|/p_lobe; `pdf` the full model's),
+    /// and the probability F with which `sample` takes it.
+    pub reflection: Option<(BsdfSample, f32)>,
+    /// The refraction, weighted the same way, and its probability 1 − F.
+    pub refraction: Option<(BsdfSample, f32)>,
+    /// F, the probability with which `sample` takes the reflection (whether or not its direction
+    /// is valid: `sample` fails where the lobe it takes does).
+    pub reflectance: f32,
+}
+
+impl LobeSplit {
+    /// Neither lobe.
+    pub const NONE: Self = Self {
+        reflection: None,
+        refraction: None,
+        reflectance: 0.0,
+    };
+}
+
 impl Default for RoughDielectric {
     /// Mitsuba's defaults: bk7 (1.5046) inside, air (1.000277) outside, Beckmann α = 0.1,
     /// visible normals.
@@ -252,6 +274,109 @@ impl<S: SpectralValue, I: IorValue> RoughDielectric<S, I> {
         })
     }
 
+    /// The sample of lobe `reflect` about the facet `m` (hero F there `f_hero`), with the
+    /// weight f·|cos θo|/pdf and the pdf of `ctx`'s lobes (with both, the Fresnel choice is in
+    /// the pdf); `None` for total internal reflection of a refraction or a direction on the wrong
+    /// side of the surface for its lobe.
+    fn sample_about(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        m: Vec3,
+        f_hero: f32,
+        reflect: bool,
+        wl: &mut SampledWavelengths,
+    ) -> Option<BsdfSample> {
+        let cos_i = wi.z;
+        let cos_im = wi.dot(m);
+        let (wo, eta_crossed) = if reflect {
+            (2.0 * cos_im * m - wi, 1.0)
+        } else {
+            if f_hero >= 1.0 {
+                return None; // total internal reflection at this facet
+            }
+            // The one scalar η the direction needs; terminates the secondaries if dispersive.
+            let fr = fresnel_dielectric(cos_im, relative_hero_eta(&self.int_ior, &self.ext_ior, wl));
+            (
+                m * (cos_im * fr.eta_ti + fr.cos_theta_t) - wi * fr.eta_ti,
+                fr.eta_it,
+            )
+        };
+        let wo = wo.normalize_or_zero();
+        // A direction on the wrong side for its lobe is a failed sample (its weight would be 0:
+        // G1(ωo, m) vanishes there).
+        if wo.z == 0.0 || (wo.z * cos_i > 0.0) != reflect {
+            return None;
+        }
+        let (f, pdf) = self.eval_pdf_lobes(ctx, wi, wo, wl);
+        if !(pdf > 0.0) {
+            return None;
+        }
+        Some(BsdfSample {
+            wo,
+            weight: f * (wo.z.abs() / pdf),
+            pdf,
+            flags: if reflect {
+                BsdfFlags::GLOSSY_REFLECTION
+            } else {
+                TRANSMISSION
+            },
+            eta: eta_crossed,
+        })
+    }
+
+    /// Both lobes of one facet, for the path tracer's lobe splitting (`split_escapes`): the
+    /// reflection and the refraction about the facet [`Bsdf::sample`] draws with `u2` (all lobes
+    /// enabled), each weighted as its lobe sampled alone, f·|cos θo|/p_lobe, while its `pdf`
+    /// stays the full model's (p_lobe times the probability F or 1 − F with which `sample` takes
+    /// the lobe, given beside it), so that MIS weights are the same function of the direction
+    /// as for `sample`. `None` for multiple scattering (whose lobes are not one facet's), a
+    /// dispersive index (a refraction would end the secondary wavelengths of both) and grazing
+    /// ωi.
+    pub fn sample_split(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<LobeSplit> {
+        let cos_i = wi.z;
+        if self.multiple_scattering || cos_i == 0.0 || self.disperses(wl) {
+            return None;
+        }
+        let mut split = LobeSplit::NONE;
+        let (m, pdf_m) = self.sampling_distribution(cos_i).sample(wi * cos_i.signum(), u2);
+        let cos_im = wi.dot(m);
+        if !(pdf_m > 0.0) || cos_im * cos_i <= 0.0 {
+            return Some(split);
+        }
+        let eta0 = relative_eta(&self.int_ior, &self.ext_ior, wl)[0];
+        let f_hero = fresnel_dielectric(cos_im, eta0).reflectance;
+        let lobe = |reflect: bool, wl: &mut SampledWavelengths| {
+            let (flags, choice) = if reflect {
+                (BsdfFlags::GLOSSY_REFLECTION, f_hero)
+            } else {
+                (BsdfFlags::GLOSSY_TRANSMISSION, 1.0 - f_hero)
+            };
+            let alone = ctx.with_lobes(flags);
+            self.sample_about(&alone, wi, m, f_hero, reflect, wl)
+                .map(|bs| {
+                    (
+                        BsdfSample {
+                            pdf: bs.pdf * choice,
+                            ..bs
+                        },
+                        choice,
+                    )
+                })
+                .filter(|(bs, _)| bs.pdf > 0.0)
+        };
+        split.reflection = lobe(true, wl);
+        split.refraction = lobe(false, wl);
+        split.reflectance = f_hero;
+        Some(split)
+    }
+
     /// True when the per-wavelength values differ (a dispersive index, secondaries alive).
     #[inline]
     fn disperses(&self, wl: &SampledWavelengths) -> bool {
@@ -386,40 +511,7 @@ impl<S: SpectralValue, I: IorValue> Bsdf for RoughDielectric<S, I> {
         let eta0 = relative_eta(&self.int_ior, &self.ext_ior, wl)[0];
         let f_hero = fresnel_dielectric(cos_im, eta0).reflectance;
         let reflect = if has_r && has_t { u1 < f_hero } else { has_r };
-        let (wo, eta_crossed) = if reflect {
-            (2.0 * cos_im * m - wi, 1.0)
-        } else {
-            if f_hero >= 1.0 {
-                return None; // total internal reflection at this facet
-            }
-            // The one scalar η the direction needs; terminates the secondaries if dispersive.
-            let fr = fresnel_dielectric(cos_im, relative_hero_eta(&self.int_ior, &self.ext_ior, wl));
-            (
-                m * (cos_im * fr.eta_ti + fr.cos_theta_t) - wi * fr.eta_ti,
-                fr.eta_it,
-            )
-        };
-        let wo = wo.normalize_or_zero();
-        // A direction on the wrong side for its lobe is a failed sample (its weight would be 0:
-        // G1(ωo, m) vanishes there).
-        if wo.z == 0.0 || (wo.z * cos_i > 0.0) != reflect {
-            return None;
-        }
-        let (f, pdf) = self.eval_pdf_lobes(ctx, wi, wo, wl);
-        if !(pdf > 0.0) {
-            return None;
-        }
-        Some(BsdfSample {
-            wo,
-            weight: f * (wo.z.abs() / pdf),
-            pdf,
-            flags: if reflect {
-                BsdfFlags::GLOSSY_REFLECTION
-            } else {
-                TRANSMISSION
-            },
-            eta: eta_crossed,
-        })
+        self.sample_about(ctx, wi, m, f_hero, reflect, wl)
     }
 
     /// `eval` with the dielectric's Fresnel reflection or transmission Mueller matrix at the

@@ -321,3 +321,97 @@ fn lobes_masked_by_the_context() {
         .is_none()
     );
 }
+
+/// Lobe splitting (`sample_split`): the lobe `sample` takes with the same numbers is one of the
+/// two (direction, pdf, and weight times the probability of taking it), both are the same
+/// facet's, each weighted f·|cos|/p_lobe with the full model's pdf, and their probabilities are
+/// F and 1 − F.
+#[test]
+fn split_lobes_are_the_facet_of_sample_weighted_as_each_lobe_alone() {
+    for kind in [Beckmann, Ggx] {
+        for visible in [true, false] {
+            let m = glass(MicrofacetDistribution::new(kind, 0.1, 0.3, visible));
+            let ctx = BsdfContext::radiance();
+            for wi in [
+                dir(0.0, 0.0, 1.0),
+                dir(50.0, 20.0, 1.0),
+                dir(80.0, 200.0, 1.0),
+                dir(20.0, 70.0, -1.0),
+                dir(60.0, 10.0, -1.0),
+            ] {
+                let mut both = 0;
+                for j in 0..64 {
+                    let u1 = (j as f32 + 0.5) / 64.0;
+                    let u2 = Vec2::new(
+                        ((j * 17) % 64) as f32 / 64.0 + 0.005,
+                        ((j * 29) % 64) as f32 / 64.0 + 0.01,
+                    );
+                    let mut wl = SampledWavelengths::fixed(600.0);
+                    let plain = m.sample(&ctx, wi, u1, u2, &mut wl);
+                    let split = m.sample_split(&ctx, wi, u2, &mut wl).unwrap();
+                    let taken = if u1 < split.reflectance {
+                        split.reflection
+                    } else {
+                        split.refraction
+                    };
+                    match (plain, taken) {
+                        (None, None) => {}
+                        (Some(p), Some((t, c))) => {
+                            assert!((p.wo - t.wo).length() < 1e-6 && p.flags == t.flags);
+                            assert!((p.pdf / t.pdf - 1.0).abs() < 1e-4, "{} vs {}", p.pdf, t.pdf);
+                            let w = t.weight[0] / c;
+                            assert!((w / p.weight[0] - 1.0).abs() < 1e-4, "{w} vs {}", p.weight[0]);
+                        }
+                        (p, t) => panic!("{kind:?} wi={wi} u1={u1}: sample {p:?}, split {t:?}"),
+                    }
+                    for (lobe, reflect) in [(split.reflection, true), (split.refraction, false)] {
+                        let Some((o, c)) = lobe else { continue };
+                        assert_eq!(o.flags.is_reflection(), reflect);
+                        let (f, pdf) = (m.eval(&ctx, wi, o.wo, &wl)[0], m.pdf(&ctx, wi, o.wo, &wl));
+                        assert!((pdf / o.pdf - 1.0).abs() < 1e-4, "pdf {pdf} vs {}", o.pdf);
+                        let w = f * o.wo.z.abs() / (pdf / c);
+                        assert!((w / o.weight[0] - 1.0).abs() < 1e-3, "{w} vs {}", o.weight[0]);
+                    }
+                    if let (Some((r, c_r)), Some((t, c_t))) = (split.reflection, split.refraction) {
+                        both += 1;
+                        assert!((c_r + c_t - 1.0).abs() < 1e-6);
+                        // The same facet: the half vectors of the two directions agree.
+                        let eta = if wi.z > 0.0 { 1.5 } else { 1.0 / 1.5 };
+                        let hr = (wi + r.wo).normalize();
+                        let ht = (wi + eta * t.wo).normalize();
+                        let (hr, ht) = (hr * hr.z.signum(), ht * ht.z.signum());
+                        assert!((hr - ht).length() < 1e-3, "{hr} vs {ht}");
+                    }
+                }
+                if wi.z > 0.0 {
+                    assert!(both > 32, "{kind:?} wi={wi}: both lobes {both} times of 64");
+                }
+            }
+        }
+    }
+    // Multiple scattering has no one facet; a dispersive index is not split.
+    let mut ms = glass(MicrofacetDistribution::isotropic(Ggx, 0.3));
+    ms.multiple_scattering = true;
+    let mut wl = SampledWavelengths::fixed(600.0);
+    assert!(
+        ms.sample_split(
+            &BsdfContext::radiance(),
+            dir(30.0, 0.0, 1.0),
+            Vec2::splat(0.5),
+            &mut wl
+        )
+        .is_none()
+    );
+    let prism = dispersive(MicrofacetDistribution::isotropic(Ggx, 0.3));
+    let mut wl = SampledWavelengths::from_parts([450.0, 520.0, 590.0, 660.0], [1.0; 4]);
+    assert!(
+        prism
+            .sample_split(
+                &BsdfContext::radiance(),
+                dir(30.0, 0.0, 1.0),
+                Vec2::splat(0.5),
+                &mut wl
+            )
+            .is_none()
+    );
+}

@@ -18,6 +18,7 @@
 //!
 //! [`SpectralValue`]: crate::spectra::SpectralValue
 
+use super::roughdielectric::LobeSplit;
 use super::roughplastic::{RoughCoat, RoughPlastic};
 use super::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
@@ -303,6 +304,25 @@ impl<'a> SurfaceBsdf<'a> {
     pub fn push_perturbed(&mut self, frame: crate::frame::Frame, child: u8) -> Result<u8, TooManyNodes> {
         debug_assert!(child < self.len);
         self.push(Node::Perturbed { frame, child })
+    }
+
+    /// Lobe splitting ([`RoughDielectric::sample_split`]) when the tree is one
+    /// single-scattering `roughdielectric`; `None` for every other material (the path tracer
+    /// then samples it as usual).
+    pub fn sample_split(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u2: Vec2,
+        wl: &mut SampledWavelengths,
+    ) -> Option<LobeSplit> {
+        if self.len != 1 {
+            return None;
+        }
+        match self.node(0) {
+            Some(Node::Leaf(LeafBsdf::RoughDielectric(rd))) => rd.sample_split(ctx, wi, u2, wl),
+            _ => None,
+        }
     }
 
     /// Empties the tree (keeping its storage): the next push is the first node.

@@ -101,6 +101,7 @@
 pub mod caustics;
 mod direct;
 pub mod layers;
+mod lobe_split;
 mod manifold;
 mod nee;
 pub mod polarized;
@@ -194,6 +195,8 @@ pub struct PathTracer<'a> {
     refracted_light: Vec<bool>,
     /// Next-event estimation through refraction ([`refracted`]) takes part.
     refracted_nee: bool,
+    /// Rough glass splits its lobes where one leaves the scene ([`lobe_split`]).
+    split_escapes: bool,
     /// Manifold next-event estimation through mirror spheres ([`manifold`]), where it takes part.
     manifold: Option<manifold::Setup>,
     max_depth: u32,
@@ -298,6 +301,8 @@ struct VertexOutcome<W: Weight> {
     light_ref: LightRef,
     /// Density of the light tracer sampling the reverse of a smooth sample (when asked for).
     reverse_pdf: f32,
+    /// Instead of `sample`, both lobes of rough glass ([`lobe_split`]).
+    pair: Option<lobe_split::LobePair<W>>,
 }
 
 impl<'a> PathTracer<'a> {
@@ -331,6 +336,7 @@ impl<'a> PathTracer<'a> {
             refractor,
             refracted_light: Vec::new(),
             refracted_nee: false,
+            split_escapes: settings.split_escapes,
             manifold: None,
             max_depth: if settings.max_depth < 0 {
                 u32::MAX
@@ -447,8 +453,13 @@ impl<'a> PathTracer<'a> {
         let mut l = W::ZERO;
         let mut state = PathState::<W>::CAMERA;
         let mut bsdf = SurfaceBsdf::new();
+        // The hit of `ray` when a lobe split traced it already.
+        let mut traced: Option<SurfaceInteraction> = None;
         loop {
-            let hit = self.accel.intersect(&ray);
+            let hit = match traced.take() {
+                Some(si) => Some(si),
+                None => self.accel.intersect(&ray),
+            };
             let show = !(self.hide_emitters && state.depth == 0);
             let Some(si) = hit else {
                 if show {
@@ -484,7 +495,18 @@ impl<'a> PathTracer<'a> {
             let outcome = self.scatter(&v, &state, arrival, light, sampler, wl);
             l += outcome.nee;
 
-            let Some(bs) = outcome.sample else { break };
+            let (bs, reverse_pdf) = match outcome.pair {
+                Some(pair) => {
+                    let followed = self.follow_pair(pair, &si, &state, outcome.light_ref, &mut l, wl);
+                    let Some(f) = followed else { break };
+                    traced = Some(f.hit);
+                    (f.sample, f.reverse_pdf)
+                }
+                None => match outcome.sample {
+                    Some(bs) => (bs, outcome.reverse_pdf),
+                    None => break,
+                },
+            };
             state.beta *= bs.weight;
             let dir = si.shading.to_world(bs.wo);
             ray = si.spawn_ray(dir);
@@ -514,7 +536,7 @@ impl<'a> PathTracer<'a> {
                     arrival,
                     si.n.dot(wi_world).abs(),
                     si.n.dot(dir).abs(),
-                    outcome.reverse_pdf,
+                    reverse_pdf,
                 );
             }
             state.prev = Some(PrevVertex {
@@ -668,6 +690,18 @@ impl<'a> PathTracer<'a> {
         } else {
             Vec2::splat(0.5)
         };
+        // After a delta lobe, a smooth sample here needs the light tracer's density of the
+        // reverse direction for the MIS ratio.
+        let want_reverse = self.traces_caustics() && state.after_delta();
+        if let Some(pair) = self.lobe_pair(v, u_lobe, u_dir, wl, want_reverse) {
+            return VertexOutcome {
+                nee,
+                sample: None,
+                light_ref,
+                reverse_pdf: 0.0,
+                pair: Some(pair),
+            };
+        }
         let ctx = BsdfContext::radiance();
         let sample = v
             .bsdf
@@ -681,9 +715,6 @@ impl<'a> PathTracer<'a> {
                 weight: bs.weight.local_to_world(&v.si.shading),
                 ..bs
             });
-        // After a delta lobe, a smooth sample here needs the light tracer's density of the
-        // reverse direction for the MIS ratio.
-        let want_reverse = self.traces_caustics() && state.after_delta();
         let reverse_pdf = match &sample {
             Some(bs) if want_reverse && !bs.flags.is_delta() => {
                 v.bsdf.pdf(&BsdfContext::importance(), bs.wo, v.wi, wl)
@@ -695,6 +726,7 @@ impl<'a> PathTracer<'a> {
             sample,
             light_ref,
             reverse_pdf,
+            pair: None,
         }
     }
 }

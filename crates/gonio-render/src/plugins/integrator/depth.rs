@@ -21,6 +21,7 @@ fn build<'d>(_: &mut Builder<'d>, _: &mut Params<'d>) -> Result<IntegratorDesc, 
         refracted_nee: false,
         manifold_nee: false,
         split_lights: 0,
+        split_escapes: false,
         ..IntegratorDesc::default()
     })
 }

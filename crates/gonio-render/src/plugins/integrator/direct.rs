@@ -90,6 +90,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         refracted_nee: false,
         manifold_nee: false,
         split_lights: 0,
+        split_escapes: false,
         kind: IntegratorKind::Direct {
             emitter_samples,
             bsdf_samples,

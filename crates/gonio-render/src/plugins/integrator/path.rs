@@ -59,6 +59,13 @@ const MANIFOLD_NEE: ParamSpec = ParamSpec::new(
     "(ours) caustics seen through delta surfaces: a light sample reflected by a mirror sphere (manifold next-event estimation), weighted by MIS",
 )
 .mitsuba(DefaultValue::Bool(false));
+const SPLIT_ESCAPES: ParamSpec = ParamSpec::new(
+    "split_escapes",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) at rough glass, a reflection or refraction that leaves the scene is added whole and the path follows the other lobe, instead of choosing one by Fresnel",
+)
+.mitsuba(DefaultValue::Bool(false));
 const SPLIT_LIGHTS: ParamSpec = ParamSpec::new(
     "split_lights",
     ParamType::Integer,
@@ -92,6 +99,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         CAUSTIC_PATHS,
         REFRACTED_NEE,
         MANIFOLD_NEE,
+        SPLIT_ESCAPES,
         SPLIT_LIGHTS,
         SAMPLES_PER_PASS,
         TIMEOUT,
@@ -129,6 +137,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
     let refracted_nee = p.bool(REFRACTED_NEE.name, p.default_of(&REFRACTED_NEE).bool())?;
     let manifold_nee = p.bool(MANIFOLD_NEE.name, p.default_of(&MANIFOLD_NEE).bool())?;
+    let split_escapes = p.bool(SPLIT_ESCAPES.name, p.default_of(&SPLIT_ESCAPES).bool())?;
     let split_lights = p.int_in(SPLIT_LIGHTS.name, p.default_of(&SPLIT_LIGHTS).int(), 0, 1024)? as u32;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     Ok(IntegratorDesc {
@@ -140,6 +149,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         caustic_paths,
         refracted_nee,
         manifold_nee,
+        split_escapes,
         split_lights,
         kind: IntegratorKind::Path,
         stokes: false,
