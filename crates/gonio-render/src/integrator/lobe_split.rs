@@ -175,28 +175,36 @@ impl PathTracer<'_> {
                 }
             }
         };
-        // Which lobe points outwards (ωo·n > 0), which inwards.
+        // Which lobe points outwards (ωo·n > 0), which inwards, and which the coin takes.
         let [r, t] = pair.lobes;
         let (out, inn) = if pair.outside { (r, t) } else { (t, r) };
-        let out_hit = out.map(|o| {
-            let dir = si.shading.to_world(o.sample.wo);
-            (o, self.accel.intersect(&si.spawn_ray(dir)), dir)
-        });
-        match out_hit {
-            Some((o, None, dir)) => {
-                // The outward lobe leaves the scene: both whole.
-                escape(l, &o.sample, o.sample.weight, dir);
-                follow(l, inn?, None, 1.0)
-            }
-            _ => {
-                // The path tracer's choice.
-                // (A lobe whose direction failed ends the path when taken, as in `sample`.)
-                let taken = if pair.u_lobe < pair.reflectance { r } else { t }?;
-                let traced = out_hit
-                    .and_then(|(o, hit, _)| (o.sample.flags == taken.sample.flags).then_some(hit))
-                    .flatten();
-                follow(l, taken, traced, taken.c)
-            }
+        let out_taken = (pair.u_lobe < pair.reflectance) == pair.outside;
+        let Some(o) = out else {
+            // No outward lobe (total internal reflection, or its direction failed): the coin,
+            // which ends the path where it takes the missing lobe (as `sample` does).
+            let i = if out_taken { None } else { inn }?;
+            return follow(l, i, None, i.c);
+        };
+        let dir = si.shading.to_world(o.sample.wo);
+        let ray = si.spawn_ray(dir);
+        // The outward ray's hit is needed only where the path may follow it.
+        let (leaves, out_hit) = if out_taken {
+            let hit = self.accel.intersect(&ray);
+            (hit.is_none(), hit)
+        } else {
+            (!self.accel.occluded(&ray), None)
+        };
+        if leaves {
+            // Both whole.
+            escape(l, &o.sample, o.sample.weight, dir);
+            return follow(l, inn?, None, 1.0);
+        }
+        // The path tracer's step.
+        if out_taken {
+            follow(l, o, out_hit, o.c)
+        } else {
+            let i = inn?;
+            follow(l, i, None, i.c)
         }
     }
 }
