@@ -366,10 +366,10 @@ impl<const N: usize, X: Isa> F32s<N, X> {
         self.max(lo).min(hi)
     }
     /// Linear interpolation in `table` at positions `self` ∈ [0, len − 1] per lane:
-    /// (1 − w)·table[i] + w·table[i + 1] with i = ⌊x⌋ clamped to len − 2 and w = x − i (a
+    /// (1 − w)·`table[i]` + w·`table[i + 1]` with i = ⌊x⌋ clamped to len − 2 and w = x − i (a
     /// position past the end extrapolates from the last interval). NaN or a negative position
     /// reads interval 0. Panics if `table` has fewer than 2 entries. With AVX-512F at 16 lanes or
-    /// AVX2 at 8 the two reads are gathers ([`Self::interval_ends`]).
+    /// AVX2 at 8 the two reads are gathers (`interval_ends`).
     #[inline(always)]
     pub fn lerp_table(self, table: &[f32]) -> Self {
         assert!(table.len() >= 2, "lerp_table needs two entries");

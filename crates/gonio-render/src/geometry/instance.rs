@@ -4,7 +4,7 @@
 //! A [`ShapeGroup`] holds its shapes once, in the group's own space; each member gets its own
 //! [`Accel`] there, built the first time an instance needs it and shared (`Arc`) by every
 //! instance. An instance of a group with k members becomes k top-level shapes
-//! ([`ShapeKind::Instance`]), one per member, so that each keeps its own material: the scene's
+//! ([`ShapeKind::Instance`](super::ShapeKind::Instance)), one per member, so that each keeps its own material: the scene's
 //! BVH is the top level over their world bounds, and a candidate ray is carried into the group's
 //! space and traced through the member's BVH:
 //!

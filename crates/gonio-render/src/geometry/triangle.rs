@@ -7,7 +7,7 @@ use glam::Vec3;
 /// A ray prepared for the watertight triangle test (Woop, Benthin and Wald 2013): the axis
 /// permutation that makes |d.z| largest and the shear constants.
 ///
-/// The permutation is kept as one of its six cases ([`TriRay::perm`]) so that the test is
+/// The permutation is kept as one of its six cases (`TriRay::perm`) so that the test is
 /// compiled once per case with constant component indices: indexing a `Vec3` by a run-time axis
 /// number cost more than the rest of the test (a bounds-checked `match` per component).
 #[derive(Clone, Copy, Debug)]

@@ -9,7 +9,7 @@
 //! glass the camera sees (taken with F ≈ 0.04–0.1, so each find is 10–25× too bright), and light
 //! bouncing inside a glass object, which leaves at whichever bounce the coin first says
 //! "refract": where it leaves, and so which part of the environment it brings back, is decided
-//! by a run of coin flips (Mitsuba's `bsdf_roughdielectric_glass` preview: a third of its error).
+//! by a run of coin flips (Mitsuba's `bsdf_roughdielectric_glass` preview: 30 % of its error).
 //!
 //! # The estimator
 //!
@@ -29,9 +29,10 @@
 //! in each case every lobe's integral is estimated without bias: whole, or followed with a
 //! probability its weight divides out. The cost is the outward ray where the path goes on
 //! inwards, and the inward paths that go on where the path tracer's would have left; the gain
-//! is that light leaving the glass no longer waits for the coin (relMSE −29 % at +9 % time on
-//! the preview, `bench/RESULTS.md`; following the inward lobe there with the coin's probability
-//! instead gave −27 % at +13 %).
+//! is that light leaving the glass no longer waits for the coin (relMSE −29 % at +11 % CPU time
+//! on the preview, `bench/RESULTS.md`; following the inward lobe there with the coin's
+//! probability instead gave −27 % at +13 %, and more noise where both lobes see the same
+//! radiance).
 //!
 //! # MIS
 //!

@@ -2,7 +2,7 @@
 //! 2012, "Polarised light in computer graphics"), and the `stokes` integrator's output.
 //!
 //! The estimators are the spectral ones, run with `W = Mueller` ([`PathTracer::li`],
-//! [`PathTracer::li_direct`] are generic): a path's throughput is the product of the Mueller
+//! `PathTracer::li_direct` are generic): a path's throughput is the product of the Mueller
 //! matrices of its vertices in path order, β = M₁ M₂ ⋯ Mₖ (M₁ nearest the camera), and the
 //! light that reaches the camera is β·s_e for an emitter's Stokes vector s_e. Emitters are
 //! unpolarized, s_e = (Lₑ, 0, 0, 0), so a path's contribution enters as β·D(Lₑ) with the

@@ -3,7 +3,7 @@
 //! `volume` (`src/textures/volume.cpp`, a grid evaluated at the surface point).
 //!
 //! * `mesh_attribute`: value = scale · A(hit). A vertex attribute is interpolated with the hit's
-//!   barycentric coordinates (b₀, b₁, b₂) on its triangle (i₀, i₁, i₂): A = Σ bₖ·A[iₖ], the
+//!   barycentric coordinates (b₀, b₁, b₂) on its triangle (i₀, i₁, i₂): A = Σ bₖ·`A[iₖ]`, the
 //!   coordinates the intersection found (so a mesh placed by an `instance` reads the same values
 //!   as the mesh placed directly; Mitsuba 3.9.1 recomputes them from the world-space point and
 //!   the group-space vertices, which is wrong under any instance transform but the identity); a face
