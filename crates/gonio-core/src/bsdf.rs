@@ -233,6 +233,32 @@ impl BsdfContext {
     }
 }
 
+/// Both lobes of a two-lobe interface at once, for the path tracer's lobe splitting
+/// (`gonio_render`'s `split_escapes`): the reflection and the refraction that
+/// [`Bsdf::sample`] chooses between with the same numbers (for a rough interface: about the one
+/// facet it draws). Each lobe's `weight` is that lobe's alone (f·|cos θo|/p_lobe, not divided
+/// by the probability of choosing it), while its `pdf` is what `sample` would report for the
+/// same direction, so that MIS weights stay the same functions of the path.
+#[derive(Clone, Copy, Debug)]
+pub struct LobeSplit {
+    /// The reflection and the probability F with which `sample` takes it.
+    pub reflection: Option<(BsdfSample, f32)>,
+    /// The refraction and its probability 1 − F.
+    pub refraction: Option<(BsdfSample, f32)>,
+    /// F, the probability with which `sample` takes the reflection (whether or not its direction
+    /// is valid: `sample` fails where the lobe it takes does).
+    pub reflectance: f32,
+}
+
+impl LobeSplit {
+    /// Neither lobe.
+    pub const NONE: Self = Self {
+        reflection: None,
+        refraction: None,
+        reflectance: 0.0,
+    };
+}
+
 /// The result of [`Bsdf::sample`].
 ///
 /// The weight's type is a parameter ([`crate::weight::Weight`]): a spectrum here, a Mueller

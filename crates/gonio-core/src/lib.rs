@@ -34,7 +34,7 @@ pub mod spectrum;
 pub mod warp;
 pub mod weight;
 
-pub use bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
+pub use bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, LobeSplit, TransportMode};
 pub use frame::Frame;
 pub use ior::Ior;
 pub use spectra::Spectrum;

@@ -46,3 +46,28 @@ fn split_escapes_keeps_the_expectation_of_rough_glass() {
     assert!(on.scene.integrator.split_escapes && !off.scene.integrator.split_escapes);
     same_mean_less_noise(&on, &off, 16, "rough glass under the museum", 0.8);
 }
+
+/// Without a light at infinity nothing can be gained from an escape, and no ray is traced for
+/// one: the same scene under a lamp alone renders bit for bit the same with and without
+/// splitting.
+#[test]
+fn split_escapes_stays_off_without_a_light_at_infinity() {
+    let lamp = r#"<shape type="rectangle">
+        <transform name="to_world"><scale value="0.5"/><rotate x="1" angle="90"/><translate y="3"/></transform>
+        <emitter type="area"><rgb name="radiance" value="10"/></emitter>
+    </shape>"#;
+    let without_sky = |split: bool| {
+        let xml = scene(split);
+        let start = xml.find("    <emitter type=\"envmap\">").unwrap();
+        format!("{}{lamp}\n</scene>", &xml[..start])
+    };
+    let (on, off) = (
+        prepare(&without_sky(true), false),
+        prepare(&without_sky(false), false),
+    );
+    assert!(on.lights().infinite().is_empty());
+    let a = crate::render_stats::green(&on, 8, 3);
+    let b = crate::render_stats::green(&off, 8, 3);
+    assert!(a.iter().any(|&v| v > 0.0), "the lamp lights the glass");
+    assert_eq!(a, b);
+}

@@ -65,7 +65,7 @@
 //!
 //! gonio additionally accepts a spectrum (Sellmeier, table) for either index.
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, LobeSplit, TransportMode};
 use crate::fresnel::{fresnel_dielectric, fresnel_dielectric_spectrum};
 use crate::fresnel_polarized::{dielectric_reflection, dielectric_transmission, facet_mueller};
 use crate::ior::{Ior, IorValue, SampledIor, relative_eta, relative_hero_eta};
@@ -106,28 +106,6 @@ const WIDENING_MIN_ALPHA: f32 = 1e-2;
 
 /// The lobe flags of the rough refraction.
 const TRANSMISSION: BsdfFlags = BsdfFlags(BsdfFlags::GLOSSY_TRANSMISSION.0 | BsdfFlags::NON_SYMMETRIC.0);
-
-/// Both lobes of one facet ([`RoughDielectric::sample_split`]).
-#[derive(Clone, Copy, Debug)]
-pub struct LobeSplit {
-    /// The reflection, weighted as that lobe alone (f·|cos θo|/p_lobe; `pdf` the full model's),
-    /// and the probability F with which `sample` takes it.
-    pub reflection: Option<(BsdfSample, f32)>,
-    /// The refraction, weighted the same way, and its probability 1 − F.
-    pub refraction: Option<(BsdfSample, f32)>,
-    /// F, the probability with which `sample` takes the reflection (whether or not its direction
-    /// is valid: `sample` fails where the lobe it takes does).
-    pub reflectance: f32,
-}
-
-impl LobeSplit {
-    /// Neither lobe.
-    pub const NONE: Self = Self {
-        reflection: None,
-        refraction: None,
-        reflectance: 0.0,
-    };
-}
 
 impl Default for RoughDielectric {
     /// Mitsuba's defaults: bk7 (1.5046) inside, air (1.000277) outside, Beckmann α = 0.1,

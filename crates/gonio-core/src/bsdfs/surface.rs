@@ -18,14 +18,13 @@
 //!
 //! [`SpectralValue`]: crate::spectra::SpectralValue
 
-use super::roughdielectric::LobeSplit;
 use super::roughplastic::{RoughCoat, RoughPlastic};
 use super::{
     BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Plastic, Principled, PrincipledThin,
     RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
 use super::{CircularPolarizer, Polarizer, Retarder};
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, LobeSplit};
 use crate::ior::SampledIor;
 use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -306,8 +305,8 @@ impl<'a> SurfaceBsdf<'a> {
         self.push(Node::Perturbed { frame, child })
     }
 
-    /// Lobe splitting ([`RoughDielectric::sample_split`]) when the tree is one
-    /// single-scattering `roughdielectric`; `None` for every other material (the path tracer
+    /// Lobe splitting ([`LobeSplit`]) when the tree is one single-scattering `roughdielectric`
+    /// ([`RoughDielectric::sample_split`]); `None` for every other material (the path tracer
     /// then samples it as usual).
     pub fn sample_split(
         &self,

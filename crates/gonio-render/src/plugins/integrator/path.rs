@@ -63,7 +63,7 @@ const SPLIT_ESCAPES: ParamSpec = ParamSpec::new(
     "split_escapes",
     ParamType::Boolean,
     DefaultValue::Bool(true),
-    "(ours) at rough glass, a reflection or refraction that leaves the scene is added whole and the path follows the other lobe, instead of choosing one by Fresnel",
+    "(ours) at rough glass, in a scene with a light at infinity: a reflection or refraction that leaves the scene is added whole and the path follows the other lobe, instead of choosing one by Fresnel",
 )
 .mitsuba(DefaultValue::Bool(false));
 const SPLIT_LIGHTS: ParamSpec = ParamSpec::new(
