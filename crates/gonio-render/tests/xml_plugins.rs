@@ -708,3 +708,47 @@ fn envmap_estimator_switches_follow_mitsuba_estimators() {
     assert_eq!(load(off, false), (false, false));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `prb` and its relatives render as the path tracer, so they take the path tracer's estimator
+/// defaults too: ours, and under `LoadOptions::mitsuba_estimators` every one of Mitsuba's (the
+/// same as `path` then), keeping their own depth.
+#[test]
+fn differentiable_integrators_follow_mitsuba_estimators() {
+    use gonio_render::scene::IntegratorDesc;
+    use gonio_render::xml::{LoadOptions, load_scene_file_with};
+    let dir = std::env::temp_dir().join(format!("gonio-prb-estimators-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let load = |ty: &str, mitsuba: bool| -> IntegratorDesc {
+        let path = dir.join("scene.xml");
+        std::fs::write(
+            &path,
+            format!(r#"<scene version="3.0.0"><integrator type="{ty}"><integer name="max_depth" value="6"/></integrator></scene>"#),
+        )
+        .unwrap();
+        let options = LoadOptions {
+            mitsuba_estimators: mitsuba,
+            ..LoadOptions::default()
+        };
+        load_scene_file_with(&path, &options).unwrap().scene.integrator
+    };
+    for mitsuba in [false, true] {
+        let path = load("path", mitsuba);
+        for ty in ["prb", "prb_basic", "prb_projective"] {
+            assert_eq!(load(ty, mitsuba), path, "{ty}, Mitsuba's estimators: {mitsuba}");
+        }
+    }
+    let mitsuba = load("prb", true);
+    assert_eq!(
+        (
+            mitsuba.thin_shadows,
+            mitsuba.caustic_paths,
+            mitsuba.refracted_nee,
+            mitsuba.manifold_nee,
+            mitsuba.split_escapes,
+            mitsuba.split_lights,
+            mitsuba.rr_survival
+        ),
+        (false, false, false, false, false, 0, 0.95)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

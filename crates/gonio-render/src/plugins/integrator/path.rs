@@ -125,6 +125,22 @@ pub(super) fn read_path_rows(
     Ok((depth, rr_depth, hide_emitters))
 }
 
+/// `desc` with the defaults of our estimator rows (`thin_shadows` … `split_lights`) for this
+/// document: ours, or Mitsuba's under `--mitsuba-estimators`. For integrators that render as
+/// the path tracer without these rows (Mitsuba's `prb` family).
+pub(super) fn with_estimator_defaults(p: &Params<'_>, desc: IntegratorDesc) -> IntegratorDesc {
+    IntegratorDesc {
+        rr_survival: p.default_of(&RR_SURVIVAL).float() as f32,
+        thin_shadows: p.default_of(&THIN_SHADOWS).bool(),
+        caustic_paths: p.default_of(&CAUSTIC_PATHS).bool(),
+        refracted_nee: p.default_of(&REFRACTED_NEE).bool(),
+        manifold_nee: p.default_of(&MANIFOLD_NEE).bool(),
+        split_escapes: p.default_of(&SPLIT_ESCAPES).bool(),
+        split_lights: p.default_of(&SPLIT_LIGHTS).int() as u32,
+        ..desc
+    }
+}
+
 fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
     let (max_depth, rr_depth, hide_emitters) = read_path_rows(p, &MAX_DEPTH)?;
     let rr_survival = p.float_checked(

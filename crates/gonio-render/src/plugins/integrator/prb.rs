@@ -8,7 +8,8 @@
 //! Mitsuba's `direct` with its defaults), so gonio renders them with its `path` and `direct`
 //! integrators. Their parameters are accepted with Mitsuba's names, defaults and checks; those
 //! that only steer derivatives (`sppc`, `sppp`, `sppi`, `guiding*`, `project_seed`) are read
-//! and ignored.
+//! and ignored. The path tracer's estimator rows of ours (`thin_shadows` … `split_lights`) take
+//! `path`'s defaults: ours, or Mitsuba's under `--mitsuba-estimators`.
 //!
 //! | parameter | default | meaning |
 //! |---|---|---|
@@ -146,13 +147,17 @@ fn read(p: &mut Params<'_>) -> Result<(i32, u32, bool), SceneError> {
 
 fn build_path<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
     let (max_depth, rr_depth, hide_emitters) = read(p)?;
-    Ok(IntegratorDesc {
-        max_depth,
-        rr_depth,
-        hide_emitters,
-        kind: IntegratorKind::Path,
-        ..IntegratorDesc::default()
-    })
+    // The path tracer's estimators: ours, or Mitsuba's under `--mitsuba-estimators`.
+    Ok(super::path::with_estimator_defaults(
+        p,
+        IntegratorDesc {
+            max_depth,
+            rr_depth,
+            hide_emitters,
+            kind: IntegratorKind::Path,
+            ..IntegratorDesc::default()
+        },
+    ))
 }
 
 fn build_direct<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
