@@ -55,14 +55,12 @@ use glam::Vec2;
 use gonio_core::weight::Weight;
 use gonio_core::{Bsdf, BsdfContext, BsdfSample, SampledWavelengths};
 
-/// One lobe of a split vertex: world-space weight `w` (`pdf` the full density), the probability
-/// `c` with which the path tracer takes it, and the light tracer's density of its reverse (when
-/// the caustics need it).
+/// One lobe of a split vertex: world-space weight `w` (`pdf` the full density) and the
+/// probability `c` with which the path tracer takes it.
 #[derive(Clone, Copy)]
 struct Lobe<W> {
     sample: BsdfSample<W>,
     c: f32,
-    reverse_pdf: f32,
 }
 
 /// Both lobes of a split vertex, and the number that chooses between them.
@@ -72,9 +70,9 @@ pub(super) struct LobePair<W> {
     lobes: [Option<Lobe<W>>; 2],
     /// The probability F of taking the reflection.
     reflectance: f32,
-    /// ωi on the outside: the reflection points outwards (from inside, the refraction does).
-    outside: bool,
     u_lobe: f32,
+    /// The lobe followed needs the light tracer's density of its reverse (for the caustics).
+    want_reverse: bool,
 }
 
 /// The lobe a split vertex's path follows: its sample (weight divided by the probability of
@@ -107,11 +105,6 @@ impl PathTracer<'_> {
             if !(bs.weight.is_finite() && !bs.weight.is_black() && c > 0.0) {
                 return None;
             }
-            let reverse_pdf = if want_reverse {
-                v.bsdf.pdf(&BsdfContext::importance(), bs.wo, v.wi, wl)
-            } else {
-                0.0
-            };
             Some(Lobe {
                 sample: BsdfSample {
                     weight: W::from_spectrum(bs.weight).local_to_world(&v.si.shading),
@@ -121,28 +114,28 @@ impl PathTracer<'_> {
                     eta: bs.eta,
                 },
                 c,
-                reverse_pdf,
             })
         };
         Some(LobePair {
             lobes: [lobe(split.reflection), lobe(split.refraction)],
             reflectance: split.reflectance,
-            outside: v.wi.z > 0.0,
             u_lobe,
+            want_reverse,
         })
     }
 
-    /// Traces the lobes of `pair` from `si` as the module's rule says: adds what leaves the scene
+    /// Traces the lobes of `pair` from `v` as the module's rule says: adds what leaves the scene
     /// to `l` and returns the lobe the path follows (`None`: the path ends).
     pub(super) fn follow_pair<W: Weight>(
         &self,
         pair: LobePair<W>,
-        si: &SurfaceInteraction,
+        v: &Vertex,
         state: &PathState<W>,
         light_ref: LightRef,
         l: &mut W,
         wl: &SampledWavelengths,
     ) -> Option<Followed<W>> {
+        let si = v.si;
         // A lobe whose ray leaves the scene: the escape its next vertex would have added.
         let escape = |l: &mut W, bs: &BsdfSample<W>, weight: W, dir| {
             let escaped = PathState {
@@ -171,7 +164,11 @@ impl PathTracer<'_> {
                         ..lobe.sample
                     },
                     hit,
-                    reverse_pdf: lobe.reverse_pdf,
+                    reverse_pdf: if pair.want_reverse {
+                        v.bsdf.pdf(&BsdfContext::importance(), lobe.sample.wo, v.wi, wl)
+                    } else {
+                        0.0
+                    },
                 }),
                 None => {
                     escape(l, &lobe.sample, weight, dir);
@@ -179,10 +176,12 @@ impl PathTracer<'_> {
                 }
             }
         };
-        // Which lobe points outwards (ωo·n > 0), which inwards, and which the coin takes.
+        // Which lobe points outwards (ωo·n > 0: the reflection when ωi is on the outside, the
+        // refraction from inside), which inwards, and which the coin takes.
         let [r, t] = pair.lobes;
-        let (out, inn) = if pair.outside { (r, t) } else { (t, r) };
-        let out_taken = (pair.u_lobe < pair.reflectance) == pair.outside;
+        let outside = v.wi.z > 0.0;
+        let (out, inn) = if outside { (r, t) } else { (t, r) };
+        let out_taken = (pair.u_lobe < pair.reflectance) == outside;
         let Some(o) = out else {
             // No outward lobe (total internal reflection, or its direction failed): the coin,
             // which ends the path where it takes the missing lobe (as `sample` does).

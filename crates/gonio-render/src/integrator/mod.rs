@@ -297,12 +297,23 @@ struct Vertex<'v> {
 struct VertexOutcome<W: Weight> {
     /// Next-event estimation and light-subpath connections, throughput included.
     nee: W,
-    sample: Option<BsdfSample<W>>,
     light_ref: LightRef,
-    /// Density of the light tracer sampling the reverse of a smooth sample (when asked for).
-    reverse_pdf: f32,
-    /// Instead of `sample`, both lobes of rough glass ([`lobe_split`]).
-    pair: Option<lobe_split::LobePair<W>>,
+    /// Manifold next-event estimation took part here ([`manifold`]).
+    manifold_here: bool,
+    /// Where the path goes next.
+    step: Step<W>,
+}
+
+/// The continuation a vertex drew.
+enum Step<W: Weight> {
+    /// One BSDF sample (`None`: the path ends) and the light tracer's density of its reverse
+    /// (when asked for).
+    Sampled {
+        sample: Option<BsdfSample<W>>,
+        reverse_pdf: f32,
+    },
+    /// Both lobes of rough glass ([`lobe_split`]).
+    Split(lobe_split::LobePair<W>),
 }
 
 impl<'a> PathTracer<'a> {
@@ -491,21 +502,21 @@ impl<'a> PathTracer<'a> {
                 si: &si,
                 wi: si.shading.to_local(wi_world),
             };
-            let manifold_here = self.manifold_applies(&state);
             let outcome = self.scatter(&v, &state, arrival, light, sampler, wl);
             l += outcome.nee;
 
-            let (bs, reverse_pdf) = match outcome.pair {
-                Some(pair) => {
-                    let followed = self.follow_pair(pair, &si, &state, outcome.light_ref, &mut l, wl);
+            let (bs, reverse_pdf) = match outcome.step {
+                Step::Split(pair) => {
+                    let followed = self.follow_pair(pair, &v, &state, outcome.light_ref, &mut l, wl);
                     let Some(f) = followed else { break };
                     traced = Some(f.hit);
                     (f.sample, f.reverse_pdf)
                 }
-                None => match outcome.sample {
-                    Some(bs) => (bs, outcome.reverse_pdf),
-                    None => break,
-                },
+                Step::Sampled {
+                    sample: Some(bs),
+                    reverse_pdf,
+                } => (bs, reverse_pdf),
+                Step::Sampled { sample: None, .. } => break,
             };
             state.beta *= bs.weight;
             let dir = si.shading.to_world(bs.wo);
@@ -521,7 +532,7 @@ impl<'a> PathTracer<'a> {
             }
 
             state.eta *= bs.eta;
-            state.mnee = self.manifold_after_sample(state.mnee, manifold_here, (&si, dir), &bs);
+            state.mnee = self.manifold_after_sample(state.mnee, outcome.manifold_here, (&si, dir), &bs);
             if self.refracted_nee {
                 state.refr = if bs.flags.is_delta() {
                     self.refracted_after_delta(state.refr, si.shape, &bs)
@@ -652,6 +663,7 @@ impl<'a> PathTracer<'a> {
         // needs no direction), so the sampler's structured dimensions reach the smooth vertices
         // behind glass and mirrors. The count is a function of the path, as it must be.
         let smooth = flags.has_smooth();
+        let manifold_here = self.manifold_applies(state);
         let mut nee = W::ZERO;
         if smooth {
             let u_sel = sampler.next_1d();
@@ -673,7 +685,7 @@ impl<'a> PathTracer<'a> {
                 (1.0, 1.0),
                 path.as_ref(),
             );
-            if self.manifold_applies(state) {
+            if manifold_here {
                 // Spectral paths only (`manifold` is off in polarized mode).
                 let c = self.manifold_next_event(v, u_sel, u_light, wl);
                 nee += state.beta * W::from_spectrum(c);
@@ -696,10 +708,9 @@ impl<'a> PathTracer<'a> {
         if let Some(pair) = self.lobe_pair(v, u_lobe, u_dir, wl, want_reverse) {
             return VertexOutcome {
                 nee,
-                sample: None,
                 light_ref,
-                reverse_pdf: 0.0,
-                pair: Some(pair),
+                manifold_here,
+                step: Step::Split(pair),
             };
         }
         let ctx = BsdfContext::radiance();
@@ -723,10 +734,9 @@ impl<'a> PathTracer<'a> {
         };
         VertexOutcome {
             nee,
-            sample,
             light_ref,
-            reverse_pdf,
-            pair: None,
+            manifold_here,
+            step: Step::Sampled { sample, reverse_pdf },
         }
     }
 }
