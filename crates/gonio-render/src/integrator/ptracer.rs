@@ -19,8 +19,9 @@
 //!
 //! `max_depth` counts segments of the whole path, camera segment included (1: emitters seen
 //! directly, 2: direct lighting); Russian roulette from `rr_depth` on with
-//! q = min(max(Π weights), 0.95) on the vertex weights (Mitsuba uses β including the emission,
-//! which makes q = 0.95 almost always: the same expectation). A dispersive refraction leaves the
+//! q = min(max(Π weights), q_max) on the vertex weights, q_max Mitsuba's 0.95 (the plugin's
+//! `rr_survival`; Mitsuba uses β including the emission, which makes q = 0.95 almost always:
+//! the same expectation). A dispersive refraction leaves the
 //! hero wavelength alone for the rest of the path (connections before it used all four).
 //! Paths are spectral (a polarizing material is rendered without polarization) and thin sheets
 //! are ordinary delta vertices (`thin_shadows` off), as in Mitsuba.
@@ -198,7 +199,7 @@ impl PathTracer<'_> {
             ray = si.spawn_ray(wo_world);
             depth += 1;
             if depth > self.rr_depth {
-                let q = throughput.max_component().min(0.95);
+                let q = throughput.max_component().min(self.rr_survival);
                 if !(sampler.next_1d() < q) {
                     break;
                 }

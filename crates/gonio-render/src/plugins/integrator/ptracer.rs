@@ -34,6 +34,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     Ok(IntegratorDesc {
         max_depth,
         rr_depth,
+        // Mitsuba's roulette cap (the light tracer has no trapped-light fireflies to fix).
         rr_survival: 0.95,
         hide_emitters,
         thin_shadows: false,
