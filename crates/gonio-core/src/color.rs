@@ -134,6 +134,25 @@ pub fn d65_normalized(lambda: f32) -> f32 {
     d65(lambda) * *D65_SCALE
 }
 
+/// [`d65_normalized`] at four wavelengths, each value equal bit for bit to its (one check of the
+/// scale and the four interpolations side by side: an RGB emitter's spectrum at a path's
+/// wavelengths, `RgbSpectrum::sample`).
+#[inline]
+pub fn d65_normalized4(lambda: [f32; 4]) -> [f32; 4] {
+    let scale = *D65_SCALE;
+    let last = (D65_SAMPLES - 1) as f32;
+    // Outside the table a = b = t = 0, which gives 0 as `lerp_table` does.
+    let (mut a, mut b, mut t) = ([0.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
+    for k in 0..4 {
+        let x = (lambda[k] - D65_LAMBDA_START) / D65_LAMBDA_STEP;
+        if (0.0..=last).contains(&x) {
+            let i = (x as usize).min(D65_SAMPLES - 2);
+            (a[k], b[k], t[k]) = (D65[i], D65[i + 1], x - i as f32);
+        }
+    }
+    std::array::from_fn(|k| (a[k] + t[k] * (b[k] - a[k])) * scale)
+}
+
 /// The Monte Carlo estimate of CIE XYZ from radiance `l` carried at the wavelengths `wl`:
 /// mean_i[x̄ȳz̄(λᵢ) Lᵢ / pᵢ] / CIE_Y_INTEGRAL, where a zero pdf (terminated wavelength)
 /// contributes 0.
@@ -236,6 +255,24 @@ pub fn srgb_decode(x: f32) -> f32 {
 mod tests {
     use super::*;
     use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN};
+
+    #[test]
+    fn d65_four_at_a_time_is_d65_normalized_bit_for_bit() {
+        // Every 1/8 nm over the table and beyond it on both sides, and values that are not
+        // wavelengths at all.
+        let mut lambdas: Vec<f32> = (0..8 * 700).map(|k| 250.0 + k as f32 / 8.0).collect();
+        lambdas.extend([f32::NAN, f32::INFINITY, f32::NEG_INFINITY, -0.0, 830.0, 300.0]);
+        for c in lambdas.chunks(4) {
+            let mut l = [555.0f32; 4];
+            l[..c.len()].copy_from_slice(c);
+            let four = d65_normalized4(l);
+            for k in 0..4 {
+                assert_eq!(four[k].to_bits(), d65_normalized(l[k]).to_bits(), "λ = {}", l[k]);
+            }
+        }
+        let wl = crate::spectrum::SampledWavelengths::from_parts([400.0, 512.3, 640.7, 829.9], [1.0; 4]);
+        assert_eq!(wl.d65(), d65_normalized4(wl.lambdas()));
+    }
 
     #[test]
     fn luminance_is_the_y_of_the_xyz_conversion() {

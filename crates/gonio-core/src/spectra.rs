@@ -283,9 +283,7 @@ impl RgbSpectrum {
         let lambda = glam::Vec4::from_array(wl.lambdas());
         let v = glam::Vec4::splat(self.scale) * self.sigmoid.eval4(lambda);
         match self.kind {
-            RgbKind::Illuminant => {
-                SampledSpectrum(v * glam::Vec4::from_array(wl.lambdas().map(d65_normalized)))
-            }
+            RgbKind::Illuminant => SampledSpectrum(v * glam::Vec4::from_array(wl.d65())),
             _ => SampledSpectrum(v),
         }
     }

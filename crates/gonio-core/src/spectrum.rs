@@ -229,9 +229,22 @@ pub fn sample_visible_wavelength(u: f32) -> f32 {
 pub struct SampledWavelengths {
     lambda: [f32; N_SPECTRUM_SAMPLES],
     pdf: [f32; N_SPECTRUM_SAMPLES],
+    /// The normalized D65 illuminant at `lambda`, made once with the wavelengths: every RGB
+    /// emitter's spectrum multiplies by it at each lookup.
+    d65: [f32; N_SPECTRUM_SAMPLES],
 }
 
 impl SampledWavelengths {
+    /// The wavelengths `lambda` with densities `pdf` (the one place that builds the struct).
+    #[inline]
+    fn make(lambda: [f32; N_SPECTRUM_SAMPLES], pdf: [f32; N_SPECTRUM_SAMPLES]) -> Self {
+        Self {
+            lambda,
+            pdf,
+            d65: crate::color::d65_normalized4(lambda),
+        }
+    }
+
     /// Hero wavelength from the visible pdf, the others rotated by i/4 in sample space
     /// (Mitsuba's `sample_shifted`, pbrt's `SampleVisible`).
     pub fn sample_visible(u: f32) -> Self {
@@ -245,7 +258,7 @@ impl SampledWavelengths {
             lambda[i] = sample_visible_wavelength(up);
             pdf[i] = visible_wavelength_pdf(lambda[i]);
         }
-        Self { lambda, pdf }
+        Self::make(lambda, pdf)
     }
 
     /// Hero wavelength uniform in [lo, hi], the others spaced (hi − lo)/4 apart, wrapped.
@@ -260,24 +273,18 @@ impl SampledWavelengths {
             }
             lambda[i] = l;
         }
-        Self {
-            lambda,
-            pdf: [1.0 / (hi - lo); N_SPECTRUM_SAMPLES],
-        }
+        Self::make(lambda, [1.0 / (hi - lo); N_SPECTRUM_SAMPLES])
     }
 
     /// One fixed wavelength, for point queries (`gonio bsdf eval ... lambda_nm`): all four
     /// entries are `lambda` with pdf 1, so each slot of a result holds the value at `lambda`.
     pub fn fixed(lambda: f32) -> Self {
-        Self {
-            lambda: [lambda; N_SPECTRUM_SAMPLES],
-            pdf: [1.0; N_SPECTRUM_SAMPLES],
-        }
+        Self::make([lambda; N_SPECTRUM_SAMPLES], [1.0; N_SPECTRUM_SAMPLES])
     }
 
     /// Four given wavelengths with given pdfs (tests, instruments).
     pub fn from_parts(lambda: [f32; N_SPECTRUM_SAMPLES], pdf: [f32; N_SPECTRUM_SAMPLES]) -> Self {
-        Self { lambda, pdf }
+        Self::make(lambda, pdf)
     }
 
     /// Wavelength `i`, nm.
@@ -289,6 +296,12 @@ impl SampledWavelengths {
     #[inline]
     pub fn lambdas(&self) -> [f32; N_SPECTRUM_SAMPLES] {
         self.lambda
+    }
+    /// The normalized D65 illuminant at the four wavelengths ([`crate::color::d65_normalized`],
+    /// bit for bit), computed once when the wavelengths were drawn.
+    #[inline]
+    pub fn d65(&self) -> [f32; N_SPECTRUM_SAMPLES] {
+        self.d65
     }
     /// The hero wavelength λ₀, nm.
     #[inline]

@@ -255,7 +255,11 @@ impl Accel {
             let prims = all_prims(&shapes, meshes_elsewhere);
             let flat = (!prims.is_empty()).then(|| {
                 let aabbs: Vec<Aabb> = prims.iter().map(|p| prim_aabb(&shapes, p)).collect();
-                flat::FlatBoxes::new(&aabbs)
+                let triangles = prims.iter().any(|p| match *p {
+                    Prim::Tri { .. } => true,
+                    Prim::Analytic { shape } => matches!(shapes[shape as usize].kind, ShapeKind::Mesh(_)),
+                });
+                flat::FlatBoxes::new(&aabbs, triangles)
             });
             return Self {
                 shapes,

@@ -38,6 +38,8 @@ struct Chunk {
 #[derive(Clone, Debug)]
 pub(super) struct FlatBoxes {
     chunks: Vec<Chunk>,
+    /// Some primitive is a triangle: queries prepare the ray for the triangle test.
+    triangles: bool,
 }
 
 /// A ray prepared for the slab test: origin and inverse direction splatted over four lanes.
@@ -61,8 +63,9 @@ impl SlabRay {
 }
 
 impl FlatBoxes {
-    /// The list of `boxes` (one per primitive, same order).
-    pub(super) fn new(boxes: &[Aabb]) -> Self {
+    /// The list of `boxes` (one per primitive, same order); `triangles` when some primitive is
+    /// tested as a triangle.
+    pub(super) fn new(boxes: &[Aabb], triangles: bool) -> Self {
         let chunks = boxes
             .chunks(4)
             .map(|c| {
@@ -81,7 +84,17 @@ impl FlatBoxes {
                 }
             })
             .collect();
-        Self { chunks }
+        Self { chunks, triangles }
+    }
+
+    /// The triangle test's set-up of `ray`, made only when a primitive needs it.
+    #[inline(always)]
+    fn tri_ray(&self, ray: &Ray) -> TriRay {
+        if self.triangles {
+            TriRay::new(ray)
+        } else {
+            TriRay::none(ray)
+        }
     }
 
     /// Lanes of chunk `c` whose box the ray enters within `(0, tmax]` (bit `i` for lane `i`).
@@ -110,7 +123,7 @@ impl FlatBoxes {
         prims: &[Prim],
         ray: &Ray,
     ) -> Option<(PrimHit, usize)> {
-        let tri = TriRay::new(ray);
+        let tri = self.tri_ray(ray);
         let slab = SlabRay::new(ray);
         let mut q = *ray;
         let mut best = None;
@@ -131,7 +144,7 @@ impl FlatBoxes {
     /// Whether any primitive is hit in `(0, ray.tmax)`.
     #[inline]
     pub(super) fn any(&self, shapes: &[WorldShape], prims: &[Prim], ray: &Ray) -> bool {
-        let tri = TriRay::new(ray);
+        let tri = self.tri_ray(ray);
         let slab = SlabRay::new(ray);
         for (ci, c) in self.chunks.iter().enumerate() {
             let mut m = self.entered(c, &slab, ray.tmax);
@@ -154,7 +167,7 @@ impl FlatBoxes {
         ray: &Ray,
         f: &mut dyn FnMut(&SurfaceInteraction) -> bool,
     ) -> bool {
-        let tri = TriRay::new(ray);
+        let tri = self.tri_ray(ray);
         let slab = SlabRay::new(ray);
         for (ci, c) in self.chunks.iter().enumerate() {
             let mut m = self.entered(c, &slab, ray.tmax);

@@ -56,7 +56,7 @@ use super::LightRef;
 use super::envmap_product::CosineProduct;
 use glam::Vec4;
 use glam::{Affine3A, Vec2, Vec3};
-use gonio_core::color::{d65_normalized, luminance};
+use gonio_core::color::luminance;
 use gonio_core::rgb2spec::RgbSigmoid;
 use gonio_core::sampling::Distribution2D;
 use gonio_core::spectra::RgbKind;
@@ -328,7 +328,7 @@ impl EnvMapLight {
                 }
             }
             if *kind == RgbKind::Illuminant {
-                acc *= Vec4::from_array(wl.lambdas().map(d65_normalized));
+                acc *= Vec4::from_array(wl.d65());
             }
             return SampledSpectrum(acc * self.scale);
         }

@@ -24,6 +24,17 @@ pub struct TriRay {
 const PERMUTATIONS: [[usize; 3]; 6] = [[1, 2, 0], [2, 1, 0], [2, 0, 1], [0, 2, 1], [0, 1, 2], [1, 0, 2]];
 
 impl TriRay {
+    /// A stand-in for a query that tests no triangle (a scene of analytic shapes alone): the
+    /// set-up's three divisions skipped. Never valid for [`intersect_triangle`].
+    #[inline]
+    pub fn none(ray: &Ray) -> Self {
+        Self {
+            o: ray.o,
+            perm: 0,
+            s: Vec3::ZERO,
+        }
+    }
+
     /// Prepares `ray`.
     #[inline]
     pub fn new(ray: &Ray) -> Self {
