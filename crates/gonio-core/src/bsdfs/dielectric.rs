@@ -35,7 +35,8 @@
 //! gonio additionally accepts a spectrum (Sellmeier, table) for either index.
 
 use crate::bsdf::{
-    Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode, choose_delta_lobe, light_directions, reflect,
+    Bsdf, BsdfContext, BsdfFlags, BsdfSample, LobeSplit, TransportMode, choose_delta_lobe, light_directions,
+    reflect,
 };
 use crate::fresnel::{FresnelDielectric, fresnel_dielectric, fresnel_dielectric_spectrum, refract};
 use crate::fresnel_polarized::{
@@ -92,6 +93,37 @@ impl Dielectric {
             specular_reflectance: self.specular_reflectance.sample(wl),
             specular_transmittance: self.specular_transmittance.sample(wl),
         }
+    }
+}
+
+impl<S: SpectralValue, I: IorValue> Dielectric<S, I> {
+    /// Both lobes [`Bsdf::sample`] chooses between with the coin `u1 < F` ([`LobeSplit`]): the
+    /// reflection weighted F·tint, the refraction (1 − F)·η²·tint, each with the probability
+    /// `sample` takes it as its `pdf`. `None` for a dispersive index (a refraction would end the
+    /// secondary wavelengths of both) and grazing ωi; no refraction under total internal
+    /// reflection.
+    pub fn sample_split(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wl: &mut SampledWavelengths,
+    ) -> Option<LobeSplit> {
+        let dispersive = self.int_ior.is_dispersive() || self.ext_ior.is_dispersive();
+        if wi.z == 0.0 || (dispersive && !wl.secondary_terminated()) {
+            return None;
+        }
+        let f_hero = fresnel_dielectric(wi.z, relative_eta(&self.int_ior, &self.ext_ior, wl)[0]).reflectance;
+        let lobe = |flags: BsdfFlags, choice: f32, wl: &mut SampledWavelengths| {
+            // One lobe enabled: `sample` takes it with probability 1, weighted by F or 1 − F.
+            self.sample(&ctx.with_lobes(flags), wi, 0.5, Vec2::ZERO, wl)
+                .map(|bs| (BsdfSample { pdf: choice, ..bs }, choice))
+                .filter(|_| choice > 0.0)
+        };
+        Some(LobeSplit {
+            reflection: lobe(BsdfFlags::DELTA_REFLECTION, f_hero, wl),
+            refraction: lobe(BsdfFlags::DELTA_TRANSMISSION, 1.0 - f_hero, wl),
+            reflectance: f_hero,
+        })
     }
 }
 
@@ -238,6 +270,56 @@ mod tests {
         d.specular_reflectance = Spectrum::Constant(0.3);
         d.specular_transmittance = Spectrum::Constant(0.6);
         d
+    }
+
+    /// Lobe splitting: the lobe `sample` takes with `u1` is one of the two (same direction,
+    /// flags and pdf, weight times the probability of taking it), the probabilities are F and
+    /// 1 − F, and each lobe's weight is its whole expected value (F·tint, (1 − F)·η²·tint);
+    /// under total internal reflection the refraction is missing; no split where the index
+    /// disperses.
+    #[test]
+    fn split_lobes_are_the_coin_outcomes_of_sample_weighted_whole() {
+        let d = tinted_15().at(&SampledWavelengths::fixed(550.0));
+        let ctx = BsdfContext::radiance();
+        for wi in [dir(0.0), dir(40.0), dir(85.0), -dir(20.0), -dir(30.0), -dir(60.0)] {
+            let mut wl = SampledWavelengths::fixed(550.0);
+            let split = d.sample_split(&ctx, wi, &mut wl).unwrap();
+            let eta = if wi.z > 0.0 { 1.5 } else { 1.0 / 1.5 };
+            let f = fresnel_dielectric(wi.z, 1.5).reflectance;
+            assert!(close(split.reflectance, f, 1e-7));
+            let (r, c_r) = split.reflection.unwrap();
+            assert!(close(r.weight[0], 0.3 * f, 1e-6) && close(c_r, f, 1e-7) && r.pdf == c_r);
+            match split.refraction {
+                Some((t, c_t)) => {
+                    assert!(f < 1.0 && close(c_r + c_t, 1.0, 1e-6) && t.pdf == c_t);
+                    assert!(close(t.weight[0], 0.6 * (1.0 - f) / (eta * eta), 1e-5), "{t:?}");
+                }
+                None => assert!(f >= 1.0, "refraction missing at {wi}"),
+            }
+            for u1 in [0.001f32, 0.02, 0.1, 0.5, 0.9, 0.999] {
+                let plain = d.sample(&ctx, wi, u1, Vec2::splat(0.5), &mut wl);
+                let taken = if u1 < split.reflectance {
+                    split.reflection
+                } else {
+                    split.refraction
+                };
+                match (plain, taken) {
+                    (None, None) => {}
+                    (Some(p), Some((t, c))) => {
+                        assert!((p.wo - t.wo).length() < 1e-6 && p.flags == t.flags && p.pdf == t.pdf);
+                        assert!(close(t.weight[0] / c, p.weight[0], 1e-5), "{t:?} / {c} vs {p:?}");
+                    }
+                    (p, t) => panic!("wi={wi} u1={u1}: sample {p:?}, split {t:?}"),
+                }
+            }
+        }
+        let mut wl = SampledWavelengths::from_parts([450.0, 520.0, 590.0, 660.0], [1.0; 4]);
+        assert!(
+            dispersive_glass()
+                .at(&wl)
+                .sample_split(&ctx, dir(30.0), &mut wl)
+                .is_none()
+        );
     }
 
     #[test]

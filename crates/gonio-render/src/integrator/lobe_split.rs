@@ -1,57 +1,71 @@
-//! Lobe splitting at rough glass (beyond Mitsuba): where the reflection or the refraction of a
-//! `roughdielectric` vertex leaves the scene, it is added whole, and the path follows the other.
+//! Lobe splitting at glass (beyond Mitsuba): where the reflection or the refraction of a
+//! `roughdielectric` vertex leaves the scene, it is added whole, and the path follows the other;
+//! where the outward lobe of a `dielectric` or `roughdielectric` vertex meets an area light (a
+//! glint), that light's emission is added whole.
 //!
 //! # Why
 //!
-//! At a rough dielectric vertex the path tracer draws a facet normal `m` and then one lobe,
-//! reflection with probability F(m), refraction with 1 − F(m). The lobe not taken is left to the
-//! paths that take it. Two kinds of light pay for that coin: the environment reflected by the
-//! glass the camera sees (taken with F ≈ 0.04–0.1, so each find is 10–25× too bright), and light
-//! bouncing inside a glass object, which leaves at whichever bounce the coin first says
-//! "refract": where it leaves, and so which part of the environment it brings back, is decided
-//! by a run of coin flips (Mitsuba's `bsdf_roughdielectric_glass` preview: 30 % of its error).
+//! At a glass vertex the path tracer takes one lobe, reflection with probability F, refraction
+//! with 1 − F (about a facet normal `m` it draws first, at rough glass). The lobe not taken is
+//! left to the paths that take it. Three kinds of light pay for that coin: the environment
+//! reflected by the glass the camera sees (taken with F ≈ 0.04–0.1, so each find is 10–25× too
+//! bright), light bouncing inside a glass object, which leaves at whichever bounce the coin
+//! first says "refract" (Mitsuba's `bsdf_roughdielectric_glass` preview: 30 % of its error), and
+//! the reflections of lamps in glass (glints), which next-event estimation cannot find behind a
+//! delta lobe and which the coin finds 10–25× too bright.
 //!
 //! # The estimator
 //!
-//! The facet `m` is the path tracer's (`u_dir`), and both directions about it are made
-//! ([`RoughDielectric::sample_split`](gonio_core::bsdfs::roughdielectric::RoughDielectric::sample_split)),
-//! each weighted as its lobe sampled alone, `w = f·|cos θo|/p_lobe`. The lobe that points to the
-//! *outside* of the surface (ωo·n > 0: the reflection on the outside, the refraction from
-//! inside; only there can light leave a closed object) is traced first.
+//! The lobe choice's numbers are the path tracer's (at rough glass `u_dir` draws the facet), and
+//! both directions are made
+//! ([`RoughDielectric::sample_split`](gonio_core::bsdfs::roughdielectric::RoughDielectric::sample_split),
+//! [`Dielectric::sample_split`](gonio_core::bsdfs::dielectric::Dielectric::sample_split)),
+//! each weighted as its lobe sampled alone, `w = f·|cos θo|/p_lobe` (F or 1 − F, times tints and
+//! η², for smooth glass). The lobe that points to the *outside* of the surface (ωo·n > 0: the
+//! reflection on the outside, the refraction from inside; only there can light leave a closed
+//! object) is looked at first.
 //!
-//! * If its ray leaves the scene, it adds `β·w·L_∞(ω)` whole (weighted against next-event
-//!   estimation as a BSDF sample that escapes) and the path follows the inward lobe with its
-//!   whole weight `w`: no coin.
+//! * Rough glass in a scene with a light at infinity: the outward ray is traced. If it leaves
+//!   the scene, it adds `β·w·L_∞(ω)` whole (weighted against next-event estimation as a BSDF
+//!   sample that escapes) and the path follows the inward lobe with its whole weight `w`: no
+//!   coin.
+//! * Smooth or rough glass in a scene with area lights: where the outward ray may meet one
+//!   ([`LightShapes`]: the lights' analytic shapes exactly, others by their bounding boxes), it
+//!   is traced, and if its hit is an area light, `β·w·L_e` is added whole, with the MIS weight
+//!   the path tracer gives that emission (the path's state along the lobe,
+//!   [`PathTracer::advanced`]); then the coin below, and a path that follows the outward lobe
+//!   does not add that emission again.
 //! * Otherwise the step is the path tracer's own: the lobe `u_lobe` takes (probability c = F or
-//!   1 − F) is followed with `w/c`, reusing the outward ray's hit when it is that one.
+//!   1 − F) is followed with `w/c`, reusing the outward ray's hit when it was traced.
 //!
-//! Given the facet, which case applies is fixed (the outward ray either leaves or does not), and
-//! in each case every lobe's integral is estimated without bias: whole, or followed with a
-//! probability its weight divides out. The cost is the outward ray where the path goes on
-//! inwards, and the inward paths that go on where the path tracer's would have left; the gain
-//! is that light leaving the glass no longer waits for the coin (relMSE −29 % at +11 % CPU time
-//! on the preview, `bench/RESULTS.md`; following the inward lobe there with the coin's
-//! probability instead gave −27 % at +13 %, and under a uniform sky 0.96× the pixel variance
-//! against 0.85×).
+//! Given the lobe numbers, which case applies is fixed (a function of the outward ray), and in
+//! each case every lobe's integral is estimated without bias: whole, or followed with a
+//! probability its weight divides out (the emission at the outward hit whole, what lies beyond
+//! it by the coin). The cost is the outward ray where the path goes on inwards; the escapes
+//! took the preview's relMSE −29 % at +11 % CPU time (following the inward lobe there with the
+//! coin's probability instead gave −27 % at +13 %, and under a uniform sky 0.96× the pixel
+//! variance against 0.85×), the glints materials' −15 % at +4 %, cornell-spheres' −10 % and
+//! thin-vs-thick's −8 % (`bench/RESULTS.md`).
 //!
 //! # MIS
 //!
 //! The weights stay the path tracer's functions of the path: a branch's direction carries the
-//! full BSDF's density (F·p_r or (1 − F)·p_t) as its `pdf`, for the power heuristic against
-//! next-event estimation and for the ratios of the other strategies, which see the same density
-//! whichever way the direction was reached. Weights that sum to one over the strategies for every
-//! path need the same function on every side, not the density a sample was actually drawn with.
+//! full BSDF's density (F·p_r or (1 − F)·p_t; F or 1 − F for a delta lobe) as its `pdf`, for the
+//! power heuristic against next-event estimation and for the ratios of the other strategies,
+//! which see the same density whichever way the direction was reached. Weights that sum to one
+//! over the strategies for every path need the same function on every side, not the density a
+//! sample was actually drawn with.
 //!
-//! Not split: scenes without a light at infinity (an escape there carries nothing), delta
-//! interfaces (measured with this rule and not kept: smooth glass gained 4–9 % in error for
-//! 10 % more time, `bench/RESULTS.md`), trees of several BSDFs, multiple-scattering or
+//! Not split: escapes at smooth glass (measured with the rule above and not kept: 4–9 % less
+//! error for 10 % more time, `bench/RESULTS.md`), trees of several BSDFs, multiple-scattering or
 //! dispersive glass, and polarized renders.
 
-use super::{PathState, PathTracer, PrevVertex, Vertex};
+use super::{PathState, PathTracer, StepFrom, Vertex};
 use crate::accel::Intersect;
-use crate::emitter::LightRef;
-use crate::geometry::SurfaceInteraction;
-use glam::Vec2;
+use crate::emitter::{Light, Lights};
+use crate::geometry::shape::TriRay;
+use crate::geometry::{Ray, ShapeKind, SurfaceInteraction, WorldShape};
+use glam::{Vec2, Vec3};
 use gonio_core::weight::Weight;
 use gonio_core::{Bsdf, BsdfContext, BsdfSample, SampledWavelengths};
 
@@ -73,6 +87,9 @@ pub(super) struct LobePair<W> {
     u_lobe: f32,
     /// The lobe followed needs the light tracer's density of its reverse (for the caustics).
     want_reverse: bool,
+    /// An outward lobe that leaves the scene is added whole (rough glass under a light at
+    /// infinity).
+    escapes: bool,
 }
 
 /// The lobe a split vertex's path follows: its sample (weight divided by the probability of
@@ -81,6 +98,65 @@ pub(super) struct Followed<W> {
     pub sample: BsdfSample<W>,
     pub hit: SurfaceInteraction,
     pub reverse_pdf: f32,
+    /// The emission at `hit` was added already (a glint, added whole).
+    pub emitted: bool,
+}
+
+/// Which rays may meet an area light, tested before a lobe's ray is traced through the whole
+/// scene: the lights' analytic shapes exactly, the others by their bounding boxes. A ray it
+/// misses is never an area light's (a false alarm costs one traced ray, nothing else).
+#[derive(Clone, Debug)]
+pub(super) struct LightShapes {
+    /// Spheres, rectangles and disks that emit, by shape index.
+    analytic: Vec<u32>,
+    /// Bounding boxes of the other emitting shapes (meshes, instances, SDF grids).
+    boxes: Vec<(Vec3, Vec3)>,
+}
+
+impl LightShapes {
+    /// The area lights' shapes; `None` when there is no area light.
+    pub(super) fn new(lights: &Lights, shapes: &[WorldShape]) -> Option<Self> {
+        let mut out = Self {
+            analytic: Vec::new(),
+            boxes: Vec::new(),
+        };
+        for light in lights.lights() {
+            let Light::Area(a) = light else { continue };
+            let Some(shape) = shapes.get(a.shape) else {
+                continue;
+            };
+            match &shape.kind {
+                ShapeKind::Sphere { .. } | ShapeKind::Rectangle { .. } | ShapeKind::Disk { .. } => {
+                    out.analytic.push(a.shape as u32)
+                }
+                ShapeKind::Mesh(m) => out.boxes.push(
+                    (0..m.indices.len())
+                        .map(|i| shape.prim_bounds(i))
+                        .fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), (a, b)| {
+                            (lo.min(a), hi.max(b))
+                        }),
+                ),
+                _ => out.boxes.push(shape.prim_bounds(0)),
+            }
+        }
+        (!out.analytic.is_empty() || !out.boxes.is_empty()).then_some(out)
+    }
+
+    /// Whether `ray` may meet an area light within `ray.tmax`.
+    pub(super) fn may_hit(&self, shapes: &[WorldShape], ray: &Ray) -> bool {
+        let tri = TriRay::none(ray);
+        self.analytic
+            .iter()
+            .any(|&s| shapes[s as usize].intersect_prim(0, ray, &tri).is_some())
+            || self.boxes.iter().any(|&(lo, hi)| {
+                // Slab test; a zero direction component gives ±∞ (or NaN, which min/max skip).
+                let inv = ray.d.recip();
+                let (t0, t1) = ((lo - ray.o) * inv, (hi - ray.o) * inv);
+                let near = t0.min(t1).max_element().max(0.0);
+                let far = t0.max(t1).min_element().min(ray.tmax);
+                near <= far * (1.0 + 4.0 * f32::EPSILON)
+            })
+    }
 }
 
 impl PathTracer<'_> {
@@ -94,9 +170,13 @@ impl PathTracer<'_> {
         wl: &mut SampledWavelengths,
         want_reverse: bool,
     ) -> Option<LobePair<W>> {
-        // Escapes carry light only where a light at infinity exists; elsewhere the outward
-        // ray would be traced for nothing.
-        if !self.split_escapes || self.polarized || self.lights.infinite().is_empty() {
+        if !self.split_escapes || self.polarized {
+            return None;
+        }
+        // Escapes carry light only where a light at infinity exists (and are split at rough
+        // glass only); glints only where an area light does.
+        let escapes = v.bsdf.flags().has_smooth() && !self.lights.infinite().is_empty();
+        if !escapes && self.light_shapes.is_none() {
             return None;
         }
         let split = v.bsdf.sample_split(&BsdfContext::radiance(), v.wi, u_dir, wl)?;
@@ -121,61 +201,58 @@ impl PathTracer<'_> {
             reflectance: split.reflectance,
             u_lobe,
             want_reverse,
+            escapes,
         })
     }
 
     /// Traces the lobes of `pair` from `v` as the module's rule says: adds what leaves the scene
-    /// to `l` and returns the lobe the path follows (`None`: the path ends).
+    /// and the glints to `l` and returns the lobe the path follows (`None`: the path ends).
     pub(super) fn follow_pair<W: Weight>(
         &self,
         pair: LobePair<W>,
         v: &Vertex,
         state: &PathState<W>,
-        light_ref: LightRef,
+        from: &StepFrom,
         l: &mut W,
         wl: &SampledWavelengths,
     ) -> Option<Followed<W>> {
         let si = v.si;
-        // A lobe whose ray leaves the scene: the escape its next vertex would have added.
-        let escape = |l: &mut W, bs: &BsdfSample<W>, weight: W, dir| {
-            let escaped = PathState {
-                beta: state.beta * weight,
-                prev: Some(PrevVertex {
-                    light_ref,
-                    bsdf_pdf: bs.pdf,
-                    delta: false,
-                }),
-                ..*state
-            };
-            self.add_escaped(l, &escaped, dir, wl);
-        };
-        // Follows `lobe` with probability `q` (already decided), or adds its escape.
-        let follow = |l: &mut W, lobe: Lobe<W>, hit: Option<SurfaceInteraction>, q: f32| {
-            let dir = si.shading.to_world(lobe.sample.wo);
-            let weight = lobe.sample.weight * (1.0 / q);
-            let hit = match hit {
-                Some(hit) => Some(hit),
-                None => self.accel.intersect(&si.spawn_ray(dir)),
-            };
-            match hit {
-                Some(hit) => Some(Followed {
-                    sample: BsdfSample {
-                        weight,
-                        ..lobe.sample
-                    },
-                    hit,
-                    reverse_pdf: if pair.want_reverse {
-                        v.bsdf.pdf(&BsdfContext::importance(), lobe.sample.wo, v.wi, wl)
-                    } else {
-                        0.0
-                    },
-                }),
-                None => {
-                    escape(l, &lobe.sample, weight, dir);
-                    None
-                }
+        // The light tracer's density of a lobe's reverse, where the caustics need it.
+        let reverse_pdf = |bs: &BsdfSample<W>| {
+            if pair.want_reverse && !bs.flags.is_delta() {
+                v.bsdf.pdf(&BsdfContext::importance(), bs.wo, v.wi, wl)
+            } else {
+                0.0
             }
         };
+        // The path's state along a lobe (its weight as given), for the emission it meets.
+        let along = |bs: &BsdfSample<W>, weight: W, ray: &Ray| {
+            let sample = BsdfSample { weight, ..*bs };
+            self.advanced(state, &sample, v, ray, from, reverse_pdf(bs))
+        };
+        // Follows `lobe` with probability `q` (already decided): its ray's hit (`traced`, when
+        // the outward ray was traced already), or the escape it adds.
+        let follow =
+            |l: &mut W, lobe: Lobe<W>, traced: Option<Option<SurfaceInteraction>>, q: f32, emitted| {
+                let dir = si.shading.to_world(lobe.sample.wo);
+                let ray = si.spawn_ray(dir);
+                let weight = lobe.sample.weight * (1.0 / q);
+                match traced.unwrap_or_else(|| self.accel.intersect(&ray)) {
+                    Some(hit) => Some(Followed {
+                        sample: BsdfSample {
+                            weight,
+                            ..lobe.sample
+                        },
+                        hit,
+                        reverse_pdf: reverse_pdf(&lobe.sample),
+                        emitted,
+                    }),
+                    None => {
+                        self.add_escaped(l, &along(&lobe.sample, weight, &ray), dir, wl);
+                        None
+                    }
+                }
+            };
         // Which lobe points outwards (ωo·n > 0: the reflection when ωi is on the outside, the
         // refraction from inside), which inwards, and which the coin takes.
         let [r, t] = pair.lobes;
@@ -186,28 +263,44 @@ impl PathTracer<'_> {
             // No outward lobe (total internal reflection, or its direction failed): the coin,
             // which ends the path where it takes the missing lobe (as `sample` does).
             let i = if out_taken { None } else { inn }?;
-            return follow(l, i, None, i.c);
+            return follow(l, i, None, i.c, false);
         };
         let dir = si.shading.to_world(o.sample.wo);
         let ray = si.spawn_ray(dir);
-        // The outward ray's hit is needed only where the path may follow it.
-        let (leaves, out_hit) = if out_taken {
+        // The outward ray is traced where the path may follow it and where it may meet an area
+        // light; otherwise, for the escape rule, only asked whether it leaves.
+        let glint = self
+            .light_shapes
+            .as_ref()
+            .is_some_and(|s| s.may_hit(self.accel.shapes(), &ray));
+        let (leaves, out_hit) = if out_taken || glint {
             let hit = self.accel.intersect(&ray);
-            (hit.is_none(), hit)
-        } else {
+            (hit.is_none(), Some(hit))
+        } else if pair.escapes {
             (!self.accel.occluded(&ray), None)
+        } else {
+            (false, None)
         };
-        if leaves {
+        if leaves && pair.escapes {
             // Both whole.
-            escape(l, &o.sample, o.sample.weight, dir);
-            return follow(l, inn?, None, 1.0);
+            self.add_escaped(l, &along(&o.sample, o.sample.weight, &ray), dir, wl);
+            return follow(l, inn?, None, 1.0, false);
+        }
+        // An area light the outward ray meets: its emission whole, and the coin for the rest.
+        let mut emitted = false;
+        if glint
+            && let Some(Some(hit)) = &out_hit
+            && self.lights.shape_light(hit.shape as usize).is_some()
+        {
+            self.add_emitted(l, &along(&o.sample, o.sample.weight, &ray), hit, dir, wl);
+            emitted = true;
         }
         // The path tracer's step.
         if out_taken {
-            follow(l, o, out_hit, o.c)
+            follow(l, o, out_hit, o.c, emitted)
         } else {
             let i = inn?;
-            follow(l, i, None, i.c)
+            follow(l, i, None, i.c, false)
         }
     }
 }

@@ -195,8 +195,10 @@ pub struct PathTracer<'a> {
     refracted_light: Vec<bool>,
     /// Next-event estimation through refraction ([`refracted`]) takes part.
     refracted_nee: bool,
-    /// Rough glass splits its lobes where one leaves the scene ([`lobe_split`]).
+    /// Glass splits its lobes where one leaves the scene or meets an area light ([`lobe_split`]).
     split_escapes: bool,
+    /// The area lights' shapes, for the glints of lobe splitting ([`lobe_split`]).
+    light_shapes: Option<lobe_split::LightShapes>,
     /// Manifold next-event estimation through mirror spheres ([`manifold`]), where it takes part.
     manifold: Option<manifold::Setup>,
     max_depth: u32,
@@ -304,6 +306,18 @@ struct VertexOutcome<W: Weight> {
     step: Step<W>,
 }
 
+/// What a vertex's continuation carries into the path's next state (besides the BSDF sample):
+/// see [`PathTracer::advanced`].
+struct StepFrom {
+    light_ref: LightRef,
+    /// Manifold next-event estimation took part at the vertex.
+    manifold_here: bool,
+    /// How the vertex was reached, for the light subpaths' MIS.
+    arrival: caustics::Arrival,
+    /// |cos| between the geometric normal and the direction the path arrived from.
+    cos_in: f32,
+}
+
 /// The continuation a vertex drew.
 enum Step<W: Weight> {
     /// One BSDF sample (`None`: the path ends) and the light tracer's density of its reverse
@@ -348,6 +362,11 @@ impl<'a> PathTracer<'a> {
             refracted_light: Vec::new(),
             refracted_nee: false,
             split_escapes: settings.split_escapes,
+            light_shapes: if settings.split_escapes {
+                lobe_split::LightShapes::new(lights, accel.shapes())
+            } else {
+                None
+            },
             manifold: None,
             max_depth: if settings.max_depth < 0 {
                 u32::MAX
@@ -464,8 +483,10 @@ impl<'a> PathTracer<'a> {
         let mut l = W::ZERO;
         let mut state = PathState::<W>::CAMERA;
         let mut bsdf = SurfaceBsdf::new();
-        // The hit of `ray` when a lobe split traced it already.
+        // The hit of `ray` when a lobe split traced it already, and whether the split added
+        // its emission.
         let mut traced: Option<SurfaceInteraction> = None;
+        let mut emission_added = false;
         loop {
             let hit = match traced.take() {
                 Some(si) => Some(si),
@@ -478,7 +499,8 @@ impl<'a> PathTracer<'a> {
                 }
                 break;
             };
-            if show {
+            // A lobe split added this hit's emission already (`lobe_split`).
+            if show && !std::mem::take(&mut emission_added) {
                 self.add_emitted(&mut l, &state, &si, ray.d, wl);
             }
             if state.depth.saturating_add(1) >= self.max_depth {
@@ -505,11 +527,18 @@ impl<'a> PathTracer<'a> {
             let outcome = self.scatter(&v, &state, arrival, light, sampler, wl);
             l += outcome.nee;
 
+            let from = StepFrom {
+                light_ref: outcome.light_ref,
+                manifold_here: outcome.manifold_here,
+                arrival,
+                cos_in: si.n.dot(wi_world).abs(),
+            };
             let (bs, reverse_pdf) = match outcome.step {
                 Step::Split(pair) => {
-                    let followed = self.follow_pair(pair, &v, &state, outcome.light_ref, &mut l, wl);
+                    let followed = self.follow_pair(pair, &v, &state, &from, &mut l, wl);
                     let Some(f) = followed else { break };
                     traced = Some(f.hit);
+                    emission_added = f.emitted;
                     (f.sample, f.reverse_pdf)
                 }
                 Step::Sampled {
@@ -518,12 +547,12 @@ impl<'a> PathTracer<'a> {
                 } => (bs, reverse_pdf),
                 Step::Sampled { sample: None, .. } => break,
             };
-            state.beta *= bs.weight;
             let dir = si.shading.to_world(bs.wo);
             ray = si.spawn_ray(dir);
 
             if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
                 // Straight through a sheet: keep the previous vertex's MIS state and depth.
+                state.beta *= bs.weight;
                 state.null_crossings += 1;
                 if state.null_crossings > MAX_NULL_CROSSINGS || state.beta.is_black() {
                     break;
@@ -531,31 +560,7 @@ impl<'a> PathTracer<'a> {
                 continue;
             }
 
-            state.eta *= bs.eta;
-            state.mnee = self.manifold_after_sample(state.mnee, outcome.manifold_here, (&si, dir), &bs);
-            if self.refracted_nee {
-                state.refr = if bs.flags.is_delta() {
-                    self.refracted_after_delta(state.refr, si.shape, &bs)
-                } else {
-                    Some(refracted::RefractedStart::new(outcome.light_ref, ray, bs.pdf))
-                };
-            }
-            if self.traces_caustics() {
-                state.chain = caustics::ChainState::after_sample(
-                    state.chain,
-                    &bs,
-                    arrival,
-                    si.n.dot(wi_world).abs(),
-                    si.n.dot(dir).abs(),
-                    reverse_pdf,
-                );
-            }
-            state.prev = Some(PrevVertex {
-                light_ref: outcome.light_ref,
-                bsdf_pdf: bs.pdf,
-                delta: bs.flags.is_delta(),
-            });
-            state.depth += 1;
+            state = self.advanced(&state, &bs, &v, &ray, &from, reverse_pdf);
             if !self.russian_roulette(&mut state, sampler) {
                 break;
             }
@@ -638,6 +643,51 @@ impl<'a> PathTracer<'a> {
             }
         };
         *l += state.beta * W::from_spectrum(le) * w;
+    }
+
+    /// The path's state after it follows `bs` (its weight already divided by any choice) from
+    /// vertex `v` along `ray`: the throughput, and what the next vertex's emission and MIS
+    /// weights read of this one (`reverse_pdf`: the light tracer's density of the reverse
+    /// direction, where the caustics need it).
+    fn advanced<W: Weight>(
+        &self,
+        state: &PathState<W>,
+        bs: &BsdfSample<W>,
+        v: &Vertex,
+        ray: &Ray,
+        from: &StepFrom,
+        reverse_pdf: f32,
+    ) -> PathState<W> {
+        let si = v.si;
+        let dir = ray.d;
+        let mut next = *state;
+        next.beta *= bs.weight;
+        next.eta *= bs.eta;
+        next.mnee = self.manifold_after_sample(state.mnee, from.manifold_here, (si, dir), bs);
+        if self.refracted_nee {
+            next.refr = if bs.flags.is_delta() {
+                self.refracted_after_delta(state.refr, si.shape, bs)
+            } else {
+                Some(refracted::RefractedStart::new(from.light_ref, *ray, bs.pdf))
+            };
+        }
+        if self.traces_caustics() {
+            next.chain = caustics::ChainState::after_sample(
+                state.chain,
+                bs,
+                from.arrival,
+                from.cos_in,
+                si.n.dot(dir).abs(),
+                reverse_pdf,
+            );
+        }
+        next.prev = Some(PrevVertex {
+            light_ref: from.light_ref,
+            bsdf_pdf: bs.pdf,
+            delta: bs.flags.is_delta(),
+        });
+        next.depth += 1;
+        next
     }
 
     /// Next-event estimation, light-subpath connections and BSDF sampling at one vertex, while

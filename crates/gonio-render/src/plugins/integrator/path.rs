@@ -63,7 +63,7 @@ const SPLIT_ESCAPES: ParamSpec = ParamSpec::new(
     "split_escapes",
     ParamType::Boolean,
     DefaultValue::Bool(true),
-    "(ours) at rough glass, in a scene with a light at infinity: a reflection or refraction that leaves the scene is added whole and the path follows the other lobe, instead of choosing one by Fresnel",
+    "(ours) at glass, instead of choosing reflection or refraction by Fresnel alone: a reflection or refraction of rough glass that leaves the scene is added whole and the path follows the other lobe; an area light met by the outward lobe of smooth or rough glass (a glint) adds its emission whole",
 )
 .mitsuba(DefaultValue::Bool(false));
 const SPLIT_LIGHTS: ParamSpec = ParamSpec::new(
