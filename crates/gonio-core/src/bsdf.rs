@@ -243,10 +243,11 @@ impl BsdfContext {
 pub struct LobeSplit {
     /// The reflection and the probability F with which `sample` takes it.
     pub reflection: Option<(BsdfSample, f32)>,
-    /// The refraction and its probability 1 − F.
+    /// The refraction (for a coated material, `plastic`, the base's diffuse lobe) and its
+    /// probability 1 − F.
     pub refraction: Option<(BsdfSample, f32)>,
     /// F, the probability with which `sample` takes the reflection (whether or not its direction
-    /// is valid: `sample` fails where the lobe it takes does).
+    /// is valid: `sample` fails where the lobe it takes does; for `plastic`, P_spec).
     pub reflectance: f32,
 }
 

@@ -69,8 +69,8 @@ pub struct IntegratorDesc {
     /// delta surfaces (default true; see `integrator::manifold`).
     pub manifold_nee: bool,
     /// Ours: at rough glass, a reflection or refraction that leaves the scene is added whole and
-    /// the path follows the other lobe; at smooth and rough glass, an area light met by the
-    /// outward lobe adds its emission whole (default true; see `integrator::lobe_split`).
+    /// the path follows the other lobe; at smooth and rough glass and `plastic`'s coat, an area
+    /// light met by the outward (mirror) lobe adds its emission whole (default true; see `integrator::lobe_split`).
     pub split_escapes: bool,
     /// Ours: next-event estimation samples every light at each vertex when the scene has at most
     /// this many (and at least two); 0 chooses one light per vertex, as Mitsuba (default 2).

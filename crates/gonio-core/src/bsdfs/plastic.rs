@@ -40,7 +40,7 @@
 //! | `ext_ior`              | float, name | `air` 1.000277               |
 //! | `specular_reflectance` | spectrum    | 1 (tint; not physical)       |
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, reflect};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, LobeSplit, reflect};
 use crate::bsdfs::CoatAverages;
 use crate::fresnel::{fresnel_dielectric, fresnel_diffuse_reflectance, fresnel_diffuse_reflectance_fit};
 use crate::spectra::{SpectralValue, Spectrum};
@@ -205,6 +205,42 @@ impl<S: SpectralValue> Plastic<S> {
         let s = self.specular_sampling_weight;
         let (ps, pd) = (f_i * s, (1.0 - f_i) * (1.0 - s));
         if ps + pd > 0.0 { ps / (ps + pd) } else { 0.0 }
+    }
+}
+
+impl<S: SpectralValue> Plastic<S> {
+    /// Both lobes [`Bsdf::sample`] chooses between with the coin `u1 < P_spec` ([`LobeSplit`]):
+    /// the coat's mirror reflection weighted F(μi)·tint, and the base's diffuse lobe drawn with
+    /// `u2`, weighted eval·μo/(μo/π); each with the density `sample` reports for its direction
+    /// (P_spec, (1 − P_spec)μo/π). `None` below the surface.
+    pub fn sample_split(&self, wi: Vec3, u2: Vec2, wl: &SampledWavelengths) -> Option<LobeSplit> {
+        if wi.z <= 0.0 {
+            return None;
+        }
+        let f_i = fresnel_dielectric(wi.z, self.eta).reflectance;
+        let p_spec = self.prob_specular(f_i);
+        let p_diff = 1.0 - p_spec;
+        let spec = BsdfSample {
+            wo: reflect(wi),
+            weight: self.specular_reflectance.sample(wl) * f_i,
+            pdf: p_spec,
+            flags: BsdfFlags::DELTA_REFLECTION,
+            eta: 1.0,
+        };
+        let wo = square_to_cosine_hemisphere(u2);
+        let f_o = fresnel_dielectric(wo.z, self.eta).reflectance;
+        let diffuse = BsdfSample {
+            wo,
+            weight: self.diffuse_factor(wl) * ((1.0 - f_i) * (1.0 - f_o)),
+            pdf: p_diff * square_to_cosine_hemisphere_pdf(wo),
+            flags: BsdfFlags::DIFFUSE_REFLECTION,
+            eta: 1.0,
+        };
+        Some(LobeSplit {
+            reflection: (p_spec > 0.0).then_some((spec, p_spec)),
+            refraction: (p_diff > 0.0 && diffuse.pdf > 0.0).then_some((diffuse, p_diff)),
+            reflectance: p_spec,
+        })
     }
 }
 
@@ -398,6 +434,41 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Lobe splitting: the lobe `sample` takes with `u1` is one of the two (same direction,
+    /// flags and pdf, weight times the probability of taking it), and the two probabilities sum
+    /// to one.
+    #[test]
+    fn split_lobes_are_the_coin_outcomes_of_sample_weighted_whole() {
+        let p = Plastic::new(Spectrum::Constant(0.6), 1.5, 1.0, false, Spectrum::Constant(0.8));
+        let ctx = BsdfContext::radiance();
+        let wl = SampledWavelengths::fixed(550.0);
+        for wi in [dir(0.0), dir(35.0), dir(80.0)] {
+            for j in 0..16 {
+                let u2 = Vec2::new((j % 4) as f32 / 4.0 + 0.1, (j / 4) as f32 / 4.0 + 0.05);
+                let split = p.sample_split(wi, u2, &wl).unwrap();
+                let ((r, c_r), (d, c_d)) = (split.reflection.unwrap(), split.refraction.unwrap());
+                assert!((c_r + c_d - 1.0).abs() < 1e-6 && c_r == split.reflectance);
+                assert!(rel(r.weight[0], 0.8 * fresnel_dielectric(wi.z, 1.5).reflectance) < 1e-6);
+                for u1 in [0.001f32, 0.3, 0.7, 0.999] {
+                    let mut wl = wl;
+                    let plain = p.sample(&ctx, wi, u1, u2, &mut wl).unwrap();
+                    let (t, c) = if u1 < split.reflectance {
+                        (r, c_r)
+                    } else {
+                        (d, c_d)
+                    };
+                    assert!((plain.wo - t.wo).length() < 1e-6 && plain.flags == t.flags);
+                    assert!(rel(plain.pdf, t.pdf) < 1e-6);
+                    assert!(
+                        rel(t.weight[0] / c, plain.weight[0]) < 1e-5,
+                        "{t:?} / {c} vs {plain:?}"
+                    );
+                }
+            }
+        }
+        assert!(p.sample_split(-dir(20.0), Vec2::splat(0.5), &wl).is_none());
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! Lobe splitting at glass (beyond Mitsuba): where the reflection or the refraction of a
 //! `roughdielectric` vertex leaves the scene, it is added whole, and the path follows the other;
-//! where the outward lobe of a `dielectric` or `roughdielectric` vertex meets an area light (a
-//! glint), that light's emission is added whole.
+//! where the outward lobe of a `dielectric` or `roughdielectric` vertex, or the coat's mirror
+//! reflection of a `plastic` one, meets an area light (a glint), that light's emission is added
+//! whole.
 //!
 //! # Why
 //!
@@ -12,7 +13,10 @@
 //! bright), light bouncing inside a glass object, which leaves at whichever bounce the coin
 //! first says "refract" (Mitsuba's `bsdf_roughdielectric_glass` preview: 30 % of its error), and
 //! the reflections of lamps in glass (glints), which next-event estimation cannot find behind a
-//! delta lobe and which the coin finds 10–25× too bright.
+//! delta lobe and which the coin finds 10–25× too bright. `plastic` flips the same kind of coin
+//! between its coat's mirror (probability P_spec) and its diffuse base: its lamp reflections are
+//! glints too (its two lobes take the places of reflection and refraction below; both point
+//! outwards, and the mirror is the one looked at).
 //!
 //! # The estimator
 //!
@@ -29,9 +33,9 @@
 //!   the scene, it adds `β·w·L_∞(ω)` whole (weighted against next-event estimation as a BSDF
 //!   sample that escapes) and the path follows the inward lobe with its whole weight `w`: no
 //!   coin.
-//! * Smooth or rough glass in a scene with area lights: where the outward ray may meet one
-//!   ([`LightShapes`]: the lights' analytic shapes exactly, others by their bounding boxes), it
-//!   is traced, and if its hit is an area light, `β·w·L_e` is added whole, with the MIS weight
+//! * Smooth or rough glass, or plastic, in a scene with area lights: where the outward ray may
+//!   meet one ([`LightShapes`]: the lights' analytic shapes exactly, others by their bounding
+//!   boxes), it is traced, and if its hit is an area light, `β·w·L_e` is added whole, with the MIS weight
 //!   the path tracer gives that emission (the path's state along the lobe,
 //!   [`PathTracer::advanced`]); then the coin below, and a path that follows the outward lobe
 //!   does not add that emission again.
@@ -173,9 +177,9 @@ impl PathTracer<'_> {
         if !self.split_escapes || self.polarized {
             return None;
         }
-        // Escapes carry light only where a light at infinity exists (and are split at rough
-        // glass only); glints only where an area light does.
-        let escapes = v.bsdf.flags().has_smooth() && !self.lights.infinite().is_empty();
+        // Escapes carry light only where a light at infinity exists (and are split where no
+        // lobe is delta: rough glass); glints only where an area light does.
+        let escapes = !v.bsdf.flags().is_delta() && !self.lights.infinite().is_empty();
         if !escapes && self.light_shapes.is_none() {
             return None;
         }

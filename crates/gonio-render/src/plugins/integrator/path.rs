@@ -63,7 +63,7 @@ const SPLIT_ESCAPES: ParamSpec = ParamSpec::new(
     "split_escapes",
     ParamType::Boolean,
     DefaultValue::Bool(true),
-    "(ours) at glass, instead of choosing reflection or refraction by Fresnel alone: a reflection or refraction of rough glass that leaves the scene is added whole and the path follows the other lobe; an area light met by the outward lobe of smooth or rough glass (a glint) adds its emission whole",
+    "(ours) at glass, instead of choosing reflection or refraction by Fresnel alone: a reflection or refraction of rough glass that leaves the scene is added whole and the path follows the other lobe; an area light met by the outward lobe of smooth or rough glass, or by a `plastic` coat's mirror reflection (a glint), adds its emission whole",
 )
 .mitsuba(DefaultValue::Bool(false));
 const SPLIT_LIGHTS: ParamSpec = ParamSpec::new(
