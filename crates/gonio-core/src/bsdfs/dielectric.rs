@@ -99,9 +99,9 @@ impl Dielectric {
 impl<S: SpectralValue, I: IorValue> Dielectric<S, I> {
     /// Both lobes [`Bsdf::sample`] chooses between with the coin `u1 < F` ([`LobeSplit`]): the
     /// reflection weighted F·tint, the refraction (1 − F)·η²·tint, each with the probability
-    /// `sample` takes it as its `pdf`. `None` for a dispersive index (a refraction would end the
-    /// secondary wavelengths of both) and grazing ωi; no refraction under total internal
-    /// reflection.
+    /// `sample` takes it as its `pdf`. `None` for a dispersive index while the secondary wavelengths
+    /// live (a refraction would end them for both lobes) and grazing ωi; no refraction under
+    /// total internal reflection. The lobes of `ctx` are replaced by each lobe alone.
     pub fn sample_split(
         &self,
         ctx: &BsdfContext,

@@ -23,7 +23,8 @@
 //! The lobe choice's numbers are the path tracer's (at rough glass `u_dir` draws the facet), and
 //! both directions are made
 //! ([`RoughDielectric::sample_split`](gonio_core::bsdfs::roughdielectric::RoughDielectric::sample_split),
-//! [`Dielectric::sample_split`](gonio_core::bsdfs::dielectric::Dielectric::sample_split)),
+//! [`Dielectric::sample_split`](gonio_core::bsdfs::dielectric::Dielectric::sample_split),
+//! [`Plastic::sample_split`](gonio_core::bsdfs::plastic::Plastic::sample_split)),
 //! each weighted as its lobe sampled alone, `w = f·|cos θo|/p_lobe` (F or 1 − F, times tints and
 //! η², for smooth glass). The lobe that points to the *outside* of the surface (ωo·n > 0: the
 //! reflection on the outside, the refraction from inside; only there can light leave a closed
@@ -61,8 +62,9 @@
 //! sample was actually drawn with.
 //!
 //! Not split: escapes at smooth glass (measured with the rule above and not kept: 4–9 % less
-//! error for 10 % more time, `bench/RESULTS.md`), trees of several BSDFs, multiple-scattering or
-//! dispersive glass, and polarized renders.
+//! error for 10 % more time, `bench/RESULTS.md`), trees of several BSDFs, multiple-scattering
+//! glass, dispersive glass while the path's secondary wavelengths live (a refraction would end
+//! them for both lobes), and polarized renders.
 
 use super::{PathState, PathTracer, StepFrom, Vertex};
 use crate::accel::Intersect;
@@ -133,6 +135,8 @@ impl LightShapes {
                 ShapeKind::Sphere { .. } | ShapeKind::Rectangle { .. } | ShapeKind::Disk { .. } => {
                     out.analytic.push(a.shape as u32)
                 }
+                // A mesh without triangles emits nothing a ray could meet.
+                ShapeKind::Mesh(m) if m.indices.is_empty() => {}
                 ShapeKind::Mesh(m) => out.boxes.push(
                     (0..m.indices.len())
                         .map(|i| shape.prim_bounds(i))
@@ -152,20 +156,35 @@ impl LightShapes {
         self.analytic
             .iter()
             .any(|&s| shapes[s as usize].intersect_prim(0, ray, &tri).is_some())
-            || self.boxes.iter().any(|&(lo, hi)| {
-                // Slab test; a zero direction component gives ±∞ (or NaN, which min/max skip).
-                let inv = ray.d.recip();
-                let (t0, t1) = ((lo - ray.o) * inv, (hi - ray.o) * inv);
-                let near = t0.min(t1).max_element().max(0.0);
-                let far = t0.max(t1).min_element().min(ray.tmax);
-                near <= far * (1.0 + 4.0 * f32::EPSILON)
-            })
+            || self.boxes.iter().any(|&(lo, hi)| slab_hit(ray, lo, hi))
     }
 }
 
+/// Whether `ray` meets the box `[lo, hi]` within `(0, ray.tmax]` (with a few ulps of slack on
+/// the far side). An axis the ray runs parallel to is a test of its origin between the two
+/// planes, not a division by zero.
+fn slab_hit(ray: &Ray, lo: Vec3, hi: Vec3) -> bool {
+    let (mut near, mut far) = (0.0f32, ray.tmax);
+    for k in 0..3 {
+        let (o, d) = (ray.o[k], ray.d[k]);
+        if d == 0.0 {
+            if !(lo[k] <= o && o <= hi[k]) {
+                return false;
+            }
+            continue;
+        }
+        let (a, b) = ((lo[k] - o) / d, (hi[k] - o) / d);
+        near = near.max(a.min(b));
+        far = far.min(a.max(b));
+    }
+    near <= far * (1.0 + 4.0 * f32::EPSILON)
+}
+
 impl PathTracer<'_> {
-    /// Both lobes of `v` when it splits them (`split_escapes`, spectral renders, a
-    /// single-scattering, non-dispersive `roughdielectric`); `None` to sample `v` as usual.
+    /// Both lobes of `v` when it splits them (`split_escapes`, spectral renders, one
+    /// single-scattering `roughdielectric`, `dielectric` or `plastic` whose index does not
+    /// disperse the path's live wavelengths, and a light the rule can use); `None` to sample `v`
+    /// as usual.
     pub(super) fn lobe_pair<W: Weight>(
         &self,
         v: &Vertex,
@@ -306,5 +325,35 @@ impl PathTracer<'_> {
             let i = inn?;
             follow(l, i, None, i.c, false)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The light-box test: rays parallel to an axis, also from a point on a face (where the
+    /// division form gives ∞ − ∞), along the face, beyond `tmax`, and pointing away.
+    #[test]
+    fn slab_hit_handles_rays_parallel_to_an_axis() {
+        let (lo, hi) = (Vec3::new(-1.0, 2.0, -1.0), Vec3::new(1.0, 2.0, 1.0));
+        let ray = |o: Vec3, d: Vec3, tmax: f32| Ray { o, d, tmax };
+        // Straight up into a flat (zero-height) lamp, and along its plane from its edge.
+        assert!(slab_hit(&ray(Vec3::ZERO, Vec3::Y, f32::INFINITY), lo, hi));
+        assert!(slab_hit(
+            &ray(Vec3::new(-1.0, 2.0, 0.0), Vec3::X, f32::INFINITY),
+            lo,
+            hi
+        ));
+        assert!(!slab_hit(
+            &ray(Vec3::new(-1.0, 2.5, 0.0), Vec3::X, f32::INFINITY),
+            lo,
+            hi
+        ));
+        // Too short, pointing away, and an oblique hit.
+        assert!(!slab_hit(&ray(Vec3::ZERO, Vec3::Y, 1.5), lo, hi));
+        assert!(!slab_hit(&ray(Vec3::ZERO, -Vec3::Y, f32::INFINITY), lo, hi));
+        let d = Vec3::new(0.3, 1.0, -0.2).normalize();
+        assert!(slab_hit(&ray(Vec3::ZERO, d, f32::INFINITY), lo, hi));
     }
 }

@@ -195,7 +195,8 @@ pub struct PathTracer<'a> {
     refracted_light: Vec<bool>,
     /// Next-event estimation through refraction ([`refracted`]) takes part.
     refracted_nee: bool,
-    /// Glass splits its lobes where one leaves the scene or meets an area light ([`lobe_split`]).
+    /// Glass and plastic split their lobes where one leaves the scene or meets an area light
+    /// ([`lobe_split`]).
     split_escapes: bool,
     /// The area lights' shapes, for the glints of lobe splitting ([`lobe_split`]).
     light_shapes: Option<lobe_split::LightShapes>,
@@ -500,7 +501,8 @@ impl<'a> PathTracer<'a> {
                 break;
             };
             // A lobe split added this hit's emission already (`lobe_split`).
-            if show && !std::mem::take(&mut emission_added) {
+            let counted = std::mem::take(&mut emission_added);
+            if show && !counted {
                 self.add_emitted(&mut l, &state, &si, ray.d, wl);
             }
             if state.depth.saturating_add(1) >= self.max_depth {
