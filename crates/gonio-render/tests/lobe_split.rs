@@ -9,10 +9,10 @@
 
 use crate::render_stats::{prepare, same_mean_less_noise};
 
-fn scene(split: bool) -> String {
+/// The integrator (with splitting on or off) and the camera of both test scenes.
+fn head(split: bool) -> String {
     format!(
-        r#"<scene version="3.0.0">
-    <integrator type="path"><boolean name="split_escapes" value="{split}"/></integrator>
+        r#"<integrator type="path"><boolean name="split_escapes" value="{split}"/></integrator>
     <sensor type="perspective">
         <float name="fov" value="40"/>
         <transform name="to_world"><lookat origin="0, 1.6, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>
@@ -20,7 +20,15 @@ fn scene(split: bool) -> String {
             <integer name="width" value="24"/><integer name="height" value="24"/>
             <rfilter type="box"/>
         </film>
-    </sensor>
+    </sensor>"#
+    )
+}
+
+fn scene(split: bool) -> String {
+    let head = head(split);
+    format!(
+        r#"<scene version="3.0.0">
+    {head}
     <shape type="cube">
         <transform name="to_world"><scale value="0.5"/><rotate y="1" angle="30"/><translate x="-0.7" y="0.5"/></transform>
         <bsdf type="roughdielectric"><float name="alpha" value="0.02"/></bsdf>
@@ -61,17 +69,10 @@ fn lamp_scene(split: bool, lamp: &str, floor: bool) -> String {
     } else {
         ""
     };
+    let head = head(split);
     format!(
         r#"<scene version="3.0.0">
-    <integrator type="path"><boolean name="split_escapes" value="{split}"/></integrator>
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 1.6, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>
-        <film type="hdrfilm">
-            <integer name="width" value="24"/><integer name="height" value="24"/>
-            <rfilter type="box"/>
-        </film>
-    </sensor>
+    {head}
     <shape type="sphere">
         <point name="center" value="0.6, 0.6, 0.2"/><float name="radius" value="0.6"/>
         <bsdf type="dielectric"/>
