@@ -104,13 +104,16 @@ pub mod layers;
 mod lobe_split;
 mod manifold;
 mod nee;
+mod path_state;
 pub mod polarized;
 mod ptracer;
 mod refracted;
 
+use path_state::{PathState, PrevVertex, StepFrom};
+
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
-use crate::emitter::{Light, LightRef, Lights};
+use crate::emitter::{LightRef, Lights};
 use crate::film::Channels;
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::material::{Material, ShadingPoint};
@@ -222,72 +225,6 @@ pub struct PathTracer<'a> {
     sensor_up: Vec3,
 }
 
-/// The last real scattering vertex of a camera path, for the MIS weight of a light that the
-/// direction sampled there finds.
-#[derive(Clone, Copy, Debug)]
-struct PrevVertex {
-    /// Where a light would have been sampled from.
-    light_ref: LightRef,
-    /// BSDF density of the direction taken.
-    bsdf_pdf: f32,
-    /// True when that direction came from a delta lobe.
-    delta: bool,
-}
-
-/// The state a camera path carries from one vertex to the next.
-///
-/// Generic over what the path carries ([`Weight`]): a spectrum today, a Mueller matrix for a
-/// polarized renderer (Mitsuba 3's design: throughput and radiance are the same type, emitters
-/// depolarized; the film observes [`Weight::intensity`]).
-#[derive(Clone, Copy, Debug)]
-struct PathState<W: Weight = SampledSpectrum> {
-    /// Throughput β.
-    beta: W,
-    /// Product of the relative indices of refraction crossed (for Russian roulette).
-    eta: f32,
-    /// Real scattering events so far (straight passes through sheets do not count).
-    depth: u32,
-    /// Straight passes through sheets so far.
-    null_crossings: u32,
-    /// The last real scattering vertex; `None` at the camera.
-    prev: Option<PrevVertex>,
-    /// The last smooth vertex and the delta chain after it, for the MIS weight against the
-    /// light-path connections ([`caustics`]).
-    chain: Option<caustics::ChainState>,
-    /// The last smooth vertex and the refractions after it, for the MIS weight against refracted
-    /// next-event estimation ([`refracted`]).
-    refr: Option<refracted::RefractedStart>,
-    /// The last smooth vertex after a delta one and the mirror sphere after it, for the MIS
-    /// weight against manifold next-event estimation ([`manifold`]).
-    mnee: Option<manifold::Start>,
-}
-
-impl<W: Weight> PathState<W> {
-    const CAMERA: Self = Self {
-        beta: W::ONE,
-        eta: 1.0,
-        depth: 0,
-        null_crossings: 0,
-        prev: None,
-        chain: None,
-        refr: None,
-        mnee: None,
-    };
-
-    /// The previous vertex when it sampled a smooth lobe: a light found from there is weighted
-    /// against light sampling.
-    #[inline]
-    fn smooth_prev(&self) -> Option<&PrevVertex> {
-        self.prev.as_ref().filter(|p| !p.delta)
-    }
-
-    /// True right after a delta lobe.
-    #[inline]
-    fn after_delta(&self) -> bool {
-        matches!(self.prev, Some(PrevVertex { delta: true, .. }))
-    }
-}
-
 /// A camera-path vertex while its BSDF exists.
 struct Vertex<'v> {
     bsdf: &'v SurfaceBsdf<'v>,
@@ -307,18 +244,6 @@ struct VertexOutcome<W: Weight> {
     step: Step<W>,
 }
 
-/// What a vertex's continuation carries into the path's next state (besides the BSDF sample):
-/// see [`PathTracer::advanced`].
-struct StepFrom {
-    light_ref: LightRef,
-    /// Manifold next-event estimation took part at the vertex.
-    manifold_here: bool,
-    /// How the vertex was reached, for the light subpaths' MIS.
-    arrival: caustics::Arrival,
-    /// |cos| between the geometric normal and the direction the path arrived from.
-    cos_in: f32,
-}
-
 /// The continuation a vertex drew.
 enum Step<W: Weight> {
     /// One BSDF sample (`None`: the path ends) and the light tracer's density of its reverse
@@ -327,7 +252,7 @@ enum Step<W: Weight> {
         sample: Option<BsdfSample<W>>,
         reverse_pdf: f32,
     },
-    /// Both lobes of rough glass ([`lobe_split`]).
+    /// Both lobes of glass or plastic ([`lobe_split`]).
     Split(lobe_split::LobePair<W>),
 }
 
@@ -568,128 +493,6 @@ impl<'a> PathTracer<'a> {
             }
         }
         if l.intensity().is_finite() { l } else { W::ZERO }
-    }
-
-    /// Russian roulette, from `rr_depth` on (its number is drawn only there: a function of the
-    /// depth, so the dimensions of paths of the same shape stay aligned): false when the path
-    /// ends.
-    #[inline]
-    fn russian_roulette<W: Weight>(&self, state: &mut PathState<W>, sampler: &mut impl PathSampler) -> bool {
-        let beta_max = state.beta.intensity().max_component();
-        if state.depth >= self.rr_depth {
-            let u_rr = sampler.next_1d();
-            let q = (beta_max * state.eta * state.eta).min(self.rr_survival);
-            if !(u_rr < q) {
-                return false;
-            }
-            state.beta /= q;
-        }
-        beta_max > 0.0 && state.beta.intensity().is_finite()
-    }
-
-    /// Adds the lights at infinity seen along `d` by a ray that left the scene.
-    fn add_escaped<W: Weight>(&self, l: &mut W, state: &PathState<W>, d: Vec3, wl: &SampledWavelengths) {
-        let prev = state.smooth_prev();
-        for &i in self.lights.infinite() {
-            let (le, pdf_light) = self
-                .lights
-                .le_escaped(prev.map(|p| &p.light_ref), i as usize, d, wl);
-            if le.is_black() {
-                continue;
-            }
-            let w = match prev {
-                Some(p) => mis_power(p.bsdf_pdf, pdf_light),
-                // From the camera or after a delta lobe: refracted next-event estimation may
-                // have found this path too.
-                None => refracted::shares(
-                    f32::INFINITY,
-                    self.refracted_ratio(state.refr.as_ref(), i as usize, wl),
-                )[0],
-            };
-            *l += state.beta * W::from_spectrum(le) * w;
-        }
-    }
-
-    /// Adds the emission of an area light hit at `si` (along `d`) from its front side.
-    fn add_emitted<W: Weight>(
-        &self,
-        l: &mut W,
-        state: &PathState<W>,
-        si: &SurfaceInteraction,
-        d: Vec3,
-        wl: &SampledWavelengths,
-    ) {
-        let Some(li) = self.lights.shape_light(si.shape as usize) else {
-            return;
-        };
-        let Light::Area(area) = &self.lights.lights()[li] else {
-            return;
-        };
-        let le = area.le(&si.into(), -d, wl);
-        if le.is_black() {
-            return;
-        }
-        let w = match state.smooth_prev() {
-            Some(p) => mis_power(
-                p.bsdf_pdf,
-                self.lights.pdf_li_hit(self.accel.shapes(), &p.light_ref, li, si),
-            ),
-            // From the camera or after a delta lobe: light paths, refracted and manifold
-            // next-event estimation may have found this path too (the last only where the first
-            // two cannot: a path through a mirror sphere from a vertex after a delta one).
-            None => {
-                let r = self.caustic_ratio(state.chain.as_ref(), li, area, si.p, si.n, -d);
-                let s = self.refracted_ratio(state.refr.as_ref(), li, wl);
-                let m = self.manifold_ratio(state.mnee.as_ref(), li, si);
-                refracted::shares(r, s)[0] * mis_power(1.0, m)
-            }
-        };
-        *l += state.beta * W::from_spectrum(le) * w;
-    }
-
-    /// The path's state after it follows `bs` (its weight already divided by any choice) from
-    /// vertex `v` along `ray`: the throughput, and what the next vertex's emission and MIS
-    /// weights read of this one (`reverse_pdf`: the light tracer's density of the reverse
-    /// direction, where the caustics need it).
-    fn advanced<W: Weight>(
-        &self,
-        state: &PathState<W>,
-        bs: &BsdfSample<W>,
-        v: &Vertex,
-        ray: &Ray,
-        from: &StepFrom,
-        reverse_pdf: f32,
-    ) -> PathState<W> {
-        let si = v.si;
-        let dir = ray.d;
-        let mut next = *state;
-        next.beta *= bs.weight;
-        next.eta *= bs.eta;
-        next.mnee = self.manifold_after_sample(state.mnee, from.manifold_here, (si, dir), bs);
-        if self.refracted_nee {
-            next.refr = if bs.flags.is_delta() {
-                self.refracted_after_delta(state.refr, si.shape, bs)
-            } else {
-                Some(refracted::RefractedStart::new(from.light_ref, *ray, bs.pdf))
-            };
-        }
-        if self.traces_caustics() {
-            next.chain = caustics::ChainState::after_sample(
-                state.chain,
-                bs,
-                from.arrival,
-                from.cos_in,
-                si.n.dot(dir).abs(),
-                reverse_pdf,
-            );
-        }
-        next.prev = Some(PrevVertex {
-            light_ref: from.light_ref,
-            bsdf_pdf: bs.pdf,
-            delta: bs.flags.is_delta(),
-        });
-        next.depth += 1;
-        next
     }
 
     /// Next-event estimation, light-subpath connections and BSDF sampling at one vertex, while
