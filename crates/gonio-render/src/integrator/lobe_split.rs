@@ -49,8 +49,8 @@
 //! it by the coin). The cost is the outward ray where the path goes on inwards; the escapes
 //! took the preview's relMSE −29 % at +11 % CPU time (following the inward lobe there with the
 //! coin's probability instead gave −27 % at +13 %, and under a uniform sky 0.96× the pixel
-//! variance against 0.85×), the glints materials' −15 % at +4 %, cornell-spheres' −10 % and
-//! thin-vs-thick's −8 % (`bench/RESULTS.md`).
+//! variance against 0.85×), the glints materials' −17 % at +2 % CPU time, cornell-spheres' −12 % at +3 % and
+//! thin-vs-thick's −9 % at +5 % (`bench/RESULTS.md`).
 //!
 //! # MIS
 //!
