@@ -72,6 +72,9 @@ pub struct IntegratorDesc {
     /// the path follows the other lobe; at smooth and rough glass and `plastic`'s coat, an area
     /// light met by the outward (mirror) lobe adds its emission whole (default true; see `integrator::lobe_split`).
     pub split_escapes: bool,
+    /// Ours: where the camera sees smooth glass directly, both lobes are followed, each whole
+    /// (default true; see `integrator::PathTracer::visible_glass_split`).
+    pub split_visible_glass: bool,
     /// Ours: next-event estimation samples every light at each vertex when the scene has at most
     /// this many (and at least two); 0 chooses one light per vertex, as Mitsuba (default 2).
     pub split_lights: u32,
@@ -211,6 +214,7 @@ impl Default for IntegratorDesc {
             refracted_nee: true,
             manifold_nee: true,
             split_escapes: true,
+            split_visible_glass: true,
             split_lights: 2,
             kind: IntegratorKind::Path,
             stokes: false,

@@ -1,5 +1,6 @@
-//! Lobe splitting at rough glass (`split_escapes`, `integrator/lobe_split.rs`) against the path
-//! tracer's Fresnel choice (Mitsuba's way).
+//! Lobe splitting at rough glass (`split_escapes`, `integrator/lobe_split.rs`) and at the glass
+//! the camera sees (`split_visible_glass`) against the path tracer's Fresnel choice (Mitsuba's
+//! way).
 //!
 //! A rough glass cube and sphere (α = 0.02, as Mitsuba's `bsdf_roughdielectric_glass` preview)
 //! under the preview's environment map: the environment reflected by the glass, and light
@@ -9,10 +10,19 @@
 
 use crate::render_stats::{prepare, same_mean_less_noise};
 
-/// The integrator (with splitting on or off) and the camera of both test scenes.
+/// The integrator (with `split_escapes` on or off, `split_visible_glass` off: these scenes test
+/// the first) and the camera of the test scenes.
 fn head(split: bool) -> String {
+    head_with(split, false)
+}
+
+/// [`head`] with both kinds of splitting chosen.
+fn head_with(split_escapes: bool, split_visible_glass: bool) -> String {
     format!(
-        r#"<integrator type="path"><boolean name="split_escapes" value="{split}"/></integrator>
+        r#"<integrator type="path">
+        <boolean name="split_escapes" value="{split_escapes}"/>
+        <boolean name="split_visible_glass" value="{split_visible_glass}"/>
+    </integrator>
     <sensor type="perspective">
         <float name="fov" value="40"/>
         <transform name="to_world"><lookat origin="0, 1.6, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>
@@ -135,4 +145,45 @@ fn split_escapes_stays_off_where_no_ray_can_meet_a_light() {
     let b = crate::render_stats::green(&off, 8, 3);
     assert!(a.iter().any(|&v| v > 0.0), "the point light lights the scene");
     assert_eq!(a, b);
+}
+
+/// A window pane (`thindielectric`) and a glass slab (`dielectric`) that fill the view, before a
+/// dark wall with bright stripes, under a uniform sky (thin-vs-thick in small): a dark part of
+/// the wall seen through the glass mixes its own light with the much brighter sky the glass
+/// reflects, which the Fresnel coin gives to a few samples of each pixel; with both lobes
+/// followed where the camera sees the glass, every sample has both. The same image mean within
+/// four standard errors (a reflection 10 % too bright moves it by 11), and the pixels' variance
+/// lower (measured 0.37×).
+#[test]
+fn split_visible_glass_keeps_the_expectation_of_glass_seen_directly() {
+    let scene = |split: bool| {
+        let head = head_with(true, split);
+        format!(
+            r#"<scene version="3.0.0">
+    {head}
+    <shape type="rectangle">
+        <transform name="to_world"><scale x="4" y="3"/><translate y="0.5" z="-1.5"/></transform>
+        <bsdf type="diffuse">
+            <texture type="checkerboard" name="reflectance">
+                <rgb name="color0" value="0.02"/><rgb name="color1" value="0.8"/>
+                <transform name="to_uv"><scale x="8" y="0.5"/></transform>
+            </texture>
+        </bsdf>
+    </shape>
+    <shape type="rectangle">
+        <transform name="to_world"><scale x="0.8" y="1.5"/><rotate y="1" angle="-50"/><translate x="0.5" y="0.5" z="0.8"/></transform>
+        <bsdf type="thindielectric"/>
+    </shape>
+    <shape type="cube">
+        <transform name="to_world"><scale x="0.8" y="1.5" z="0.1"/><rotate y="1" angle="50"/><translate x="-0.5" y="0.5" z="0.8"/></transform>
+        <bsdf type="dielectric"/>
+    </shape>
+    <emitter type="constant"><rgb name="radiance" value="0.6"/></emitter>
+</scene>"#
+        )
+    };
+    let on = prepare(&scene(true), false);
+    let off = prepare(&scene(false), false);
+    assert!(on.scene.integrator.split_visible_glass && !off.scene.integrator.split_visible_glass);
+    same_mean_less_noise(&on, &off, 16, "a pane and a slab before a striped wall", 0.55);
 }

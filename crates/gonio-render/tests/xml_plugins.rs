@@ -745,10 +745,11 @@ fn differentiable_integrators_follow_mitsuba_estimators() {
             mitsuba.refracted_nee,
             mitsuba.manifold_nee,
             mitsuba.split_escapes,
+            mitsuba.split_visible_glass,
             mitsuba.split_lights,
             mitsuba.rr_survival
         ),
-        (false, false, false, false, false, 0, 0.95)
+        (false, false, false, false, false, false, 0, 0.95)
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -307,7 +307,8 @@ impl<'a> SurfaceBsdf<'a> {
 
     /// Lobe splitting ([`LobeSplit`]) when the tree is one single-scattering `roughdielectric`
     /// ([`RoughDielectric::sample_split`]), one smooth `dielectric`
-    /// ([`Dielectric::sample_split`]) or one `plastic` ([`Plastic::sample_split`]); `None` for
+    /// ([`Dielectric::sample_split`]), one `thindielectric` ([`ThinDielectric::sample_split`]) or
+    /// one `plastic` ([`Plastic::sample_split`]); `None` for
     /// every other material (the path tracer then samples it as usual).
     pub fn sample_split(
         &self,
@@ -322,6 +323,7 @@ impl<'a> SurfaceBsdf<'a> {
         match self.node(0) {
             Some(Node::Leaf(LeafBsdf::RoughDielectric(rd))) => rd.sample_split(ctx, wi, u2, wl),
             Some(Node::Leaf(LeafBsdf::Dielectric(d))) => d.sample_split(ctx, wi, wl),
+            Some(Node::Leaf(LeafBsdf::ThinDielectric(d))) => d.sample_split(ctx, wi, wl),
             // Plastic's coin is between its coat's mirror and its base (radiance, both lobes).
             Some(Node::Leaf(LeafBsdf::Plastic(p))) if *ctx == BsdfContext::radiance() => {
                 p.sample_split(wi, u2, wl)

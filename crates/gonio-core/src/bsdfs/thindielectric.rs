@@ -27,7 +27,9 @@
 //! | `specular_reflectance`   | spectrum    | 1 (tint; not physical) |
 //! | `specular_transmittance` | spectrum    | 1 (tint; not physical) |
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, choose_delta_lobe, light_directions, reflect};
+use crate::bsdf::{
+    Bsdf, BsdfContext, BsdfFlags, BsdfSample, LobeSplit, choose_delta_lobe, light_directions, reflect,
+};
 use crate::fresnel::{fresnel_dielectric, thin_slab_reflectance, thin_slab_transmittance};
 use crate::fresnel_polarized::{fresnel_amplitudes, interface_mueller, normalized};
 use crate::ior::{Ior, IorValue, SampledIor, relative_eta};
@@ -96,6 +98,33 @@ impl<S: SpectralValue, I: IorValue> ThinDielectric<S, I> {
         let eta = relative_eta(&self.int_ior, &self.ext_ior, wl);
         let r = SampledSpectrum::from_fn(|i| fresnel_dielectric(c, eta[i]).reflectance);
         (r.map(thin_slab_reflectance), r.map(thin_slab_transmittance))
+    }
+
+    /// Both lobes at once, for splitting: each as `sample` makes it with that lobe alone
+    /// (weight R′·tint or T′·tint), with the probability R′₀ or 1 − R′₀ that `sample` takes it
+    /// (the hero's), which also serves as its `pdf`. The lobes of `ctx` are replaced by each
+    /// lobe alone. No direction depends on λ, so a dispersive index splits too; `None` for
+    /// grazing ωi.
+    pub fn sample_split(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wl: &mut SampledWavelengths,
+    ) -> Option<LobeSplit> {
+        if wi.z == 0.0 {
+            return None;
+        }
+        let r_hero = self.reflectance_transmittance(wi.z, wl).0[0];
+        let lobe = |flags: BsdfFlags, choice: f32, wl: &mut SampledWavelengths| {
+            self.sample(&ctx.with_lobes(flags), wi, 0.5, Vec2::ZERO, wl)
+                .map(|bs| (BsdfSample { pdf: choice, ..bs }, choice))
+                .filter(|_| choice > 0.0)
+        };
+        Some(LobeSplit {
+            reflection: lobe(BsdfFlags::DELTA_REFLECTION, r_hero, wl),
+            refraction: lobe(TRANSMISSION, 1.0 - r_hero, wl),
+            reflectance: r_hero,
+        })
     }
 }
 
@@ -236,6 +265,53 @@ mod tests {
 
     fn close(a: f32, b: f32, tol: f32) -> bool {
         (a - b).abs() <= tol
+    }
+
+    /// Lobe splitting: the lobe `sample` takes with `u1` is one of the two (same direction,
+    /// flags and pdf, weight times the probability of taking it), the probabilities are R′₀ and
+    /// 1 − R′₀, and the weights R′ and T′ whole at every wavelength, dispersive index included.
+    #[test]
+    fn split_lobes_are_the_coin_outcomes_of_sample_weighted_whole() {
+        let ctx = BsdfContext::radiance();
+        let table = PiecewiseLinear::new(
+            vec![LAMBDA_MIN, LAMBDA_MAX],
+            vec![1.53, 1.50],
+            Extrapolation::Clamp,
+        );
+        let bk7 = Ior::Dispersive(Spectrum::PiecewiseLinear(Arc::new(table.unwrap())));
+        for d in [
+            ThinDielectric::default(),
+            ThinDielectric::new(bk7, Ior::Constant(1.0)),
+        ] {
+            for wi in [dir(0.0), dir(40.0), dir(85.0), -dir(20.0), -dir(70.0)] {
+                let mut wl = SampledWavelengths::from_parts([450.0, 520.0, 590.0, 660.0], [1.0; 4]);
+                let split = d.sample_split(&ctx, wi, &mut wl).unwrap();
+                assert!(!wl.secondary_terminated());
+                let (rp, tp) = d.reflectance_transmittance(wi.z, &wl);
+                assert!(close(split.reflectance, rp[0], 1e-7));
+                let (r, c_r) = split.reflection.unwrap();
+                let (t, c_t) = split.refraction.unwrap();
+                assert!(close(c_r + c_t, 1.0, 1e-6) && r.pdf == c_r && t.pdf == c_t);
+                for i in 0..4 {
+                    assert!(close(r.weight[i], rp[i], 1e-6) && close(t.weight[i], tp[i], 1e-6));
+                }
+                for u1 in [0.001f32, 0.05, 0.1, 0.5, 0.9, 0.999] {
+                    let p = d.sample(&ctx, wi, u1, Vec2::splat(0.5), &mut wl).unwrap();
+                    let (lobe, c) = if u1 < split.reflectance {
+                        (r, c_r)
+                    } else {
+                        (t, c_t)
+                    };
+                    assert!((p.wo - lobe.wo).length() < 1e-6 && p.flags == lobe.flags && p.pdf == lobe.pdf);
+                    for i in 0..4 {
+                        assert!(
+                            close(lobe.weight[i] / c, p.weight[i], 1e-5),
+                            "{lobe:?} / {c} vs {p:?}"
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -61,19 +61,24 @@
 //! over the strategies for every path need the same function on every side, not the density a
 //! sample was actually drawn with.
 //!
+//! Where the camera sees smooth glass directly, both lobes are followed whole instead
+//! (`split_visible_glass`, [`PathTracer::visible_glass_split`]): the rule here applies from the
+//! second vertex on, and at rough glass.
+//!
 //! Not split: escapes at smooth glass (measured with the rule above and not kept: 4–9 % less
 //! error for 10 % more time, `bench/RESULTS.md`), trees of several BSDFs, multiple-scattering
 //! glass, dispersive glass while the path's secondary wavelengths live (a refraction would end
 //! them for both lobes), and polarized renders.
 
-use super::{PathState, PathTracer, StepFrom, Vertex};
+use super::{PathStart, PathState, PathTracer, StepFrom, Vertex, caustics};
 use crate::accel::Intersect;
 use crate::emitter::{Light, Lights};
 use crate::geometry::shape::TriRay;
 use crate::geometry::{Ray, ShapeKind, SurfaceInteraction, WorldShape};
+use crate::sampler::PathSampler;
 use glam::{Vec2, Vec3};
 use gonio_core::weight::Weight;
-use gonio_core::{Bsdf, BsdfContext, BsdfSample, SampledWavelengths};
+use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledWavelengths};
 
 /// One lobe of a split vertex: world-space weight `w` (`pdf` the full density) and the
 /// probability `c` with which the path tracer takes it.
@@ -193,7 +198,9 @@ impl PathTracer<'_> {
         wl: &mut SampledWavelengths,
         want_reverse: bool,
     ) -> Option<LobePair<W>> {
-        if !self.split_escapes || self.polarized {
+        // Sheets (`thindielectric`) cross straight, keeping the previous vertex's MIS state,
+        // which the rule's emission would have to follow: not split here.
+        if !self.split_escapes || self.polarized || v.bsdf.flags().contains(BsdfFlags::NULL) {
             return None;
         }
         // Escapes carry light only where a light at infinity exists (and are split where no
@@ -325,6 +332,75 @@ impl PathTracer<'_> {
             let i = inn?;
             follow(l, i, None, i.c, false)
         }
+    }
+}
+
+impl PathTracer<'_> {
+    /// At the first surface the camera sees, smooth glass (one `dielectric` whose index does
+    /// not disperse the live wavelengths, or one `thindielectric`) has both lobes followed, each
+    /// whole (weight F·tint or (1 − F)·tint, the BSDF's density F or 1 − F in the MIS weights as
+    /// on a coin's path): the starts of the two paths, refraction first; `None` to take the
+    /// coin. The coin's variance is at its worst there: through a pane, every pixel mixes what
+    /// lies behind it with a reflection that is often much brighter, and a pixel's few
+    /// reflected samples decide its value. Deeper, the coin's noise is averaged with the
+    /// rest of the path's.
+    pub(super) fn visible_glass_split<W: Weight>(
+        &self,
+        v: &Vertex,
+        state: &PathState<W>,
+        arrival: caustics::Arrival,
+        sampler: &mut impl PathSampler,
+        wl: &mut SampledWavelengths,
+    ) -> Option<[Option<PathStart<W>>; 2]> {
+        let flags = v.bsdf.flags();
+        if !flags.is_delta() || flags.has_smooth() {
+            return None;
+        }
+        let split = v
+            .bsdf
+            .sample_split(&BsdfContext::radiance(), v.wi, Vec2::splat(0.5), wl)?;
+        // The coin's number, drawn all the same: the dimensions behind stay the coin path's.
+        let _ = sampler.next_1d();
+        let from = StepFrom {
+            light_ref: Self::light_ref(v, flags, true),
+            manifold_here: self.manifold_applies(state),
+            arrival,
+            cos_in: v.si.n.dot(v.si.shading.to_world(v.wi)).abs(),
+        };
+        let mut start = |lobe: Option<(BsdfSample, f32)>| {
+            let (bs, c) = lobe?;
+            if !(c > 0.0 && bs.weight.is_finite() && !bs.weight.is_black()) {
+                return None;
+            }
+            let bs = BsdfSample {
+                weight: W::from_spectrum(bs.weight).local_to_world(&v.si.shading),
+                pdf: bs.pdf,
+                wo: bs.wo,
+                flags: bs.flags,
+                eta: bs.eta,
+            };
+            let ray = v.si.spawn_ray(v.si.shading.to_world(bs.wo));
+            let state = if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
+                // Straight through a sheet: the previous vertex's MIS state and depth.
+                let mut next = *state;
+                next.beta *= bs.weight;
+                next.null_crossings += 1;
+                next
+            } else {
+                let mut next = self.advanced(state, &bs, v, &ray, &from, 0.0);
+                if !self.russian_roulette(&mut next, sampler) {
+                    return None;
+                }
+                next
+            };
+            (!state.beta.is_black()).then_some(PathStart {
+                ray,
+                state,
+                may_split: false,
+            })
+        };
+        let refraction = start(split.refraction);
+        Some([refraction, start(split.reflection)])
     }
 }
 

@@ -201,6 +201,9 @@ pub struct PathTracer<'a> {
     /// Glass and plastic split their lobes where one leaves the scene or meets an area light
     /// ([`lobe_split`]).
     split_escapes: bool,
+    /// The first surface the camera sees, if smooth glass, has both its lobes followed
+    /// ([`PathTracer::visible_glass_split`]).
+    split_visible_glass: bool,
     /// The area lights' shapes, for the glints of lobe splitting ([`lobe_split`]).
     light_shapes: Option<lobe_split::LightShapes>,
     /// Manifold next-event estimation through mirror spheres ([`manifold`]), where it takes part.
@@ -288,6 +291,7 @@ impl<'a> PathTracer<'a> {
             refracted_light: Vec::new(),
             refracted_nee: false,
             split_escapes: settings.split_escapes,
+            split_visible_glass: settings.split_visible_glass,
             light_shapes: if settings.split_escapes {
                 lobe_split::LightShapes::new(lights, accel.shapes())
             } else {
@@ -394,7 +398,7 @@ impl<'a> PathTracer<'a> {
     /// depolarized, [`caustics::LightWeight`]).
     pub fn li<W: Weight, L: caustics::LightWeight<W>>(
         &self,
-        mut ray: Ray,
+        ray: Ray,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
         light: &caustics::LightSubpath<L>,
@@ -407,8 +411,34 @@ impl<'a> PathTracer<'a> {
             return W::ZERO;
         }
         let mut l = W::ZERO;
-        let mut state = PathState::<W>::CAMERA;
         let mut bsdf = SurfaceBsdf::new();
+        let start = PathStart {
+            ray,
+            state: PathState::<W>::CAMERA,
+            may_split: self.split_visible_glass && !self.polarized,
+        };
+        self.trace(start, sampler, wl, light, &mut bsdf, &mut l);
+        if l.intensity().is_finite() { l } else { W::ZERO }
+    }
+
+    /// The path loop of [`Self::li`] from `start`, adding what it finds to `l`; `bsdf` is the
+    /// path's one BSDF buffer, refilled at each vertex.
+    fn trace<'s, W: Weight, L: caustics::LightWeight<W>>(
+        &'s self,
+        start: PathStart<W>,
+        sampler: &mut impl PathSampler,
+        wl: &mut SampledWavelengths,
+        light: &caustics::LightSubpath<L>,
+        bsdf: &mut SurfaceBsdf<'s>,
+        l: &mut W,
+    ) where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
+        let PathStart {
+            mut ray,
+            mut state,
+            may_split,
+        } = start;
         // The hit of `ray` when a lobe split traced it already, and whether the split added
         // its emission.
         let mut traced: Option<SurfaceInteraction> = None;
@@ -421,14 +451,14 @@ impl<'a> PathTracer<'a> {
             let show = !(self.hide_emitters && state.depth == 0);
             let Some(si) = hit else {
                 if show {
-                    self.add_escaped(&mut l, &state, ray.d, wl);
+                    self.add_escaped(l, &state, ray.d, wl);
                 }
                 break;
             };
             // A lobe split added this hit's emission already (`lobe_split`).
             let counted = std::mem::take(&mut emission_added);
             if show && !counted {
-                self.add_emitted(&mut l, &state, &si, ray.d, wl);
+                self.add_emitted(l, &state, &si, ray.d, wl);
             }
             if state.depth.saturating_add(1) >= self.max_depth {
                 break;
@@ -445,14 +475,25 @@ impl<'a> PathTracer<'a> {
             let Some(material) = self.material_of(si.shape) else {
                 break;
             };
-            material.fill_bsdf_at(&ShadingPoint::from(&si), wl, &mut bsdf);
+            material.fill_bsdf_at(&ShadingPoint::from(&si), wl, bsdf);
             let v = Vertex {
-                bsdf: &bsdf,
+                bsdf,
                 si: &si,
                 wi: si.shading.to_local(wi_world),
             };
+            // The glass the camera sees: both lobes followed, each by a loop of its own.
+            if may_split
+                && state.depth == 0
+                && state.null_crossings == 0
+                && let Some(starts) = self.visible_glass_split(&v, &state, arrival, sampler, wl)
+            {
+                for start in starts.into_iter().flatten() {
+                    self.trace(start, sampler, wl, light, bsdf, l);
+                }
+                break;
+            }
             let outcome = self.scatter(&v, &state, arrival, light, sampler, wl);
-            l += outcome.nee;
+            *l += outcome.nee;
 
             let from = StepFrom {
                 light_ref: outcome.light_ref,
@@ -462,7 +503,7 @@ impl<'a> PathTracer<'a> {
             };
             let (bs, reverse_pdf) = match outcome.step {
                 Step::Split(pair) => {
-                    let followed = self.follow_pair(pair, &v, &state, &from, &mut l, wl);
+                    let followed = self.follow_pair(pair, &v, &state, &from, l, wl);
                     let Some(f) = followed else { break };
                     traced = Some(f.hit);
                     emission_added = f.emitted;
@@ -492,7 +533,6 @@ impl<'a> PathTracer<'a> {
                 break;
             }
         }
-        if l.intensity().is_finite() { l } else { W::ZERO }
     }
 
     /// Next-event estimation, light-subpath connections and BSDF sampling at one vertex, while
@@ -594,6 +634,14 @@ impl<'a> PathTracer<'a> {
             step: Step::Sampled { sample, reverse_pdf },
         }
     }
+}
+
+/// Where a path loop starts ([`PathTracer::trace`]): its ray, its state, and whether the first
+/// surface it meets may split ([`PathTracer::visible_glass_split`]).
+struct PathStart<W: Weight> {
+    ray: Ray,
+    state: PathState<W>,
+    may_split: bool,
 }
 
 /// The `path` integrator: channels `R`, `G`, `B` (linear sRGB through the wavelength estimator

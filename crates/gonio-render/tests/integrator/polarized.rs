@@ -183,11 +183,12 @@ fn brewster_reflection_is_fully_s_polarized() {
     let pol = render_channels(&xml, 64, 11, false);
     // The spectral render with the polarized one's estimator: the polarized path tracer
     // chooses between reflection and refraction by the Fresnel coin, where the spectral one
-    // would add the lamp's reflection whole (`split_escapes`).
+    // would add the lamp's reflection whole (`split_escapes`) and follow both lobes of the glass
+    // it sees (`split_visible_glass`).
     let unpol = render_channels(
         &xml.replace(
             STOKES_PATH,
-            r#"<integrator type="path"><boolean name="split_escapes" value="false"/></integrator>"#,
+            r#"<integrator type="path"><boolean name="split_escapes" value="false"/><boolean name="split_visible_glass" value="false"/></integrator>"#,
         ),
         64,
         11,

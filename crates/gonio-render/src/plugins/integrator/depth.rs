@@ -22,6 +22,7 @@ fn build<'d>(_: &mut Builder<'d>, _: &mut Params<'d>) -> Result<IntegratorDesc, 
         manifold_nee: false,
         split_lights: 0,
         split_escapes: false,
+        split_visible_glass: false,
         ..IntegratorDesc::default()
     })
 }

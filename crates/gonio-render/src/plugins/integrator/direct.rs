@@ -91,6 +91,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         manifold_nee: false,
         split_lights: 0,
         split_escapes: false,
+        split_visible_glass: false,
         kind: IntegratorKind::Direct {
             emitter_samples,
             bsdf_samples,

@@ -66,6 +66,13 @@ const SPLIT_ESCAPES: ParamSpec = ParamSpec::new(
     "(ours) at glass, instead of choosing reflection or refraction by Fresnel alone: a reflection or refraction of rough glass that leaves the scene is added whole and the path follows the other lobe; an area light met by the outward lobe of smooth or rough glass, or by a `plastic` coat's mirror reflection (a glint), adds its emission whole",
 )
 .mitsuba(DefaultValue::Bool(false));
+const SPLIT_VISIBLE_GLASS: ParamSpec = ParamSpec::new(
+    "split_visible_glass",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) where the camera sees smooth glass (`dielectric`, `thindielectric`) directly, both its reflection and its refraction are followed, each weighted by its Fresnel factor, instead of one chosen by Fresnel",
+)
+.mitsuba(DefaultValue::Bool(false));
 const SPLIT_LIGHTS: ParamSpec = ParamSpec::new(
     "split_lights",
     ParamType::Integer,
@@ -100,6 +107,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         REFRACTED_NEE,
         MANIFOLD_NEE,
         SPLIT_ESCAPES,
+        SPLIT_VISIBLE_GLASS,
         SPLIT_LIGHTS,
         SAMPLES_PER_PASS,
         TIMEOUT,
@@ -136,6 +144,7 @@ pub(super) fn with_estimator_defaults(p: &Params<'_>, desc: IntegratorDesc) -> I
         refracted_nee: p.default_of(&REFRACTED_NEE).bool(),
         manifold_nee: p.default_of(&MANIFOLD_NEE).bool(),
         split_escapes: p.default_of(&SPLIT_ESCAPES).bool(),
+        split_visible_glass: p.default_of(&SPLIT_VISIBLE_GLASS).bool(),
         split_lights: p.default_of(&SPLIT_LIGHTS).int() as u32,
         ..desc
     }
@@ -154,6 +163,10 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     let refracted_nee = p.bool(REFRACTED_NEE.name, p.default_of(&REFRACTED_NEE).bool())?;
     let manifold_nee = p.bool(MANIFOLD_NEE.name, p.default_of(&MANIFOLD_NEE).bool())?;
     let split_escapes = p.bool(SPLIT_ESCAPES.name, p.default_of(&SPLIT_ESCAPES).bool())?;
+    let split_visible_glass = p.bool(
+        SPLIT_VISIBLE_GLASS.name,
+        p.default_of(&SPLIT_VISIBLE_GLASS).bool(),
+    )?;
     let split_lights = p.int_in(SPLIT_LIGHTS.name, p.default_of(&SPLIT_LIGHTS).int(), 0, 1024)? as u32;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     Ok(IntegratorDesc {
@@ -166,6 +179,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         refracted_nee,
         manifold_nee,
         split_escapes,
+        split_visible_glass,
         split_lights,
         kind: IntegratorKind::Path,
         stokes: false,

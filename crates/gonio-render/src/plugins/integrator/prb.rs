@@ -171,6 +171,7 @@ fn build_direct<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrato
         manifold_nee: false,
         split_lights: 0,
         split_escapes: false,
+        split_visible_glass: false,
         kind: IntegratorKind::Direct {
             emitter_samples: 1,
             bsdf_samples: 1,
