@@ -381,6 +381,12 @@ pub trait PathSampler {
     fn next_1d(&mut self) -> f32;
     /// Two numbers in [0, 1)².
     fn next_2d(&mut self) -> Vec2;
+    /// Where the sequence stands, for [`PathSampler::rewind`].
+    type Mark: Copy;
+    /// The current position.
+    fn mark(&self) -> Self::Mark;
+    /// Back to a position [`PathSampler::mark`] gave: the numbers from there on come again.
+    fn rewind(&mut self, mark: Self::Mark);
 }
 
 /// Independent numbers from a PCG32 stream (light paths, tests).
@@ -392,6 +398,13 @@ impl PathSampler for Pcg32 {
     #[inline]
     fn next_2d(&mut self) -> Vec2 {
         self.next_vec2()
+    }
+    type Mark = Pcg32;
+    fn mark(&self) -> Pcg32 {
+        *self
+    }
+    fn rewind(&mut self, mark: Pcg32) {
+        *self = mark;
     }
 }
 
@@ -456,7 +469,28 @@ impl PaddedSampler<'_> {
     }
 }
 
+/// A [`PaddedSampler`]'s position: the pattern's dimension, the numbers taken, its stream.
+#[derive(Clone, Copy, Debug)]
+pub struct PaddedMark {
+    dim: u32,
+    used: u32,
+    rng: Option<Pcg32>,
+}
+
 impl PathSampler for PaddedSampler<'_> {
+    type Mark = PaddedMark;
+    fn mark(&self) -> PaddedMark {
+        PaddedMark {
+            dim: self.sampler.dim,
+            used: self.used,
+            rng: self.rng,
+        }
+    }
+    fn rewind(&mut self, mark: PaddedMark) {
+        self.sampler.dim = mark.dim;
+        self.used = mark.used;
+        self.rng = mark.rng;
+    }
     #[inline]
     fn next_1d(&mut self) -> f32 {
         if self.used < self.limit {

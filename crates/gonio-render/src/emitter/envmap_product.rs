@@ -236,7 +236,7 @@ impl CosineProduct {
         let (tile, p_tile, ux) = pick(cdf, below, u.x)?;
         let per_tile = self.tile_w * self.tile_h;
         let texels = &self.texel_cdf[tile * (per_tile + 1)..(tile + 1) * (per_tile + 1)];
-        let (t, p_texel, uy) = pick(texels, count_le(texels, u.y), u.y)?;
+        let (t, p_texel, uy) = pick(texels, partition_count(texels, u.y), u.y)?;
         let x = (tile % self.tiles_x) * self.tile_w + t % self.tile_w;
         let y = (tile / self.tiles_x) * self.tile_h + t / self.tile_w;
         let uv = Vec2::new(
@@ -272,6 +272,18 @@ const BLOCK: usize = 64;
 #[inline]
 fn count_le(values: &[f32], u: f32) -> usize {
     values.iter().map(|&c| (c <= u) as u32).sum::<u32>() as usize
+}
+
+/// [`count_le`] for a CDF of at most `2 · BLOCK` entries (a tile's texels in maps up to
+/// 1024 × 1024: 4 × 8 texels per tile at most), a binary search above (a tile of a 4096 × 2048
+/// map has 4096 texels: a count would compare them all).
+#[inline]
+fn partition_count(values: &[f32], u: f32) -> usize {
+    if values.len() <= 2 * BLOCK {
+        count_le(values, u)
+    } else {
+        values.partition_point(|&c| c <= u)
+    }
 }
 
 /// The cell of a CDF `cdf` (`n + 1` entries from 0 to 1) that `u` falls in, given the number

@@ -62,11 +62,13 @@
 //! sample was actually drawn with.
 //!
 //! Where the camera sees smooth glass directly, both lobes are followed whole instead
-//! (`split_visible_glass`, [`PathTracer::visible_glass_split`]): the rule here applies from the
-//! second vertex on, and at rough glass.
+//! (`split_visible_glass`, [`PathTracer::visible_glass_split`]); the rule here applies where
+//! that one does not: deeper vertices, glass seen through a sheet, rough glass.
 //!
 //! Not split: escapes at smooth glass (measured with the rule above and not kept: 4–9 % less
-//! error for 10 % more time, `bench/RESULTS.md`), trees of several BSDFs, multiple-scattering
+//! error for 10 % more time, `bench/RESULTS.md`), `thindielectric` sheets by this rule (a
+//! sheet's transmission crosses straight, keeping the previous vertex's MIS state, which the
+//! emission added whole would have to follow), trees of several BSDFs, multiple-scattering
 //! glass, dispersive glass while the path's secondary wavelengths live (a refraction would end
 //! them for both lobes), and polarized renders.
 
@@ -338,17 +340,27 @@ impl PathTracer<'_> {
 impl PathTracer<'_> {
     /// At the first surface the camera sees, smooth glass (one `dielectric` whose index does
     /// not disperse the live wavelengths, or one `thindielectric`) has both lobes followed, each
-    /// whole (weight F·tint or (1 − F)·tint, the BSDF's density F or 1 − F in the MIS weights as
-    /// on a coin's path): the starts of the two paths, refraction first; `None` to take the
-    /// coin. The coin's variance is at its worst there: through a pane, every pixel mixes what
-    /// lies behind it with a reflection that is often much brighter, and a pixel's few
-    /// reflected samples decide its value. Deeper, the coin's noise is averaged with the
-    /// rest of the path's.
+    /// whole (weight F·tint, or (1 − F)·tint, × 1/η² for a `dielectric`'s refraction; the
+    /// BSDF's density F or 1 − F in the MIS weights, as on a coin's path): the starts of the
+    /// two paths, refraction first; `None` to take the coin. The coin's variance is at its
+    /// worst there: through a pane, every pixel mixes what lies behind it with a reflection
+    /// that is often much brighter, and a pixel's few reflected samples decide its value.
+    /// Deeper, the coin's noise is averaged with the rest of the path's. `cos_in` is |cos|
+    /// between the geometric normal and the direction the path arrived from. Both paths take
+    /// the same random numbers from here on (the caller rewinds the sampler): each is the path
+    /// the coin would have made with its lobe, with its stratification (unbiased: each path
+    /// estimates its lobe's share alone, and the sum of two estimates is one of the sum,
+    /// correlated or not).
+    ///
+    /// Both paths share the sample's wavelengths: a dispersive refraction on the first ends the
+    /// secondary wavelengths for the whole sample, the second path's light included, as it
+    /// does for the light a path found before such a refraction (and for the caustic light
+    /// subpath, which shares them too).
     pub(super) fn visible_glass_split<W: Weight>(
         &self,
         v: &Vertex,
         state: &PathState<W>,
-        arrival: caustics::Arrival,
+        (arrival, cos_in): (caustics::Arrival, f32),
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
     ) -> Option<[Option<PathStart<W>>; 2]> {
@@ -359,13 +371,15 @@ impl PathTracer<'_> {
         let split = v
             .bsdf
             .sample_split(&BsdfContext::radiance(), v.wi, Vec2::splat(0.5), wl)?;
-        // The coin's number, drawn all the same: the dimensions behind stay the coin path's.
+        // The coin's number, drawn all the same: both paths take the dimensions behind it, as
+        // the coin's path would (the sampler is rewound for the second, `PathTracer::trace`),
+        // but for Russian roulette's, drawn for both here when `rr_depth` ≤ 1.
         let _ = sampler.next_1d();
         let from = StepFrom {
             light_ref: Self::light_ref(v, flags, true),
             manifold_here: self.manifold_applies(state),
             arrival,
-            cos_in: v.si.n.dot(v.si.shading.to_world(v.wi)).abs(),
+            cos_in,
         };
         let mut start = |lobe: Option<(BsdfSample, f32)>| {
             let (bs, c) = lobe?;

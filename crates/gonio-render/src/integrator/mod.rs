@@ -485,9 +485,13 @@ impl<'a> PathTracer<'a> {
             if may_split
                 && state.depth == 0
                 && state.null_crossings == 0
-                && let Some(starts) = self.visible_glass_split(&v, &state, arrival, sampler, wl)
+                && let Some(starts) =
+                    self.visible_glass_split(&v, &state, (arrival, si.n.dot(wi_world).abs()), sampler, wl)
             {
+                // Both paths take the same numbers: each is the coin path's with its lobe.
+                let mark = sampler.mark();
                 for start in starts.into_iter().flatten() {
+                    sampler.rewind(mark);
                     self.trace(start, sampler, wl, light, bsdf, l);
                 }
                 break;

@@ -70,7 +70,7 @@ const SPLIT_VISIBLE_GLASS: ParamSpec = ParamSpec::new(
     "split_visible_glass",
     ParamType::Boolean,
     DefaultValue::Bool(true),
-    "(ours) where the camera sees smooth glass (`dielectric`, `thindielectric`) directly, both its reflection and its refraction are followed, each weighted by its Fresnel factor, instead of one chosen by Fresnel",
+    "(ours) where the camera sees smooth glass (`dielectric`, `thindielectric`) directly, both its reflection and its refraction are followed, each weighted by its Fresnel factor, instead of one chosen by Fresnel (spectral renders; not dispersive glass while the secondary wavelengths live)",
 )
 .mitsuba(DefaultValue::Bool(false));
 const SPLIT_LIGHTS: ParamSpec = ParamSpec::new(
