@@ -258,6 +258,29 @@ impl LobeSplit {
         refraction: None,
         reflectance: 0.0,
     };
+
+    /// The split of a smooth interface whose `sample` takes its delta reflection with
+    /// probability `reflectance` and its `transmission` lobe otherwise: each lobe as
+    /// `sample` makes it with that lobe alone enabled (`alone(lobe, wl)`, which then takes it
+    /// with probability 1: weight F or 1 − F, times tints), with its choice's probability as
+    /// its `pdf`.
+    pub fn of_delta_lobes(
+        reflectance: f32,
+        transmission: BsdfFlags,
+        wl: &mut SampledWavelengths,
+        mut alone: impl FnMut(BsdfFlags, &mut SampledWavelengths) -> Option<BsdfSample>,
+    ) -> Self {
+        let mut lobe = |flags: BsdfFlags, choice: f32, wl: &mut SampledWavelengths| {
+            alone(flags, wl)
+                .map(|bs| (BsdfSample { pdf: choice, ..bs }, choice))
+                .filter(|_| choice > 0.0)
+        };
+        Self {
+            reflection: lobe(BsdfFlags::DELTA_REFLECTION, reflectance, wl),
+            refraction: lobe(transmission, 1.0 - reflectance, wl),
+            reflectance,
+        }
+    }
 }
 
 /// The result of [`Bsdf::sample`].

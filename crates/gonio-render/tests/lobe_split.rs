@@ -13,15 +13,15 @@ use crate::render_stats::{prepare, same_mean_less_noise};
 /// The integrator (with `split_escapes` on or off, `split_visible_glass` off: these scenes test
 /// the first) and the camera of the test scenes.
 fn head(split: bool) -> String {
-    head_with(split, false)
+    head_with(split, false, "")
 }
 
-/// [`head`] with both kinds of splitting chosen.
-fn head_with(split_escapes: bool, split_visible_glass: bool) -> String {
+/// [`head`] with both kinds of splitting chosen, and `more` of the integrator's parameters.
+fn head_with(split_escapes: bool, split_visible_glass: bool, more: &str) -> String {
     format!(
         r#"<integrator type="path">
         <boolean name="split_escapes" value="{split_escapes}"/>
-        <boolean name="split_visible_glass" value="{split_visible_glass}"/>
+        <boolean name="split_visible_glass" value="{split_visible_glass}"/>{more}
     </integrator>
     <sensor type="perspective">
         <float name="fov" value="40"/>
@@ -157,7 +157,7 @@ fn split_escapes_stays_off_where_no_ray_can_meet_a_light() {
 #[test]
 fn split_visible_glass_keeps_the_expectation_of_glass_seen_directly() {
     let scene = |split: bool| {
-        let head = head_with(true, split);
+        let head = head_with(true, split, "");
         format!(
             r#"<scene version="3.0.0">
     {head}
@@ -199,19 +199,10 @@ fn split_visible_glass_keeps_the_expectation_of_glass_seen_directly() {
 #[test]
 fn split_visible_glass_keeps_the_expectation_with_a_lamp_roulette_and_dispersion() {
     let scene = |split: bool| {
+        let head = head_with(true, split, r#"<integer name="rr_depth" value="1"/>"#);
         format!(
             r#"<scene version="3.0.0">
-    <integrator type="path">
-        <boolean name="split_visible_glass" value="{split}"/><integer name="rr_depth" value="1"/>
-    </integrator>
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 1.6, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>
-        <film type="hdrfilm">
-            <integer name="width" value="24"/><integer name="height" value="24"/>
-            <rfilter type="box"/>
-        </film>
-    </sensor>
+    {head}
     <shape type="rectangle">
         <transform name="to_world"><scale x="4" y="3"/><translate y="0.5" z="-1.5"/></transform>
         <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>

@@ -113,17 +113,12 @@ impl<S: SpectralValue, I: IorValue> Dielectric<S, I> {
             return None;
         }
         let f_hero = fresnel_dielectric(wi.z, relative_eta(&self.int_ior, &self.ext_ior, wl)[0]).reflectance;
-        let lobe = |flags: BsdfFlags, choice: f32, wl: &mut SampledWavelengths| {
-            // One lobe enabled: `sample` takes it with probability 1, weighted by F or 1 − F.
-            self.sample(&ctx.with_lobes(flags), wi, 0.5, Vec2::ZERO, wl)
-                .map(|bs| (BsdfSample { pdf: choice, ..bs }, choice))
-                .filter(|_| choice > 0.0)
-        };
-        Some(LobeSplit {
-            reflection: lobe(BsdfFlags::DELTA_REFLECTION, f_hero, wl),
-            refraction: lobe(BsdfFlags::DELTA_TRANSMISSION, 1.0 - f_hero, wl),
-            reflectance: f_hero,
-        })
+        Some(LobeSplit::of_delta_lobes(
+            f_hero,
+            BsdfFlags::DELTA_TRANSMISSION,
+            wl,
+            |lobe, wl| self.sample(&ctx.with_lobes(lobe), wi, 0.5, Vec2::ZERO, wl),
+        ))
     }
 }
 

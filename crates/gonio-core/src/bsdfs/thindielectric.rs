@@ -115,16 +115,9 @@ impl<S: SpectralValue, I: IorValue> ThinDielectric<S, I> {
             return None;
         }
         let r_hero = self.reflectance_transmittance(wi.z, wl).0[0];
-        let lobe = |flags: BsdfFlags, choice: f32, wl: &mut SampledWavelengths| {
-            self.sample(&ctx.with_lobes(flags), wi, 0.5, Vec2::ZERO, wl)
-                .map(|bs| (BsdfSample { pdf: choice, ..bs }, choice))
-                .filter(|_| choice > 0.0)
-        };
-        Some(LobeSplit {
-            reflection: lobe(BsdfFlags::DELTA_REFLECTION, r_hero, wl),
-            refraction: lobe(TRANSMISSION, 1.0 - r_hero, wl),
-            reflectance: r_hero,
-        })
+        Some(LobeSplit::of_delta_lobes(r_hero, TRANSMISSION, wl, |lobe, wl| {
+            self.sample(&ctx.with_lobes(lobe), wi, 0.5, Vec2::ZERO, wl)
+        }))
     }
 }
 
