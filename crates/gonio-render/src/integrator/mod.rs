@@ -532,7 +532,7 @@ impl<'a> PathTracer<'a> {
                 continue;
             }
 
-            state = self.advanced(&state, &bs, &v, &ray, &from, reverse_pdf);
+            self.advance(&mut state, &bs, &v, &ray, &from, reverse_pdf);
             if !self.russian_roulette(&mut state, sampler) {
                 break;
             }

@@ -193,21 +193,35 @@ impl PathTracer<'_> {
         from: &StepFrom,
         reverse_pdf: f32,
     ) -> PathState<W> {
+        let mut next = *state;
+        self.advance(&mut next, bs, v, ray, from, reverse_pdf);
+        next
+    }
+
+    /// [`Self::advanced`] in place (the path loop's step: the state is a few hundred bytes).
+    pub(super) fn advance<W: Weight>(
+        &self,
+        state: &mut PathState<W>,
+        bs: &BsdfSample<W>,
+        v: &Vertex,
+        ray: &Ray,
+        from: &StepFrom,
+        reverse_pdf: f32,
+    ) {
         let si = v.si;
         let dir = ray.d;
-        let mut next = *state;
-        next.beta *= bs.weight;
-        next.eta *= bs.eta;
-        next.mnee = self.manifold_after_sample(state.mnee, from.manifold_here, (si, dir), bs);
+        state.beta *= bs.weight;
+        state.eta *= bs.eta;
+        state.mnee = self.manifold_after_sample(state.mnee, from.manifold_here, (si, dir), bs);
         if self.refracted_nee {
-            next.refr = if bs.flags.is_delta() {
+            state.refr = if bs.flags.is_delta() {
                 self.refracted_after_delta(state.refr, si.shape, bs)
             } else {
                 Some(refracted::RefractedStart::new(from.light_ref, *ray, bs.pdf))
             };
         }
         if self.traces_caustics() {
-            next.chain = caustics::ChainState::after_sample(
+            state.chain = caustics::ChainState::after_sample(
                 state.chain,
                 bs,
                 from.arrival,
@@ -216,12 +230,11 @@ impl PathTracer<'_> {
                 reverse_pdf,
             );
         }
-        next.prev = Some(PrevVertex {
+        state.prev = Some(PrevVertex {
             light_ref: from.light_ref,
             bsdf_pdf: bs.pdf,
             delta: bs.flags.is_delta(),
         });
-        next.depth += 1;
-        next
+        state.depth += 1;
     }
 }
