@@ -1,7 +1,8 @@
 //! The state a camera path carries from one vertex to the next, and what a step does to it: the
-//! next state along a sampled (or split) lobe ([`PathTracer::advanced`]), Russian roulette, and
-//! the emission the path meets, weighted by MIS against every strategy that could have found it
-//! ([`PathTracer::add_escaped`], [`PathTracer::add_emitted`]). The loop (`PathTracer::li`) and
+//! next state along a sampled (or split) lobe ([`PathTracer::advance`] in place,
+//! [`PathTracer::advanced`] as a copy), Russian roulette, and the emission the path meets,
+//! weighted by MIS against every strategy that could have found it
+//! ([`PathTracer::add_escaped`], [`PathTracer::add_emitted`]). The loop (`PathTracer::trace`) and
 //! lobe splitting ([`super::lobe_split`]) both go through these, so a path's MIS weights are the
 //! same functions whichever way it was reached.
 
