@@ -469,10 +469,12 @@ impl PaddedSampler<'_> {
     }
 }
 
-/// A [`PaddedSampler`]'s position: the pattern's dimension, the numbers taken, its stream.
+/// A [`PaddedSampler`]'s position: the pattern's dimension and stream (the independent and
+/// jittered patterns draw from the sampler's own PCG32), the numbers taken, its own stream.
 #[derive(Clone, Copy, Debug)]
 pub struct PaddedMark {
     dim: u32,
+    pattern_rng: Pcg32,
     used: u32,
     rng: Option<Pcg32>,
 }
@@ -482,12 +484,14 @@ impl PathSampler for PaddedSampler<'_> {
     fn mark(&self) -> PaddedMark {
         PaddedMark {
             dim: self.sampler.dim,
+            pattern_rng: self.sampler.rng,
             used: self.used,
             rng: self.rng,
         }
     }
     fn rewind(&mut self, mark: PaddedMark) {
         self.sampler.dim = mark.dim;
+        self.sampler.rng = mark.pattern_rng;
         self.used = mark.used;
         self.rng = mark.rng;
     }
@@ -556,6 +560,43 @@ mod tests {
     /// The per-pixel key cache: a sampler that has visited other pixels has each dimension's
     /// key as the definition gives it, and draws, for a pixel sample, exactly the numbers of a
     /// fresh sampler started there, over the cached dimensions and past them.
+    #[test]
+    fn a_rewound_path_sampler_repeats_its_numbers() {
+        // Marked in the pattern's dimensions and past them (the independent stream, started
+        // lazily or already running): every number after the mark comes again, and the
+        // numbers after it differ from those before.
+        for pattern in [
+            Pattern::Sobol,
+            Pattern::Independent,
+            Pattern::Stratified { jitter: true },
+        ] {
+            for skip in [0u32, 5, STRUCTURED_DIMS - 1, STRUCTURED_DIMS + 3] {
+                let mut sampler = Sampler::new(pattern, 16, 3);
+                sampler.start_pixel_sample(UVec2::new(2, 7), 5);
+                let mut padded = sampler.padded();
+                let before: Vec<f32> = (0..skip).map(|_| padded.next_1d()).collect();
+                let mark = padded.mark();
+                let draw = |p: &mut PaddedSampler| -> Vec<f32> {
+                    (0..12)
+                        .flat_map(|_| {
+                            let v = p.next_2d();
+                            [v.x, v.y, p.next_1d()]
+                        })
+                        .collect()
+                };
+                let first = draw(&mut padded);
+                padded.rewind(mark);
+                assert_eq!(draw(&mut padded), first, "{pattern:?}, mark after {skip}");
+                assert!(before.iter().all(|b| !first.contains(b)), "{pattern:?}, {skip}");
+            }
+        }
+        let mut rng = Pcg32::new(1, 2);
+        let mark = rng.mark();
+        let a = [rng.next_1d(), rng.next_1d()];
+        rng.rewind(mark);
+        assert_eq!([rng.next_1d(), rng.next_1d()], a);
+    }
+
     #[test]
     fn cached_dimension_keys_give_the_numbers_of_a_fresh_sampler() {
         for pattern in [Pattern::Sobol, Pattern::MultiJitter { jitter: true }] {
