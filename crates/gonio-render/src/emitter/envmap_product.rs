@@ -220,8 +220,8 @@ impl CosineProduct {
             .enumerate()
             .map(|(i, &c)| if i == last { 1.0 } else { (c / sum) as f32 })
             .collect();
-        // The CDF, then its entries 0, BLOCK, 2·BLOCK, … again: the coarse level of the search.
-        let coarse: Vec<f32> = cdf.iter().step_by(BLOCK).copied().collect();
+        // The CDF, then its coarse level.
+        let coarse = coarse_level(&cdf);
         [cdf, coarse].concat().into_boxed_slice()
     }
 
@@ -229,11 +229,7 @@ impl CosineProduct {
     /// normal `n`, and their density p(u, v) (module docs); `None` when the cell sees no light.
     pub fn sample(&self, n: Vec3, u: Vec2) -> Option<(Vec2, f32)> {
         let (cdf, coarse) = self.cell_cdf(n)?;
-        // Entries ≤ u.x: a whole block for each coarse entry ≤ u.x but the last, then a count
-        // inside the block that holds the CDF's crossing.
-        let block = count_le(coarse, u.x).saturating_sub(1) * BLOCK;
-        let below = block + count_le(&cdf[block..(block + BLOCK).min(cdf.len())], u.x);
-        let (tile, p_tile, ux) = pick(cdf, below, u.x)?;
+        let (tile, p_tile, ux) = pick(cdf, two_level_count(cdf, coarse, u.x), u.x)?;
         let per_tile = self.tile_w * self.tile_h;
         let texels = &self.texel_cdf[tile * (per_tile + 1)..(tile + 1) * (per_tile + 1)];
         let (t, p_texel, uy) = pick(texels, partition_count(texels, u.y), u.y)?;
@@ -274,9 +270,23 @@ fn count_le(values: &[f32], u: f32) -> usize {
     values.iter().map(|&c| (c <= u) as u32).sum::<u32>() as usize
 }
 
-/// [`count_le`] for a CDF of at most `2 · BLOCK` entries (a tile's texels in maps up to
-/// 1024 × 1024: 4 × 8 texels per tile at most), a binary search above (a tile of a 4096 × 2048
-/// map has 4096 texels: a count would compare them all).
+/// The coarse level of a CDF's search: its entries 0, [`BLOCK`], 2·[`BLOCK`], ….
+fn coarse_level(cdf: &[f32]) -> Vec<f32> {
+    cdf.iter().step_by(BLOCK).copied().collect()
+}
+
+/// [`count_le`] over `cdf` in two levels: a whole block for each entry of `coarse`
+/// ([`coarse_level`]) at most `u` but the last, then a count inside the block that holds the
+/// CDF's crossing.
+#[inline]
+fn two_level_count(cdf: &[f32], coarse: &[f32], u: f32) -> usize {
+    let block = count_le(coarse, u).saturating_sub(1) * BLOCK;
+    block + count_le(&cdf[block..(block + BLOCK).min(cdf.len())], u)
+}
+
+/// [`count_le`] for a CDF of at most `2 · BLOCK` entries (a tile of at most 127 texels: the
+/// 512 × 256 preview map's tiles are 8 × 8), a binary search above (a tile of a 1024 × 512 map
+/// has 16 × 16 texels, of a 4096 × 2048 one 4096: a count would compare them all).
 #[inline]
 fn partition_count(values: &[f32], u: f32) -> usize {
     if values.len() <= 2 * BLOCK {
@@ -385,14 +395,14 @@ mod tests {
                     .map(|&c| if sum > 0.0 { c / sum } else { 0.0 })
                     .collect();
                 cdf.push(1.0);
-                let coarse: Vec<f32> = cdf.iter().step_by(BLOCK).copied().collect();
+                let coarse = coarse_level(&cdf);
                 let probes = (0..50)
                     .map(|_| rng.next_f32())
                     .chain(cdf[..len - 1].iter().copied());
                 for u in probes {
-                    let block = count_le(&coarse, u).saturating_sub(1) * BLOCK;
-                    let below = block + count_le(&cdf[block..(block + BLOCK).min(len)], u);
-                    assert_eq!(below, cdf.partition_point(|&c| c <= u), "len {len}, u {u}");
+                    let expected = cdf.partition_point(|&c| c <= u);
+                    assert_eq!(two_level_count(&cdf, &coarse, u), expected, "len {len}, u {u}");
+                    assert_eq!(partition_count(&cdf, u), expected, "len {len}, u {u}");
                 }
             }
         }
