@@ -72,7 +72,7 @@
 //! glass, dispersive glass while the path's secondary wavelengths live (a refraction would end
 //! them for both lobes), and polarized renders.
 
-use super::{PathStart, PathState, PathTracer, StepFrom, Vertex, caustics};
+use super::{PathState, PathTracer, StepFrom, Vertex, caustics};
 use crate::accel::Intersect;
 use crate::emitter::{Light, Lights};
 use crate::geometry::shape::TriRay;
@@ -337,6 +337,9 @@ impl PathTracer<'_> {
     }
 }
 
+/// Where a path loop starts (`PathTracer::trace`): its ray and its state.
+type PathStart<W> = (Ray, PathState<W>);
+
 impl PathTracer<'_> {
     /// At the first surface the camera sees, smooth glass (one `dielectric` whose index does
     /// not disperse the live wavelengths, or one `thindielectric`) has both lobes followed, each
@@ -394,24 +397,14 @@ impl PathTracer<'_> {
                 eta: bs.eta,
             };
             let ray = v.si.spawn_ray(v.si.shading.to_world(bs.wo));
-            let state = if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
+            let mut next = *state;
+            if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
                 // Straight through a sheet: the previous vertex's MIS state and depth.
-                let mut next = *state;
-                next.beta *= bs.weight;
-                next.null_crossings += 1;
-                next
+                next.cross_sheet(bs.weight).then_some((ray, next))
             } else {
-                let mut next = self.advanced(state, &bs, v, &ray, &from, 0.0);
-                if !self.russian_roulette(&mut next, sampler) {
-                    return None;
-                }
-                next
-            };
-            (!state.beta.is_black()).then_some(PathStart {
-                ray,
-                state,
-                may_split: false,
-            })
+                self.advance(&mut next, &bs, v, &ray, &from, 0.0);
+                self.russian_roulette(&mut next, sampler).then_some((ray, next))
+            }
         };
         let refraction = start(split.refraction);
         Some([refraction, start(split.reflection)])

@@ -291,7 +291,8 @@ impl<'a> PathTracer<'a> {
             refracted_light: Vec::new(),
             refracted_nee: false,
             split_escapes: settings.split_escapes,
-            split_visible_glass: settings.split_visible_glass,
+            // Spectral renders only (the split lobes' weights are spectra).
+            split_visible_glass: settings.split_visible_glass && !polarized,
             light_shapes: if settings.split_escapes {
                 lobe_split::LightShapes::new(lights, accel.shapes())
             } else {
@@ -412,20 +413,17 @@ impl<'a> PathTracer<'a> {
         }
         let mut l = W::ZERO;
         let mut bsdf = SurfaceBsdf::new();
-        let start = PathStart {
-            ray,
-            state: PathState::<W>::CAMERA,
-            may_split: self.split_visible_glass && !self.polarized,
-        };
-        self.trace(start, sampler, wl, light, &mut bsdf, &mut l);
+        self.trace(ray, PathState::<W>::CAMERA, sampler, wl, light, &mut bsdf, &mut l);
         if l.intensity().is_finite() { l } else { W::ZERO }
     }
 
-    /// The path loop of [`Self::li`] from `start`, adding what it finds to `l`; `bsdf` is the
-    /// path's one BSDF buffer, refilled at each vertex.
+    /// The path loop of [`Self::li`] from `ray` with `state`, adding what it finds to `l`;
+    /// `bsdf` is the path's one BSDF buffer, refilled at each vertex.
+    #[allow(clippy::too_many_arguments)]
     fn trace<'s, W: Weight, L: caustics::LightWeight<W>>(
         &'s self,
-        start: PathStart<W>,
+        mut ray: Ray,
+        mut state: PathState<W>,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
         light: &caustics::LightSubpath<L>,
@@ -434,11 +432,6 @@ impl<'a> PathTracer<'a> {
     ) where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
-        let PathStart {
-            mut ray,
-            mut state,
-            may_split,
-        } = start;
         // The hit of `ray` when a lobe split traced it already, and whether the split added
         // its emission.
         let mut traced: Option<SurfaceInteraction> = None;
@@ -481,18 +474,19 @@ impl<'a> PathTracer<'a> {
                 si: &si,
                 wi: si.shading.to_local(wi_world),
             };
-            // The glass the camera sees: both lobes followed, each by a loop of its own.
-            if may_split
+            let cos_in = si.n.dot(wi_world).abs();
+            // The glass the camera sees: both lobes followed, each by a loop of its own (whose
+            // depth or sheet count is then past 0: no second split).
+            if self.split_visible_glass
                 && state.depth == 0
                 && state.null_crossings == 0
-                && let Some(starts) =
-                    self.visible_glass_split(&v, &state, (arrival, si.n.dot(wi_world).abs()), sampler, wl)
+                && let Some(starts) = self.visible_glass_split(&v, &state, (arrival, cos_in), sampler, wl)
             {
                 // Both paths take the same numbers: each is the coin path's with its lobe.
                 let mark = sampler.mark();
-                for start in starts.into_iter().flatten() {
+                for (ray, state) in starts.into_iter().flatten() {
                     sampler.rewind(mark);
-                    self.trace(start, sampler, wl, light, bsdf, l);
+                    self.trace(ray, state, sampler, wl, light, bsdf, l);
                 }
                 break;
             }
@@ -503,7 +497,7 @@ impl<'a> PathTracer<'a> {
                 light_ref: outcome.light_ref,
                 manifold_here: outcome.manifold_here,
                 arrival,
-                cos_in: si.n.dot(wi_world).abs(),
+                cos_in,
             };
             let (bs, reverse_pdf) = match outcome.step {
                 Step::Split(pair) => {
@@ -524,9 +518,7 @@ impl<'a> PathTracer<'a> {
 
             if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
                 // Straight through a sheet: keep the previous vertex's MIS state and depth.
-                state.beta *= bs.weight;
-                state.null_crossings += 1;
-                if state.null_crossings > MAX_NULL_CROSSINGS || state.beta.is_black() {
+                if !state.cross_sheet(bs.weight) {
                     break;
                 }
                 continue;
@@ -638,14 +630,6 @@ impl<'a> PathTracer<'a> {
             step: Step::Sampled { sample, reverse_pdf },
         }
     }
-}
-
-/// Where a path loop starts ([`PathTracer::trace`]): its ray, its state, and whether the first
-/// surface it meets may split ([`PathTracer::visible_glass_split`]).
-struct PathStart<W: Weight> {
-    ray: Ray,
-    state: PathState<W>,
-    may_split: bool,
 }
 
 /// The `path` integrator: channels `R`, `G`, `B` (linear sRGB through the wavelength estimator

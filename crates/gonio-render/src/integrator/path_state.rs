@@ -79,6 +79,16 @@ impl<W: Weight> PathState<W> {
     pub(super) fn after_delta(&self) -> bool {
         matches!(self.prev, Some(PrevVertex { delta: true, .. }))
     }
+
+    /// A straight pass through a sheet (`thin_shadows`): the throughput times the sheet's
+    /// transmission `w`, the depth and the previous vertex's MIS state kept. False when the path
+    /// ends there (more than [`super::MAX_NULL_CROSSINGS`] sheets, or no throughput left).
+    #[inline]
+    pub(super) fn cross_sheet(&mut self, w: W) -> bool {
+        self.beta *= w;
+        self.null_crossings += 1;
+        self.null_crossings <= super::MAX_NULL_CROSSINGS && !self.beta.is_black()
+    }
 }
 
 /// What a vertex's continuation carries into the path's next state (besides the BSDF sample):
