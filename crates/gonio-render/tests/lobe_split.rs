@@ -147,6 +147,21 @@ fn split_escapes_stays_off_where_no_ray_can_meet_a_light() {
     assert_eq!(a, b);
 }
 
+/// A window pane (`thindielectric`, right) and a glass slab (`dielectric` with `slab`'s
+/// parameters, left), each turned 50° and filling half the view of [`head`]'s camera.
+fn pane_and_slab(slab: &str) -> String {
+    format!(
+        r#"<shape type="rectangle">
+        <transform name="to_world"><scale x="0.8" y="1.5"/><rotate y="1" angle="-50"/><translate x="0.5" y="0.5" z="0.8"/></transform>
+        <bsdf type="thindielectric"/>
+    </shape>
+    <shape type="cube">
+        <transform name="to_world"><scale x="0.8" y="1.5" z="0.1"/><rotate y="1" angle="50"/><translate x="-0.5" y="0.5" z="0.8"/></transform>
+        <bsdf type="dielectric">{slab}</bsdf>
+    </shape>"#
+    )
+}
+
 /// A window pane (`thindielectric`) and a glass slab (`dielectric`) that fill the view, before a
 /// dark wall with bright stripes, under a uniform sky (thin-vs-thick in small): a dark part of
 /// the wall seen through the glass mixes its own light with the much brighter sky the glass
@@ -158,6 +173,7 @@ fn split_escapes_stays_off_where_no_ray_can_meet_a_light() {
 fn split_visible_glass_keeps_the_expectation_of_glass_seen_directly() {
     let scene = |split: bool| {
         let head = head_with(true, split, "");
+        let glass = pane_and_slab("");
         format!(
             r#"<scene version="3.0.0">
     {head}
@@ -170,14 +186,7 @@ fn split_visible_glass_keeps_the_expectation_of_glass_seen_directly() {
             </texture>
         </bsdf>
     </shape>
-    <shape type="rectangle">
-        <transform name="to_world"><scale x="0.8" y="1.5"/><rotate y="1" angle="-50"/><translate x="0.5" y="0.5" z="0.8"/></transform>
-        <bsdf type="thindielectric"/>
-    </shape>
-    <shape type="cube">
-        <transform name="to_world"><scale x="0.8" y="1.5" z="0.1"/><rotate y="1" angle="50"/><translate x="-0.5" y="0.5" z="0.8"/></transform>
-        <bsdf type="dielectric"/>
-    </shape>
+    {glass}
     <emitter type="constant"><rgb name="radiance" value="0.6"/></emitter>
 </scene>"#
         )
@@ -200,6 +209,7 @@ fn split_visible_glass_keeps_the_expectation_of_glass_seen_directly() {
 fn split_visible_glass_keeps_the_expectation_with_a_lamp_roulette_and_dispersion() {
     let scene = |split: bool| {
         let head = head_with(true, split, r#"<integer name="rr_depth" value="1"/>"#);
+        let glass = pane_and_slab(r#"<string name="int_ior" value="SF11"/>"#);
         format!(
             r#"<scene version="3.0.0">
     {head}
@@ -207,14 +217,7 @@ fn split_visible_glass_keeps_the_expectation_with_a_lamp_roulette_and_dispersion
         <transform name="to_world"><scale x="4" y="3"/><translate y="0.5" z="-1.5"/></transform>
         <bsdf type="diffuse"><rgb name="reflectance" value="0.5"/></bsdf>
     </shape>
-    <shape type="rectangle">
-        <transform name="to_world"><scale x="0.8" y="1.5"/><rotate y="1" angle="-50"/><translate x="0.5" y="0.5" z="0.8"/></transform>
-        <bsdf type="thindielectric"/>
-    </shape>
-    <shape type="cube">
-        <transform name="to_world"><scale x="0.8" y="1.5" z="0.1"/><rotate y="1" angle="50"/><translate x="-0.5" y="0.5" z="0.8"/></transform>
-        <bsdf type="dielectric"><string name="int_ior" value="SF11"/></bsdf>
-    </shape>
+    {glass}
     <shape type="rectangle">
         <transform name="to_world"><scale x="1" y="0.5"/><rotate x="1" angle="120"/><translate y="2.5" z="2.5"/></transform>
         <emitter type="area"><rgb name="radiance" value="6"/></emitter>
