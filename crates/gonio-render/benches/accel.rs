@@ -6,6 +6,9 @@
 //! * `closest_incoherent`: from random points inside the sphere in random directions, random
 //!   order (what secondary bounces look like).
 //! * `occluded_incoherent`: the same rays as shadow rays (any hit ends the query).
+//! * `closest_coherent_packets`, `closest_incoherent_packets`: the same rays 16 at a time
+//!   (`Accel::intersect_packet`: Embree's packet query for the triangles). `ICO=n` in the
+//!   environment subdivides the icosphere `n` times instead of 8.
 //!
 //! Throughput is printed by divan as items (rays) per second, single thread.
 
@@ -91,7 +94,12 @@ fn icosphere(levels: u32) -> TriangleMesh {
 fn shapes() -> &'static Vec<WorldShape> {
     static S: OnceLock<Vec<WorldShape>> = OnceLock::new();
     S.get_or_init(|| {
-        let mesh = icosphere(8);
+        let mesh = icosphere(
+            std::env::var("ICO")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(8),
+        );
         let mk = |geometry, to_world| ShapeDesc {
             geometry,
             to_world,
@@ -197,6 +205,32 @@ fn closest_incoherent(bencher: divan::Bencher) {
     bencher
         .counter(divan::counter::ItemsCount::new(rays.len()))
         .bench(|| rays.iter().filter(|r| a.intersect(r).is_some()).count());
+}
+
+#[divan::bench(sample_count = 5, sample_size = 1)]
+fn closest_coherent_packets(bencher: divan::Bencher) {
+    packets(bencher, coherent_rays());
+}
+
+#[divan::bench(sample_count = 5, sample_size = 1)]
+fn closest_incoherent_packets(bencher: divan::Bencher) {
+    packets(bencher, incoherent_rays());
+}
+
+/// `rays` 16 at a time through `Accel::intersect_packet`.
+fn packets(bencher: divan::Bencher, rays: &[Ray]) {
+    let a = accel();
+    let mut out = vec![None; 16];
+    bencher
+        .counter(divan::counter::ItemsCount::new(rays.len()))
+        .bench_local(|| {
+            rays.chunks(16)
+                .map(|r| {
+                    a.intersect_packet(r, &mut out[..r.len()]);
+                    out.iter().filter(|h| h.is_some()).count()
+                })
+                .sum::<usize>()
+        });
 }
 
 #[divan::bench(sample_count = 5, sample_size = 1)]

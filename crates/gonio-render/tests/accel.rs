@@ -107,6 +107,52 @@ fn accel_agrees_with_brute_force() {
     }
 }
 
+/// `Accel::intersect_packet` (Embree's 16-ray packets for the triangles, the analytic shapes per
+/// ray) answers every ray as `intersect` does: the same surface at the same distance, for full
+/// and partial packets, rays that end early, and rays with nothing to travel (`tmax` 0).
+#[test]
+fn packet_queries_agree_with_single_ray_queries() {
+    for allow_embree in [true, false] {
+        let mut rng = Rng(1234);
+        let accel = Accel::with_embree(random_scene(&mut rng), allow_embree);
+        let rays: Vec<Ray> = (0..4099)
+            .map(|i| {
+                let mut ray = Ray::new(rng.v3(-7.0, 7.0), rng.dir());
+                match i % 7 {
+                    0 => ray.tmax = rng.range(0.5, 6.0),
+                    1 if i % 2 == 0 => ray.tmax = 0.0,
+                    _ => {}
+                }
+                ray
+            })
+            .collect();
+        let mut out = vec![None; rays.len()];
+        accel.intersect_packet(&rays, &mut out);
+        let mut hits = 0;
+        for (i, (ray, packet)) in rays.iter().zip(&out).enumerate() {
+            match (packet, accel.intersect(ray)) {
+                (None, None) => {}
+                (Some(a), Some(b)) => {
+                    hits += 1;
+                    assert_eq!((a.shape, a.prim), (b.shape, b.prim), "ray {i}");
+                    assert!(
+                        (a.t - b.t).abs() <= 1e-6 * a.t.max(1.0),
+                        "ray {i}: t {} vs {}",
+                        a.t,
+                        b.t
+                    );
+                }
+                (a, b) => panic!(
+                    "ray {i} {ray:?}: packet {:?} vs single {:?}",
+                    a.map(|h| h.t),
+                    b.map(|h| h.t)
+                ),
+            }
+        }
+        assert!(hits > 1000, "the test scene should be hit often: {hits}");
+    }
+}
+
 /// `.ci/run` installs Embree: a CI run that fell back to our BVH would measure and test the
 /// wrong path without saying so.
 #[test]

@@ -87,6 +87,46 @@ struct RayHit {
     hit: RtcHit,
 }
 
+/// Rays in a packet of [`PACKET`] (`RTCRay16`: structure of arrays, 64-byte aligned).
+#[repr(C, align(64))]
+struct Ray16 {
+    org: [[f32; PACKET]; 3],
+    tnear: [f32; PACKET],
+    dir: [[f32; PACKET]; 3],
+    time: [f32; PACKET],
+    tfar: [f32; PACKET],
+    mask: [c_uint; PACKET],
+    id: [c_uint; PACKET],
+    flags: [c_uint; PACKET],
+}
+
+/// `struct RTCHit16`.
+#[repr(C, align(64))]
+struct Hit16 {
+    ng: [[f32; PACKET]; 3],
+    u: [f32; PACKET],
+    v: [f32; PACKET],
+    prim_id: [c_uint; PACKET],
+    geom_id: [c_uint; PACKET],
+    inst_id: [[c_uint; PACKET]; 1],
+}
+
+/// `struct RTCRayHit16`.
+#[repr(C)]
+struct RayHit16 {
+    ray: Ray16,
+    hit: Hit16,
+}
+
+/// The lanes of a packet query that carry a ray (−1) and those that do not (0), as Embree's
+/// `valid` argument (64-byte aligned).
+#[repr(C, align(64))]
+struct Valid16([c_int; PACKET]);
+
+/// Rays per packet query: Embree's widest (`rtcIntersect16`), 16 lanes of AVX-512, two halves
+/// of AVX2 elsewhere (Embree picks the kernel).
+pub(super) const PACKET: usize = 16;
+
 /// `struct RTCFilterFunctionNArguments` (for single rays, `ray` and `hit` point at an `RtcRay`
 /// and an `RtcHit`).
 #[repr(C)]
@@ -115,6 +155,7 @@ struct Api {
     get_device_error: unsafe extern "C" fn(Device) -> c_int,
     intersect1: unsafe extern "C" fn(Scene, *mut IntersectContext, *mut RayHit),
     occluded1: unsafe extern "C" fn(Scene, *mut IntersectContext, *mut RtcRay),
+    intersect16: unsafe extern "C" fn(*const c_int, Scene, *mut IntersectContext, *mut RayHit16),
     device: Device,
     _lib: libloading::Library,
 }
@@ -160,6 +201,7 @@ fn api() -> Option<&'static Api> {
                 get_device_error: sym!("rtcGetDeviceError"),
                 intersect1: sym!("rtcIntersect1"),
                 occluded1: sym!("rtcOccluded1"),
+                intersect16: sym!("rtcIntersect16"),
                 device,
                 _lib: lib,
             })
@@ -301,6 +343,64 @@ impl Triangles {
             };
             (rh.hit.geom_id, rh.hit.prim_id, hit)
         })
+    }
+
+    /// [`Self::closest`] of up to [`PACKET`] rays in one packet query (`rtcIntersect16`):
+    /// `out[i]` for `rays[i]`. Rays with `tmax ≤ 0` (or NaN) fill no lane and get `None`.
+    pub(super) fn closest_packet(&self, rays: &[Ray], out: &mut [Option<(u32, u32, PrimHit)>]) {
+        assert!(rays.len() <= PACKET && out.len() == rays.len());
+        out.fill(None);
+        let Some(api) = api() else { return };
+        let mut valid = Valid16([0; PACKET]);
+        // Zeroed lanes beyond the rays; Embree reads only the valid ones.
+        let mut rh = RayHit16 {
+            ray: Ray16 {
+                org: [[0.0; PACKET]; 3],
+                tnear: [f32::MIN_POSITIVE; PACKET],
+                dir: [[0.0; PACKET]; 3],
+                time: [0.0; PACKET],
+                tfar: [0.0; PACKET],
+                mask: [u32::MAX; PACKET],
+                id: [0; PACKET],
+                flags: [0; PACKET],
+            },
+            hit: Hit16 {
+                ng: [[0.0; PACKET]; 3],
+                u: [0.0; PACKET],
+                v: [0.0; PACKET],
+                prim_id: [INVALID_GEOMETRY_ID; PACKET],
+                geom_id: [INVALID_GEOMETRY_ID; PACKET],
+                inst_id: [[INVALID_GEOMETRY_ID; PACKET]],
+            },
+        };
+        for (i, ray) in rays.iter().enumerate() {
+            if !(ray.tmax > 0.0) {
+                continue;
+            }
+            valid.0[i] = -1;
+            for k in 0..3 {
+                rh.ray.org[k][i] = ray.o[k];
+                rh.ray.dir[k][i] = ray.d[k];
+            }
+            rh.ray.tfar[i] = ray.tmax.next_down();
+        }
+        if valid.0.iter().all(|&v| v == 0) {
+            return;
+        }
+        let mut ctx = IntersectContext::new();
+        // SAFETY: a committed scene, an initialized context, a 64-byte aligned valid mask and
+        // ray-hit packet of Embree 3's layout.
+        unsafe { (api.intersect16)(valid.0.as_ptr(), self.scene, &mut ctx, &mut rh) };
+        for (i, o) in out.iter_mut().enumerate() {
+            if valid.0[i] != 0 && rh.hit.geom_id[i] != INVALID_GEOMETRY_ID {
+                let hit = PrimHit {
+                    t: rh.ray.tfar[i],
+                    a: rh.hit.u[i],
+                    b: rh.hit.v[i],
+                };
+                *o = Some((rh.hit.geom_id[i], rh.hit.prim_id[i], hit));
+            }
+        }
     }
 
     /// Whether any triangle is hit in `(0, ray.tmax)`.
