@@ -15,11 +15,13 @@ Each scene is rendered with
   * gonio (`target/release/gonio render`, all cores, our default Sobol sampler),
   * Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` (through `bench/mitsuba_render.py`,
     if this Python has `mitsuba`),
-several runs each at the same spp, and prints two Markdown tables. The first: median render time
+several runs each at the same spp, and prints three Markdown tables. The first: median render time
 (scene loading excluded for both), relMSE against the reference (pixels, and 8x8-block means),
 the equal-error time ratio gonio/Mitsuba = (t_gonio * relMSE_gonio) / (t_mitsuba *
 relMSE_mitsuba) (for unbiased Monte Carlo relMSE ~ 1/spp, so that ratio is how much of Mitsuba's
-time gonio needs to reach Mitsuba's error) and the throughput. The second: loading time (gonio:
+time gonio needs to reach Mitsuba's error) and the throughput. The second: the throughput of
+gonio under `--mitsuba-estimators` (Mitsuba's estimator, sample for sample) against Mitsuba's,
+the engines compared. The third: loading time (gonio:
 the process's wall-clock time minus its render time, i.e. parsing, mesh reading, BVH build and
 the image write; Mitsuba: `mi.load_file`, i.e. parsing, mesh reading and BVH build) and peak
 memory, the maximum resident set size of each renderer's process (`wait4`'s `ru_maxrss`; for
@@ -140,9 +142,10 @@ def relmse(a, b, block=1):
     return float(np.mean((a - b) ** 2 / (b * b + 1e-2)))
 
 
-def run_gonio(gonio, scene, spp, seed, out):
-    """(render seconds, loading seconds, peak RSS MB) of one gonio run."""
-    code, _, err, wall, rss = run_measured([gonio, "render", scene, "--spp", str(spp), "--seed", str(seed), "-o", out])
+def run_gonio(gonio, scene, spp, seed, out, extra=()):
+    """(render seconds, loading seconds, peak RSS MB) of one gonio run (`extra`: more arguments)."""
+    code, _, err, wall, rss = run_measured(
+        [gonio, "render", scene, "--spp", str(spp), "--seed", str(seed), "-o", out, *extra])
     if code != 0:
         sys.exit(f"gonio failed on {scene}: {err}")
     t = float(re.search(r"rendered in ([0-9.]+) s", err).group(1))
@@ -243,6 +246,10 @@ def main():
                 g["t_raw"] = statistics.median(run_gonio(a.gonio, raw, a.spp, s, raw_out)[0] for s in range(a.runs))
             finally:
                 os.remove(raw)
+        # The same estimator as Mitsuba's path tracer, sample for sample: the engines compared.
+        mi_out = os.path.join(tmp, f"{name}-gonio-mi.exr")
+        g["t_mi"] = statistics.median(
+            run_gonio(a.gonio, scene, a.spp, s, mi_out, ["--mitsuba-estimators"])[0] for s in range(a.runs))
         if ref is not None:
             g["e"], g["eb"] = relmse(img, ref), relmse(img, ref, 8)
         result = {"scene": name, "gonio": g}
@@ -286,6 +293,23 @@ def main():
         if n and "t_raw" in g:
             tput[0] = f"{n / (g['t_raw'] * cores) / 1e3:.0f} ({tput[0]})"
         cells.append(" / ".join(tput))
+        print("| " + " | ".join(cells) + " |")
+
+    print("\nThroughput with the same estimator: gonio under `--mitsuba-estimators` (Mitsuba's path "
+          "tracer's estimators: no light subpaths, lobe splits or next-event estimation through glass or "
+          "mirrors; gonio's own sampler) "
+          "against Mitsuba's variants, camera samples per second per core.\n")
+    print(f"| scene | gonio --mitsuba-estimators s | gonio (k/s/core) | {variants[0]} | {variants[1]} | "
+          f"gonio / {variants[0]} | gonio / {variants[1]} |")
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        n, cores, g = r.get("samples"), os.cpu_count() or 1, r["gonio"]
+        if not n or "t_mi" not in g:
+            continue
+        k = [n / (t * cores) / 1e3 if t else None
+             for t in [g["t_mi"]] + [r[v]["t"] if r.get(v) else None for v in variants]]
+        cells = [r["scene"], f"{g['t_mi']:.2f}"] + [f"{x:.0f}" if x else "-" for x in k]
+        cells += [f"{k[0] / x:.2f}" if x else "-" for x in k[1:]]
         print("| " + " | ".join(cells) + " |")
 
     print("\nLoading (gonio: process wall time minus render time, image write included; Mitsuba: "
