@@ -108,8 +108,9 @@ fn accel_agrees_with_brute_force() {
 }
 
 /// `Accel::intersect_packet` (Embree's 16-ray packets for the triangles, the analytic shapes per
-/// ray) answers every ray as `intersect` does: the same surface at the same distance, for full
-/// and partial packets, rays that end early, and rays with nothing to travel (`tmax` 0).
+/// ray) answers every ray as `intersect` does: the same surface (but for a tie) at the same
+/// distance, for full and partial packets, rays that end early, and rays with nothing to travel
+/// (`tmax` 0).
 #[test]
 fn packet_queries_agree_with_single_ray_queries() {
     for allow_embree in [true, false] {
@@ -128,19 +129,20 @@ fn packet_queries_agree_with_single_ray_queries() {
             .collect();
         let mut out = vec![None; rays.len()];
         accel.intersect_packet(&rays, &mut out);
-        let mut hits = 0;
+        let (mut hits, mut differing_ties) = (0, 0);
         for (i, (ray, packet)) in rays.iter().zip(&out).enumerate() {
             match (packet, accel.intersect(ray)) {
                 (None, None) => {}
                 (Some(a), Some(b)) => {
                     hits += 1;
-                    assert_eq!((a.shape, a.prim), (b.shape, b.prim), "ray {i}");
                     assert!(
                         (a.t - b.t).abs() <= 1e-6 * a.t.max(1.0),
                         "ray {i}: t {} vs {}",
                         a.t,
                         b.t
                     );
+                    // Two kernels may settle a tie (an edge two triangles share) differently.
+                    differing_ties += usize::from((a.shape, a.prim) != (b.shape, b.prim));
                 }
                 (a, b) => panic!(
                     "ray {i} {ray:?}: packet {:?} vs single {:?}",
@@ -150,6 +152,7 @@ fn packet_queries_agree_with_single_ray_queries() {
             }
         }
         assert!(hits > 1000, "the test scene should be hit often: {hits}");
+        assert!(differing_ties < 5, "{differing_ties}");
     }
 }
 
