@@ -3,7 +3,7 @@
 use glam::{Affine3A, Quat, Vec3};
 use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
 use gonio_render::accel::{Accel, BruteForce, Intersect, embree};
-use gonio_render::geometry::{Ray, WorldShape};
+use gonio_render::geometry::{Ray, SurfaceInteraction, WorldShape};
 use gonio_render::scene::{Geometry, ShapeDesc, TriangleMesh};
 use std::sync::Arc;
 
@@ -129,30 +129,17 @@ fn packet_queries_agree_with_single_ray_queries() {
             .collect();
         let mut out = vec![None; rays.len()];
         accel.intersect_packet(&rays, &mut out);
-        let (mut hits, mut differing_ties) = (0, 0);
+        // Two kernels may settle a tie (an edge two triangles share) differently.
+        let mut count = HitCount::default();
         for (i, (ray, packet)) in rays.iter().zip(&out).enumerate() {
-            match (packet, accel.intersect(ray)) {
-                (None, None) => {}
-                (Some(a), Some(b)) => {
-                    hits += 1;
-                    assert!(
-                        (a.t - b.t).abs() <= 1e-6 * a.t.max(1.0),
-                        "ray {i}: t {} vs {}",
-                        a.t,
-                        b.t
-                    );
-                    // Two kernels may settle a tie (an edge two triangles share) differently.
-                    differing_ties += usize::from((a.shape, a.prim) != (b.shape, b.prim));
-                }
-                (a, b) => panic!(
-                    "ray {i} {ray:?}: packet {:?} vs single {:?}",
-                    a.map(|h| h.t),
-                    b.map(|h| h.t)
-                ),
-            }
+            count.add(same_closest_hit(i, ray, *packet, accel.intersect(ray), 1e-6));
         }
-        assert!(hits > 1000, "the test scene should be hit often: {hits}");
-        assert!(differing_ties < 5, "{differing_ties}");
+        assert!(
+            count.hits > 1000,
+            "the test scene should be hit often: {}",
+            count.hits
+        );
+        assert!(count.ties < 5, "{}", count.ties);
     }
 }
 
@@ -176,39 +163,20 @@ fn accel_agrees_with_brute_force_on(accel: &Accel) {
     let shapes = random_scene(&mut rng);
     let brute = BruteForce::new(shapes);
     assert_eq!(accel.prim_count(), 6 + 8 + 3000 + 2);
-    let (mut hits, mut differing_ties) = (0, 0);
+    let mut count = HitCount::default();
     for i in 0..20_000 {
         let o = rng.v3(-7.0, 7.0);
         let mut ray = Ray::new(o, rng.dir());
         if i % 3 == 0 {
             ray.tmax = rng.range(0.5, 6.0);
         }
-        let a = accel.intersect(&ray);
-        let b = brute.intersect(&ray);
-        match (a, b) {
-            (None, None) => {}
-            (Some(a), Some(b)) => {
-                hits += 1;
-                assert!(
-                    (a.t - b.t).abs() <= 1e-5 * a.t.max(1.0),
-                    "ray {i}: t {} vs {}",
-                    a.t,
-                    b.t
-                );
-                if (a.shape, a.prim) != (b.shape, b.prim) {
-                    // Only acceptable when two primitives are hit at the same distance.
-                    differing_ties += 1;
-                    assert!((a.t - b.t).abs() <= 1e-6 * a.t.max(1.0));
-                } else {
-                    assert!((a.p - b.p).length() < 1e-4 && (a.n - b.n).length() < 1e-5);
-                }
-            }
-            (a, b) => panic!(
-                "ray {i} {ray:?}: accel {:?} vs brute {:?}",
-                a.map(|h| h.t),
-                b.map(|h| h.t)
-            ),
-        }
+        count.add(same_closest_hit(
+            i,
+            &ray,
+            accel.intersect(&ray),
+            brute.intersect(&ray),
+            1e-5,
+        ));
         assert_eq!(
             accel.occluded(&ray),
             brute.intersect(&ray).is_some(),
@@ -230,8 +198,62 @@ fn accel_agrees_with_brute_force_on(accel: &Accel) {
             assert_eq!(ta, tb, "ray {i}: all hits");
         }
     }
-    assert!(hits > 5000, "the test scene should be hit often: {hits}");
-    assert!(differing_ties < 5, "{differing_ties}");
+    assert!(
+        count.hits > 5000,
+        "the test scene should be hit often: {}",
+        count.hits
+    );
+    assert!(count.ties < 5, "{}", count.ties);
+}
+
+/// Hits and ties counted by [`same_closest_hit`].
+#[derive(Default)]
+struct HitCount {
+    hits: usize,
+    ties: usize,
+}
+
+impl HitCount {
+    fn add(&mut self, (hit, tie): (bool, bool)) {
+        self.hits += usize::from(hit);
+        self.ties += usize::from(tie);
+    }
+}
+
+/// Asserts that `a` (the query under test) and `b` (the one it must agree with) find the same
+/// closest hit of ray `i`: both or neither, at the same distance (relative `t_tol`), on the same
+/// primitive with the same point and normal, or on two primitives at the same distance (a tie,
+/// within 10⁻⁶). Returns (a hit, a tie).
+fn same_closest_hit(
+    i: usize,
+    ray: &Ray,
+    a: Option<SurfaceInteraction>,
+    b: Option<SurfaceInteraction>,
+    t_tol: f32,
+) -> (bool, bool) {
+    match (a, b) {
+        (None, None) => (false, false),
+        (Some(a), Some(b)) => {
+            assert!(
+                (a.t - b.t).abs() <= t_tol * a.t.max(1.0),
+                "ray {i}: t {} vs {}",
+                a.t,
+                b.t
+            );
+            if (a.shape, a.prim) != (b.shape, b.prim) {
+                // Only acceptable when two primitives are hit at the same distance.
+                assert!((a.t - b.t).abs() <= 1e-6 * a.t.max(1.0), "ray {i}: not a tie");
+                (true, true)
+            } else {
+                assert!(
+                    (a.p - b.p).length() < 1e-4 && (a.n - b.n).length() < 1e-5,
+                    "ray {i}"
+                );
+                (true, false)
+            }
+        }
+        (a, b) => panic!("ray {i} {ray:?}: {:?} vs {:?}", a.map(|h| h.t), b.map(|h| h.t)),
+    }
 }
 
 #[test]
@@ -574,240 +596,4 @@ fn small_scenes_agree_with_brute_force_on_both_sides_of_the_flat_list_limit() {
     }
 }
 
-// ---------------------------------------------------------------------------------------------
-// Instancing (`shapegroup` + `instance`): the two-level BVH against the same geometry placed flat.
-
-mod instancing {
-    use super::*;
-    use gonio_render::geometry::ShapeKind;
-    use gonio_render::geometry::instance::ShapeGroup;
-    use gonio_render::plugins::shape::instance::expand;
-
-    /// A group (group space) of a cube mesh with vertex normals and uvs, a rectangle and a disk.
-    fn group_shapes() -> Vec<ShapeDesc> {
-        let mut cube = gonio_render::mesh::cube();
-        cube.normals = gonio_render::mesh::vertex_normals(&cube);
-        cube.uvs = cube.positions.iter().map(|p| glam::Vec2::new(p.x, p.y)).collect();
-        let mut flipped = shape(
-            Geometry::Rectangle,
-            Affine3A::from_scale_rotation_translation(
-                Vec3::new(1.5, 0.7, 1.0),
-                Quat::from_rotation_x(0.4),
-                Vec3::new(0.3, 0.0, 2.0),
-            ),
-        );
-        flipped.flip_normals = true;
-        flipped.material = 1;
-        let mut disk = shape(
-            Geometry::Disk,
-            Affine3A::from_translation(Vec3::new(-2.0, 0.5, 0.0)),
-        );
-        disk.material = 2;
-        vec![
-            shape(
-                Geometry::Mesh(Arc::new(cube)),
-                Affine3A::from_scale(Vec3::splat(0.8)),
-            ),
-            flipped,
-            disk,
-        ]
-    }
-
-    fn placements(rng: &mut Rng) -> Vec<Affine3A> {
-        (0..5)
-            .map(|i| {
-                let scale = if i == 0 {
-                    Vec3::ONE
-                } else {
-                    Vec3::new(rng.range(0.4, 1.8), rng.range(0.4, 1.8), rng.range(0.4, 1.8))
-                };
-                let shear = Affine3A::from_cols_array(&[
-                    1.0,
-                    0.0,
-                    0.0,
-                    0.3 * (i % 2) as f32,
-                    1.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                    1.0,
-                    0.0,
-                    0.0,
-                    0.0,
-                ]);
-                Affine3A::from_scale_rotation_translation(
-                    scale,
-                    Quat::from_scaled_axis(rng.v3(-2.0, 2.0)),
-                    rng.v3(-5.0, 5.0),
-                ) * shear
-            })
-            .collect()
-    }
-
-    /// The instanced scene (expanded as the reader does) and the same shapes placed flat.
-    fn scenes(rng: &mut Rng) -> (Vec<ShapeDesc>, Vec<ShapeDesc>) {
-        let members = group_shapes();
-        let group = Arc::new(ShapeGroup::new("g".into(), members.clone()));
-        let (mut instanced, mut flat) = (Vec::new(), Vec::new());
-        for m in placements(rng) {
-            let inst = ShapeDesc {
-                geometry: Geometry::Instance {
-                    group: group.clone(),
-                    member: None,
-                },
-                ..shape(Geometry::Disk, m)
-            };
-            expand(inst, &mut instanced);
-            for s in &members {
-                flat.push(ShapeDesc {
-                    to_world: m * s.to_world,
-                    ..s.clone()
-                });
-            }
-        }
-        (instanced, flat)
-    }
-
-    fn world(descs: &[ShapeDesc]) -> Vec<WorldShape> {
-        descs
-            .iter()
-            .enumerate()
-            .map(|(i, s)| WorldShape::from_scene(s, &i.to_string()).unwrap())
-            .collect()
-    }
-
-    #[test]
-    fn instances_agree_with_the_same_geometry_placed_flat() {
-        let mut rng = Rng(77);
-        let (instanced, flat) = scenes(&mut rng);
-        assert_eq!(instanced.len(), flat.len());
-        // Each member keeps its own material.
-        for (a, b) in instanced.iter().zip(&flat) {
-            assert_eq!(a.material, b.material);
-        }
-        let inst = Accel::new(world(&instanced));
-        let flat = BruteForce::new(world(&flat));
-        let mut dirs = axis_aligned_directions();
-        for _ in 0..4000 {
-            dirs.push(rng.dir());
-        }
-        let mut hits = 0;
-        for (i, d) in dirs.iter().enumerate() {
-            for k in 0..3 {
-                let o = rng.v3(-7.0, 7.0);
-                let mut ray = Ray::new(o, d.normalize());
-                if k == 2 {
-                    ray.tmax = rng.range(0.5, 8.0);
-                }
-                let (a, b) = (inst.intersect(&ray), flat.intersect(&ray));
-                assert_eq!(inst.occluded(&ray), flat.occluded(&ray), "ray {i}/{k}");
-                match (a, b) {
-                    (None, None) => {}
-                    (Some(a), Some(b)) => {
-                        hits += 1;
-                        let tol = 2e-4 * a.t.max(1.0);
-                        assert!((a.t - b.t).abs() <= tol, "ray {i}/{k}: t {} vs {}", a.t, b.t);
-                        if a.shape == b.shape {
-                            assert!((a.p - b.p).length() <= tol, "{:?} vs {:?}", a.p, b.p);
-                            assert!((a.n - b.n).length() < 1e-3, "n {:?} vs {:?}", a.n, b.n);
-                            assert!(
-                                (a.shading.n - b.shading.n).length() < 1e-3,
-                                "ns {:?} vs {:?}",
-                                a.shading.n,
-                                b.shading.n
-                            );
-                            assert!((a.uv - b.uv).length() < 1e-3, "uv {:?} vs {:?}", a.uv, b.uv);
-                            assert_eq!(a.prim, b.prim);
-                            let f = a.shading;
-                            assert!((f.s.dot(f.t)).abs() < 1e-4 && (f.s.cross(f.t) - f.n).length() < 1e-3);
-                        }
-                    }
-                    (a, b) => panic!("ray {i}/{k}: instanced {a:?} vs flat {b:?}"),
-                }
-            }
-        }
-        assert!(hits > 800, "only {hits} hits");
-        // Any-hit queries see every hit inside an instance, as in the flat scene.
-        let mut crossings = 0;
-        for _ in 0..3000 {
-            let ray = Ray::new(rng.v3(-7.0, 7.0), rng.dir());
-            let count = |b: &dyn Intersect| {
-                let mut ts = Vec::new();
-                b.for_each_hit(&ray, &mut |si| {
-                    ts.push(si.t);
-                    false
-                });
-                ts.sort_by(f32::total_cmp);
-                ts
-            };
-            let (a, b) = (count(&inst), count(&flat));
-            assert_eq!(a.len(), b.len(), "{a:?} vs {b:?}");
-            for (x, y) in a.iter().zip(&b) {
-                assert!((x - y).abs() <= 2e-4 * x.max(1.0), "{a:?} vs {b:?}");
-            }
-            crossings += a.len();
-        }
-        assert!(crossings > 500, "{crossings}");
-    }
-
-    #[test]
-    fn instances_hold_one_copy_of_the_group() {
-        let mut rng = Rng(5);
-        let (instanced, _) = scenes(&mut rng);
-        let shapes = world(&instanced);
-        let inner: Vec<_> = shapes
-            .iter()
-            .map(|s| match &s.kind {
-                ShapeKind::Instance(i) => i.inner.clone(),
-                k => panic!("not an instance: {k:?}"),
-            })
-            .collect();
-        // Five instances of three members: three BVHs, each shared by the five instances.
-        for (i, a) in inner.iter().enumerate() {
-            let same = inner.iter().filter(|b| Arc::ptr_eq(a, b)).count();
-            assert_eq!(same, 5, "member {}", i % 3);
-        }
-        let distinct = inner
-            .iter()
-            .enumerate()
-            .filter(|(i, a)| !inner[..*i].iter().any(|b| Arc::ptr_eq(a, b)))
-            .count();
-        assert_eq!(distinct, 3);
-        // The cube's triangles are stored once, not once per instance.
-        let ShapeKind::Mesh(m) = &inner[0].shapes()[0].kind else {
-            panic!("the first member is the cube")
-        };
-        assert_eq!(Arc::strong_count(m), 1);
-        assert_eq!(Arc::strong_count(&inner[0]), 1 + 5 + 5);
-    }
-
-    #[test]
-    fn instance_area_and_bounds_follow_the_transform() {
-        let group = Arc::new(ShapeGroup::new(
-            "g".into(),
-            vec![shape(Geometry::Rectangle, Affine3A::IDENTITY)],
-        ));
-        let m = Affine3A::from_scale_rotation_translation(
-            Vec3::splat(2.0),
-            Quat::from_rotation_z(0.3),
-            Vec3::new(1.0, 2.0, 3.0),
-        );
-        let mut out = Vec::new();
-        expand(
-            ShapeDesc {
-                geometry: Geometry::Instance { group, member: None },
-                ..shape(Geometry::Disk, m)
-            },
-            &mut out,
-        );
-        let w = WorldShape::from_scene(&out[0], "i").unwrap();
-        // The rectangle [-1, 1]² scaled by 2: area 16.
-        assert!((w.area() - 16.0).abs() < 1e-3, "{}", w.area());
-        let flat = WorldShape::from_scene(&shape(Geometry::Rectangle, m), "f").unwrap();
-        let (a, b) = (w.prim_bounds(0), flat.prim_bounds(0));
-        assert!(
-            (a.0 - b.0).length() < 1e-4 && (a.1 - b.1).length() < 1e-4,
-            "{a:?} vs {b:?}"
-        );
-    }
-}
+mod instancing;
