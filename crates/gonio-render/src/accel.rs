@@ -348,17 +348,25 @@ impl Accel {
         for (rays, out) in rays.chunks(embree::PACKET).zip(out.chunks_mut(embree::PACKET)) {
             let tri_hits = &mut tri_hits[..rays.len()];
             tris.closest_packet(rays, tri_hits);
-            for ((o, ray), best) in out.iter_mut().zip(rays).zip(tri_hits.iter()) {
-                let mut q = *ray;
-                if let Some((_, _, h)) = best {
-                    q.tmax = h.t;
-                }
-                let best = best.map(|(shape, prim, h)| (h, shape, prim));
-                *o = self.own_closest(&q).or(best).map(|(h, shape, prim)| {
-                    self.shapes[shape as usize].interaction(shape, prim as usize, ray, h)
-                });
+            for ((o, ray), &tri) in out.iter_mut().zip(rays).zip(tri_hits.iter()) {
+                *o = self.closest_beside(ray, tri);
             }
         }
+    }
+
+    /// The closest hit of `ray` given Embree's answer for the triangles (`tri`: shape, triangle,
+    /// hit; `None` also without Embree): our own structure's up to that distance, or else
+    /// Embree's.
+    #[inline]
+    fn closest_beside(&self, ray: &Ray, tri: Option<(u32, u32, PrimHit)>) -> Option<SurfaceInteraction> {
+        let mut q = *ray;
+        if let Some((_, _, h)) = tri {
+            q.tmax = h.t;
+        }
+        let (h, shape, prim) = self
+            .own_closest(&q)
+            .or(tri.map(|(shape, prim, h)| (h, shape, prim)))?;
+        Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
     }
 
     /// The closest hit in our own structure (all primitives, or the analytic ones beside
@@ -395,16 +403,8 @@ impl Accel {
 
 impl Intersect for Accel {
     fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
-        let mut q = *ray;
-        let mut best = None;
-        if let Some(tris) = &self.embree
-            && let Some((shape, prim, h)) = tris.closest(ray)
-        {
-            q.tmax = h.t;
-            best = Some((h, shape, prim));
-        }
-        let (h, shape, prim) = self.own_closest(&q).or(best)?;
-        Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
+        let tri = self.embree.as_ref().and_then(|tris| tris.closest(ray));
+        self.closest_beside(ray, tri)
     }
 
     fn occluded(&self, ray: &Ray) -> bool {
