@@ -78,6 +78,10 @@ pub struct IntegratorDesc {
     /// Ours: next-event estimation samples every light at each vertex when the scene has at most
     /// this many (and at least two); 0 chooses one light per vertex, as Mitsuba (default 2).
     pub split_lights: u32,
+    /// Ours: lights at infinity without a feature as narrow as a rough conductor's or glass's
+    /// lobe are left to BSDF sampling there (default true; see
+    /// `emitter::Lights::left_to_bsdf`).
+    pub narrow_lobes: bool,
     /// Which algorithm: `path` (the fields above), `direct` or `depth`.
     pub kind: IntegratorKind,
     /// Mitsuba's `stokes` wrapper around this integrator: also write the Stokes vector S0..S3
@@ -216,6 +220,7 @@ impl Default for IntegratorDesc {
             split_escapes: true,
             split_visible_glass: true,
             split_lights: 2,
+            narrow_lobes: true,
             kind: IntegratorKind::Path,
             stokes: false,
             polarized: false,

@@ -130,6 +130,7 @@ fn constant_light_sampling_matches_pdf() {
             n,
             hemisphere,
             mis: false,
+            resolved_density: 0.0,
         };
         let integral = integrate_sphere(|d| c.pdf_dir(&r, d), 300);
         assert!(
@@ -154,6 +155,7 @@ fn constant_light_sampling_matches_pdf() {
         n: Vec3::Y,
         hemisphere: true,
         mis: false,
+        resolved_density: 0.0,
     };
     let s = light.sample_li_nonarea(&r, Vec2::new(0.2, 0.7), &wl).unwrap();
     assert_eq!(s.li[0], 0.7);
@@ -173,6 +175,7 @@ fn point_light_irradiance_and_power() {
         n: Vec3::Y,
         hemisphere: true,
         mis: false,
+        resolved_density: 0.0,
     };
     let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
     assert!((s.dist - 5.0).abs() < 1e-5);
@@ -198,6 +201,7 @@ fn directional_light_irradiance_and_power() {
         n: Vec3::Y,
         hemisphere: true,
         mis: false,
+        resolved_density: 0.0,
     };
     let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
     assert_eq!(s.wi, Vec3::Y);
@@ -240,6 +244,7 @@ fn spot_light_falloff_and_power() {
         n: Vec3::Y,
         hemisphere: true,
         mis: false,
+        resolved_density: 0.0,
     };
     let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
     assert!((s.li[1] - 5.0 / 4.0).abs() < 1e-5 && (s.wi - Vec3::Y).length() < 1e-6);
@@ -249,6 +254,7 @@ fn spot_light_falloff_and_power() {
         n: Vec3::Y,
         hemisphere: true,
         mis: false,
+        resolved_density: 0.0,
     };
     assert!(light.sample_li_nonarea(&off, Vec2::ZERO, &wl).is_none());
 }
@@ -345,6 +351,7 @@ fn selection_by_position_is_a_consistent_distribution() {
             n,
             hemisphere: true,
             mis: false,
+            resolved_density: 0.0,
         };
         let pmf: Vec<f32> = (0..4).map(|i| set.pmf_at(&r, i)).collect();
         assert!((pmf.iter().sum::<f32>() - 1.0).abs() < 1e-5, "{pmf:?}");
@@ -373,6 +380,7 @@ fn selection_by_position_is_a_consistent_distribution() {
         n: Vec3::Y,
         hemisphere: true,
         mis: false,
+        resolved_density: 0.0,
     };
     assert!(set.pmf_at(&below_first, 0) > 5.0 * set.pmf_at(&below_first, 1));
     let facing_down = LightRef {
@@ -380,6 +388,7 @@ fn selection_by_position_is_a_consistent_distribution() {
         n: Vec3::NEG_Y,
         hemisphere: true,
         mis: false,
+        resolved_density: 0.0,
     };
     assert!((set.pmf_at(&facing_down, 0) - 0.1 * set.pmf(0)).abs() < 1e-6);
 }
@@ -417,6 +426,7 @@ fn light_samples_and_their_densities_agree_for_every_light_kind() {
             n: Vec3::Y,
             hemisphere: true,
             mis: false,
+            resolved_density: 0.0,
         };
         let Some((_, ls)) = lights.sample_li_indexed(shapes, &r, rng.next_f32(), rng.next_2d(), &wl) else {
             continue;

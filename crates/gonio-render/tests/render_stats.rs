@@ -73,7 +73,7 @@ pub fn same_mean_less_noise(
     );
     assert!(
         px_on < gain * px_off,
-        "{what}: the strategy should lower the noise: pixel variance {px_on} with, {px_off} without"
+        "{what}: pixel variance {px_on} with the strategy, above {gain} × the {px_off} without"
     );
     m_on
 }

@@ -747,9 +747,10 @@ fn differentiable_integrators_follow_mitsuba_estimators() {
             mitsuba.split_escapes,
             mitsuba.split_visible_glass,
             mitsuba.split_lights,
+            mitsuba.narrow_lobes,
             mitsuba.rr_survival
         ),
-        (false, false, false, false, false, false, 0, 0.95)
+        (false, false, false, false, false, false, 0, false, 0.95)
     );
     let _ = std::fs::remove_dir_all(&dir);
 }

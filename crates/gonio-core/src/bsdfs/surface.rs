@@ -332,6 +332,26 @@ impl<'a> SurfaceBsdf<'a> {
         }
     }
 
+    /// The largest density max L/∫L dω of a light at infinity that BSDF sampling resolves alone
+    /// here ([`MicrofacetDistribution::resolved_light_density`](crate::microfacet::MicrofacetDistribution::resolved_light_density))
+    /// when the tree is one single-scattering `roughconductor` or `roughdielectric`, whose
+    /// samples' weights f·|cos θo|/p are bounded; 0 for every other material (a wide or mixed
+    /// lobe, a delta lobe, a random walk).
+    pub fn resolved_light_density(&self) -> f32 {
+        if self.len != 1 {
+            return 0.0;
+        }
+        match self.node(0) {
+            Some(Node::Leaf(LeafBsdf::RoughConductor(c))) if !c.multiple_scattering => {
+                c.distribution.resolved_light_density()
+            }
+            Some(Node::Leaf(LeafBsdf::RoughDielectric(d))) if !d.multiple_scattering => {
+                d.distribution.resolved_light_density()
+            }
+            _ => 0.0,
+        }
+    }
+
     /// Empties the tree (keeping its storage): the next push is the first node.
     #[inline]
     pub fn clear(&mut self) {

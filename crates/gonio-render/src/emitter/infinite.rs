@@ -130,6 +130,9 @@ pub struct EnvMapLight {
     /// Next-event sampling × the clamped cosine (module docs), if asked for.
     product: Option<CosineProduct>,
     mean_luminance: f32,
+    /// The brightest texel's share of the plain density, per steradian (see
+    /// [`EnvMapLight::feature_density`]).
+    feature_density: f32,
     /// Mitsuba 3.9.1's row layout and separate interpolation of shapes and scales (module docs).
     mitsuba_lookup: bool,
 }
@@ -171,6 +174,13 @@ impl EnvMapLight {
             / (4.0 * PI as f64)) as f32
             * scale;
         let distribution = Distribution2D::new(&weights, width, height);
+        // Solid-angle density L·sin θ/(Σ L sin θ · 2π²/(W·H) · sin θ) at the brightest texel.
+        let max_luminance = rgb.iter().map(|&c| luminance(c)).fold(0.0f32, f32::max) as f64;
+        let feature_density = if total > 0.0 {
+            (max_luminance * (width * height) as f64 / (2.0 * (PI as f64).powi(2) * total)) as f32
+        } else {
+            0.0
+        };
         let spectra: Vec<Spectrum> = rgb.iter().map(|&c| uplift(c)).collect();
         let sigmoids = compact_sigmoids(&spectra);
         Some(Self {
@@ -186,6 +196,7 @@ impl EnvMapLight {
             compensated: None,
             product: None,
             mean_luminance,
+            feature_density,
             mitsuba_lookup: false,
         })
     }
@@ -425,6 +436,14 @@ impl EnvMapLight {
     /// Mean luminance over the sphere, × scale (for light selection).
     pub fn mean_radiance(&self) -> f32 {
         self.mean_luminance
+    }
+
+    /// The largest solid-angle density of the map's luminance, L_max/∫L dω (1/sr): a feature
+    /// of the map holding a fraction φ of its light spans at least φ/(this) steradians, so a
+    /// BSDF lobe whose own peak density is several times this sees the map as smooth
+    /// ([`super::Lights`]). 0 for a black map.
+    pub fn feature_density(&self) -> f32 {
+        self.feature_density
     }
 }
 

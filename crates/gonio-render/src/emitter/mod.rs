@@ -73,6 +73,10 @@ pub struct LightRef {
     /// (the environment map's MIS compensation). False where the light's samples must cover
     /// everything it lights (no BSDF samples, the particle tracer).
     pub mis: bool,
+    /// The largest density max L/∫L dω of a light at infinity that BSDF sampling resolves alone
+    /// here (`SurfaceBsdf::resolved_light_density`, with `mis`; 0 where none is): such lights are
+    /// left to BSDF sampling from here ([`Lights::left_to_bsdf`]).
+    pub resolved_density: f32,
 }
 
 impl LightRef {
@@ -83,6 +87,7 @@ impl LightRef {
         n: Vec3::Z,
         hemisphere: false,
         mis: false,
+        resolved_density: 0.0,
     };
 }
 
@@ -280,6 +285,19 @@ impl Light {
         }
     }
 
+    /// The largest solid-angle density of the light's radiance over the directions it lights,
+    /// max L/∫L dω (1/sr): how narrow its finest feature can be. Finite for lights at infinity
+    /// (a constant 1/4π, an environment map [`EnvMapLight::feature_density`]); infinite for the
+    /// others (an area light's subtended solid angle shrinks with distance, delta lights have
+    /// none).
+    pub fn feature_density(&self) -> f32 {
+        match self {
+            Light::Constant(_) => 0.25 * std::f32::consts::FRAC_1_PI,
+            Light::EnvMap(e) => e.feature_density(),
+            _ => f32::INFINITY,
+        }
+    }
+
     /// The scalar emission used by [`Self::local_importance`]: mean radiance, intensity or
     /// irradiance over 360–830 nm (computed once per light: a spectrum's mean is a 471-point sum).
     pub fn mean_emission(&self) -> f32 {
@@ -381,6 +399,8 @@ pub struct Lights {
     means: Vec<f32>,
     /// Every light sampled at each vertex ([`Self::with_split`]).
     split: bool,
+    /// [`Light::feature_density`] of each light.
+    feature_density: Vec<f32>,
 }
 
 impl Lights {
@@ -399,6 +419,7 @@ impl Lights {
             }
         }
         let means = lights.iter().map(Light::mean_emission).collect();
+        let feature_density = lights.iter().map(Light::feature_density).collect();
         Self {
             lights,
             selection,
@@ -407,7 +428,21 @@ impl Lights {
             bounds,
             means,
             split: false,
+            feature_density,
         }
+    }
+
+    /// True when next-event estimation from `r` leaves light `i` to BSDF sampling: the BSDF
+    /// there is sampled too and resolves the light alone, its radiance having no feature as
+    /// narrow as the BSDF's lobe ([`Light::feature_density`] at most
+    /// [`LightRef::resolved_density`]; see `MicrofacetDistribution::resolved_light_density`).
+    /// A light sample would then add little to the BSDF samples and cost a light sample, a BSDF
+    /// evaluation and a shadow ray; left out, the light's density from `r` is 0
+    /// ([`Self::pmf_at`]), so the BSDF samples that find it take its whole weight and the
+    /// estimate stays unbiased.
+    #[inline]
+    pub fn left_to_bsdf(&self, r: &LightRef, i: usize) -> bool {
+        r.resolved_density > 0.0 && self.feature_density.get(i).is_some_and(|&f| f <= r.resolved_density)
     }
 
     /// The lights.
@@ -504,9 +539,14 @@ impl Lights {
     }
 
     /// Probability that next-event estimation from `r` samples light `i`: that
-    /// [`Self::select_at`] picks it, or 1 when every light is sampled ([`Self::with_split`]).
+    /// [`Self::select_at`] picks it, or 1 when every light is sampled ([`Self::with_split`]);
+    /// 0 when it is left to BSDF sampling there ([`Self::left_to_bsdf`]: a pick of it then draws
+    /// no sample).
     #[inline]
     pub fn pmf_at(&self, r: &LightRef, i: usize) -> f32 {
+        if self.left_to_bsdf(r, i) {
+            return 0.0;
+        }
         if self.split() {
             return 1.0;
         }
@@ -533,6 +573,9 @@ impl Lights {
     ) {
         if self.split {
             for (li, light) in self.lights.iter().enumerate() {
+                if self.left_to_bsdf(r, li) {
+                    continue;
+                }
                 if let Some(ls) = light.sample_li(shapes, r, u, wl) {
                     f(li, &ls);
                 }
@@ -554,6 +597,9 @@ impl Lights {
         wl: &SampledWavelengths,
     ) -> Option<(usize, LightSample)> {
         let (li, p_sel) = self.select_at(r, u_sel)?;
+        if self.left_to_bsdf(r, li) {
+            return None;
+        }
         let ls = self.lights[li].sample_li(shapes, r, u, wl)?;
         Some((
             li,

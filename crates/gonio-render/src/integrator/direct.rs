@@ -62,7 +62,7 @@ impl PathTracer<'_> {
             wi: si.shading.to_local(-camera_ray.d),
         };
         let flags = bsdf.flags();
-        let light_ref = Self::light_ref(&v, flags, bsdf_samples > 0);
+        let light_ref = self.light_ref(&v, flags, bsdf_samples > 0);
         let (n_l, n_b) = (emitter_samples as f32, bsdf_samples as f32);
 
         if flags.has_smooth() && emitter_samples > 0 {

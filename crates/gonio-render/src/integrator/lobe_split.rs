@@ -379,7 +379,7 @@ impl PathTracer<'_> {
         // but for Russian roulette's, drawn for both here when `rr_depth` ≤ 1.
         let _ = sampler.next_1d();
         let from = StepFrom {
-            light_ref: Self::light_ref(v, flags, true),
+            light_ref: self.light_ref(v, flags, true),
             manifold_here: self.manifold_applies(state),
             arrival,
             cos_in,

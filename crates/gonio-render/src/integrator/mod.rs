@@ -204,6 +204,9 @@ pub struct PathTracer<'a> {
     /// The first surface the camera sees, if smooth glass, has both its lobes followed
     /// ([`PathTracer::visible_glass_split`]).
     split_visible_glass: bool,
+    /// Lights at infinity without features as narrow as a rough lobe are left to BSDF sampling
+    /// there ([`crate::emitter::Lights::left_to_bsdf`]).
+    narrow_lobes: bool,
     /// The area lights' shapes, for the glints of lobe splitting ([`lobe_split`]).
     light_shapes: Option<lobe_split::LightShapes>,
     /// Manifold next-event estimation through mirror spheres ([`manifold`]), where it takes part.
@@ -293,6 +296,7 @@ impl<'a> PathTracer<'a> {
             split_escapes: settings.split_escapes,
             // Spectral renders only (the split lobes' weights are spectra).
             split_visible_glass: settings.split_visible_glass && !polarized,
+            narrow_lobes: settings.narrow_lobes,
             light_shapes: if settings.split_escapes {
                 lobe_split::LightShapes::new(lights, accel.shapes())
             } else {
@@ -547,7 +551,7 @@ impl<'a> PathTracer<'a> {
     {
         let flags = v.bsdf.flags();
         // The path samples the BSDF at every vertex it samples a light from.
-        let light_ref = Self::light_ref(v, flags, true);
+        let light_ref = self.light_ref(v, flags, true);
 
         // Random numbers: a vertex with a smooth lobe takes five (light choice, light point,
         // lobe, direction), a purely delta one only its lobe choice (it samples no light and

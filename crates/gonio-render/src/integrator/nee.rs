@@ -17,8 +17,9 @@ use gonio_core::{Bsdf, BsdfContext, BsdfFlags, SampledWavelengths};
 impl PathTracer<'_> {
     /// Where lights are sampled from at vertex `v` (its side of the shading normal; a whole
     /// sphere of directions when the BSDF transmits); `mis` when the BSDF is sampled there too
-    /// ([`LightRef::mis`]).
-    pub(super) fn light_ref(v: &Vertex, flags: BsdfFlags, mis: bool) -> LightRef {
+    /// ([`LightRef::mis`]), with the lights BSDF sampling resolves alone there
+    /// ([`LightRef::resolved_density`]) where they may be left to it (`narrow_lobes`).
+    pub(super) fn light_ref(&self, v: &Vertex, flags: BsdfFlags, mis: bool) -> LightRef {
         let n_side = if v.wi.z >= 0.0 {
             v.si.shading.n
         } else {
@@ -29,6 +30,11 @@ impl PathTracer<'_> {
             n: n_side,
             hemisphere: !flags.is_transmission(),
             mis,
+            resolved_density: if mis && self.narrow_lobes {
+                v.bsdf.resolved_light_density()
+            } else {
+                0.0
+            },
         }
     }
 

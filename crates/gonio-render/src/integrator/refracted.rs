@@ -293,6 +293,8 @@ impl PathTracer<'_> {
                 n,
                 hemisphere: !flags.is_transmission(),
                 mis: true,
+                // Area lights only, which are never left to BSDF sampling.
+                resolved_density: 0.0,
             };
             self.lights.pmf_at(&r, li) * dir_pdf
         };

@@ -40,6 +40,7 @@ fn at(mis: bool) -> LightRef {
         n: Vec3::Y,
         hemisphere: false,
         mis,
+        resolved_density: 0.0,
     }
 }
 
@@ -51,6 +52,7 @@ fn facing(n: Vec3) -> LightRef {
         n: n.normalize(),
         hemisphere: true,
         mis: true,
+        resolved_density: 0.0,
     }
 }
 
@@ -403,6 +405,96 @@ fn envmap_product_density_is_normalized_follows_the_cosine_and_matches_its_sampl
                     own.sample_dir_le(u, &wl, &theirs).map(|s| s.0)
                 );
             }
+        }
+    }
+}
+
+/// `feature_density` is the map's largest luminance density per steradian: a uniform map's is
+/// 1/4π (a constant light's too), and one bright texel raises it by its share of the light over
+/// its solid angle. Lights are left to BSDF sampling only from a surface whose lobe resolves
+/// them (`LightRef::resolved_density` at least their feature density), never from one without
+/// such a lobe, and never the lights that are not at infinity.
+#[test]
+fn narrow_lobes_leave_only_smooth_lights_at_infinity_to_bsdf_sampling() {
+    let uniform = EnvMapLight::new(32, 16, vec![[0.7; 3]; 32 * 16], 1.0, Affine3A::IDENTITY, uplift_luminance).unwrap();
+    // Rows sample sin θ at their centres: the discrete ∫L dω differs from 4πL by < 0.2 %.
+    let quarter_pi = 0.25 / PI;
+    assert!((uniform.feature_density() / quarter_pi - 1.0).abs() < 2e-3, "{}", uniform.feature_density());
+    let constant = Light::Constant(ConstantLight {
+        radiance: Spectrum::Constant(1.0),
+    });
+    assert_eq!(constant.feature_density(), quarter_pi);
+    // A sun: one texel of a 256 × 128 map (row 40, about 3·10⁻⁴ sr) at 10⁵ × the rest holds
+    // most of the light.
+    let (w, h, row) = (256usize, 128usize, 40usize);
+    let mut rgb = vec![[0.01f32; 3]; w * h];
+    rgb[row * w + 20] = [1000.0; 3];
+    let sun = EnvMapLight::new(w, h, rgb, 1.0, Affine3A::IDENTITY, uplift_luminance).unwrap();
+    let texel = (std::f32::consts::TAU / w as f32) * (PI / h as f32) * (PI * (row as f32 + 0.5) / h as f32).sin();
+    let share = 1000.0 * texel / (1000.0 * texel + 0.01 * 4.0 * PI);
+    assert!(
+        (sun.feature_density() * texel / share - 1.0).abs() < 0.01,
+        "{} against {}",
+        sun.feature_density(),
+        share / texel
+    );
+    let bounds = BoundingSphere {
+        center: Vec3::ZERO,
+        radius: 10.0,
+    };
+    let lights = Lights::new(
+        vec![
+            Light::EnvMap(uniform),
+            Light::EnvMap(sun),
+            constant,
+            Light::Point(PointLight {
+                position: Vec3::Y,
+                intensity: Spectrum::Constant(1.0),
+            }),
+        ],
+        0,
+        10.0,
+        bounds,
+    );
+    let from = |resolved_density: f32| LightRef {
+        resolved_density,
+        ..facing(Vec3::Y)
+    };
+    // Beckmann rough glass at α = 0.02 resolves densities up to 0.05/(4π α²) ≈ 9.9 per sr.
+    let narrow = from(
+        gonio_core::microfacet::MicrofacetDistribution::isotropic(gonio_core::microfacet::MicrofacetKind::Beckmann, 0.02)
+            .resolved_light_density(),
+    );
+    assert!((narrow.resolved_density - 0.05 / (4.0 * PI * 4e-4)).abs() < 1e-3);
+    let left: Vec<bool> = (0..4).map(|i| lights.left_to_bsdf(&narrow, i)).collect();
+    assert_eq!(left, [true, false, true, false]);
+    for i in 0..4 {
+        assert!(!lights.left_to_bsdf(&from(0.0), i), "no narrow lobe: light {i} keeps its samples");
+        if left[i] {
+            assert_eq!(lights.pmf_at(&narrow, i), 0.0, "light {i} is never sampled from there");
+        } else {
+            assert_eq!(lights.pmf_at(&narrow, i), lights.pmf_at(&from(0.0), i));
+        }
+    }
+    // Just below and at the uniform map's density.
+    let f = lights.lights()[0].feature_density();
+    assert!(!lights.left_to_bsdf(&from(f * 0.999), 0));
+    assert!(lights.left_to_bsdf(&from(f), 0));
+    // A pick of a light left to BSDF sampling draws no sample; the others' are unchanged.
+    let wl = SampledWavelengths::sample_visible(0.3);
+    for k in 0..64 {
+        let u_sel = (k as f32 + 0.5) / 64.0;
+        let drawn = lights.sample_li_indexed(&[], &narrow, u_sel, Vec2::new(0.3, 0.6), &wl);
+        let plain = lights.sample_li_indexed(&[], &from(0.0), u_sel, Vec2::new(0.3, 0.6), &wl);
+        match (drawn, plain) {
+            (Some((i, a)), Some((j, b))) => {
+                assert_eq!(i, j);
+                assert!(!left[i]);
+                assert_eq!(a.pdf, b.pdf);
+            }
+            (None, Some((j, _))) => assert!(left[j], "light {j} lost its sample"),
+            (Some((i, _)), None) => panic!("light {i} sampled only from the narrow lobe"),
+            (None, None) => {}
         }
     }
 }

@@ -293,6 +293,7 @@ fn a_volume_radiance_is_the_grid_at_the_light_point() {
         n: -Vec3::Z,
         hemisphere: false,
         mis: false,
+        resolved_density: 0.0,
     };
     let mut seen = (f32::INFINITY, f32::NEG_INFINITY);
     for k in 0..64 {

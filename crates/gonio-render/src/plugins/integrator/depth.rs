@@ -23,6 +23,7 @@ fn build<'d>(_: &mut Builder<'d>, _: &mut Params<'d>) -> Result<IntegratorDesc, 
         split_lights: 0,
         split_escapes: false,
         split_visible_glass: false,
+        narrow_lobes: false,
         ..IntegratorDesc::default()
     })
 }

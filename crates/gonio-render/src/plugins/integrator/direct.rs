@@ -92,6 +92,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         split_lights: 0,
         split_escapes: false,
         split_visible_glass: false,
+        narrow_lobes: false,
         kind: IntegratorKind::Direct {
             emitter_samples,
             bsdf_samples,

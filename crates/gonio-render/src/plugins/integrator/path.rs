@@ -80,6 +80,13 @@ const SPLIT_LIGHTS: ParamSpec = ParamSpec::new(
     "(ours) next-event estimation samples every light at each vertex when the scene has at most this many; 0 chooses one per vertex",
 )
 .mitsuba(DefaultValue::Int(0));
+const NARROW_LOBES: ParamSpec = ParamSpec::new(
+    "narrow_lobes",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) a light at infinity whose radiance has no feature as narrow as the lobe of a single-scattering `roughconductor` or `roughdielectric` is not sampled at that surface: BSDF sampling alone finds it, weighted 1 (the light's largest density max L/∫L dω at most 0.05 (Beckmann) or 0.005 (GGX) times the lobe's peak 1/(4π α_u α_v): under Mitsuba's `museum.exr` Beckmann α ≤ 0.028, GGX α ≤ 0.0087)",
+)
+.mitsuba(DefaultValue::Bool(false));
 pub(super) const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
     "samples_per_pass",
     ParamType::Integer,
@@ -109,6 +116,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         SPLIT_ESCAPES,
         SPLIT_VISIBLE_GLASS,
         SPLIT_LIGHTS,
+        NARROW_LOBES,
         SAMPLES_PER_PASS,
         TIMEOUT,
     ],
@@ -133,7 +141,7 @@ pub(super) fn read_path_rows(
     Ok((depth, rr_depth, hide_emitters))
 }
 
-/// `desc` with the defaults of our estimator rows (`thin_shadows` … `split_lights`) for this
+/// `desc` with the defaults of our estimator rows (`thin_shadows` … `narrow_lobes`) for this
 /// document: ours, or Mitsuba's under `--mitsuba-estimators`. For integrators that render as
 /// the path tracer without these rows (Mitsuba's `prb` family).
 pub(super) fn with_estimator_defaults(p: &Params<'_>, desc: IntegratorDesc) -> IntegratorDesc {
@@ -146,6 +154,7 @@ pub(super) fn with_estimator_defaults(p: &Params<'_>, desc: IntegratorDesc) -> I
         split_escapes: p.default_of(&SPLIT_ESCAPES).bool(),
         split_visible_glass: p.default_of(&SPLIT_VISIBLE_GLASS).bool(),
         split_lights: p.default_of(&SPLIT_LIGHTS).int() as u32,
+        narrow_lobes: p.default_of(&NARROW_LOBES).bool(),
         ..desc
     }
 }
@@ -168,6 +177,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         p.default_of(&SPLIT_VISIBLE_GLASS).bool(),
     )?;
     let split_lights = p.int_in(SPLIT_LIGHTS.name, p.default_of(&SPLIT_LIGHTS).int(), 0, 1024)? as u32;
+    let narrow_lobes = p.bool(NARROW_LOBES.name, p.default_of(&NARROW_LOBES).bool())?;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     Ok(IntegratorDesc {
         max_depth,
@@ -181,6 +191,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         split_escapes,
         split_visible_glass,
         split_lights,
+        narrow_lobes,
         kind: IntegratorKind::Path,
         stokes: false,
         polarized: false,

@@ -172,6 +172,7 @@ fn build_direct<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrato
         split_lights: 0,
         split_escapes: false,
         split_visible_glass: false,
+        narrow_lobes: false,
         kind: IntegratorKind::Direct {
             emitter_samples: 1,
             bsdf_samples: 1,
