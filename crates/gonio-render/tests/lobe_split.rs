@@ -8,7 +8,7 @@
 //! Fresnel coin says so. Both estimators are unbiased: the image means agree (four standard
 //! errors of independent renders), and the pixels' variance is lower with splitting.
 
-use crate::render_stats::{prepare, same_mean_less_noise};
+use crate::render_stats::{MUSEUM, prepare, same_mean_less_noise};
 
 /// The integrator (with `split_escapes` on or off, `split_visible_glass` off: these scenes test
 /// the first) and the camera of the test scenes.
@@ -47,10 +47,7 @@ fn scene(split: bool) -> String {
         <point name="center" value="0.7, 0.6, 0.3"/><float name="radius" value="0.6"/>
         <bsdf type="roughdielectric"><string name="distribution" value="ggx"/><float name="alpha" value="0.02"/></bsdf>
     </shape>
-    <emitter type="envmap">
-        <string name="filename" value="../../testdata/mitsuba-corpus/common/textures/museum.exr"/>
-        <transform name="to_world"><rotate x="1" angle="-90"/></transform>
-    </emitter>
+    {MUSEUM}
 </scene>"#
     )
 }

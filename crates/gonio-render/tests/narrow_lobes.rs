@@ -8,7 +8,7 @@
 //! image means agree within four standard errors of independent renders, and leaving the map to
 //! BSDF sampling there costs no noise (what it saves is the light samples' time).
 
-use crate::render_stats::{prepare, same_mean_less_noise};
+use crate::render_stats::{MUSEUM, prepare, same_mean_less_noise};
 
 fn scene(narrow: bool, split_lights: u32) -> String {
     format!(
@@ -41,10 +41,7 @@ fn scene(narrow: bool, split_lights: u32) -> String {
         <point name="center" value="1.2, 1.6, 0.8"/><float name="radius" value="0.1"/>
         <emitter type="area"><rgb name="radiance" value="20"/></emitter>
     </shape>
-    <emitter type="envmap">
-        <string name="filename" value="../../testdata/mitsuba-corpus/common/textures/museum.exr"/>
-        <transform name="to_world"><rotate x="1" angle="-90"/></transform>
-    </emitter>
+    {MUSEUM}
 </scene>"#
     )
 }

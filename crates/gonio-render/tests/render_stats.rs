@@ -7,6 +7,13 @@ use gonio_render::image::RgbImage;
 use gonio_render::render::{PreparedScene, RenderOptions, render};
 use std::sync::atomic::AtomicBool;
 
+/// Mitsuba's material-preview environment (`museum.exr`) with +y up, as the statistical tests'
+/// scenes light their glass and metal (a soft map: its largest density is 5.2 per sr).
+pub const MUSEUM: &str = r#"<emitter type="envmap">
+        <string name="filename" value="../../testdata/mitsuba-corpus/common/textures/museum.exr"/>
+        <transform name="to_world"><rotate x="1" angle="-90"/></transform>
+    </emitter>"#;
+
 /// The scene from text (relative paths against the working directory), rendered polarized
 /// (Mueller matrices along the paths) when `polarized`.
 pub fn prepare(xml: &str, polarized: bool) -> PreparedScene {
