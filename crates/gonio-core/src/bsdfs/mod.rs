@@ -31,7 +31,7 @@ pub use dielectric::Dielectric;
 pub use diffuse::Diffuse;
 pub use lambertsphere::LambertSphere;
 pub use null::NullBsdf;
-pub use perturbed::PerturbedFrame;
+pub use perturbed::{Perturbation, PerturbedFrame};
 pub use plastic::Plastic;
 pub use polarizer::{CircularPolarizer, Polarizer, Retarder};
 pub use pplastic::PPlastic;

@@ -1,24 +1,39 @@
-//! A BSDF evaluated in a perturbed shading frame: the adapter behind `normalmap` and `bumpmap`.
+//! A BSDF evaluated in a perturbed shading frame: the adapter behind `normalmap` and `bumpmap`
+//! (Mitsuba 3.9.1 `src/bsdfs/normalmap.cpp`, `bumpmap.cpp`, the shared perturbation and
+//! `eval_shadow_terminator`).
 //!
-//! Given a nested BSDF f' and an orthonormal frame F = (s, t, n) expressed in the **local
-//! coordinates of the unperturbed shading frame** (n is the mapped normal), Mitsuba 3
-//! (`src/bsdfs/normalmap.cpp`, `src/bsdfs/bumpmap.cpp`) defines
+//! A plugin gives, at each hit, the perturbed normal n (unnormalized) in the **local coordinates
+//! of the unperturbed shading frame** (`normalmap`: n = 2·rgb − 1 of the map; `bumpmap`: the
+//! normal of the displaced surface p + scale·h(u, v)·n). For an incident direction ωi the frame
+//! F = (s', t', n') is, as in Mitsuba:
 //!
 //! ```text
-//!     f(ωi, ωo)   = f'(F⁻¹ωi, F⁻¹ωo)         if cos θo · cos θ'o > 0, else 0
-//!     pdf(ωi, ωo) = pdf'(F⁻¹ωi, F⁻¹ωo)       (same condition)
-//!     sample:  ω'o ~ f'(F⁻¹ωi, ·),  ωo = F ω'o,  rejected unless cos θ'o · cos θo > 0
+//!     n  ← (−n_x, −n_y, n_z)  if flip_invalid_normals and cos θi·(ωi·n) ≤ 0
+//!     n' = normalize(n)                    (z when n is 0 or not finite)
+//!     s' = normalize(x − n'·n'_x),  t' = n' × s'    (x the unperturbed tangent; y if degenerate)
 //! ```
 //!
-//! where θo is measured from the unperturbed normal and θ'o from the perturbed one. Only ωo is
-//! tested: a direction that the mapped normal sees above its surface but the shading normal sees
-//! below (or the reverse) gets no light, which darkens grazing views of strongly tilted normals
-//! (Mitsuba's black fringes); ωi is not tested, so light may leak where the mapped normal tilts
-//! past the viewer. The cosine the integrator multiplies by is the unperturbed |cos θo|, as in
-//! Mitsuba (the adapter does not correct it).
+//! The flip (Schüssler et al. 2017) keeps the mapped normal on the side of the viewer, so that
+//! a tilted normal does not turn the surface black where the viewer sees it at a grazing angle.
+//! With θo measured from the unperturbed normal and θ'o from n':
 //!
-//! The frame comes from the plugin at each hit (`normalmap`: n = 2·rgb − 1 of the map;
-//! `bumpmap`: the normal of the displaced surface p + scale·h(u, v)·n).
+//! ```text
+//!     f(ωi, ωo)·|cos θo| = f'(F⁻¹ωi, F⁻¹ωo)·|cos θ'o| · G(n', ωo)   if cos θo · cos θ'o > 0, else 0
+//!     pdf(ωi, ωo)        = pdf'(F⁻¹ωi, F⁻¹ωo)                       (same condition)
+//!     sample:  ω'o ~ f'(F⁻¹ωi, ·),  ωo = F ω'o,  rejected unless cos θ'o · cos θo > 0,
+//!              weight = the nested sample's (f'·|cos θ'o|/pdf') · G(n', ωo)
+//!     G(n', ωo) = 2/(1 + √(1 + α² tan²θo)),  α² = min(tan²θ(n')/8, 1)    (use_shadowing_function)
+//! ```
+//!
+//! G is the microfacet-based shadowing of Conty Estevez et al. 2019 ("A Microfacet-Based
+//! Shadowing Function to Solve the Bump Terminator Problem"): a perturbed normal tilted by θ(n')
+//! shadows grazing ωo as a GGX surface of roughness α would, which softens the terminator.
+//! Mitsuba's BSDFs return f·cos θo with the cosine taken in their own (here the perturbed) frame;
+//! gonio's integrators multiply [`Bsdf::eval`] by the unperturbed |cos θo|, so the adapter
+//! returns the value above divided by it: next-event estimation and BSDF sampling then
+//! estimate the same integrand, Mitsuba's. Only ωo is tested against both normals: a direction
+//! that the mapped normal sees above its surface but the shading normal sees below (or the
+//! reverse) gets no light (Mitsuba's black fringes).
 //!
 //! **Polarization** (Mitsuba 3's polarized variants do the same through `to_world_mueller`): the
 //! nested BSDF's Mueller matrix answers between the implicit Stokes bases of the directions in
@@ -33,35 +48,118 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::weight::Weight;
 use glam::{Vec2, Vec3};
 
-/// `bsdf` seen through the perturbed shading frame `frame` (local coordinates of the shading
-/// frame). See the module docs.
+/// A perturbed normal and how the adapter treats it (see the module docs): a small `Copy`
+/// value a material makes at each hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Perturbation {
+    /// The perturbed normal, unnormalized, in the local coordinates of the shading frame.
+    pub n: Vec3,
+    /// Mitsuba's `flip_invalid_normals` (default true): mirror the normal's tangential part
+    /// where the viewer would see the surface from behind it.
+    pub flip_invalid_normals: bool,
+    /// Mitsuba's `use_shadowing_function` (default true): the terminator's shadowing G.
+    pub use_shadowing_function: bool,
+}
+
+impl Perturbation {
+    /// The normal `n` with Mitsuba's defaults (flip and shadowing on).
+    pub fn new(n: Vec3) -> Self {
+        Self {
+            n,
+            flip_invalid_normals: true,
+            use_shadowing_function: true,
+        }
+    }
+
+    /// The perturbed frame F for incident direction `wi` (local): n' flipped towards the viewer
+    /// where asked, s' the unperturbed tangent x made orthogonal to n'.
+    #[inline]
+    pub fn frame(&self, wi: Vec3) -> Frame {
+        let mut n = self.n;
+        if self.flip_invalid_normals && wi.z * wi.dot(n) <= 0.0 {
+            n = Vec3::new(-n.x, -n.y, n.z);
+        }
+        let len2 = n.length_squared();
+        let n = if len2 > 0.0 && len2.is_finite() {
+            n / len2.sqrt()
+        } else {
+            Vec3::Z
+        };
+        let s = Vec3::X - n * n.x;
+        let s_len2 = s.length_squared();
+        let s = if s_len2 > 0.0 && s_len2.is_finite() {
+            s / s_len2.sqrt()
+        } else {
+            Vec3::Y
+        };
+        Frame { s, t: n.cross(s), n }
+    }
+}
+
+/// Conty Estevez et al.'s shadowing of a perturbed normal `n` (unit, local) for direction `wo`
+/// (local to the unperturbed frame): 2/(1 + √(1 + α² tan²θo)), α² = min(tan²θn/8, 1); 0 at
+/// grazing `wo`.
+#[inline]
+pub fn shadow_terminator(n: Vec3, wo: Vec3) -> f32 {
+    let tan2 = |v: Vec3| {
+        let c2 = v.z * v.z;
+        (1.0 - c2).max(0.0) / c2
+    };
+    let alpha2 = (0.125 * tan2(n)).min(1.0);
+    let g = 2.0 / (1.0 + (1.0 + alpha2 * tan2(wo)).sqrt());
+    if g.is_finite() { g } else { 0.0 }
+}
+
+/// `bsdf` seen through a perturbed normal. See the module docs.
 #[derive(Clone, Copy)]
 pub struct PerturbedFrame<'a> {
-    /// The perturbed frame, its vectors in the unperturbed local frame.
-    pub frame: Frame,
-    /// The nested BSDF, evaluated in `frame`.
+    /// The perturbed normal and its options.
+    pub perturbation: Perturbation,
+    /// The nested BSDF, evaluated in the perturbed frame.
     pub bsdf: &'a dyn Bsdf,
 }
 
 impl std::fmt::Debug for PerturbedFrame<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("PerturbedFrame")
-            .field("frame", &self.frame)
+            .field("perturbation", &self.perturbation)
             .finish_non_exhaustive()
     }
 }
 
 impl<'a> PerturbedFrame<'a> {
-    /// `bsdf` in the frame `frame`.
-    pub fn new(frame: Frame, bsdf: &'a dyn Bsdf) -> Self {
-        Self { frame, bsdf }
+    /// `bsdf` seen through `perturbation`.
+    pub fn new(perturbation: Perturbation, bsdf: &'a dyn Bsdf) -> Self {
+        Self { perturbation, bsdf }
     }
 
-    /// `wo` in the perturbed frame, when it lies on the same side of both normals.
+    /// The frame for `wi`, `wi` and `wo` in it, and the factor that turns the nested value
+    /// into this adapter's, when `wo` lies on the same side of both normals.
     #[inline]
-    fn wo_local(&self, wo: Vec3) -> Option<Vec3> {
-        let p = self.frame.to_local(wo);
-        (wo.z * p.z > 0.0).then_some(p)
+    fn local(&self, wi: Vec3, wo: Vec3) -> Option<(Frame, Vec3, Vec3, f32)> {
+        let frame = self.perturbation.frame(wi);
+        let p = frame.to_local(wo);
+        let mut factor = p.z / wo.z;
+        if self.perturbation.use_shadowing_function {
+            factor *= shadow_terminator(frame.n, wo);
+        }
+        (wo.z * p.z > 0.0 && factor.is_finite()).then(|| (frame, frame.to_local(wi), p, factor))
+    }
+
+    /// The sampled direction back in the unperturbed frame and its weight factor (the
+    /// terminator's shadowing), unless it changed sides.
+    #[inline]
+    fn back(&self, frame: &Frame, wo_perturbed: Vec3) -> Option<(Vec3, f32)> {
+        let wo = frame.to_world(wo_perturbed);
+        if !(wo_perturbed.z * wo.z > 0.0) {
+            return None;
+        }
+        let g = if self.perturbation.use_shadowing_function {
+            shadow_terminator(frame.n, wo)
+        } else {
+            1.0
+        };
+        Some((wo, g))
     }
 }
 
@@ -75,15 +173,15 @@ impl Bsdf for PerturbedFrame<'_> {
     }
 
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        match self.wo_local(wo) {
-            Some(p) => self.bsdf.eval(ctx, self.frame.to_local(wi), p, wl),
+        match self.local(wi, wo) {
+            Some((_, wi, p, factor)) => self.bsdf.eval(ctx, wi, p, wl) * factor,
             None => SampledSpectrum::ZERO,
         }
     }
 
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
-        match self.wo_local(wo) {
-            Some(p) => self.bsdf.pdf(ctx, self.frame.to_local(wi), p, wl),
+        match self.local(wi, wo) {
+            Some((_, wi, p, _)) => self.bsdf.pdf(ctx, wi, p, wl),
             None => 0.0,
         }
     }
@@ -95,8 +193,11 @@ impl Bsdf for PerturbedFrame<'_> {
         wo: Vec3,
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
-        match self.wo_local(wo) {
-            Some(p) => self.bsdf.eval_pdf(ctx, self.frame.to_local(wi), p, wl),
+        match self.local(wi, wo) {
+            Some((_, wi, p, factor)) => {
+                let (f, pdf) = self.bsdf.eval_pdf(ctx, wi, p, wl);
+                (f * factor, pdf)
+            }
             None => (SampledSpectrum::ZERO, 0.0),
         }
     }
@@ -109,26 +210,25 @@ impl Bsdf for PerturbedFrame<'_> {
         u2: Vec2,
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
-        let mut s = self.bsdf.sample(ctx, self.frame.to_local(wi), u1, u2, wl)?;
-        let wo = self.frame.to_world(s.wo);
-        if !(s.wo.z * wo.z > 0.0) {
-            return None;
-        }
+        let frame = self.perturbation.frame(wi);
+        let mut s = self.bsdf.sample(ctx, frame.to_local(wi), u1, u2, wl)?;
+        let (wo, g) = self.back(&frame, s.wo)?;
         s.wo = wo;
+        s.weight = s.weight * g;
         Some(s)
     }
 
     fn null_transmission(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
-        self.bsdf.null_transmission(self.frame.to_local(wi), wl)
+        self.bsdf
+            .null_transmission(self.perturbation.frame(wi).to_local(wi), wl)
     }
 
     /// The nested matrix, its bases carried from the perturbed frame to the shading frame.
     fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
-        match self.wo_local(wo) {
-            Some(p) => self
-                .bsdf
-                .eval_mueller(ctx, self.frame.to_local(wi), p, wl)
-                .local_to_world(&self.frame),
+        match self.local(wi, wo) {
+            Some((frame, wi, p, factor)) => {
+                self.bsdf.eval_mueller(ctx, wi, p, wl).local_to_world(&frame) * factor
+            }
             None => Mueller::ZERO,
         }
     }
@@ -142,22 +242,19 @@ impl Bsdf for PerturbedFrame<'_> {
         u2: Vec2,
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample<Mueller>> {
-        let mut s = self
-            .bsdf
-            .sample_mueller(ctx, self.frame.to_local(wi), u1, u2, wl)?;
-        let wo = self.frame.to_world(s.wo);
-        if !(s.wo.z * wo.z > 0.0) {
-            return None;
-        }
+        let frame = self.perturbation.frame(wi);
+        let mut s = self.bsdf.sample_mueller(ctx, frame.to_local(wi), u1, u2, wl)?;
+        let (wo, g) = self.back(&frame, s.wo)?;
         s.wo = wo;
-        s.weight = s.weight.local_to_world(&self.frame);
+        s.weight = s.weight.local_to_world(&frame) * g;
         Some(s)
     }
 
     fn null_transmission_mueller(&self, wi: Vec3, wl: &SampledWavelengths) -> Option<Mueller> {
+        let frame = self.perturbation.frame(wi);
         self.bsdf
-            .null_transmission_mueller(self.frame.to_local(wi), wl)
-            .map(|m| m.local_to_world(&self.frame))
+            .null_transmission_mueller(frame.to_local(wi), wl)
+            .map(|m| m.local_to_world(&frame))
     }
 }
 
@@ -166,11 +263,25 @@ mod tests {
     use super::*;
     use crate::bsdfs::{Conductor, Diffuse};
     use crate::spectra::Spectrum;
+    use std::f32::consts::PI;
+
+    fn tilted(degrees: f32) -> Vec3 {
+        let a = degrees.to_radians();
+        Vec3::new(a.sin(), 0.0, a.cos())
+    }
+
+    fn plain(n: Vec3) -> Perturbation {
+        Perturbation {
+            n,
+            flip_invalid_normals: false,
+            use_shadowing_function: false,
+        }
+    }
 
     #[test]
-    fn the_identity_frame_changes_nothing() {
+    fn the_identity_perturbation_changes_nothing() {
         let d = Diffuse::new(Spectrum::Constant(0.7));
-        let p = PerturbedFrame::new(Frame::from_normal(Vec3::Z), &d);
+        let p = PerturbedFrame::new(Perturbation::new(Vec3::Z), &d);
         let (ctx, wl) = (BsdfContext::radiance(), SampledWavelengths::fixed(550.0));
         let (wi, wo) = (
             Vec3::new(0.3, 0.1, 0.9).normalize(),
@@ -182,12 +293,10 @@ mod tests {
 
     #[test]
     fn a_tilted_mirror_reflects_about_the_mapped_normal() {
-        // Normal tilted by 20° about y: a mirror reflects wi about it.
-        let a = 20f32.to_radians();
-        let n = Vec3::new(a.sin(), 0.0, a.cos());
-        let frame = Frame::from_normal_tangent(n, Vec3::X);
+        // Normal tilted by 20° about y: a mirror reflects wi about it, its weight the shadowing.
+        let n = tilted(20.0);
         let m = Conductor::mirror();
-        let p = PerturbedFrame::new(frame, &m);
+        let p = PerturbedFrame::new(Perturbation::new(n), &m);
         let wi = Vec3::new(-0.2, 0.1, 0.97).normalize();
         let mut wl = SampledWavelengths::fixed(550.0);
         let s = p
@@ -195,24 +304,114 @@ mod tests {
             .unwrap();
         let expected = 2.0 * wi.dot(n) * n - wi;
         assert!((s.wo - expected).length() < 1e-5, "{:?} vs {expected:?}", s.wo);
+        let g = shadow_terminator(n, s.wo);
+        assert!(g < 1.0 && (s.weight[0] - g).abs() < 1e-5, "{:?} vs {g}", s.weight);
+    }
+
+    #[test]
+    fn eval_carries_the_cosine_of_the_perturbed_frame() {
+        // Mitsuba's value f'·|cos θ'o| divided by the |cos θo| the integrators multiply by.
+        let n = tilted(30.0);
+        let d = Diffuse::new(Spectrum::Constant(0.7));
+        let p = PerturbedFrame::new(plain(n), &d);
+        let (ctx, wl) = (BsdfContext::radiance(), SampledWavelengths::fixed(550.0));
+        let wi = Vec3::new(0.1, 0.2, 0.9).normalize();
+        let wo = Vec3::new(0.6, -0.1, 0.5).normalize();
+        let expected = 0.7 / PI * wo.dot(n) / wo.z;
+        assert!((p.eval(&ctx, wi, wo, &wl)[0] - expected).abs() < 1e-6);
+        // The pdf is the nested one, in the nested frame.
+        assert!((p.pdf(&ctx, wi, wo, &wl) - wo.dot(n) / PI).abs() < 1e-6);
     }
 
     #[test]
     fn directions_on_opposite_sides_of_the_two_normals_get_nothing() {
         // Normal tilted by 60° about y: wo just above the surface on the far side lies below
         // the mapped normal's horizon (Mitsuba's black fringe).
-        let a = 60f32.to_radians();
-        let frame = Frame::from_normal_tangent(Vec3::new(a.sin(), 0.0, a.cos()), Vec3::X);
+        let n = tilted(60.0);
         let d = Diffuse::new(Spectrum::Constant(0.7));
-        let p = PerturbedFrame::new(frame, &d);
+        let p = PerturbedFrame::new(plain(n), &d);
         let (ctx, wl) = (BsdfContext::radiance(), SampledWavelengths::fixed(550.0));
         let wi = Vec3::new(0.5, 0.0, 0.8).normalize();
         let wo = Vec3::new(-0.95, 0.0, 0.1).normalize();
-        assert!(frame.to_local(wo).z < 0.0);
+        assert!(wo.dot(n) < 0.0);
         assert_eq!(p.eval(&ctx, wi, wo, &wl), SampledSpectrum::ZERO);
         assert_eq!(p.pdf(&ctx, wi, wo, &wl), 0.0);
-        // On the near side: the diffuse value ρ/π.
+        // On the near side: the diffuse value.
         let wo = Vec3::new(0.6, 0.0, 0.8).normalize();
-        assert!((p.eval(&ctx, wi, wo, &wl)[0] - 0.7 / std::f32::consts::PI).abs() < 1e-6);
+        let expected = 0.7 / PI * wo.dot(n) / wo.z;
+        assert!((p.eval(&ctx, wi, wo, &wl)[0] - expected).abs() < 1e-6);
+    }
+
+    #[test]
+    fn an_invalid_normal_is_flipped_towards_the_viewer() {
+        // Tilted by 60° towards +x, seen at a grazing angle from −x: the viewer is behind the
+        // mapped normal's surface, so its tangential part is mirrored.
+        let n = tilted(60.0);
+        let wi = Vec3::new(-0.95, 0.0, 0.1).normalize();
+        assert!(wi.dot(n) < 0.0);
+        let flipped = Perturbation::new(n).frame(wi);
+        assert!(
+            (flipped.n - Vec3::new(-n.x, 0.0, n.z)).length() < 1e-6,
+            "{flipped:?}"
+        );
+        assert!(flipped.s.dot(flipped.n).abs() < 1e-6 && flipped.s.x > 0.0);
+        // Without the flip, and for a viewer in front of it, it stays.
+        assert!((plain(n).frame(wi).n - n).length() < 1e-6);
+        assert!((Perturbation::new(n).frame(Vec3::Z).n - n).length() < 1e-6);
+        // The flip is what lights that view: without it the nested diffuse sees wi from behind.
+        let d = Diffuse::new(Spectrum::Constant(0.7));
+        let (ctx, wl) = (BsdfContext::radiance(), SampledWavelengths::fixed(550.0));
+        let wo = Vec3::new(-0.3, 0.2, 0.9).normalize();
+        let with = PerturbedFrame::new(Perturbation::new(n), &d).eval(&ctx, wi, wo, &wl)[0];
+        let without = PerturbedFrame::new(plain(n), &d).eval(&ctx, wi, wo, &wl)[0];
+        assert!(with > 0.1 && without == 0.0, "{with} {without}");
+    }
+
+    #[test]
+    fn the_terminator_shadowing_has_its_closed_form() {
+        // No tilt, no shadowing; α² = min(tan²θn/8, 1) and G = 2/(1 + √(1 + α² tan²θo)).
+        assert_eq!(shadow_terminator(Vec3::Z, tilted(80.0)), 1.0);
+        let n = tilted(30.0);
+        let wo = tilted(-45.0);
+        let alpha2 = (30f32.to_radians().tan().powi(2) / 8.0) as f64;
+        let expected = 2.0 / (1.0 + (1.0 + alpha2).sqrt());
+        assert!((shadow_terminator(n, wo) as f64 - expected).abs() < 1e-6);
+        // α² saturates at 1 for tilts beyond atan √8 ≈ 70.5°.
+        let expected = 2.0 / (1.0 + 2f64.sqrt());
+        assert!((shadow_terminator(tilted(80.0), wo) as f64 - expected).abs() < 1e-6);
+        // Grazing directions are fully shadowed, never NaN.
+        assert_eq!(shadow_terminator(n, Vec3::X), 0.0);
+    }
+
+    #[test]
+    fn sample_weights_agree_with_eval_over_pdf() {
+        let d = Diffuse::new(Spectrum::Constant(0.7));
+        let ctx = BsdfContext::radiance();
+        let wl0 = SampledWavelengths::fixed(550.0);
+        for (n, wi) in [
+            (tilted(25.0), Vec3::new(0.2, -0.3, 0.9).normalize()),
+            (tilted(60.0), Vec3::new(-0.95, 0.0, 0.1).normalize()),
+            (Vec3::new(0.3, -0.4, 0.8), Vec3::new(0.5, 0.5, 0.3).normalize()),
+        ] {
+            let p = PerturbedFrame::new(Perturbation::new(n), &d);
+            let mut taken = 0;
+            for k in 0..64 {
+                let u = Vec2::new((k % 8) as f32 / 8.0 + 0.06, (k / 8) as f32 / 8.0 + 0.03);
+                let mut wl = wl0;
+                let Some(s) = p.sample(&ctx, wi, 0.5, u, &mut wl) else {
+                    continue;
+                };
+                let (f, pdf) = p.eval_pdf(&ctx, wi, s.wo, &wl0);
+                assert!((pdf - s.pdf).abs() <= 1e-5 * pdf, "{pdf} vs {}", s.pdf);
+                let w = f[0] * s.wo.z.abs() / pdf;
+                assert!(
+                    (w - s.weight[0]).abs() < 1e-5,
+                    "n {n} wi {wi}: {w} vs {:?}",
+                    s.weight
+                );
+                taken += 1;
+            }
+            assert!(taken > 32, "{taken} samples kept of 64");
+        }
     }
 }

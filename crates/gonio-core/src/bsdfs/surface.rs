@@ -184,7 +184,10 @@ enum Node<'a> {
     /// `twosided`: node `front` for cos θi ≥ 0, node `back` mirrored below.
     TwoSided { front: u8, back: u8 },
     /// `normalmap`/`bumpmap`: node `child` in a perturbed shading frame.
-    Perturbed { frame: crate::frame::Frame, child: u8 },
+    Perturbed {
+        perturbation: super::Perturbation,
+        child: u8,
+    },
 }
 
 /// The tree has no room for another node: the material nests more than [`MAX_NODES`] BSDFs.
@@ -298,11 +301,15 @@ impl<'a> SurfaceBsdf<'a> {
         self.push(Node::TwoSided { front, back })
     }
 
-    /// Adds node `child` (pushed before) seen through the perturbed shading frame `frame`
+    /// Adds node `child` (pushed before) seen through the perturbed normal `perturbation`
     /// ([`super::PerturbedFrame`]); returns its index.
-    pub fn push_perturbed(&mut self, frame: crate::frame::Frame, child: u8) -> Result<u8, TooManyNodes> {
+    pub fn push_perturbed(
+        &mut self,
+        perturbation: super::Perturbation,
+        child: u8,
+    ) -> Result<u8, TooManyNodes> {
         debug_assert!(child < self.len);
-        self.push(Node::Perturbed { frame, child })
+        self.push(Node::Perturbed { perturbation, child })
     }
 
     /// Lobe splitting ([`LobeSplit`]) when the tree is one single-scattering `roughdielectric`
@@ -401,7 +408,9 @@ impl NodeRef<'_, '_> {
                 mitsuba_delta_pdf,
             }) => f(&BlendBsdf::new(*weight, &at(*a), &at(*b)).with_mitsuba_delta_pdf(*mitsuba_delta_pdf)),
             Some(Node::TwoSided { front, back }) => f(&TwoSided::with_back(&at(*front), &at(*back))),
-            Some(Node::Perturbed { frame, child }) => f(&super::PerturbedFrame::new(*frame, &at(*child))),
+            Some(Node::Perturbed { perturbation, child }) => {
+                f(&super::PerturbedFrame::new(*perturbation, &at(*child)))
+            }
         }
     }
 }

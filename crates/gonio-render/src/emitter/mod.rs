@@ -442,7 +442,11 @@ impl Lights {
     /// estimate stays unbiased.
     #[inline]
     pub fn left_to_bsdf(&self, r: &LightRef, i: usize) -> bool {
-        r.resolved_density > 0.0 && self.feature_density.get(i).is_some_and(|&f| f <= r.resolved_density)
+        r.resolved_density > 0.0
+            && self
+                .feature_density
+                .get(i)
+                .is_some_and(|&f| f <= r.resolved_density)
     }
 
     /// The lights.

@@ -11,14 +11,18 @@
 //!     n'     = normalize(∂p'/∂u × ∂p'/∂v),  negated when it faces away from the geometric normal
 //! ```
 //!
-//! then expresses n' in the shading frame and builds the tangent from ∂p/∂u by Gram–Schmidt (as
-//! `normalmap` does). The nested BSDF is evaluated in that frame; a direction ωo on opposite sides
-//! of the shading normal and of n' is black ([`gonio_core::bsdfs::perturbed`]).
+//! then expresses n' in the local coordinates of the shading frame: the perturbed normal the
+//! adapter [`gonio_core::bsdfs::PerturbedFrame`] builds Mitsuba 3.9.1's frame from (flipped
+//! towards the viewer where it faces away, tangent x made orthogonal to n') and whose terminator
+//! it shadows, as `normalmap` does. The nested BSDF is evaluated in that frame; a direction ωo
+//! on opposite sides of the shading normal and of n' is black.
 //!
 //! | parameter        | type    | default |
 //! |------------------|---------|---------|
 //! | (nested texture) | texture | required: the height h, any name, read as one value |
 //! | `scale`          | float   | 1       |
+//! | `flip_invalid_normals` | boolean | true |
+//! | `use_shadowing_function` | boolean | true |
 //! | (nested plugin)  | bsdf    | required, exactly one |
 
 use super::normalmap::{FramePerturbation, one_nested};
@@ -26,7 +30,7 @@ use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, ShadingPoi
 use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag};
 use glam::{Vec2, Vec3};
-use gonio_core::Frame;
+use gonio_core::bsdfs::Perturbation;
 use gonio_core::spectra::RgbKind;
 
 const SCALE: ParamSpec = ParamSpec::new(
@@ -52,7 +56,13 @@ const NESTED: ParamSpec = ParamSpec::new(
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
     name: "bumpmap",
     summary: "Bump mapping: the nested BSDF in the shading frame of the surface displaced by scale·h(u, v).",
-    params: &[SCALE, TEXTURE, NESTED],
+    params: &[
+        SCALE,
+        TEXTURE,
+        super::normalmap::FLIP_INVALID_NORMALS,
+        super::normalmap::USE_SHADOWING_FUNCTION,
+        NESTED,
+    ],
     build,
 };
 
@@ -89,29 +99,33 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
             format!("bumpmap scale {scale} must be a finite number"),
         ));
     }
+    let (flip_invalid_normals, use_shadowing_function) = super::normalmap::perturbation_options(p)?;
     let nested = one_nested(b, p, "bumpmap")?;
     Ok(Material::new(BumpMapMaterial {
         height,
         scale,
         nested,
+        flip_invalid_normals,
+        use_shadowing_function,
     }))
 }
 
-/// Mitsuba's bump-map frame at `at` for the scaled height gradient `grad` = scale·∇h (see the
-/// module docs), in the local coordinates of the shading frame. A degenerate parameterization
-/// (∂p'/∂u × ∂p'/∂v = 0) leaves the frame unperturbed.
-pub fn bumpmap_frame(at: &ShadingPoint, grad: Vec2) -> Frame {
+/// Mitsuba's bump-mapped normal at `at` for the scaled height gradient `grad` = scale·∇h (see
+/// the module docs), in the local coordinates of the shading frame, unnormalized; zero where the
+/// displaced parameterization degenerates (∂p'/∂u × ∂p'/∂v = 0: the adapter then keeps the
+/// unperturbed frame).
+pub fn bumpmap_normal(at: &ShadingPoint, grad: Vec2) -> Vec3 {
     let n = at.shading.n;
     let dpdu = at.dpdu + n * (grad.x - n.dot(at.dpdu));
     let dpdv = at.dpdv + n * (grad.y - n.dot(at.dpdv));
-    let mut nb = dpdu.cross(dpdv).normalize_or_zero();
-    if nb == Vec3::ZERO || !nb.is_finite() {
-        return Frame::from_normal_tangent(Vec3::Z, Vec3::X);
+    let mut nb = dpdu.cross(dpdv);
+    if !nb.is_finite() {
+        return Vec3::ZERO;
     }
     if at.n.dot(nb) < 0.0 {
         nb = -nb;
     }
-    super::normalmap::tangent_frame(at.shading.to_local(nb), at.dpdu)
+    at.shading.to_local(nb)
 }
 
 /// `bumpmap` in a scene.
@@ -123,20 +137,34 @@ pub struct BumpMapMaterial {
     pub scale: f32,
     /// The BSDF seen through the bumped frame.
     pub nested: Material,
+    /// Mitsuba's `flip_invalid_normals`.
+    pub flip_invalid_normals: bool,
+    /// Mitsuba's `use_shadowing_function`.
+    pub use_shadowing_function: bool,
 }
 
 impl FramePerturbation for BumpMapMaterial {
     fn nested(&self) -> &Material {
         &self.nested
     }
-    fn frame_at(&self, at: &ShadingPoint) -> Frame {
-        bumpmap_frame(at, self.scale * self.height.eval_1_grad(at.uv))
+    fn perturbation_at(&self, at: &ShadingPoint) -> Perturbation {
+        Perturbation {
+            n: bumpmap_normal(at, self.scale * self.height.eval_1_grad(at.uv)),
+            flip_invalid_normals: self.flip_invalid_normals,
+            use_shadowing_function: self.use_shadowing_function,
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use gonio_core::Frame;
+
+    /// The unit normal the adapter makes of the bumped normal (seen from above it, no flip).
+    fn unit(at: &ShadingPoint, g: Vec2) -> Vec3 {
+        Perturbation::new(bumpmap_normal(at, g)).frame(Vec3::Z).n
+    }
 
     fn plane(dpdu: Vec3, dpdv: Vec3, n: Vec3) -> ShadingPoint {
         ShadingPoint {
@@ -154,21 +182,25 @@ mod tests {
         // p(u, v) = (a u, b v, scale·h): n ∝ (−∂z/∂x, −∂z/∂y, 1) = (−g_u/a, −g_v/b, 1).
         let (a, b) = (2.0, 0.5);
         let g = Vec2::new(0.3, -0.2);
-        let f = bumpmap_frame(&plane(Vec3::X * a, Vec3::Y * b, Vec3::Z), g);
+        let n = unit(&plane(Vec3::X * a, Vec3::Y * b, Vec3::Z), g);
         let expected = Vec3::new(-g.x / a, -g.y / b, 1.0).normalize();
-        assert!((f.n - expected).length() < 1e-6, "{:?} vs {expected:?}", f.n);
-        assert!(f.s.dot(f.n).abs() < 1e-6 && f.s.x > 0.0);
-        // No gradient: the shading frame itself.
-        let f = bumpmap_frame(&plane(Vec3::X * a, Vec3::Y * b, Vec3::Z), Vec2::ZERO);
-        assert!((f.n - Vec3::Z).length() < 1e-6);
+        assert!((n - expected).length() < 1e-6, "{n:?} vs {expected:?}");
+        // No gradient: the shading normal itself.
+        let n = unit(&plane(Vec3::X * a, Vec3::Y * b, Vec3::Z), Vec2::ZERO);
+        assert!((n - Vec3::Z).length() < 1e-6);
+        // A degenerate parameterization (∂p/∂u ∥ ∂p/∂v, flat): a zero normal, which the adapter
+        // reads as no perturbation.
+        let degenerate = plane(Vec3::X, Vec3::X, Vec3::Z);
+        assert_eq!(bumpmap_normal(&degenerate, Vec2::ZERO), Vec3::ZERO);
+        assert_eq!(unit(&degenerate, Vec2::ZERO), Vec3::Z);
     }
 
     #[test]
     fn the_bumped_normal_follows_the_geometric_side_and_the_shading_frame() {
         // ∂p/∂u × ∂p/∂v points along −z when the parameterization is mirrored; the normal is
         // turned to the geometric normal's side (+z here).
-        let f = bumpmap_frame(&plane(Vec3::Y, Vec3::X, Vec3::Z), Vec2::new(0.1, 0.0));
-        assert!(f.n.z > 0.0, "{f:?}");
+        let n = bumpmap_normal(&plane(Vec3::Y, Vec3::X, Vec3::Z), Vec2::new(0.1, 0.0));
+        assert!(n.z > 0.0, "{n:?}");
         // A shading frame tilted from the world axes: the result is expressed in it.
         let shading = Frame::from_normal_tangent(Vec3::new(0.0, 0.6, 0.8), Vec3::X);
         let at = ShadingPoint {
@@ -179,8 +211,8 @@ mod tests {
             dpdv: shading.t,
             ..ShadingPoint::flat(Vec2::ZERO)
         };
-        let f = bumpmap_frame(&at, Vec2::new(0.25, 0.0));
+        let n = unit(&at, Vec2::new(0.25, 0.0));
         let expected = Vec3::new(-0.25, 0.0, 1.0).normalize();
-        assert!((f.n - expected).length() < 1e-6, "{:?} vs {expected:?}", f.n);
+        assert!((n - expected).length() < 1e-6, "{n:?} vs {expected:?}");
     }
 }

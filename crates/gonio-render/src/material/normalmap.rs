@@ -3,22 +3,17 @@
 //!
 //! At a hit with texture coordinates uv, the map's RGB (read `raw`, as tangent-space normals are
 //! stored) is decoded from [0, 1] to [−1, 1] and taken **in the local coordinates of the
-//! unperturbed shading frame** (x along its tangent s, z along its normal):
-//!
-//! ```text
-//!     n' = normalize(2·rgb − 1)
-//!     s' = normalize(∂p/∂u − n'·(n'·∂p/∂u)),    t' = n' × s'
-//! ```
-//!
-//! As in Mitsuba, the tangent is built from the world-space ∂p/∂u used as if it were local: it
-//! only turns the frame about n', which no isotropic nested BSDF sees. The nested BSDF is
-//! evaluated with ωi, ωo expressed in (s', t', n'), and a direction ωo that lies on opposite
-//! sides of the shading normal and of n' is black (see [`gonio_core::bsdfs::perturbed`]).
-//! A degenerate map texel (2·rgb − 1 = 0) leaves the frame unperturbed.
+//! unperturbed shading frame** (x along its tangent s, z along its normal): n = 2·rgb − 1, the
+//! perturbed normal the adapter [`gonio_core::bsdfs::PerturbedFrame`] builds Mitsuba 3.9.1's
+//! frame from (n' = normalize(n), flipped towards the viewer where it faces away, tangent x made
+//! orthogonal to n') and whose terminator it shadows (Conty Estevez et al. 2019). A degenerate
+//! texel (2·rgb − 1 = 0) leaves the frame unperturbed.
 //!
 //! | parameter       | type    | default |
 //! |-----------------|---------|---------|
 //! | `normalmap`     | texture | required (a bitmap with `raw="true"`, or a constant) |
+//! | `flip_invalid_normals` | boolean | true |
+//! | `use_shadowing_function` | boolean | true |
 //! | (nested plugin) | bsdf    | required, exactly one |
 
 use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, ShadingPoint, SurfaceMaterial};
@@ -26,9 +21,9 @@ use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag};
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::surface::TooManyNodes;
-use gonio_core::bsdfs::{PerturbedFrame, SurfaceBsdf};
+use gonio_core::bsdfs::{Perturbation, PerturbedFrame, SurfaceBsdf};
 use gonio_core::spectra::RgbKind;
-use gonio_core::{Bsdf, BsdfFlags, Frame, SampledWavelengths};
+use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths};
 
 const NORMALMAP: ParamSpec = ParamSpec::new(
     "normalmap",
@@ -43,13 +38,34 @@ const NESTED: ParamSpec = ParamSpec::new(
     "exactly one nested BSDF, evaluated in the mapped frame",
 );
 
+pub(super) const FLIP_INVALID_NORMALS: ParamSpec = ParamSpec::new(
+    "flip_invalid_normals",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "mirror the perturbed normal's tangential part where the viewer sees the surface from behind it (Schüssler et al. 2017)",
+);
+pub(super) const USE_SHADOWING_FUNCTION: ParamSpec = ParamSpec::new(
+    "use_shadowing_function",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "shadow grazing directions as a microfacet surface as rough as the perturbation (Conty Estevez et al. 2019), softening the terminator",
+);
+
 /// The `normalmap` plugin.
 pub static PLUGIN: BsdfPlugin = BsdfPlugin {
     name: "normalmap",
     summary: "Normal mapping: the nested BSDF in a shading frame whose normal is read from an RGB texture.",
-    params: &[NORMALMAP, NESTED],
+    params: &[NORMALMAP, FLIP_INVALID_NORMALS, USE_SHADOWING_FUNCTION, NESTED],
     build,
 };
+
+/// Mitsuba's `flip_invalid_normals` and `use_shadowing_function` of a frame-perturbing wrapper.
+pub(super) fn perturbation_options(p: &mut Params<'_>) -> Result<(bool, bool), SceneError> {
+    Ok((
+        p.bool(FLIP_INVALID_NORMALS.name, FLIP_INVALID_NORMALS.default.bool())?,
+        p.bool(USE_SHADOWING_FUNCTION.name, USE_SHADOWING_FUNCTION.default.bool())?,
+    ))
+}
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
     let obj = b.object(p);
@@ -73,8 +89,14 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
             "normalmap's \"normalmap\" must be a bitmap or a constant (it is read as RGB)",
         ));
     }
+    let (flip_invalid_normals, use_shadowing_function) = perturbation_options(p)?;
     let nested = one_nested(b, p, "normalmap")?;
-    Ok(Material::new(NormalMapMaterial { map, nested }))
+    Ok(Material::new(NormalMapMaterial {
+        map,
+        nested,
+        flip_invalid_normals,
+        use_shadowing_function,
+    }))
 }
 
 /// The one nested BSDF of a frame-perturbing wrapper (`what` names it in errors).
@@ -100,24 +122,10 @@ pub(crate) fn one_nested<'d>(
     }
 }
 
-/// Mitsuba's normal-map frame from the map's `rgb` and ∂p/∂u (see the module docs), in the local
-/// coordinates of the shading frame. A degenerate texel gives the unperturbed frame.
-pub fn normalmap_frame(rgb: [f32; 3], dpdu: Vec3) -> Frame {
-    let n = (Vec3::from(rgb) * 2.0 - Vec3::ONE).normalize_or_zero();
-    if n == Vec3::ZERO || !n.is_finite() {
-        return Frame::from_normal_tangent(Vec3::Z, Vec3::X);
-    }
-    tangent_frame(n, dpdu)
-}
-
-/// The frame of normal `n` with its tangent from `dpdu` by Gram–Schmidt; any tangent when
-/// `dpdu` is zero or (numerically) along `n`.
-pub(crate) fn tangent_frame(n: Vec3, dpdu: Vec3) -> Frame {
-    let s = dpdu - n * n.dot(dpdu);
-    if !(s.length_squared() > 1e-10 * dpdu.length_squared()) {
-        return Frame::from_normal(n);
-    }
-    Frame::from_normal_tangent(n, dpdu)
+/// The perturbed normal of a map texel `rgb`, 2·rgb − 1, in the local coordinates of the shading
+/// frame (unnormalized; see the module docs).
+pub fn normalmap_normal(rgb: [f32; 3]) -> Vec3 {
+    Vec3::from(rgb) * 2.0 - Vec3::ONE
 }
 
 /// `normalmap` in a scene.
@@ -127,30 +135,32 @@ pub struct NormalMapMaterial {
     pub map: Texture,
     /// The BSDF seen through the mapped frame.
     pub nested: Material,
-}
-
-impl NormalMapMaterial {
-    fn frame(&self, uv: Vec2, dpdu: Vec3) -> Frame {
-        normalmap_frame(self.map.eval_3(uv).unwrap_or([0.5, 0.5, 1.0]), dpdu)
-    }
+    /// Mitsuba's `flip_invalid_normals`.
+    pub flip_invalid_normals: bool,
+    /// Mitsuba's `use_shadowing_function`.
+    pub use_shadowing_function: bool,
 }
 
 impl FramePerturbation for NormalMapMaterial {
     fn nested(&self) -> &Material {
         &self.nested
     }
-    fn frame_at(&self, at: &ShadingPoint) -> Frame {
-        self.frame(at.uv, at.dpdu)
+    fn perturbation_at(&self, at: &ShadingPoint) -> Perturbation {
+        Perturbation {
+            n: normalmap_normal(self.map.eval_3(at.uv).unwrap_or([0.5, 0.5, 1.0])),
+            flip_invalid_normals: self.flip_invalid_normals,
+            use_shadowing_function: self.use_shadowing_function,
+        }
     }
 }
 
 /// A material that shows its nested BSDF through a perturbed shading frame (`normalmap`,
-/// `bumpmap`): the frame at a shading point is all that differs.
+/// `bumpmap`): the perturbed normal at a shading point is all that differs.
 pub(super) trait FramePerturbation: Send + Sync + std::fmt::Debug + 'static {
-    /// The BSDF seen through the frame.
+    /// The BSDF seen through the perturbed frame.
     fn nested(&self) -> &Material;
-    /// The perturbed shading frame at `at`.
-    fn frame_at(&self, at: &ShadingPoint) -> Frame;
+    /// The perturbed normal at `at` and its options.
+    fn perturbation_at(&self, at: &ShadingPoint) -> Perturbation;
 }
 
 impl<T: FramePerturbation> SurfaceMaterial for T {
@@ -181,45 +191,35 @@ impl<T: FramePerturbation> SurfaceMaterial for T {
         tree: &mut SurfaceBsdf<'a>,
     ) -> Result<u8, TooManyNodes> {
         let child = self.nested().as_surface().push_at(at, wl, tree)?;
-        tree.push_perturbed(self.frame_at(at), child)
+        tree.push_perturbed(self.perturbation_at(at), child)
     }
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
-        let frame = self.frame_at(&ShadingPoint::flat(uv));
+        let perturbation = self.perturbation_at(&ShadingPoint::flat(uv));
         self.nested()
             .as_surface()
-            .visit(uv, &mut |b: &dyn Bsdf| f(&PerturbedFrame::new(frame, b)))
+            .visit(uv, &mut |b: &dyn Bsdf| f(&PerturbedFrame::new(perturbation, b)))
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::f32::consts::FRAC_1_SQRT_2;
 
     #[test]
-    fn a_flat_texel_leaves_the_frame_unperturbed() {
-        let f = normalmap_frame([0.5, 0.5, 1.0], Vec3::X);
-        assert!((f.n - Vec3::Z).length() < 1e-6 && (f.s - Vec3::X).length() < 1e-6);
-        // A degenerate texel (the map's 2·rgb − 1 = 0) too.
-        let f = normalmap_frame([0.5, 0.5, 0.5], Vec3::X);
-        assert_eq!(f.n, Vec3::Z);
-    }
-
-    #[test]
-    fn rgb_decodes_to_a_tilted_normal_with_a_gram_schmidt_tangent() {
-        // rgb (1, ½, 1) ↦ (1, 0, 1)/√2; s = normalize(x − n (n·x)) = (1, 0, −1)/√2; t = n × s = y.
-        let f = normalmap_frame([1.0, 0.5, 1.0], Vec3::X);
+    fn texels_decode_to_normals_in_the_shading_frame() {
+        assert_eq!(normalmap_normal([0.5, 0.5, 1.0]), Vec3::Z);
+        assert_eq!(normalmap_normal([1.0, 0.5, 1.0]), Vec3::new(1.0, 0.0, 1.0));
+        // The adapter's frame: a degenerate texel leaves it unperturbed; a tilted one gets the
+        // tangent x made orthogonal to n' (Mitsuba 3.9.1), whatever ∂p/∂u.
+        let wi = Vec3::new(0.0, 0.3, 0.95).normalize();
+        let flat = Perturbation::new(normalmap_normal([0.5, 0.5, 0.5])).frame(wi);
+        assert_eq!((flat.s, flat.t, flat.n), (Vec3::X, Vec3::Y, Vec3::Z));
+        let f = Perturbation::new(normalmap_normal([1.0, 0.5, 1.0])).frame(wi);
+        let h = std::f32::consts::FRAC_1_SQRT_2;
         let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-6;
-        assert!(close(f.n, Vec3::new(FRAC_1_SQRT_2, 0.0, FRAC_1_SQRT_2)), "{f:?}");
-        assert!(close(f.s, Vec3::new(FRAC_1_SQRT_2, 0.0, -FRAC_1_SQRT_2)), "{f:?}");
-        assert!(close(f.t, Vec3::Y), "{f:?}");
-        // Without a usable ∂p/∂u (zero, or along n) the tangent is any one orthogonal to n.
-        for dpdu in [Vec3::ZERO, Vec3::new(1.0, 0.0, 1.0)] {
-            let f = normalmap_frame([1.0, 0.5, 1.0], dpdu);
-            assert!(
-                f.s.dot(f.n).abs() < 1e-6 && (f.s.length() - 1.0).abs() < 1e-6,
-                "{f:?}"
-            );
-        }
+        assert!(
+            close(f.n, Vec3::new(h, 0.0, h)) && close(f.s, Vec3::new(h, 0.0, -h)) && close(f.t, Vec3::Y),
+            "{f:?}"
+        );
     }
 }

@@ -416,10 +416,22 @@ fn envmap_product_density_is_normalized_follows_the_cosine_and_matches_its_sampl
 /// such a lobe, and never the lights that are not at infinity.
 #[test]
 fn narrow_lobes_leave_only_smooth_lights_at_infinity_to_bsdf_sampling() {
-    let uniform = EnvMapLight::new(32, 16, vec![[0.7; 3]; 32 * 16], 1.0, Affine3A::IDENTITY, uplift_luminance).unwrap();
+    let uniform = EnvMapLight::new(
+        32,
+        16,
+        vec![[0.7; 3]; 32 * 16],
+        1.0,
+        Affine3A::IDENTITY,
+        uplift_luminance,
+    )
+    .unwrap();
     // Rows sample sin θ at their centres: the discrete ∫L dω differs from 4πL by < 0.2 %.
     let quarter_pi = 0.25 / PI;
-    assert!((uniform.feature_density() / quarter_pi - 1.0).abs() < 2e-3, "{}", uniform.feature_density());
+    assert!(
+        (uniform.feature_density() / quarter_pi - 1.0).abs() < 2e-3,
+        "{}",
+        uniform.feature_density()
+    );
     let constant = Light::Constant(ConstantLight {
         radiance: Spectrum::Constant(1.0),
     });
@@ -430,7 +442,8 @@ fn narrow_lobes_leave_only_smooth_lights_at_infinity_to_bsdf_sampling() {
     let mut rgb = vec![[0.01f32; 3]; w * h];
     rgb[row * w + 20] = [1000.0; 3];
     let sun = EnvMapLight::new(w, h, rgb, 1.0, Affine3A::IDENTITY, uplift_luminance).unwrap();
-    let texel = (std::f32::consts::TAU / w as f32) * (PI / h as f32) * (PI * (row as f32 + 0.5) / h as f32).sin();
+    let texel =
+        (std::f32::consts::TAU / w as f32) * (PI / h as f32) * (PI * (row as f32 + 0.5) / h as f32).sin();
     let share = 1000.0 * texel / (1000.0 * texel + 0.01 * 4.0 * PI);
     assert!(
         (sun.feature_density() * texel / share - 1.0).abs() < 0.01,
@@ -462,16 +475,26 @@ fn narrow_lobes_leave_only_smooth_lights_at_infinity_to_bsdf_sampling() {
     };
     // Beckmann rough glass at α = 0.02 resolves densities up to 0.05/(4π α²) ≈ 9.9 per sr.
     let narrow = from(
-        gonio_core::microfacet::MicrofacetDistribution::isotropic(gonio_core::microfacet::MicrofacetKind::Beckmann, 0.02)
-            .resolved_light_density(),
+        gonio_core::microfacet::MicrofacetDistribution::isotropic(
+            gonio_core::microfacet::MicrofacetKind::Beckmann,
+            0.02,
+        )
+        .resolved_light_density(),
     );
     assert!((narrow.resolved_density - 0.05 / (4.0 * PI * 4e-4)).abs() < 1e-3);
     let left: Vec<bool> = (0..4).map(|i| lights.left_to_bsdf(&narrow, i)).collect();
     assert_eq!(left, [true, false, true, false]);
     for i in 0..4 {
-        assert!(!lights.left_to_bsdf(&from(0.0), i), "no narrow lobe: light {i} keeps its samples");
+        assert!(
+            !lights.left_to_bsdf(&from(0.0), i),
+            "no narrow lobe: light {i} keeps its samples"
+        );
         if left[i] {
-            assert_eq!(lights.pmf_at(&narrow, i), 0.0, "light {i} is never sampled from there");
+            assert_eq!(
+                lights.pmf_at(&narrow, i),
+                0.0,
+                "light {i} is never sampled from there"
+            );
         } else {
             assert_eq!(lights.pmf_at(&narrow, i), lights.pmf_at(&from(0.0), i));
         }

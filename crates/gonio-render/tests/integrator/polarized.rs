@@ -668,8 +668,13 @@ fn constant_bitmap(tag: &str, rgb: [f32; 3]) -> String {
 
 /// A `normalmap` of constant `rgb` around `nested`.
 fn constant_normalmap(tag: &str, rgb: [f32; 3], nested: &str) -> String {
+    constant_normalmap_with(tag, rgb, "", nested)
+}
+
+/// A `normalmap` of constant `rgb` around `nested`, with further `options` (XML properties).
+fn constant_normalmap_with(tag: &str, rgb: [f32; 3], options: &str, nested: &str) -> String {
     format!(
-        r#"<bsdf type="normalmap"><texture type="bitmap" name="normalmap"><string name="filename" value="{}"/>
+        r#"<bsdf type="normalmap">{options}<texture type="bitmap" name="normalmap"><string name="filename" value="{}"/>
             <boolean name="raw" value="true"/></texture>{nested}</bsdf>"#,
         constant_bitmap(tag, rgb)
     )
@@ -679,7 +684,9 @@ fn constant_normalmap(tag: &str, rgb: [f32; 3], nested: &str) -> String {
 /// constant tilted normal map on a flat mirror gives the Stokes image of the mirror tilted by the
 /// same rotation (the mapped normal n = 2·rgb − 1, here 40° off the axis at azimuth 30°, so the
 /// plane of incidence is turned against the sensor's axes and both S1 and S2 are large): the
-/// nested matrix's frames are carried from the perturbed frame back to the surface's.
+/// nested matrix's frames are carried from the perturbed frame back to the surface's. That
+/// holds with the terminator's shadowing off; with it on (Mitsuba's default) the whole Stokes
+/// vector is scaled by the one factor G < 1 of the grazing reflected direction.
 #[test]
 fn normal_maps_carry_the_nested_polarization() {
     let bare = render_channels(
@@ -712,15 +719,19 @@ fn normal_maps_carry_the_nested_polarization() {
     let (tilt, azimuth) = (40f64.to_radians(), 30f64.to_radians());
     let n = [tilt.sin() * azimuth.cos(), tilt.sin() * azimuth.sin(), tilt.cos()];
     let rgb = n.map(|c| (0.5 * (c + 1.0)) as f32);
-    let mapped = render_channels(
-        &sky_mirror_scene(&format!(
-            r#"<shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>{}</shape>"#,
-            constant_normalmap("tilted", rgb, GLASSY_CONDUCTOR)
-        )),
-        4,
-        1,
-        false,
-    );
+    let mapped_with = |options: &str| {
+        render_channels(
+            &sky_mirror_scene(&format!(
+                r#"<shape type="rectangle"><transform name="to_world"><scale value="10"/></transform>{}</shape>"#,
+                constant_normalmap_with("tilted", rgb, options, GLASSY_CONDUCTOR)
+            )),
+            4,
+            1,
+            false,
+        )
+    };
+    let mapped = mapped_with(r#"<boolean name="use_shadowing_function" value="false"/>"#);
+    let shadowed = mapped_with("");
     // The same mirror tilted: the rectangle's +z turned onto n (lookat from the origin to n).
     let tilted = render_channels(
         &sky_mirror_scene(&format!(
@@ -732,9 +743,26 @@ fn normal_maps_carry_the_nested_polarization() {
         1,
         false,
     );
-    let (m, t) = (stokes_planes(&mapped), stokes_planes(&tilted));
+    let (m, t, g) = (
+        stokes_planes(&mapped),
+        stokes_planes(&tilted),
+        stokes_planes(&shadowed),
+    );
     for i in 0..m[0].len() {
         let s0 = t[0][i];
+        let factor = g[0][i] / m[0][i];
+        assert!(
+            factor > 0.3 && factor < 0.9,
+            "pixel {i}: the shadowing's factor {factor}"
+        );
+        for k in 1..4 {
+            assert!(
+                (g[k][i] - factor * m[k][i]).abs() <= 1e-4 * s0,
+                "pixel {i} S{k}: shadowed {} vs {factor} × unshadowed {}",
+                g[k][i],
+                m[k][i]
+            );
+        }
         assert!(s0 > 0.02, "pixel {i}: the reflection is seen ({s0})");
         for k in 0..4 {
             assert!(
