@@ -37,6 +37,9 @@ pub enum Texture {
         color1: Box<Texture>,
         /// uv transform applied before the lookup.
         to_uv: Affine2,
+        /// Mitsuba 3.9.1's float lookup (`eval_1`, `eval_1_grad`): `color0` and `color1`
+        /// exchanged against the colour lookup (`float_cells="mitsuba"`, for comparisons).
+        float_cells_swapped: bool,
     },
     /// Mitsuba `bitmap`.
     Bitmap(Arc<Bitmap>),
@@ -342,6 +345,7 @@ impl Texture {
                 color0,
                 color1,
                 to_uv,
+                ..
             } => {
                 if checker_is_color0(*to_uv, uv) {
                     color0.eval(uv)
@@ -368,8 +372,9 @@ impl Texture {
                 color0,
                 color1,
                 to_uv,
+                float_cells_swapped,
             } => {
-                if checker_is_color0(*to_uv, uv) {
+                if checker_is_color0(*to_uv, uv) != *float_cells_swapped {
                     color0.eval_1(uv)
                 } else {
                     color1.eval_1(uv)
@@ -407,8 +412,9 @@ impl Texture {
                 color0,
                 color1,
                 to_uv,
+                float_cells_swapped,
             } => {
-                if checker_is_color0(*to_uv, uv) {
+                if checker_is_color0(*to_uv, uv) != *float_cells_swapped {
                     color0.eval_1_grad(uv)
                 } else {
                     color1.eval_1_grad(uv)
@@ -506,6 +512,7 @@ mod tests {
             color0: Box::new(Texture::constant(0.4)),
             color1: Box::new(Texture::constant(0.2)),
             to_uv: Affine2::from_scale(Vec2::splat(2.0)),
+            float_cells_swapped: false,
         };
         // uv (0.1, 0.1) → (0.2, 0.2): both halves ≤ ½ → equal masks → color0.
         assert_eq!(t.eval_1(Vec2::new(0.1, 0.1)), 0.4);
@@ -513,6 +520,34 @@ mod tests {
         assert_eq!(t.eval_1(Vec2::new(0.3, 0.1)), 0.2);
         assert_eq!(t.eval_1(Vec2::new(0.3, 0.3)), 0.4);
         assert!((t.mean() - 0.3).abs() < 1e-6);
+    }
+
+    /// Mitsuba 3.9.1's float lookup of a checkerboard exchanges the cells of its colour lookup
+    /// (probed with `mitsuba==3.9.1`, `scalar_spectral`, color0 = 0.05, color1 = 0.8, no
+    /// `to_uv`: `eval` / `eval_1` at uv (0.1, 0.1) 0.05 / 0.8, (0.6, 0.1) 0.8 / 0.05,
+    /// (0.6, 0.6) 0.05 / 0.8, (0.1, 0.6) 0.8 / 0.05); `float_cells_swapped` reproduces it.
+    #[test]
+    fn mitsubas_float_lookup_swaps_the_cells() {
+        let checker = |float_cells_swapped| Texture::Checkerboard {
+            color0: Box::new(Texture::constant(0.05)),
+            color1: Box::new(Texture::constant(0.8)),
+            to_uv: Affine2::IDENTITY,
+            float_cells_swapped,
+        };
+        let (ours, mitsuba) = (checker(false), checker(true));
+        for (uv, eval, eval_1) in [
+            ((0.1, 0.1), 0.05, 0.8),
+            ((0.6, 0.1), 0.8, 0.05),
+            ((0.6, 0.6), 0.05, 0.8),
+            ((0.1, 0.6), 0.8, 0.05),
+        ] {
+            let uv = Vec2::new(uv.0, uv.1);
+            assert_eq!(mitsuba.eval(uv).as_constant(), Some(eval));
+            assert_eq!(mitsuba.eval_1(uv), eval_1);
+            assert_eq!(ours.eval(uv).as_constant(), Some(eval));
+            assert_eq!(ours.eval_1(uv), eval);
+        }
+        assert_eq!(mitsuba.mean(), ours.mean());
     }
 
     /// A bitmap's mean is Mitsuba 3.9.1's: its texels' means, averaged, not the mean of the

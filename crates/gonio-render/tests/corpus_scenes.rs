@@ -65,6 +65,7 @@ fn ci_spp(name: &str) -> u32 {
 /// | bsdf_roughplastic_preserve | 5.94e-4 | 4.01e-4 4.16e-4 4.58e-4 | |
 /// | bsdf_roughdielectric_textured | 4.50e-3 | 6.65e-3 6.88e-3 6.79e-3 (see below) | |
 /// | bsdf_roughdielectric_textured_cells_swapped | 5.81e-3 | 3.10e-3 3.66e-3 3.24e-3 | |
+/// | bsdf_roughdielectric_textured+mitsuba_estimators | 4.71e-3 | 2.67e-3 3.14e-3 3.29e-3 | |
 /// | bsdf_roughplastic_nopreserve | 5.94e-4 | 4.03e-4 4.14e-4 4.58e-4 | |
 /// | principled_blend_creation/scene | 1.31e-3 | 1.01e-3 9.39e-4 8.09e-4 | |
 /// | principled_blend_creation/scene_thin | 9.71e-4 | 8.53e-4 8.41e-4 7.49e-4 | |
@@ -75,6 +76,7 @@ fn ci_spp(name: &str) -> u32 {
 /// | shape_cylinder_onesided | 5.60e-4 | 4.01e-4 4.93e-4 4.89e-4 | |
 /// | shape_cylinder_twosided | 5.86e-4 | 4.19e-4 5.02e-4 4.79e-4 | |
 /// | bsdf_roughconductor_textured_carbon_cells_swapped | 7.88e-4 | 5.20e-4 6.51e-4 6.10e-4 | |
+/// | bsdf_roughconductor_textured_carbon+mitsuba_estimators | 6.67e-4 | 4.08e-4 4.98e-4 4.65e-4 | |
 /// | shape_sdfgrid | 5.94e-4 | 4.17e-4 4.97e-4 4.87e-4 | |
 /// | shape_sdfgrid_analytic | 5.80e-4 | 4.26e-4 5.11e-4 4.77e-4 | |
 /// | shape_linearcurve_basic | 5.62e-4 | 4.09e-4 4.89e-4 4.68e-4 | |
@@ -165,6 +167,7 @@ const SCENES: &[(&str, f64)] = &[
     ("bsdf_roughplastic_preserve", 5.94e-4),
     ("bsdf_roughdielectric_textured", 4.50e-3),
     ("bsdf_roughdielectric_textured_cells_swapped", 5.81e-3),
+    ("bsdf_roughdielectric_textured+mitsuba_estimators", 4.71e-3),
     ("bsdf_roughplastic_nopreserve", 5.94e-4),
     ("principled_blend_creation/scene", 1.31e-3),
     ("principled_blend_creation/scene_thin", 9.71e-4),
@@ -175,6 +178,7 @@ const SCENES: &[(&str, f64)] = &[
     ("shape_cylinder_onesided", 5.60e-4),
     ("shape_cylinder_twosided", 5.86e-4),
     ("bsdf_roughconductor_textured_carbon_cells_swapped", 7.88e-4),
+    ("bsdf_roughconductor_textured_carbon+mitsuba_estimators", 6.67e-4),
     ("shape_sdfgrid", 5.94e-4),
     ("shape_sdfgrid_analytic", 5.80e-4),
     ("shape_linearcurve_basic", 5.62e-4),
@@ -268,8 +272,11 @@ fn reference(name: &str) -> RgbImage {
     let source = name.strip_suffix("_delta_pdf_mitsuba").unwrap_or(name);
     // Mitsuba 3.9.1 renders the instanced bunny wrong (see `mesh_attribute_instance_...`): its
     // render of the bunny placed directly is the reference.
+    // Mitsuba's render of the carbon scene is stored under its `_cells_swapped` copy's name
+    // (`make_references.py`).
     let source = match source {
         "texture_mesh_attribute_instance" => "texture_mesh_attribute_vertex",
+        "bsdf_roughconductor_textured_carbon" => "bsdf_roughconductor_textured_carbon_cells_swapped",
         s => s,
     };
     let source = source.strip_suffix("_whitepoint_mitsuba").unwrap_or(source);
@@ -447,11 +454,13 @@ fn roughplastic_textured_nopreserve_matches_mitsuba() {
 /// (α = 0 and 0.4 in a checkerboard) renders in Mitsuba with the rough and the smooth squares
 /// swapped. gonio keeps one checkerboard for both lookups: its render of the file as it is
 /// differs from Mitsuba's beyond the noise, and the copy with `color0` and `color1` exchanged
-/// (`..._cells_swapped.xml`, compared with the same Mitsuba reference) agrees within it.
+/// (`..._cells_swapped.xml`, compared with the same Mitsuba reference) agrees within it, as does
+/// the file as it is under Mitsuba's estimators (the checkerboard's `float_cells="mitsuba"`).
 #[test]
 fn roughdielectric_textured_differs_from_mitsuba_only_by_its_checkerboard_cells() {
     let swapped = "bsdf_roughdielectric_textured_cells_swapped";
     check(swapped);
+    check("bsdf_roughdielectric_textured+mitsuba_estimators");
     let name = "bsdf_roughdielectric_textured";
     let threshold = SCENES.iter().find(|s| s.0 == name).unwrap().1;
     let e = block_relmse(&render_scene(name, CI_SPP, 0), &reference(name), 8).unwrap();
@@ -464,10 +473,11 @@ fn roughdielectric_textured_differs_from_mitsuba_only_by_its_checkerboard_cells(
 /// Mitsuba's `bsdf_roughconductor_textured_carbon` (amorphous carbon, preset `a-C`, anisotropic
 /// Beckmann roughness from two checkerboards), compared as `bsdf_roughdielectric_textured` is:
 /// with both checkerboards' cells exchanged in gonio's copy, because Mitsuba 3.9.1 looks up a
-/// float checkerboard with its cells swapped.
+/// float checkerboard with its cells swapped, and as it is under Mitsuba's estimators.
 #[test]
 fn roughconductor_textured_carbon_matches_mitsuba() {
     check("bsdf_roughconductor_textured_carbon_cells_swapped");
+    check("bsdf_roughconductor_textured_carbon+mitsuba_estimators");
 }
 
 /// Mitsuba 3.9.1's `blendbsdf` adds a delta child's discrete probability to the other child's

@@ -477,6 +477,7 @@ fn spot_light_projects_its_texture_over_the_cone() {
         color0: Box::new(Texture::constant(0.25)),
         color1: Box::new(Texture::constant(1.0)),
         to_uv: glam::Affine2::IDENTITY,
+        float_cells_swapped: false,
     };
     let spot =
         SpotLight::new(Affine3A::IDENTITY, Spectrum::Constant(2.0), 30.0, 30.0).with_texture(Some(texture));

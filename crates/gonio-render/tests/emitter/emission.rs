@@ -29,6 +29,7 @@ fn checker(a: f32, b: f32) -> Texture {
         color0: Box::new(Texture::Spectrum(Spectrum::Constant(a))),
         color1: Box::new(Texture::Spectrum(Spectrum::Constant(b))),
         to_uv: Affine2::from_scale(Vec2::splat(3.0)),
+        float_cells_swapped: false,
     }
 }
 

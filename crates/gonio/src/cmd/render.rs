@@ -79,9 +79,10 @@ pub struct RenderArgs {
     pub polarized: bool,
     /// Mitsuba 3.9.1's estimators where gonio departs from them to keep the physics right, for
     /// side-by-side comparisons: thin glass blocks shadow rays, no caustic light subpaths,
-    /// `plastic` and `roughplastic` with Mitsuba's coat fits and tables, `blendbsdf` with
-    /// Mitsuba's delta pdf, `envmap` with Mitsuba's lookup, textured `projector` and `area` emitters without D65 (the
-    /// parameters marked "Mitsuba:" in docs/plugins.md; a value written in the scene still wins).
+    /// `plastic` and `roughplastic` with Mitsuba's coat fits and tables, `blendbsdf` with Mitsuba's
+    /// delta pdf, `envmap` with Mitsuba's lookup, float `checkerboard` lookups with Mitsuba's
+    /// exchanged cells, textured `projector` and `area` emitters without D65 (the parameters marked
+    /// "Mitsuba:" in docs/plugins.md; a value written in the scene still wins).
     #[arg(long)]
     pub mitsuba_estimators: bool,
 }
