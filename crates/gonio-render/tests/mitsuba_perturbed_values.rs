@@ -93,3 +93,22 @@ fn normalmap_eval_and_pdf_agree_with_mitsuba() {
         "{lit} lit, {flipped_lit} lit grazing views with the flip"
     );
 }
+
+/// An `<rgb>` map is its three values, as Mitsuba 3.9.1's RGB variants read it: rgb (0.7, 0.5,
+/// 0.9) around `diffuse` (0.5), ωi = z, ωo = (0.6, 0, 0.8): Mitsuba `scalar_rgb` eval 0.155906
+/// (its spectral variants give 0.125921, from the uplifted spectrum's coefficients read as RGB).
+#[test]
+fn an_rgb_normal_map_is_its_three_values() {
+    let material = load_bsdf_str(
+        r#"<bsdf version="3.0.0" type="normalmap"><rgb name="normalmap" value="0.7, 0.5, 0.9"/>
+           <bsdf type="diffuse"><spectrum name="reflectance" value="0.5"/></bsdf></bsdf>"#,
+    )
+    .unwrap();
+    let wl = SampledWavelengths::fixed(550.0);
+    let wo = glam::Vec3::new(0.6, 0.0, 0.8);
+    let f = material.with_bsdf(Vec2::splat(0.5), |b| {
+        b.eval(&BsdfContext::radiance(), glam::Vec3::Z, wo, &wl)
+    });
+    let g = f[0] * wo.z;
+    assert!((g - 0.155906).abs() < 2e-4 * 0.155906, "{g}");
+}

@@ -11,15 +11,15 @@
 //!
 //! | parameter       | type    | default |
 //! |-----------------|---------|---------|
-//! | `normalmap`     | texture | required (a bitmap with `raw="true"`, or a constant) |
+//! | `normalmap`     | texture | required (a bitmap with `raw="true"`, an `rgb` or a constant) |
 //! | `flip_invalid_normals` | boolean | true |
 //! | `use_shadowing_function` | boolean | true |
 //! | (nested plugin) | bsdf    | required, exactly one |
 
 use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, ShadingPoint, SurfaceMaterial};
-use crate::texture::Texture;
+use crate::texture::{Bitmap, FilterType, Texture, WrapMode};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag};
-use glam::{Vec2, Vec3};
+use glam::{Affine2, Vec2, Vec3};
 use gonio_core::bsdfs::surface::TooManyNodes;
 use gonio_core::bsdfs::{Perturbation, PerturbedFrame, SurfaceBsdf};
 use gonio_core::spectra::RgbKind;
@@ -29,7 +29,7 @@ const NORMALMAP: ParamSpec = ParamSpec::new(
     "normalmap",
     ParamType::Texture,
     DefaultValue::None,
-    "the tangent-space normals, RGB in [0, 1] ↦ [−1, 1] (a bitmap read with raw=\"true\")",
+    "the tangent-space normals, RGB in [0, 1] ↦ [−1, 1] (a bitmap read with raw=\"true\", or an `rgb` constant)",
 );
 const NESTED: ParamSpec = ParamSpec::new(
     "(nested bsdf)",
@@ -76,7 +76,28 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
             "normalmap needs a \"normalmap\" texture",
         ));
     }
-    let map = b.texture(p, &NORMALMAP, RgbKind::Unbounded)?;
+    let mut map = b.texture(p, &NORMALMAP, RgbKind::Unbounded)?;
+    // An `<rgb>` constant is its three values, as Mitsuba's RGB variants read it (its spectral
+    // variants read the uplifted spectrum's coefficients instead).
+    if let Some(crate::xml::Value::Rgb(c)) = obj
+        .props
+        .iter()
+        .find(|x| x.name == NORMALMAP.name)
+        .map(|x| &x.value)
+    {
+        let rgb = vec![c.map(|v| v as f32)];
+        let texel = Bitmap::new(
+            1,
+            1,
+            rgb,
+            FilterType::Nearest,
+            WrapMode::Repeat,
+            RgbKind::Unbounded,
+            Affine2::IDENTITY,
+        )
+        .expect("one texel");
+        map = Texture::Bitmap(std::sync::Arc::new(texel));
+    }
     if map.eval_3(Vec2::ZERO).is_none() {
         let prop = obj
             .props
