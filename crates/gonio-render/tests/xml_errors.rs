@@ -56,6 +56,21 @@ fn malformed_xml() {
     assert!(e.to_string().contains("shap"), "{e}");
 }
 
+/// Mitsuba's animated transforms (its motion-blur test scenes) are named as what they are.
+#[test]
+fn animated_transforms_are_refused_by_name() {
+    let t = scene(
+        "    <shape type=\"sphere\">\n        <animation name=\"to_world\">\n            <transform time=\"0\"><translate x=\"1\"/></transform>\n        </animation>\n    </shape>",
+    );
+    let e = load_err(&t);
+    check(
+        &e,
+        ErrorKind::Grammar,
+        at(&t, "<animation"),
+        &["<animation>", "motion blur", "<transform>"],
+    );
+}
+
 #[test]
 fn unknown_plugin() {
     let t = scene("    <shape type=\"sphere\"><bsdf type=\"measuredpolarized\"/></shape>");

@@ -444,6 +444,11 @@ impl Parser {
                 };
                 self.add_prop(parent, prop)
             }
+            "animation" => Err(SceneError::new(
+                loc,
+                ErrorKind::Grammar,
+                "<animation> (Mitsuba's animated transforms, for motion blur) is not supported: gonio renders one instant; give a <transform> instead",
+            )),
             _ => Err(SceneError::new(
                 loc,
                 ErrorKind::Grammar,
