@@ -149,6 +149,77 @@ fn orthographic_scene_matches_path() {
     check("sensor_orthographic", threshold("sensor_orthographic"));
 }
 
+/// The mean pixel value (channel mean) of two independent renders, and its standard error:
+/// the mean of (a + b)/2 over n pixels has variance var(a − b)/(4n).
+fn mean_of_two(a: &RgbImage, b: &RgbImage) -> (f64, f64) {
+    let value = |p: &[f32; 3]| (p[0] + p[1] + p[2]) as f64 / 3.0;
+    let n = a.data.len() as f64;
+    let mean = a.data.iter().chain(&b.data).map(value).sum::<f64>() / (2.0 * n);
+    let diff: Vec<f64> = a
+        .data
+        .iter()
+        .zip(&b.data)
+        .map(|(x, y)| value(x) - value(y))
+        .collect();
+    let d_mean = diff.iter().sum::<f64>() / n;
+    let var = diff.iter().map(|d| (d - d_mean).powi(2)).sum::<f64>() / (n - 1.0);
+    (mean, (var / (4.0 * n)).sqrt())
+}
+
+/// A normal map under light tracing: Mitsuba's perturbed frame is not reciprocal (its flip
+/// towards the viewer, its terminator shadowing and the perturbed cosine), so light paths that
+/// bounce off it must be sampled from its adjoint (`gonio_core::bsdfs::perturbed`, importance
+/// mode) for `ptracer` to render what `path` does. A spot lights a diffuse floor under a constant
+/// normal map tilted by 40° towards a wall; the camera sees only the wall, lit only by the floor.
+/// Light leaves the floor for the wall at a grazing angle, where the radiance value's factor
+/// (cos θ'/cos θ)·G is about 2, against about 0.8 towards the spot: sampled with the radiance
+/// weight, the wall's light changes by that ratio. The means must agree within 4 standard errors
+/// (the light tracer's, from the difference of two seeds, plus `path`'s own).
+#[test]
+fn a_normal_map_renders_the_same_from_the_light() {
+    let scene = |integrator: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+                <integrator type="{integrator}"><integer name="max_depth" value="3"/></integrator>
+                <sensor type="perspective"><float name="fov" value="20"/>
+                    <transform name="to_world"><lookat origin="-2, 0, 1" target="1, 0, 1" up="0, 0, 1"/></transform>
+                    <film type="hdrfilm"><integer name="width" value="16"/><integer name="height" value="16"/>
+                        <rfilter type="box"/></film>
+                </sensor>
+                <emitter type="spot"><float name="cutoff_angle" value="30"/><spectrum name="intensity" value="40"/>
+                    <transform name="to_world"><lookat origin="-0.3, 0, 1.2" target="-0.3, 0, 0" up="1, 0, 0"/></transform>
+                </emitter>
+                <shape type="rectangle"><bsdf type="normalmap"><rgb name="normalmap" value="0.8214, 0.5, 0.8830"/>
+                    <bsdf type="diffuse"><spectrum name="reflectance" value="0.8"/></bsdf></bsdf></shape>
+                <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="0.8"/></bsdf>
+                    <transform name="to_world"><rotate y="1" angle="-90"/><translate x="1" z="1"/></transform></shape>
+            </scene>"#
+        )
+    };
+    let render_with = |integrator: &str, spp: u32, seed: u64| {
+        let scene = gonio_render::xml::load_scene_str(&scene(integrator), ".", &[]).expect("scene loads");
+        let prepared = PreparedScene::new(scene).expect("scene prepares");
+        let mut options = RenderOptions::from_scene(&prepared.scene);
+        options.spp = spp;
+        options.seed = seed;
+        render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image
+    };
+    let (path, path2) = (render_with("path", 256, 1), render_with("path", 256, 2));
+    let (a, b) = (render_with("ptracer", 1024, 1), render_with("ptracer", 1024, 2));
+    let (camera, se_path) = mean_of_two(&path, &path2);
+    let (light, se_light) = mean_of_two(&a, &b);
+    let se = se_path.hypot(se_light);
+    println!("normal map: path {camera:.5}, ptracer {light:.5} ± {se:.5}");
+    assert!(
+        camera > 0.01 && se < 0.03 * camera,
+        "the wall is lit ({camera} ± {se})"
+    );
+    assert!(
+        (light - camera).abs() < 4.0 * se,
+        "ptracer {light} ± {se} vs path {camera}"
+    );
+}
+
 #[test]
 fn same_image_whatever_the_thread_count() {
     let run = |threads: usize| {

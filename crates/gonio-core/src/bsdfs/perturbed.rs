@@ -35,13 +35,26 @@
 //! that the mapped normal sees above its surface but the shading normal sees below (or the
 //! reverse) gets no light (Mitsuba's black fringes).
 //!
+//! **Importance** (paths from the lights: `ptracer`, the caustic light subpaths). The value
+//! above is not reciprocal (the flip depends on ωi, the cosine ratio and G on ωo), so the adjoint
+//! is not the radiance value: f*(ωi, ωo) = f(ωo, ωi), evaluated as the nested model's importance
+//! value in the frame of ωo with the factor of ωi,
+//!
+//! ```text
+//!     f*(ωi, ωo) = f'_imp(F_o⁻¹ωi, F_o⁻¹ωo) · (cos θ'i / cos θi) · G(n'_o, ωi),   F_o the frame for ωo
+//! ```
+//!
+//! and sampling keeps the radiance frame F (that of ωi, the only one known before ωo), weighting
+//! the sample by f*·|cos θo|/pdf. Mitsuba passes the mode through unchanged, so its `ptracer`
+//! and its path tracer disagree on normal maps; here both estimate the same image.
+//!
 //! **Polarization** (Mitsuba 3's polarized variants do the same through `to_world_mueller`): the
 //! nested BSDF's Mueller matrix answers between the implicit Stokes bases of the directions in
 //! the perturbed frame; its bases are carried by F (a rotation) into the unperturbed local frame
 //! and re-expressed in the implicit bases there, `M = R_out · M'(F⁻¹ωi, F⁻¹ωo) · R_inᵀ`
 //! ([`Weight::local_to_world`] with F), so a polarizing nested model stays polarizing.
 
-use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample};
+use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
 use crate::frame::Frame;
 use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -146,6 +159,19 @@ impl<'a> PerturbedFrame<'a> {
         (wo.z * p.z > 0.0 && factor.is_finite()).then(|| (frame, frame.to_local(wi), p, factor))
     }
 
+    /// For the adjoint (importance mode): the frame for `wo`, `wi` and `wo` in it, and the
+    /// factor of `wi`, when `wi` lies on the same side of both normals.
+    #[inline]
+    fn local_adjoint(&self, wi: Vec3, wo: Vec3) -> Option<(Frame, Vec3, Vec3, f32)> {
+        let frame = self.perturbation.frame(wo);
+        let q = frame.to_local(wi);
+        let mut factor = q.z / wi.z;
+        if self.perturbation.use_shadowing_function {
+            factor *= shadow_terminator(frame.n, wi);
+        }
+        (wi.z * q.z > 0.0 && factor.is_finite()).then(|| (frame, q, frame.to_local(wo), factor))
+    }
+
     /// The sampled direction back in the unperturbed frame and its weight factor (the
     /// terminator's shadowing), unless it changed sides.
     #[inline]
@@ -163,6 +189,43 @@ impl<'a> PerturbedFrame<'a> {
     }
 }
 
+/// How a nested sample becomes the adjoint's (importance mode).
+enum Adjoint {
+    /// The nested weight times this factor.
+    Scale(f32),
+    /// The sample lies off the adjoint's support.
+    Reject,
+    /// Weigh it by the adjoint's value, f*·|cos θo|/pdf (ωo's frame differs from the sampling one).
+    Evaluate,
+}
+
+impl PerturbedFrame<'_> {
+    /// Importance mode: how the nested sample's weight (f'·|cos θ'o|/pdf' in the sampling frame
+    /// of `wi`) becomes the adjoint's, f*·|cos θo|/pdf'. Where ωo's frame is the sampling frame
+    /// (the flip agrees), f* is the nested importance value times the factor of ωi: the weight
+    /// scales by (cos θ'i/cos θi)·G(n', ωi)·|cos θo/cos θ'o|. Otherwise a smooth sample is
+    /// weighted by f* evaluated in ωo's frame, and a delta one lies off the adjoint's support.
+    #[inline]
+    fn adjoint(&self, frame: &Frame, wi: Vec3, p_i: Vec3, wo: Vec3, p_o: Vec3, delta: bool) -> Adjoint {
+        let p = &self.perturbation;
+        if p.frame(wo).n == frame.n {
+            let mut ratio = (p_i.z / wi.z) * (wo.z / p_o.z).abs();
+            if p.use_shadowing_function {
+                ratio *= shadow_terminator(frame.n, wi);
+            }
+            if wi.z * p_i.z > 0.0 && ratio.is_finite() {
+                Adjoint::Scale(ratio)
+            } else {
+                Adjoint::Reject
+            }
+        } else if delta {
+            Adjoint::Reject
+        } else {
+            Adjoint::Evaluate
+        }
+    }
+}
+
 impl Bsdf for PerturbedFrame<'_> {
     fn flags(&self) -> BsdfFlags {
         self.bsdf.flags()
@@ -173,8 +236,12 @@ impl Bsdf for PerturbedFrame<'_> {
     }
 
     fn eval(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        match self.local(wi, wo) {
-            Some((_, wi, p, factor)) => self.bsdf.eval(ctx, wi, p, wl) * factor,
+        let local = match ctx.mode {
+            TransportMode::Radiance => self.local(wi, wo),
+            TransportMode::Importance => self.local_adjoint(wi, wo),
+        };
+        match local {
+            Some((_, wi, wo, factor)) => self.bsdf.eval(ctx, wi, wo, wl) * factor,
             None => SampledSpectrum::ZERO,
         }
     }
@@ -193,6 +260,10 @@ impl Bsdf for PerturbedFrame<'_> {
         wo: Vec3,
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
+        if ctx.mode == TransportMode::Importance {
+            // The value in the frame of wo, the density in the sampling frame of wi.
+            return (self.eval(ctx, wi, wo, wl), self.pdf(ctx, wi, wo, wl));
+        }
         match self.local(wi, wo) {
             Some((_, wi, p, factor)) => {
                 let (f, pdf) = self.bsdf.eval_pdf(ctx, wi, p, wl);
@@ -211,10 +282,20 @@ impl Bsdf for PerturbedFrame<'_> {
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
         let frame = self.perturbation.frame(wi);
-        let mut s = self.bsdf.sample(ctx, frame.to_local(wi), u1, u2, wl)?;
-        let (wo, g) = self.back(&frame, s.wo)?;
+        let p_i = frame.to_local(wi);
+        let mut s = self.bsdf.sample(ctx, p_i, u1, u2, wl)?;
+        let p_o = s.wo;
+        let (wo, g) = self.back(&frame, p_o)?;
         s.wo = wo;
-        s.weight = s.weight * g;
+        if ctx.mode == TransportMode::Radiance {
+            s.weight *= g;
+            return Some(s);
+        }
+        match self.adjoint(&frame, wi, p_i, wo, p_o, s.flags.is_delta()) {
+            Adjoint::Scale(r) => s.weight *= r,
+            Adjoint::Reject => return None,
+            Adjoint::Evaluate => s.weight = self.eval(ctx, wi, wo, wl) * (wo.z.abs() / s.pdf),
+        }
         Some(s)
     }
 
@@ -225,7 +306,11 @@ impl Bsdf for PerturbedFrame<'_> {
 
     /// The nested matrix, its bases carried from the perturbed frame to the shading frame.
     fn eval_mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
-        match self.local(wi, wo) {
+        let local = match ctx.mode {
+            TransportMode::Radiance => self.local(wi, wo),
+            TransportMode::Importance => self.local_adjoint(wi, wo),
+        };
+        match local {
             Some((frame, wi, p, factor)) => {
                 self.bsdf.eval_mueller(ctx, wi, p, wl).local_to_world(&frame) * factor
             }
@@ -243,10 +328,20 @@ impl Bsdf for PerturbedFrame<'_> {
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample<Mueller>> {
         let frame = self.perturbation.frame(wi);
-        let mut s = self.bsdf.sample_mueller(ctx, frame.to_local(wi), u1, u2, wl)?;
-        let (wo, g) = self.back(&frame, s.wo)?;
+        let p_i = frame.to_local(wi);
+        let mut s = self.bsdf.sample_mueller(ctx, p_i, u1, u2, wl)?;
+        let p_o = s.wo;
+        let (wo, g) = self.back(&frame, p_o)?;
         s.wo = wo;
-        s.weight = s.weight.local_to_world(&frame) * g;
+        if ctx.mode == TransportMode::Radiance {
+            s.weight = s.weight.local_to_world(&frame) * g;
+            return Some(s);
+        }
+        match self.adjoint(&frame, wi, p_i, wo, p_o, s.flags.is_delta()) {
+            Adjoint::Scale(r) => s.weight = s.weight.local_to_world(&frame) * r,
+            Adjoint::Reject => return None,
+            Adjoint::Evaluate => s.weight = self.eval_mueller(ctx, wi, wo, wl) * (wo.z.abs() / s.pdf),
+        }
         Some(s)
     }
 
@@ -381,6 +476,108 @@ mod tests {
         assert!((shadow_terminator(tilted(80.0), wo) as f64 - expected).abs() < 1e-6);
         // Grazing directions are fully shadowed, never NaN.
         assert_eq!(shadow_terminator(n, Vec3::X), 0.0);
+    }
+
+    /// Random unit directions, a quarter of them grazing, on both sides.
+    fn directions(n: usize) -> Vec<Vec3> {
+        let mut rng = crate::rng::Pcg32::new(7, 3);
+        (0..n)
+            .map(|k| {
+                let z = if k % 4 == 0 {
+                    0.02 + 0.1 * rng.next_f32()
+                } else {
+                    rng.next_f32()
+                };
+                let phi = std::f32::consts::TAU * rng.next_f32();
+                let r = (1.0 - z * z).sqrt();
+                let sign = if k % 7 == 3 { -1.0 } else { 1.0 };
+                Vec3::new(r * phi.cos(), r * phi.sin(), sign * z)
+            })
+            .collect()
+    }
+
+    /// The nested models of the adjoint tests: diffuse, anisotropic GGX metal, rough glass.
+    fn nested_models() -> Vec<Box<dyn Bsdf>> {
+        use crate::bsdfs::{RoughConductor, RoughDielectric};
+        use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
+        let ggx = MicrofacetDistribution::new(MicrofacetKind::Ggx, 0.25, 0.05, true);
+        let beckmann = MicrofacetDistribution::new(MicrofacetKind::Beckmann, 0.3, 0.3, true);
+        vec![
+            Box::new(Diffuse::new(Spectrum::Constant(0.7))),
+            Box::new(RoughConductor::mirror(ggx)),
+            Box::new(RoughDielectric::new(
+                crate::Ior::Constant(1.5),
+                crate::Ior::Constant(1.0),
+                beckmann,
+            )),
+        ]
+    }
+
+    #[test]
+    fn importance_mode_is_the_adjoint() {
+        // f*(a, b) = f(b, a): Mitsuba's flip and shadowing make f non-reciprocal, and paths from
+        // the lights must see its transpose.
+        let dirs = directions(64);
+        let wl = SampledWavelengths::fixed(550.0);
+        let (rad, imp) = (BsdfContext::radiance(), BsdfContext::importance());
+        let mut lit = 0;
+        for nested in nested_models() {
+            for n in [tilted(35.0), Vec3::new(-0.3, 0.5, 0.7), tilted(75.0)] {
+                let p = PerturbedFrame::new(Perturbation::new(n), nested.as_ref());
+                for (k, &a) in dirs.iter().enumerate() {
+                    for &b in &dirs[k + 1..] {
+                        let (f_ab, f_ba) = (p.eval(&imp, a, b, &wl)[0], p.eval(&rad, b, a, &wl)[0]);
+                        assert!(
+                            (f_ab - f_ba).abs() <= 1e-4 * f_ab.abs().max(f_ba.abs()).max(1e-6),
+                            "n {n} a {a} b {b}: importance {f_ab} vs radiance transposed {f_ba}"
+                        );
+                        lit += usize::from(f_ab > 1e-3);
+                    }
+                }
+            }
+        }
+        assert!(lit > 2000, "{lit} lit pairs");
+        // And the radiance value itself is not reciprocal (else this test would prove nothing).
+        let d = Diffuse::new(Spectrum::Constant(0.7));
+        let p = PerturbedFrame::new(Perturbation::new(tilted(35.0)), &d);
+        let (a, b) = (
+            Vec3::new(0.1, 0.2, 0.97).normalize(),
+            Vec3::new(0.8, 0.0, 0.3).normalize(),
+        );
+        assert!((p.eval(&rad, a, b, &wl)[0] / p.eval(&rad, b, a, &wl)[0] - 1.0).abs() > 0.1);
+    }
+
+    #[test]
+    fn importance_samples_are_weighted_by_the_adjoint() {
+        let dirs = directions(24);
+        let wl0 = SampledWavelengths::fixed(550.0);
+        let imp = BsdfContext::importance();
+        let mut taken = 0;
+        for nested in nested_models() {
+            for n in [tilted(35.0), Vec3::new(-0.3, 0.5, 0.7), tilted(75.0)] {
+                let p = PerturbedFrame::new(Perturbation::new(n), nested.as_ref());
+                for &wi in &dirs {
+                    for k in 0..16 {
+                        let u = Vec2::new((k % 4) as f32 / 4.0 + 0.1, (k / 4) as f32 / 4.0 + 0.05);
+                        let mut wl = wl0;
+                        let Some(s) = p.sample(&imp, wi, (k as f32 + 0.5) / 16.0, u, &mut wl) else {
+                            continue;
+                        };
+                        let (f, pdf) = p.eval_pdf(&imp, wi, s.wo, &wl0);
+                        assert!((pdf - s.pdf).abs() <= 1e-4 * pdf, "{pdf} vs {}", s.pdf);
+                        let w = f[0] * s.wo.z.abs() / pdf;
+                        assert!(
+                            (w - s.weight[0]).abs() <= 1e-4 * w.max(1e-3),
+                            "n {n} wi {wi} wo {}: adjoint weight {w} vs sampled {}",
+                            s.wo,
+                            s.weight[0]
+                        );
+                        taken += 1;
+                    }
+                }
+            }
+        }
+        assert!(taken > 1500, "{taken} samples");
     }
 
     #[test]
