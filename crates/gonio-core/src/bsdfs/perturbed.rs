@@ -152,24 +152,32 @@ impl<'a> PerturbedFrame<'a> {
     fn local(&self, wi: Vec3, wo: Vec3) -> Option<(Frame, Vec3, Vec3, f32)> {
         let frame = self.perturbation.frame(wi);
         let p = frame.to_local(wo);
-        let mut factor = p.z / wo.z;
-        if self.perturbation.use_shadowing_function {
-            factor *= shadow_terminator(frame.n, wo);
-        }
+        let factor = self.factor(frame.n, wo, p);
         (wo.z * p.z > 0.0 && factor.is_finite()).then(|| (frame, frame.to_local(wi), p, factor))
     }
 
-    /// For the adjoint (importance mode): the frame for `wo`, `wi` and `wo` in it, and the
-    /// factor of `wi`, when `wi` lies on the same side of both normals.
+    /// For the adjoint (importance mode): [`Self::local`] with the roles of `wi` and `wo`
+    /// exchanged (the frame for `wo`, the factor of `wi`), `wi` and `wo` in that frame.
     #[inline]
     fn local_adjoint(&self, wi: Vec3, wo: Vec3) -> Option<(Frame, Vec3, Vec3, f32)> {
-        let frame = self.perturbation.frame(wo);
-        let q = frame.to_local(wi);
-        let mut factor = q.z / wi.z;
+        self.local(wo, wi)
+            .map(|(frame, wo, wi, factor)| (frame, wi, wo, factor))
+    }
+
+    /// The factor (cos θ'/cos θ)·G(n', w) of direction `w`, `p` being `w` in the frame of `n`.
+    #[inline]
+    fn factor(&self, n: Vec3, w: Vec3, p: Vec3) -> f32 {
+        p.z / w.z * self.shadowing(n, w)
+    }
+
+    /// The terminator's shadowing G(n, w), 1 when it is off.
+    #[inline]
+    fn shadowing(&self, n: Vec3, w: Vec3) -> f32 {
         if self.perturbation.use_shadowing_function {
-            factor *= shadow_terminator(frame.n, wi);
+            shadow_terminator(n, w)
+        } else {
+            1.0
         }
-        (wi.z * q.z > 0.0 && factor.is_finite()).then(|| (frame, q, frame.to_local(wo), factor))
     }
 
     /// The sampled direction back in the unperturbed frame and its weight factor (the
@@ -177,15 +185,7 @@ impl<'a> PerturbedFrame<'a> {
     #[inline]
     fn back(&self, frame: &Frame, wo_perturbed: Vec3) -> Option<(Vec3, f32)> {
         let wo = frame.to_world(wo_perturbed);
-        if !(wo_perturbed.z * wo.z > 0.0) {
-            return None;
-        }
-        let g = if self.perturbation.use_shadowing_function {
-            shadow_terminator(frame.n, wo)
-        } else {
-            1.0
-        };
-        Some((wo, g))
+        (wo_perturbed.z * wo.z > 0.0).then(|| (wo, self.shadowing(frame.n, wo)))
     }
 }
 
@@ -207,12 +207,8 @@ impl PerturbedFrame<'_> {
     /// weighted by f* evaluated in ωo's frame, and a delta one lies off the adjoint's support.
     #[inline]
     fn adjoint(&self, frame: &Frame, wi: Vec3, p_i: Vec3, wo: Vec3, p_o: Vec3, delta: bool) -> Adjoint {
-        let p = &self.perturbation;
-        if p.frame(wo).n == frame.n {
-            let mut ratio = (p_i.z / wi.z) * (wo.z / p_o.z).abs();
-            if p.use_shadowing_function {
-                ratio *= shadow_terminator(frame.n, wi);
-            }
+        if self.perturbation.frame(wo).n == frame.n {
+            let ratio = self.factor(frame.n, wi, p_i) * (wo.z / p_o.z).abs();
             if wi.z * p_i.z > 0.0 && ratio.is_finite() {
                 Adjoint::Scale(ratio)
             } else {
