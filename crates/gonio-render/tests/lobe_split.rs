@@ -8,7 +8,7 @@
 //! Fresnel coin says so. Both estimators are unbiased: the image means agree (four standard
 //! errors of independent renders), and the pixels' variance is lower with splitting.
 
-use crate::render_stats::{MUSEUM, prepare, same_mean_less_noise};
+use crate::render_stats::{MUSEUM, SENSOR, prepare, same_mean_less_noise};
 
 /// The integrator (with `split_escapes` on or off, `split_visible_glass` off: these scenes test
 /// the first) and the camera of the test scenes.
@@ -23,14 +23,7 @@ fn head_with(split_escapes: bool, split_visible_glass: bool, more: &str) -> Stri
         <boolean name="split_escapes" value="{split_escapes}"/>
         <boolean name="split_visible_glass" value="{split_visible_glass}"/>{more}
     </integrator>
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 1.6, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>
-        <film type="hdrfilm">
-            <integer name="width" value="24"/><integer name="height" value="24"/>
-            <rfilter type="box"/>
-        </film>
-    </sensor>"#
+    {SENSOR}"#
     )
 }
 

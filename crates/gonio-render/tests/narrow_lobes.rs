@@ -8,7 +8,7 @@
 //! image means agree within four standard errors of independent renders, and leaving the map to
 //! BSDF sampling there costs no noise (what it saves is the light samples' time).
 
-use crate::render_stats::{MUSEUM, prepare, same_mean_less_noise};
+use crate::render_stats::{MUSEUM, SENSOR, prepare, same_mean_less_noise};
 
 fn scene(narrow: bool, split_lights: u32) -> String {
     format!(
@@ -17,14 +17,7 @@ fn scene(narrow: bool, split_lights: u32) -> String {
         <boolean name="narrow_lobes" value="{narrow}"/>
         <integer name="split_lights" value="{split_lights}"/>
     </integrator>
-    <sensor type="perspective">
-        <float name="fov" value="40"/>
-        <transform name="to_world"><lookat origin="0, 1.6, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>
-        <film type="hdrfilm">
-            <integer name="width" value="24"/><integer name="height" value="24"/>
-            <rfilter type="box"/>
-        </film>
-    </sensor>
+    {SENSOR}
     <shape type="sphere">
         <point name="center" value="-0.6, 0.5, 0"/><float name="radius" value="0.5"/>
         <bsdf type="roughdielectric"><float name="alpha" value="0.02"/></bsdf>

@@ -14,6 +14,17 @@ pub const MUSEUM: &str = r#"<emitter type="envmap">
         <transform name="to_world"><rotate x="1" angle="-90"/></transform>
     </emitter>"#;
 
+/// The camera of the statistical scenes: 24 × 24 pixels, box filter, looking down at objects of
+/// about unit size at the origin.
+pub const SENSOR: &str = r#"<sensor type="perspective">
+        <float name="fov" value="40"/>
+        <transform name="to_world"><lookat origin="0, 1.6, 3" target="0, 0.5, 0" up="0, 1, 0"/></transform>
+        <film type="hdrfilm">
+            <integer name="width" value="24"/><integer name="height" value="24"/>
+            <rfilter type="box"/>
+        </film>
+    </sensor>"#;
+
 /// The scene from text (relative paths against the working directory), rendered polarized
 /// (Mueller matrices along the paths) when `polarized`.
 pub fn prepare(xml: &str, polarized: bool) -> PreparedScene {
