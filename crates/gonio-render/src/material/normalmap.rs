@@ -69,41 +69,33 @@ pub(super) fn perturbation_options(p: &mut Params<'_>) -> Result<(bool, bool), S
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
     let obj = b.object(p);
-    if !obj.props.iter().any(|x| x.name == NORMALMAP.name) {
+    let Some(prop) = obj.props.iter().find(|x| x.name == NORMALMAP.name) else {
         return Err(SceneError::new(
             obj.loc.clone(),
             ErrorKind::Grammar,
             "normalmap needs a \"normalmap\" texture",
         ));
-    }
-    let mut map = b.texture(p, &NORMALMAP, RgbKind::Unbounded)?;
-    // An `<rgb>` constant is its three values, as Mitsuba's RGB variants read it (its spectral
-    // variants read the uplifted spectrum's coefficients instead).
-    if let Some(crate::xml::Value::Rgb(c)) = obj
-        .props
-        .iter()
-        .find(|x| x.name == NORMALMAP.name)
-        .map(|x| &x.value)
-    {
-        let rgb = vec![c.map(|v| v as f32)];
-        let texel = Bitmap::new(
-            1,
-            1,
-            rgb,
-            FilterType::Nearest,
-            WrapMode::Repeat,
-            RgbKind::Unbounded,
-            Affine2::IDENTITY,
-        )
-        .expect("one texel");
-        map = Texture::Bitmap(std::sync::Arc::new(texel));
-    }
+    };
+    let texture = b.texture(p, &NORMALMAP, RgbKind::Unbounded)?;
+    let map = match &prop.value {
+        // An `<rgb>` constant is its three values, as Mitsuba's RGB variants read it (its
+        // spectral variants read the uplifted spectrum's coefficients instead).
+        crate::xml::Value::Rgb(c) => {
+            let texel = Bitmap::new(
+                1,
+                1,
+                vec![c.map(|v| v as f32)],
+                FilterType::Nearest,
+                WrapMode::Repeat,
+                RgbKind::Unbounded,
+                Affine2::IDENTITY,
+            )
+            .expect("one texel");
+            Texture::Bitmap(std::sync::Arc::new(texel))
+        }
+        _ => texture,
+    };
     if map.eval_3(Vec2::ZERO).is_none() {
-        let prop = obj
-            .props
-            .iter()
-            .find(|x| x.name == NORMALMAP.name)
-            .expect("checked above");
         return Err(SceneError::new(
             prop.value_loc.clone(),
             ErrorKind::BadValue,
