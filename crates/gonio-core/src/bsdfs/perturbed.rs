@@ -84,6 +84,13 @@ impl Perturbation {
         }
     }
 
+    /// Whether the normal leans away from the shading normal: a normal along +z (or one the
+    /// frame replaces by +z: zero or not finite) leaves the frame, and the value, unchanged.
+    pub fn is_tilted(&self) -> bool {
+        let (n, len2) = (self.n, self.n.length_squared());
+        len2 > 0.0 && len2.is_finite() && (n.x != 0.0 || n.y != 0.0)
+    }
+
     /// The perturbed frame F for incident direction `wi` (local): n' flipped towards the viewer
     /// where asked, s' the unperturbed tangent x made orthogonal to n'.
     #[inline]
@@ -223,8 +230,17 @@ impl PerturbedFrame<'_> {
 }
 
 impl Bsdf for PerturbedFrame<'_> {
+    /// The nested model's lobes; where the normal is tilted, also [`BsdfFlags::NON_SYMMETRIC`]
+    /// (the importance value is the adjoint, not the radiance value) and
+    /// [`BsdfFlags::ANISOTROPIC`] (the tilt picks an azimuth), so that the checks hold the
+    /// adapter to what it is.
     fn flags(&self) -> BsdfFlags {
-        self.bsdf.flags()
+        let flags = self.bsdf.flags();
+        if self.perturbation.is_tilted() {
+            flags | BsdfFlags::NON_SYMMETRIC | BsdfFlags::ANISOTROPIC
+        } else {
+            flags
+        }
     }
 
     fn pdf_is_exact(&self) -> bool {
@@ -606,5 +622,27 @@ mod tests {
             }
             assert!(taken > 32, "{taken} samples kept of 64");
         }
+    }
+
+    #[test]
+    fn the_checks_see_a_tilted_normal_as_anisotropic_and_not_reciprocal() {
+        // `gonio check` on a normal map: the flags say what the adapter is, so the isotropy row
+        // holds it to being anisotropic and the adjoint row to its transposed value, while the
+        // reciprocity row reports the asymmetry of Mitsuba's frame (the flip and G).
+        use crate::bsdfs::RoughConductor;
+        use crate::check::{CheckConfig, isotropy::isotropy, reciprocity::reciprocity};
+        let m = RoughConductor::default();
+        let config = CheckConfig::quick();
+        let flat = PerturbedFrame::new(Perturbation::new(Vec3::Z), &m);
+        assert_eq!(flat.flags(), m.flags());
+        assert!(isotropy(&flat, &config).passed);
+        let p = PerturbedFrame::new(Perturbation::new(tilted(25.0)), &m);
+        assert!(p.flags().contains(BsdfFlags::ANISOTROPIC | BsdfFlags::NON_SYMMETRIC));
+        let iso = isotropy(&p, &config);
+        assert!(iso.passed && iso.figure > 0.1, "{iso:?}");
+        let rows = reciprocity(&p, &config);
+        let row = |name: &str| rows.iter().find(|r| r.name == name).unwrap();
+        assert!(row("adjoint").passed, "{:?}", row("adjoint"));
+        assert!(!row("reciprocity").passed, "{:?}", row("reciprocity"));
     }
 }
