@@ -177,8 +177,11 @@ pub(super) trait FramePerturbation: Send + Sync + std::fmt::Debug + 'static {
 }
 
 impl<T: FramePerturbation> SurfaceMaterial for T {
+    /// The nested material's lobes, and what a tilted normal makes of them anywhere on the
+    /// surface ([`PerturbedFrame`]'s flags): not the nested model's symmetry, isotropy or
+    /// geometry (a normal-mapped mirror sphere is no mirror sphere).
     fn flags(&self) -> BsdfFlags {
-        self.nested().flags()
+        self.nested().flags() | BsdfFlags::NON_SYMMETRIC | BsdfFlags::ANISOTROPIC
     }
     fn is_textured(&self) -> bool {
         true
