@@ -389,9 +389,8 @@ impl EnvMapLight {
         wl: &SampledWavelengths,
         r: &LightRef,
     ) -> Option<(Vec3, f32, SampledSpectrum)> {
-        let (uv, pdf) = self.sample_uv(u, r)?;
-        self.prefetch_texels(uv);
-        Some((self.uv_to_dir(uv), pdf, self.le_uv(uv, wl)))
+        self.sample_uv(u, r)
+            .map(|(uv, pdf)| (self.uv_to_dir(uv), pdf, self.le_uv(uv, wl)))
     }
 
     /// Image coordinates from the next-event density for `r` and the solid-angle density of
@@ -418,27 +417,7 @@ impl EnvMapLight {
     /// escapes after a BSDF sample needs both).
     pub fn le_pdf(&self, dir: Vec3, wl: &SampledWavelengths, r: &LightRef) -> (SampledSpectrum, f32) {
         let (uv, sin_theta) = self.dir_to_uv_sin(dir);
-        self.prefetch_texels(uv);
-        let pdf = self.pdf_uv(uv, sin_theta, r);
-        (self.le_uv(uv, wl), pdf)
-    }
-
-    /// Asks the cache for the texels [`Self::le_uv`] reads at `uv` (two rows of the table), so
-    /// that the work done before the lookup hides the wait on memory: the map's table outgrows
-    /// the core's cache (16 bytes a texel, 2 MB for a 512 × 256 map), and its first texel's
-    /// load was half of the lookup's time.
-    #[inline]
-    fn prefetch_texels(&self, uv: Vec2) {
-        #[cfg(target_arch = "x86_64")]
-        if let Some((sigmoids, _)) = &self.sigmoids {
-            use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
-            let [(a, _), _, (c, _), _] = self.bilinear(uv);
-            for i in [a, c] {
-                // SAFETY: SSE is part of x86_64, and a prefetch is a hint, not a load: it
-                // reads nothing and faults on no address (this one is in bounds anyway).
-                unsafe { _mm_prefetch::<_MM_HINT_T0>(sigmoids[i..].as_ptr().cast()) };
-            }
-        }
+        (self.le_uv(uv, wl), self.pdf_uv(uv, sin_theta, r))
     }
 
     /// Solid-angle density of the direction at image coordinates `uv`, whose sin θ is
