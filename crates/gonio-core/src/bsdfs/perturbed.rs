@@ -637,7 +637,10 @@ mod tests {
         assert_eq!(flat.flags(), m.flags());
         assert!(isotropy(&flat, &config).passed);
         let p = PerturbedFrame::new(Perturbation::new(tilted(25.0)), &m);
-        assert!(p.flags().contains(BsdfFlags::ANISOTROPIC | BsdfFlags::NON_SYMMETRIC));
+        assert!(
+            p.flags()
+                .contains(BsdfFlags::ANISOTROPIC | BsdfFlags::NON_SYMMETRIC)
+        );
         let iso = isotropy(&p, &config);
         assert!(iso.passed && iso.figure > 0.1, "{iso:?}");
         let rows = reciprocity(&p, &config);

@@ -30,9 +30,9 @@
 
 use super::{Bound, CheckConfig, CheckResult, direction, sidak, z_quantile};
 use crate::bsdf::{Bsdf, BsdfContext, TransportMode};
+use crate::rng::ONE_MINUS_EPSILON;
 use crate::rng::Pcg32;
 use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
-use crate::rng::ONE_MINUS_EPSILON;
 use crate::warp::{square_to_uniform_sphere, square_to_uniform_sphere_pdf};
 use glam::{Vec2, Vec3};
 
