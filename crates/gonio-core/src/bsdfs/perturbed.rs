@@ -87,8 +87,7 @@ impl Perturbation {
     /// Whether the normal leans away from the shading normal: a normal along +z (or one the
     /// frame replaces by +z: zero or not finite) leaves the frame, and the value, unchanged.
     pub fn is_tilted(&self) -> bool {
-        let (n, len2) = (self.n, self.n.length_squared());
-        len2 > 0.0 && len2.is_finite() && (n.x != 0.0 || n.y != 0.0)
+        unit(self.n).is_some_and(|n| n.x != 0.0 || n.y != 0.0)
     }
 
     /// The perturbed frame F for incident direction `wi` (local): n' flipped towards the viewer
@@ -99,12 +98,7 @@ impl Perturbation {
         if self.flip_invalid_normals && wi.z * wi.dot(n) <= 0.0 {
             n = Vec3::new(-n.x, -n.y, n.z);
         }
-        let len2 = n.length_squared();
-        let n = if len2 > 0.0 && len2.is_finite() {
-            n / len2.sqrt()
-        } else {
-            Vec3::Z
-        };
+        let n = unit(n).unwrap_or(Vec3::Z);
         let s = Vec3::X - n * n.x;
         let s_len2 = s.length_squared();
         let s = if s_len2 > 0.0 && s_len2.is_finite() {
@@ -114,6 +108,13 @@ impl Perturbation {
         };
         Frame { s, t: n.cross(s), n }
     }
+}
+
+/// `n` normalized; `None` when |n|² is 0 or not finite (the frame then keeps the shading normal).
+#[inline]
+fn unit(n: Vec3) -> Option<Vec3> {
+    let len2 = n.length_squared();
+    (len2 > 0.0 && len2.is_finite()).then(|| n / len2.sqrt())
 }
 
 /// Conty Estevez et al.'s shadowing of a perturbed normal `n` (unit, local) for direction `wo`

@@ -81,6 +81,9 @@ impl Setup {
             let ShapeKind::Sphere { center, radius, .. } = shape.kind else {
                 continue;
             };
+            // Exactly a delta reflection: a material whose frame is perturbed (`normalmap`,
+            // `bumpmap`) also says ANISOTROPIC | NON_SYMMETRIC and is left out, since it does
+            // not reflect about the sphere's normal.
             let mirror = tracer
                 .material_of(i as u32)
                 .is_some_and(|m| m.flags() == BsdfFlags::DELTA_REFLECTION);
