@@ -177,6 +177,43 @@ fn disk_hits_and_uv() {
     assert!((h.uv.y - 0.75).abs() < 1e-6, "φ = −π/2 wraps to 0.75: {:?}", h.uv);
 }
 
+/// Mitsuba's regression scene `various_shapes` scales a disk by (1.5, 2.5, 1): an ellipse of
+/// semi-axes 1.5 and 2.5 (area 3.75π), hit inside and missed outside its boundary, with uv
+/// (r, φ/2π) of the unit disk it came from; the scale along z leaves it unchanged.
+#[test]
+fn disk_under_a_non_uniform_scale_is_an_ellipse() {
+    let m = Affine3A::from_scale_rotation_translation(Vec3::new(1.5, 2.5, 3.0), Quat::IDENTITY, Vec3::ZERO);
+    let w = world(&shape(Geometry::Disk, m));
+    assert!((w.area() - 3.75 * PI).abs() < 1e-4, "area {}", w.area());
+    let h = hit(&w, Ray::new(Vec3::new(0.0, 2.4, 3.0), -Vec3::Z)).expect("inside along y");
+    assert!((h.uv - Vec2::new(0.96, 0.25)).length() < 1e-5, "{:?}", h.uv);
+    assert!(close(h.n, Vec3::Z, 1e-6));
+    assert!(
+        hit(&w, Ray::new(Vec3::new(1.45, 0.0, 3.0), -Vec3::Z)).is_some(),
+        "inside along x"
+    );
+    assert!(
+        hit(&w, Ray::new(Vec3::new(1.55, 0.0, 3.0), -Vec3::Z)).is_none(),
+        "outside along x"
+    );
+    assert!(
+        hit(&w, Ray::new(Vec3::new(1.2, 1.6, 3.0), -Vec3::Z)).is_none(),
+        "inside the circle of radius 2.5, outside the ellipse"
+    );
+    // The same disk scaled (1.5, 2.5, 1): identical.
+    let flat = world(&shape(
+        Geometry::Disk,
+        Affine3A::from_scale(Vec3::new(1.5, 2.5, 1.0)),
+    ));
+    assert_eq!(flat.area(), w.area());
+    // Area sampling stays uniform: its pdf 1/area matches the hits (`check_sampling`).
+    let tilted = world(&shape(
+        Geometry::Disk,
+        Affine3A::from_rotation_translation(Quat::from_rotation_y(0.7), Vec3::new(0.0, 0.5, 2.0)) * m,
+    ));
+    check_sampling(&tilted, Vec3::ZERO, false, "ellipse");
+}
+
 fn quad_mesh(normals: bool, uvs: bool) -> TriangleMesh {
     TriangleMesh {
         positions: vec![

@@ -129,7 +129,7 @@ fn shapes() {
 <shape type="sphere"><point name="center" value="1, 2, 3"/><float name="radius" value="0.5"/>
     <transform name="to_world"><rotate y="1" angle="10"/><scale value="2"/></transform></shape>
 <shape type="rectangle" id="r"><boolean name="flip_normals" value="true"/></shape>
-<shape type="disk"/>
+<shape type="disk"><transform name="to_world"><scale x="1.5" y="2.5"/></transform></shape>
 <shape type="cube"><boolean name="face_normals" value="true"/></shape>
 <shape type="obj"><string name="filename" value="quad.obj"/></shape>
 <shape type="ply"><string name="filename" value="quad_ascii.ply"/><boolean name="flip_tex_coords" value="true"/></shape>
@@ -151,7 +151,9 @@ fn shapes() {
     ));
     assert!(s.shapes[2].flip_normals && s.shapes[2].id.as_deref() == Some("r"));
     assert!(matches!(s.shapes[2].geometry, Geometry::Rectangle));
+    // An ellipse, as Mitsuba renders a disk under a non-uniform scale.
     assert!(matches!(s.shapes[3].geometry, Geometry::Disk));
+    assert_eq!(s.shapes[3].to_world.matrix3.y_axis.y, 2.5);
     assert!(s.shapes[4].face_normals);
     let mesh = |i: usize| match &s.shapes[i].geometry {
         Geometry::Mesh(m) => m.clone(),

@@ -154,7 +154,7 @@ pub(crate) fn assemble<'d>(
     Ok(desc)
 }
 
-/// Sphere and disk keep their shape only under rotation, uniform scale and translation.
+/// A sphere keeps its shape only under rotation, uniform scale and translation.
 pub(crate) fn check_similarity(p: &Params<'_>, m: &Affine3A) -> Result<()> {
     let a = m.matrix3;
     let (x, y, z) = (a.x_axis.length(), a.y_axis.length(), a.z_axis.length());
