@@ -82,6 +82,9 @@ pub struct IntegratorDesc {
     /// lobe are left to BSDF sampling there (default true; see
     /// `emitter::Lights::left_to_bsdf`).
     pub narrow_lobes: bool,
+    /// Exponent β of the power heuristic between next-event estimation and BSDF sampling
+    /// (default 1.25; Mitsuba's 2).
+    pub mis_exponent: f32,
     /// Which algorithm: `path` (the fields above), `direct` or `depth`.
     pub kind: IntegratorKind,
     /// Mitsuba's `stokes` wrapper around this integrator: also write the Stokes vector S0..S3
@@ -221,6 +224,7 @@ impl Default for IntegratorDesc {
             split_visible_glass: true,
             split_lights: 2,
             narrow_lobes: true,
+            mis_exponent: 1.25,
             kind: IntegratorKind::Path,
             stokes: false,
             polarized: false,

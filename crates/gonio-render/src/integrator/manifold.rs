@@ -286,7 +286,7 @@ impl PathTracer<'_> {
         if !(p_m > 0.0) {
             return None;
         }
-        let w = super::mis_power(p_m, pdf_x);
+        let w = self.mis(p_m, pdf_x);
         let contribution = f * bs.weight * le * (local.z.abs() * w / p_m);
         contribution.is_finite().then_some(contribution)
     }

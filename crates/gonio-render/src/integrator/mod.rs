@@ -165,14 +165,31 @@ pub trait Integrator: Sync {
 /// Power heuristic with exponent 2 for two strategies with densities `a` (the one used) and `b`.
 #[inline]
 pub fn mis_power(a: f32, b: f32) -> f32 {
-    let (a2, b2) = (a * a, b * b);
-    if a2 + b2 > 0.0 && a2.is_finite() {
-        a2 / (a2 + b2)
-    } else if a2.is_finite() {
-        0.0
-    } else {
-        1.0
+    mis_power_exp(a, b, 2.0)
+}
+
+/// Power heuristic with exponent `beta` (≥ 1) for two strategies with densities `a` (the one
+/// used) and `b`: aᵝ/(aᵝ + bᵝ), computed from the ratio b/a so that neither power overflows
+/// or underflows; 0 where only `b` can produce the sample (a = 0, or b infinite), 1 where only
+/// `a` can (b = 0, or a infinite).
+#[inline]
+pub fn mis_power_exp(a: f32, b: f32, beta: f32) -> f32 {
+    if !a.is_finite() {
+        return 1.0;
     }
+    if !(a > 0.0) {
+        return 0.0;
+    }
+    let t = b / a;
+    // The default exponent and Mitsuba's without `powf`.
+    let tb = if beta == 1.25 {
+        t * t.sqrt().sqrt()
+    } else if beta == 2.0 {
+        t * t
+    } else {
+        t.powf(beta)
+    };
+    if tb.is_nan() { 0.0 } else { 1.0 / (1.0 + tb) }
 }
 
 /// Largest number of sheets a path or a shadow ray crosses before giving up (a bound against
@@ -207,6 +224,9 @@ pub struct PathTracer<'a> {
     /// Lights at infinity without features as narrow as a rough lobe are left to BSDF sampling
     /// there ([`crate::emitter::Lights::left_to_bsdf`]).
     narrow_lobes: bool,
+    /// Exponent of the power heuristic between next-event estimation and BSDF sampling
+    /// ([`PathTracer::mis`]).
+    mis_exponent: f32,
     /// The area lights' shapes, for the glints of lobe splitting ([`lobe_split`]).
     light_shapes: Option<lobe_split::LightShapes>,
     /// Manifold next-event estimation through mirror spheres ([`manifold`]), where it takes part.
@@ -297,6 +317,7 @@ impl<'a> PathTracer<'a> {
             // Spectral renders only (the split lobes' weights are spectra).
             split_visible_glass: settings.split_visible_glass && !polarized,
             narrow_lobes: settings.narrow_lobes,
+            mis_exponent: settings.mis_exponent,
             light_shapes: if settings.split_escapes {
                 lobe_split::LightShapes::new(lights, accel.shapes())
             } else {
@@ -382,6 +403,15 @@ impl<'a> PathTracer<'a> {
         f: impl FnOnce(&SurfaceBsdf<'_>) -> R,
     ) -> Option<R> {
         Some(f(&self.material_of(shape)?.bsdf_at_point(at, wl)))
+    }
+
+    /// The weight of a sample drawn with density `a` against a second strategy of density `b`:
+    /// the power heuristic with the integrator's exponent (`mis_exponent`). Next-event estimation
+    /// and BSDF sampling, and manifold next-event estimation against the path tracer, weigh
+    /// their samples by it; three-way shares ([`refracted::shares`]) keep the exponent 2.
+    #[inline]
+    pub(crate) fn mis(&self, a: f32, b: f32) -> f32 {
+        mis_power_exp(a, b, self.mis_exponent)
     }
 
     fn is_thin(&self, shape: u32) -> bool {

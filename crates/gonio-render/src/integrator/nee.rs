@@ -4,7 +4,7 @@
 //! `thindielectric` sheets ([`PathTracer::visibility`], one sheet at a time by
 //! [`PathTracer::pass_sheet`], which the walk through glass of [`super::refracted`] uses too).
 
-use super::{MAX_NULL_CROSSINGS, PathTracer, Vertex, mis_power, refracted};
+use super::{MAX_NULL_CROSSINGS, PathTracer, Vertex, refracted};
 use crate::accel::Intersect;
 use crate::emitter::{LightRef, LightSample};
 use crate::geometry::{Ray, SurfaceInteraction};
@@ -109,7 +109,7 @@ impl PathTracer<'_> {
         let w = if ls.delta {
             1.0
         } else {
-            mis_power(ls.pdf * counts.0, bsdf_pdf * counts.1)
+            self.mis(ls.pdf * counts.0, bsdf_pdf * counts.1)
         };
         // Light order: the source, the sheets the shadow ray crossed, then f (a polarized path
         // does not commute).

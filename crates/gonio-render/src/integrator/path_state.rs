@@ -6,7 +6,7 @@
 //! lobe splitting ([`super::lobe_split`]) both go through these, so a path's MIS weights are the
 //! same functions whichever way it was reached.
 
-use super::{PathTracer, Vertex, caustics, manifold, mis_power, refracted};
+use super::{PathTracer, Vertex, caustics, manifold, refracted};
 use crate::accel::Intersect;
 use crate::emitter::{Light, LightRef};
 use crate::geometry::{Ray, SurfaceInteraction};
@@ -142,7 +142,7 @@ impl PathTracer<'_> {
                 continue;
             }
             let w = match prev {
-                Some(p) => mis_power(p.bsdf_pdf, pdf_light),
+                Some(p) => self.mis(p.bsdf_pdf, pdf_light),
                 // From the camera or after a delta lobe: refracted next-event estimation may
                 // have found this path too.
                 None => refracted::shares(
@@ -174,7 +174,7 @@ impl PathTracer<'_> {
             return;
         }
         let w = match state.smooth_prev() {
-            Some(p) => mis_power(
+            Some(p) => self.mis(
                 p.bsdf_pdf,
                 self.lights.pdf_li_hit(self.accel.shapes(), &p.light_ref, li, si),
             ),
@@ -185,7 +185,7 @@ impl PathTracer<'_> {
                 let r = self.caustic_ratio(state.chain.as_ref(), li, area, si.p, si.n, -d);
                 let s = self.refracted_ratio(state.refr.as_ref(), li, wl);
                 let m = self.manifold_ratio(state.mnee.as_ref(), li, si);
-                refracted::shares(r, s)[0] * mis_power(1.0, m)
+                refracted::shares(r, s)[0] * self.mis(1.0, m)
             }
         };
         *l += state.beta * W::from_spectrum(le) * w;

@@ -24,6 +24,7 @@ fn build<'d>(_: &mut Builder<'d>, _: &mut Params<'d>) -> Result<IntegratorDesc, 
         split_escapes: false,
         split_visible_glass: false,
         narrow_lobes: false,
+        mis_exponent: 2.0,
         ..IntegratorDesc::default()
     })
 }

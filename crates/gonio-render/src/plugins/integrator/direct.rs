@@ -93,6 +93,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         split_escapes: false,
         split_visible_glass: false,
         narrow_lobes: false,
+        mis_exponent: 2.0,
         kind: IntegratorKind::Direct {
             emitter_samples,
             bsdf_samples,

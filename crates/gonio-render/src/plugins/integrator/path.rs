@@ -87,6 +87,13 @@ const NARROW_LOBES: ParamSpec = ParamSpec::new(
     "(ours) a light at infinity whose radiance has no feature as narrow as the lobe of a single-scattering `roughconductor` or `roughdielectric` is not sampled at that surface: BSDF sampling alone finds it, weighted 1 (the light's largest density max L/∫L dω at most 0.05 (Beckmann) or 0.005 (GGX) times the lobe's peak 1/(4π α_u α_v): under Mitsuba's `museum.exr` Beckmann α ≤ 0.028, GGX α ≤ 0.0087)",
 )
 .mitsuba(DefaultValue::Bool(false));
+const MIS_EXPONENT: ParamSpec = ParamSpec::new(
+    "mis_exponent",
+    ParamType::Float,
+    DefaultValue::Float(1.25),
+    "(ours) exponent β of the power heuristic that weighs next-event estimation against BSDF sampling (Veach 1997 §9.2: 2 is Mitsuba's, 1 the balance heuristic); from 1 to 16",
+)
+.mitsuba(DefaultValue::Float(2.0));
 pub(super) const SAMPLES_PER_PASS: ParamSpec = ParamSpec::new(
     "samples_per_pass",
     ParamType::Integer,
@@ -117,6 +124,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         SPLIT_VISIBLE_GLASS,
         SPLIT_LIGHTS,
         NARROW_LOBES,
+        MIS_EXPONENT,
         SAMPLES_PER_PASS,
         TIMEOUT,
     ],
@@ -155,6 +163,7 @@ pub(super) fn with_estimator_defaults(p: &Params<'_>, desc: IntegratorDesc) -> I
         split_visible_glass: p.default_of(&SPLIT_VISIBLE_GLASS).bool(),
         split_lights: p.default_of(&SPLIT_LIGHTS).int() as u32,
         narrow_lobes: p.default_of(&NARROW_LOBES).bool(),
+        mis_exponent: p.default_of(&MIS_EXPONENT).float() as f32,
         ..desc
     }
 }
@@ -178,6 +187,12 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     )?;
     let split_lights = p.int_in(SPLIT_LIGHTS.name, p.default_of(&SPLIT_LIGHTS).int(), 0, 1024)? as u32;
     let narrow_lobes = p.bool(NARROW_LOBES.name, p.default_of(&NARROW_LOBES).bool())?;
+    let mis_exponent = p.float_checked(
+        MIS_EXPONENT.name,
+        p.default_of(&MIS_EXPONENT).float(),
+        |v| (1.0..=16.0).contains(&v),
+        "a number from 1 to 16",
+    )? as f32;
     p.float(TIMEOUT.name, TIMEOUT.default.float())?;
     Ok(IntegratorDesc {
         max_depth,
@@ -192,6 +207,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         split_visible_glass,
         split_lights,
         narrow_lobes,
+        mis_exponent,
         kind: IntegratorKind::Path,
         stokes: false,
         polarized: false,

@@ -173,6 +173,7 @@ fn build_direct<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrato
         split_escapes: false,
         split_visible_glass: false,
         narrow_lobes: false,
+        mis_exponent: 2.0,
         kind: IntegratorKind::Direct {
             emitter_samples: 1,
             bsdf_samples: 1,
