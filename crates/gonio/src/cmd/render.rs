@@ -81,8 +81,9 @@ pub struct RenderArgs {
     /// side-by-side comparisons: thin glass blocks shadow rays, no caustic light subpaths,
     /// `plastic` and `roughplastic` with Mitsuba's coat fits and tables, `blendbsdf` with Mitsuba's
     /// delta pdf, `envmap` with Mitsuba's lookup, float `checkerboard` lookups with Mitsuba's
-    /// exchanged cells, textured `projector` and `area` emitters without D65 (the parameters marked
-    /// "Mitsuba:" in docs/plugins.md; a value written in the scene still wins).
+    /// exchanged cells, `projector` emitters (textured or given a spectrum) and textured `area`
+    /// emitters without D65, the power heuristic's exponent 2 (the parameters marked "Mitsuba:"
+    /// in docs/plugins.md; a value written in the scene still wins).
     #[arg(long)]
     pub mitsuba_estimators: bool,
 }
