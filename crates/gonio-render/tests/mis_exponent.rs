@@ -6,7 +6,7 @@
 //! the pixel variance of Mitsuba's copper preview is 0.95 of the exponent 2's, of its
 //! `roughplastic_ggx` preview 0.91), and this scene's is not above the exponent 2's.
 
-use crate::render_stats::{MUSEUM, SENSOR, prepare, same_mean_less_noise};
+use crate::render_stats::{FLOOR_AND_LAMP, MUSEUM, SENSOR, prepare, same_mean_less_noise};
 
 /// Rough gold and rough plastic under the museum, a mirror sphere and a small lamp: every
 /// pair of strategies the exponent weighs (light samples against BSDF samples of the map and
@@ -28,14 +28,7 @@ fn scene(exponent: f32) -> String {
         <point name="center" value="0.1, 0.25, 0.9"/><float name="radius" value="0.25"/>
         <bsdf type="conductor"/>
     </shape>
-    <shape type="rectangle">
-        <transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform>
-        <bsdf type="diffuse"/>
-    </shape>
-    <shape type="sphere">
-        <point name="center" value="1.2, 1.6, 0.8"/><float name="radius" value="0.1"/>
-        <emitter type="area"><rgb name="radiance" value="20"/></emitter>
-    </shape>
+    {FLOOR_AND_LAMP}
     {MUSEUM}
 </scene>"#
     )

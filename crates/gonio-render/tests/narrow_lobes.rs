@@ -8,7 +8,7 @@
 //! image means agree within four standard errors of independent renders, and leaving the map to
 //! BSDF sampling there costs no noise (what it saves is the light samples' time).
 
-use crate::render_stats::{MUSEUM, SENSOR, prepare, same_mean_less_noise};
+use crate::render_stats::{FLOOR_AND_LAMP, MUSEUM, SENSOR, prepare, same_mean_less_noise};
 
 fn scene(narrow: bool, split_lights: u32) -> String {
     format!(
@@ -26,14 +26,7 @@ fn scene(narrow: bool, split_lights: u32) -> String {
         <point name="center" value="0.6, 0.5, 0.2"/><float name="radius" value="0.5"/>
         <bsdf type="roughconductor"><string name="material" value="Au"/><string name="distribution" value="ggx"/><float name="alpha" value="0.005"/></bsdf>
     </shape>
-    <shape type="rectangle">
-        <transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform>
-        <bsdf type="diffuse"/>
-    </shape>
-    <shape type="sphere">
-        <point name="center" value="1.2, 1.6, 0.8"/><float name="radius" value="0.1"/>
-        <emitter type="area"><rgb name="radiance" value="20"/></emitter>
-    </shape>
+    {FLOOR_AND_LAMP}
     {MUSEUM}
 </scene>"#
     )

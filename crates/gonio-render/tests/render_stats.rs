@@ -14,6 +14,17 @@ pub const MUSEUM: &str = r#"<emitter type="envmap">
         <transform name="to_world"><rotate x="1" angle="-90"/></transform>
     </emitter>"#;
 
+/// A diffuse floor (4 × 4 in y = 0) and a small bright lamp above it, beside the statistical
+/// scenes' objects.
+pub const FLOOR_AND_LAMP: &str = r#"<shape type="rectangle">
+        <transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform>
+        <bsdf type="diffuse"/>
+    </shape>
+    <shape type="sphere">
+        <point name="center" value="1.2, 1.6, 0.8"/><float name="radius" value="0.1"/>
+        <emitter type="area"><rgb name="radiance" value="20"/></emitter>
+    </shape>"#;
+
 /// The camera of the statistical scenes: 24 × 24 pixels, box filter, looking down at objects of
 /// about unit size at the origin.
 pub const SENSOR: &str = r#"<sensor type="perspective">
