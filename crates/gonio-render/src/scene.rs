@@ -207,6 +207,28 @@ pub enum IntegratorKind {
     PTracer,
 }
 
+impl IntegratorDesc {
+    /// The defaults with every estimator row of ours at Mitsuba's value: no sheets crossed by
+    /// shadow rays, no light subpaths, refracted or manifold next-event estimation, lobe splits
+    /// or narrow-lobe rule, one light per vertex, the power heuristic's exponent 2 (the
+    /// integrators that render with Mitsuba's estimator: `direct`, `depth`, `ptracer`, `prb`'s
+    /// direct form).
+    pub fn mitsuba_estimators() -> Self {
+        Self {
+            thin_shadows: false,
+            caustic_paths: false,
+            refracted_nee: false,
+            manifold_nee: false,
+            split_escapes: false,
+            split_visible_glass: false,
+            split_lights: 0,
+            narrow_lobes: false,
+            mis_exponent: 2.0,
+            ..Self::default()
+        }
+    }
+}
+
 impl Default for IntegratorDesc {
     /// Mitsuba's `path` defaults plus our `thin_shadows`, `caustic_paths`, `refracted_nee` and
     /// `manifold_nee` on.

@@ -17,14 +17,6 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
 fn build<'d>(_: &mut Builder<'d>, _: &mut Params<'d>) -> Result<IntegratorDesc, SceneError> {
     Ok(IntegratorDesc {
         kind: IntegratorKind::Depth,
-        caustic_paths: false,
-        refracted_nee: false,
-        manifold_nee: false,
-        split_lights: 0,
-        split_escapes: false,
-        split_visible_glass: false,
-        narrow_lobes: false,
-        mis_exponent: 2.0,
-        ..IntegratorDesc::default()
+        ..IntegratorDesc::mitsuba_estimators()
     })
 }

@@ -85,19 +85,10 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     Ok(IntegratorDesc {
         max_depth: 2,
         hide_emitters,
-        thin_shadows: false,
-        caustic_paths: false,
-        refracted_nee: false,
-        manifold_nee: false,
-        split_lights: 0,
-        split_escapes: false,
-        split_visible_glass: false,
-        narrow_lobes: false,
-        mis_exponent: 2.0,
         kind: IntegratorKind::Direct {
             emitter_samples,
             bsdf_samples,
         },
-        ..IntegratorDesc::default()
+        ..IntegratorDesc::mitsuba_estimators()
     })
 }

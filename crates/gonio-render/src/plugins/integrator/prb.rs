@@ -165,19 +165,10 @@ fn build_direct<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Integrato
     Ok(IntegratorDesc {
         max_depth: 2,
         hide_emitters,
-        thin_shadows: false,
-        caustic_paths: false,
-        refracted_nee: false,
-        manifold_nee: false,
-        split_lights: 0,
-        split_escapes: false,
-        split_visible_glass: false,
-        narrow_lobes: false,
-        mis_exponent: 2.0,
         kind: IntegratorKind::Direct {
             emitter_samples: 1,
             bsdf_samples: 1,
         },
-        ..IntegratorDesc::default()
+        ..IntegratorDesc::mitsuba_estimators()
     })
 }

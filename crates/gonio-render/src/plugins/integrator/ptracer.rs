@@ -37,18 +37,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         // Mitsuba's roulette cap (the light tracer has no trapped-light fireflies to fix).
         rr_survival: 0.95,
         hide_emitters,
-        thin_shadows: false,
-        caustic_paths: false,
-        refracted_nee: false,
-        manifold_nee: false,
-        split_lights: 0,
-        split_escapes: false,
-        split_visible_glass: false,
-        narrow_lobes: false,
-        mis_exponent: 2.0,
         kind: IntegratorKind::PTracer,
-        stokes: false,
-        polarized: false,
-        layers: None,
+        ..IntegratorDesc::mitsuba_estimators()
     })
 }
