@@ -162,18 +162,12 @@ pub trait Integrator: Sync {
     fn sample(&self, sample: &mut CameraSample<'_>, value: &mut [f32], splat: &mut dyn FnMut(Vec2, &[f32]));
 }
 
-/// Power heuristic with exponent 2 for two strategies with densities `a` (the one used) and `b`.
-#[inline]
-pub fn mis_power(a: f32, b: f32) -> f32 {
-    mis_power_exp(a, b, 2.0)
-}
-
 /// Power heuristic with exponent `beta` (≥ 1) for two strategies with densities `a` (the one
 /// used) and `b`: aᵝ/(aᵝ + bᵝ), computed from the ratio b/a so that neither power overflows
 /// or underflows; 0 where only `b` can produce the sample (a = 0, or b infinite), 1 where only
 /// `a` can (b = 0, or a infinite).
 #[inline]
-pub fn mis_power_exp(a: f32, b: f32, beta: f32) -> f32 {
+pub fn mis_power(a: f32, b: f32, beta: f32) -> f32 {
     if !a.is_finite() {
         return 1.0;
     }
@@ -411,7 +405,7 @@ impl<'a> PathTracer<'a> {
     /// their samples by it; three-way shares ([`refracted::shares`]) keep the exponent 2.
     #[inline]
     pub(crate) fn mis(&self, a: f32, b: f32) -> f32 {
-        mis_power_exp(a, b, self.mis_exponent)
+        mis_power(a, b, self.mis_exponent)
     }
 
     fn is_thin(&self, shape: u32) -> bool {
