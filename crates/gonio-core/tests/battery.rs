@@ -272,7 +272,7 @@ fn roughdielectric_default() {
 
 /// A near-specular lobe at normal incidence peaks exactly at the poles of χ²'s (φ, cos θ) grid,
 /// within α² of them: with the quadrature's usual three halvings the expected counts there came
-/// out 7.7 % high and a correct sampler scored χ² = 5800 at 151 dof (`chi2::POLE_EXTRA_DEPTH`).
+/// out 7.7 % high and a correct sampler scored χ² = 5800 at 151 dof (`chi2::EDGE_EXTRA_DEPTH`).
 #[test]
 fn roughdielectric_near_specular() {
     let d = MicrofacetDistribution::isotropic(MicrofacetKind::Beckmann, 0.05);
@@ -284,7 +284,7 @@ fn roughdielectric_near_specular() {
 /// are split: with the quadrature's usual three halvings there the expected counts of
 /// α = 0.03 came out 0.3 % high against a correct sampler (χ² = 53 at 13 dof for Beckmann
 /// reflection at ωi = (0.935, 0.351, 0.058)); the cells at the horizon now refine as far as the
-/// poles' (`chi2::POLE_EXTRA_DEPTH`).
+/// poles' (`chi2::EDGE_EXTRA_DEPTH`).
 #[test]
 fn near_specular_lobes_at_grazing_incidence() {
     let d = MicrofacetDistribution::isotropic(MicrofacetKind::Beckmann, 0.03);

@@ -394,10 +394,10 @@ fn adaptive_rect(
 /// dof), eight integrate it (α = 0.02 still comes out 1.8 % high: its lobe is narrower than the
 /// coarse Simpson nodes that decide whether to refine). Only those rows pay for it, and only
 /// where the pdf has such a peak.
-const POLE_EXTRA_DEPTH: usize = 5;
+const EDGE_EXTRA_DEPTH: usize = 5;
 
 /// N × ∫∫ pdf dφ dcos θ over every cell: Simpson with `cfg.ires` nodes per axis, refined
-/// adaptively (up to `cfg.max_depth` halvings, [`POLE_EXTRA_DEPTH`] more at the poles and the
+/// adaptively (up to `cfg.max_depth` halvings, [`EDGE_EXTRA_DEPTH`] more at the poles and the
 /// horizon, to `cfg.rel_tol`·√E expected samples for a cell of E), cells split at the horizon.
 #[allow(clippy::too_many_arguments)]
 fn expected_counts(
@@ -410,7 +410,8 @@ fn expected_counts(
     cfg: &Chi2Config,
     n: f64,
 ) -> Vec<f64> {
-    // The cells touching the horizon (split there) refine as far as the poles'.
+    // The edges of the (φ, cos θ) grid where lobes peak: the pole rows and the cells touching
+    // the horizon (split there).
     let at_horizon = |z: f64| z.abs() < 1e-12;
     // Simpson needs an odd node count ≥ 3.
     let m = if cfg.ires < 3 { 3 } else { cfg.ires | 1 };
@@ -436,7 +437,7 @@ fn expected_counts(
                 // rel_tol² to the cell's χ² term.
                 let tol = cfg.rel_tol * (coarse.abs() * n).sqrt().max(1.0) / n;
                 let depth = if ic == 0 || ic + 1 == n_cos || at_horizon(a) || at_horizon(b) {
-                    cfg.max_depth + POLE_EXTRA_DEPTH
+                    cfg.max_depth + EDGE_EXTRA_DEPTH
                 } else {
                     cfg.max_depth
                 };
