@@ -31,7 +31,7 @@ use crate::data::cie1931::{CIE_LAMBDA_START, CIE_SAMPLES, CIE_X, CIE_Y, CIE_Z};
 use crate::data::d65::{D65, D65_LAMBDA_START, D65_LAMBDA_STEP, D65_SAMPLES};
 use crate::spectra::Spectrum;
 use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
-use glam::{Mat3, Vec3};
+use glam::{Mat3, Vec3, Vec4};
 use std::sync::LazyLock;
 
 /// ∫ȳ(λ) dλ over the CIE 1931 table, nm (pbrt-v4 `CIE_Y_integral`).
@@ -141,16 +141,17 @@ pub fn d65_normalized(lambda: f32) -> f32 {
 pub fn d65_normalized4(lambda: [f32; 4]) -> [f32; 4] {
     let scale = *D65_SCALE;
     let last = (D65_SAMPLES - 1) as f32;
-    // Outside the table a = b = t = 0, which gives 0 as `lerp_table` does.
-    let (mut a, mut b, mut t) = ([0.0f32; 4], [0.0f32; 4], [0.0f32; 4]);
-    for k in 0..4 {
-        let x = (lambda[k] - D65_LAMBDA_START) / D65_LAMBDA_STEP;
-        if (0.0..=last).contains(&x) {
-            let i = (x as usize).min(D65_SAMPLES - 2);
-            (a[k], b[k], t[k]) = (D65[i], D65[i + 1], x - i as f32);
-        }
-    }
-    std::array::from_fn(|k| (a[k] + t[k] * (b[k] - a[k])) * scale)
+    let x = (Vec4::from_array(lambda) - Vec4::splat(D65_LAMBDA_START)) / Vec4::splat(D65_LAMBDA_STEP);
+    let inside = x.cmpge(Vec4::ZERO) & x.cmple(Vec4::splat(last));
+    // Outside the table (or NaN) lane k reads interval 0 and is zeroed below, as `lerp_table`
+    // gives 0 there.
+    let x = Vec4::select(inside, x, Vec4::ZERO);
+    let i = x.to_array().map(|x| (x as usize).min(D65_SAMPLES - 2));
+    let a = Vec4::from_array(i.map(|i| D65[i]));
+    let b = Vec4::from_array(i.map(|i| D65[i + 1]));
+    let t = x - Vec4::from_array(i.map(|i| i as f32));
+    let v = (a + t * (b - a)) * scale;
+    Vec4::select(inside, v, Vec4::ZERO).to_array()
 }
 
 /// The Monte Carlo estimate of CIE XYZ from radiance `l` carried at the wavelengths `wl`:

@@ -401,9 +401,9 @@ pub fn render_wavelength_pdf(lambda: f32) -> f32 {
 /// computed once per process ([`VisibleWavelengthTable::get`]).
 #[derive(Clone, Debug)]
 pub struct VisibleWavelengthTable {
-    lambda: Vec<f32>,
-    /// The density on each interval, 1/(N (λᵢ₊₁ − λᵢ)) (the division done once, here).
-    pdf: Vec<f32>,
+    /// Interval `i` as `[λᵢ, λᵢ₊₁ − λᵢ, pᵢ, 0]`, where pᵢ = 1/(N (λᵢ₊₁ − λᵢ)) is the density on
+    /// it (the division done once, here): one 16-byte load per lookup.
+    intervals: Vec<[f32; 4]>,
 }
 
 impl VisibleWavelengthTable {
@@ -444,11 +444,14 @@ impl VisibleWavelengthTable {
                 }
             })
             .collect();
-        let pdf = lambda
+        let intervals = lambda
             .windows(2)
-            .map(|w: &[f32]| 1.0 / (Self::N as f32 * (w[1] - w[0])))
+            .map(|w: &[f32]| {
+                let width = w[1] - w[0];
+                [w[0], width, 1.0 / (Self::N as f32 * width), 0.0]
+            })
             .collect();
-        Self { lambda, pdf }
+        Self { intervals }
     }
 
     /// The table (built on first use).
@@ -462,24 +465,30 @@ impl VisibleWavelengthTable {
     pub fn one(&self, u: f32) -> (f32, f32) {
         let x = (u * Self::N as f32).clamp(0.0, Self::N as f32 - 1e-3);
         let i = (x as usize).min(Self::N - 1);
-        let (a, b) = (self.lambda[i], self.lambda[i + 1]);
+        let [a, width, pdf, _] = self.intervals[i];
         let t = x - i as f32;
-        (a + t * (b - a), self.pdf[i])
+        (a + t * width, pdf)
     }
 
-    /// The hero wavelength for `u` and its three rotations, with their densities.
+    /// The hero wavelength for `u` and its three rotations, with their densities: [`Self::one`]
+    /// at u + k/4 (wrapped), the four lanes at once (the same arithmetic, bit for bit).
     #[inline]
     pub fn sample(&self, u: f32) -> SampledWavelengths {
-        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
-        let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
-        for k in 0..N_SPECTRUM_SAMPLES {
-            let mut uk = u + k as f32 * 0.25;
-            if uk >= 1.0 {
-                uk -= 1.0;
-            }
-            (lambda[k], pdf[k]) = self.one(uk);
-        }
-        SampledWavelengths::from_parts(lambda, pdf)
+        let uk = Vec4::splat(u) + Vec4::new(0.0, 0.25, 0.5, 0.75);
+        let uk = Vec4::select(uk.cmpge(Vec4::ONE), uk - Vec4::ONE, uk);
+        let n = Self::N as f32;
+        let x = (uk * n).clamp(Vec4::ZERO, Vec4::splat(n - 1e-3));
+        // x ∈ [0, N − 10⁻³]: its truncation is a valid interval index.
+        let i = x.to_array().map(|x| (x as usize).min(Self::N - 1));
+        let t = x - Vec4::from_array(i.map(|i| i as f32));
+        let [e0, e1, e2, e3] = i.map(|i| Vec4::from_array(self.intervals[i]));
+        // Transpose: the rows are λᵢ, widths and densities over the four lanes.
+        let (a, width, pdf) = (
+            Vec4::new(e0.x, e1.x, e2.x, e3.x),
+            Vec4::new(e0.y, e1.y, e2.y, e3.y),
+            Vec4::new(e0.z, e1.z, e2.z, e3.z),
+        );
+        SampledWavelengths::from_parts((a + t * width).to_array(), pdf.to_array())
     }
 }
 
@@ -511,10 +520,17 @@ mod tests {
             (y / crate::color::CIE_Y_INTEGRAL as f64 - 1.0).abs() < 2e-4,
             "∫ȳ = {y}"
         );
-        // The four wavelengths are the hero and its rotations by ¼ in sample space.
-        let wl = t.sample(0.1);
-        for k in 0..4 {
-            assert!((wl.lambda(k) - t.one(0.1 + 0.25 * k as f32).0).abs() < 1e-3);
+        // The four wavelengths are the hero and its rotations by ¼ in sample space, wrapped,
+        // with their densities: `one`'s, bit for bit.
+        for u in [0.0, 0.1, 0.3, 0.5, 0.74, 0.99, 1.0 - f32::EPSILON] {
+            let wl = t.sample(u);
+            for k in 0..4 {
+                let mut uk = u + 0.25 * k as f32;
+                if uk >= 1.0 {
+                    uk -= 1.0;
+                }
+                assert_eq!((wl.lambda(k), wl.pdf()[k]), t.one(uk), "u = {u}, k = {k}");
+            }
         }
     }
 
