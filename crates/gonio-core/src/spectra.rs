@@ -41,6 +41,24 @@ pub struct PiecewiseLinear {
     lambda: Vec<f32>,
     value: Vec<f32>,
     extrapolation: Extrapolation,
+    /// For each whole nanometre from ⌊λ₀⌋ on, the interval [`find_interval`] gives there: where
+    /// [`PiecewiseLinear::eval`]'s forward scan starts (empty for tables wider than
+    /// [`BUCKET_SPAN_MAX`] nm, which search).
+    bucket_start: Vec<u32>,
+}
+
+/// Widest table (nm) that gets a per-nanometre index.
+const BUCKET_SPAN_MAX: f32 = 8192.0;
+
+/// The per-nanometre starts of `lambda`'s intervals (see [`PiecewiseLinear::bucket_start`]).
+fn bucket_starts(lambda: &[f32]) -> Vec<u32> {
+    let (lo, hi) = (lambda[0].floor(), lambda[lambda.len() - 1]);
+    if lambda.len() < 3 || !(hi - lo <= BUCKET_SPAN_MAX) {
+        return Vec::new();
+    }
+    (0..=(hi - lo) as u32)
+        .map(|b| find_interval(lambda, lo + b as f32) as u32)
+        .collect()
 }
 
 impl PiecewiseLinear {
@@ -51,7 +69,8 @@ impl PiecewiseLinear {
             && lambda.len() == value.len()
             && lambda.windows(2).all(|w| w[0] < w[1])
             && lambda.iter().chain(&value).all(|x| x.is_finite());
-        ok.then_some(Self {
+        ok.then(|| Self {
+            bucket_start: bucket_starts(&lambda),
             lambda,
             value,
             extrapolation,
@@ -106,6 +125,7 @@ impl PiecewiseLinear {
             return Err("spectrum file holds no \"wavelength value\" lines".into());
         }
         Ok(Self {
+            bucket_start: bucket_starts(&lambda),
             lambda,
             value,
             extrapolation,
@@ -143,6 +163,7 @@ impl PiecewiseLinear {
             value.push(v);
         }
         Ok(Self {
+            bucket_start: bucket_starts(&lambda),
             lambda,
             value,
             extrapolation: Extrapolation::Zero,
@@ -179,8 +200,18 @@ impl PiecewiseLinear {
         if n == 1 {
             return v[0];
         }
-        // Index of the last sample ≤ lambda, kept inside [0, n − 2].
-        let i = find_interval(l, lambda);
+        // Index of the last sample ≤ lambda, kept inside [0, n − 2]: `find_interval`'s, from
+        // the bucket of ⌊λ⌋ on (whose start is at most the answer) when the table has buckets.
+        let i = match self.bucket_start.get((lambda - l[0].floor()) as usize) {
+            Some(&start) => {
+                let mut i = start as usize;
+                while i + 2 < n && l[i + 1] <= lambda {
+                    i += 1;
+                }
+                i
+            }
+            None => find_interval(l, lambda),
+        };
         let t = (lambda - l[i]) / (l[i + 1] - l[i]);
         v[i] + t * (v[i + 1] - v[i])
     }
@@ -629,6 +660,30 @@ mod tests {
         };
         assert_eq!(c.eval(300.0), 0.1);
         assert_eq!(c.eval(700.0), 0.2);
+    }
+
+    #[test]
+    fn piecewise_linear_buckets_find_the_searched_interval() {
+        // Irregular knots, some closer than a nanometre, some wider apart; every 1/64 nm and
+        // the knots themselves: the value of the bucketed scan is the binary search's, bit for bit.
+        let lambda: Vec<f32> = vec![
+            300.0, 300.3, 300.31, 301.0, 355.5, 410.0, 410.25, 410.5, 411.75, 500.0, 650.0, 829.9, 830.0,
+            1200.5,
+        ];
+        let value: Vec<f32> = (0..lambda.len()).map(|i| (i as f32 * 0.37).sin() + 1.5).collect();
+        let p = PiecewiseLinear::new(lambda.clone(), value.clone(), Extrapolation::Clamp).unwrap();
+        assert!(!p.bucket_start.is_empty());
+        let searched = |x: f32| {
+            let i = find_interval(&lambda, x);
+            let t = (x - lambda[i]) / (lambda[i + 1] - lambda[i]);
+            value[i] + t * (value[i + 1] - value[i])
+        };
+        let xs = (0..=64 * 900 + 32)
+            .map(|k| 300.0 + k as f32 / 64.0)
+            .chain(lambda.iter().copied());
+        for x in xs {
+            assert_eq!(p.eval(x).to_bits(), searched(x).to_bits(), "λ = {x}");
+        }
     }
 
     #[test]
