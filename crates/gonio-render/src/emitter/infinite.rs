@@ -181,8 +181,12 @@ impl EnvMapLight {
         } else {
             0.0
         };
-        let spectra: Vec<Spectrum> = rgb.iter().map(|&c| uplift(c)).collect();
-        let sigmoids = compact_sigmoids(&spectra);
+        // The compact (sigmoid, scale) form when every texel is an RGB uplift of one kind (the
+        // spectra themselves are then not kept: 200 MB for a 4096 × 2048 map); else the spectra.
+        let (spectra, sigmoids) = match compact_sigmoids(rgb.iter().map(|&c| uplift(c))) {
+            Some(compact) => (Vec::new(), Some(compact)),
+            None => (rgb.iter().map(|&c| uplift(c)).collect(), None),
+        };
         Some(Self {
             width,
             height,
@@ -358,6 +362,22 @@ impl EnvMapLight {
     fn le_mitsuba(&self, uv: Vec2, wl: &SampledWavelengths) -> SampledSpectrum {
         let mut shape = SampledSpectrum::ZERO;
         let mut f = 0.0f32;
+        if let Some((sigmoids, kind)) = &self.sigmoids {
+            // A texel's shape is its sigmoid (× D65, common to all texels), its scale f.
+            let lambda = Vec4::from_array(wl.lambdas());
+            let mut acc = Vec4::ZERO;
+            for (i, w) in self.bilinear(uv) {
+                let (sigmoid, fi) = sigmoids[i];
+                if fi > 0.0 {
+                    acc += sigmoid.eval4(lambda) * w;
+                    f += fi * w;
+                }
+            }
+            if *kind == RgbKind::Illuminant {
+                acc *= Vec4::from_array(wl.d65());
+            }
+            return SampledSpectrum(acc) * (f * self.scale);
+        }
         for (i, w) in self.bilinear(uv) {
             let (s, fi) = match &self.spectra[i] {
                 Spectrum::Rgb(r) if r.scale > 0.0 => (self.spectra[i].sample(wl) / r.scale, r.scale),
@@ -464,12 +484,16 @@ fn texel_weights(rgb: &[[f32; 3]], width: usize, height: usize, f: impl Fn(f32) 
 
 /// The texels as (sigmoid, scale) pairs when all are RGB uplifts of one kind (a black texel, any
 /// kind with scale 0, fits every kind); `None` otherwise (the lookup then samples each spectrum).
-fn compact_sigmoids(spectra: &[Spectrum]) -> Option<(Vec<(RgbSigmoid, f32)>, RgbKind)> {
+fn compact_sigmoids(
+    spectra: impl ExactSizeIterator<Item = Spectrum>,
+) -> Option<(Vec<(RgbSigmoid, f32)>, RgbKind)> {
     let mut kind = None;
     let mut out = Vec::with_capacity(spectra.len());
     for s in spectra {
         match s {
             Spectrum::Rgb(r) if r.scale == 0.0 => out.push((r.sigmoid, 0.0)),
+            // A black texel (the uplift's zero): scale 0 fits every kind.
+            Spectrum::Constant(0.0) => out.push((RgbSigmoid::constant(0.0), 0.0)),
             Spectrum::Rgb(r) if kind.is_none_or(|k| k == r.kind) => {
                 kind = Some(r.kind);
                 out.push((r.sigmoid, r.scale));
@@ -478,4 +502,58 @@ fn compact_sigmoids(spectra: &[Spectrum]) -> Option<(Vec<(RgbSigmoid, f32)>, Rgb
         }
     }
     Some((out, kind.unwrap_or(RgbKind::Illuminant)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::uplift_emission_texel;
+
+    /// Regression: a map whose texels are all RGB uplifts keeps only their (sigmoid, scale)
+    /// pairs, black texels included (the uplift gives those the constant 0, which used to send
+    /// the whole map to the per-texel spectra: 24 bytes a texel beside the pairs, 200 MB for a
+    /// 4096 × 2048 map), and both lookups give what the texels' spectra give.
+    #[test]
+    fn a_map_with_black_texels_keeps_only_its_sigmoids_and_looks_up_the_same() {
+        let (w, h) = (8, 4);
+        let rgb: Vec<[f32; 3]> = (0..w * h)
+            .map(|i| match i % 5 {
+                0 => [0.0; 3],
+                k => [0.3 * k as f32, 0.1 + 0.05 * k as f32, 2.0 / k as f32],
+            })
+            .collect();
+        let texels: Vec<Spectrum> = rgb.iter().map(|&c| uplift_emission_texel(c)).collect();
+        let env = EnvMapLight::new(w, h, rgb, 1.5, Affine3A::IDENTITY, uplift_emission_texel).unwrap();
+        assert!(env.sigmoids.is_some() && env.spectra.is_empty());
+        let mitsuba = env.clone().with_mitsuba_lookup();
+        let wl = SampledWavelengths::sample_visible(0.3);
+        for k in 0..97 {
+            let uv = Vec2::new((k as f32 * 0.377).fract(), (k as f32 * 0.611).fract());
+            // Σ wᵢ Lᵢ(λ) over the texels' own spectra.
+            let mut expect = SampledSpectrum::ZERO;
+            for (i, wi) in env.bilinear(uv) {
+                expect += texels[i].sample(&wl) * wi;
+            }
+            let got = env.le_uv(uv, &wl);
+            for j in 0..4 {
+                assert!(
+                    (got[j] - 1.5 * expect[j]).abs() <= 1e-5 * (1.0 + expect[j]),
+                    "{uv}: {got:?} {expect:?}"
+                );
+            }
+            // Mitsuba's (Σ wᵢ sᵢ)(Σ wᵢ fᵢ), the shapes sᵢ = Lᵢ/fᵢ of the non-black texels.
+            let (mut shape, mut f) = (SampledSpectrum::ZERO, 0.0f32);
+            for (i, wi) in mitsuba.bilinear(uv) {
+                if let Spectrum::Rgb(r) = &texels[i] {
+                    shape += texels[i].sample(&wl) / r.scale * wi;
+                    f += r.scale * wi;
+                }
+            }
+            let got = mitsuba.le_uv(uv, &wl);
+            for j in 0..4 {
+                let e = shape[j] * f * 1.5;
+                assert!((got[j] - e).abs() <= 1e-5 * (1.0 + e), "{uv}: {got:?} vs {e}");
+            }
+        }
+    }
 }
