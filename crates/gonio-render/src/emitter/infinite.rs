@@ -62,6 +62,7 @@ use gonio_core::sampling::Distribution2D;
 use gonio_core::spectra::RgbKind;
 use gonio_core::warp;
 use gonio_core::{Frame, SampledSpectrum, SampledWavelengths, Spectrum};
+use rayon::prelude::*;
 use std::f32::consts::{PI, TAU};
 
 /// `constant`: the same radiance from every direction.
@@ -183,7 +184,7 @@ impl EnvMapLight {
         };
         // The compact (sigmoid, scale) form when every texel is an RGB uplift of one kind (the
         // spectra themselves are then not kept: 200 MB for a 4096 × 2048 map); else the spectra.
-        let (spectra, sigmoids) = match compact_sigmoids(rgb.iter().map(|&c| uplift(c))) {
+        let (spectra, sigmoids) = match compact_sigmoids(&rgb, uplift) {
             Some(compact) => (Vec::new(), Some(compact)),
             None => (rgb.iter().map(|&c| uplift(c)).collect(), None),
         };
@@ -485,23 +486,33 @@ fn texel_weights(rgb: &[[f32; 3]], width: usize, height: usize, f: impl Fn(f32) 
 /// The texels as (sigmoid, scale) pairs when all are RGB uplifts of one kind (a black texel, any
 /// kind with scale 0, fits every kind); `None` otherwise (the lookup then samples each spectrum).
 fn compact_sigmoids(
-    spectra: impl ExactSizeIterator<Item = Spectrum>,
+    rgb: &[[f32; 3]],
+    uplift: fn([f32; 3]) -> Spectrum,
 ) -> Option<(Vec<(RgbSigmoid, f32)>, RgbKind)> {
-    let mut kind = None;
-    let mut out = Vec::with_capacity(spectra.len());
-    for s in spectra {
-        match s {
-            Spectrum::Rgb(r) if r.scale == 0.0 => out.push((r.sigmoid, 0.0)),
-            // A black texel (the uplift's zero): scale 0 fits every kind.
-            Spectrum::Constant(0.0) => out.push((RgbSigmoid::constant(0.0), 0.0)),
-            Spectrum::Rgb(r) if kind.is_none_or(|k| k == r.kind) => {
-                kind = Some(r.kind);
-                out.push((r.sigmoid, r.scale));
-            }
-            _ => return None,
-        }
-    }
-    Some((out, kind.unwrap_or(RgbKind::Illuminant)))
+    // The first texel with light decides the kind (a black one, of scale 0, fits every kind).
+    let kind = match rgb.iter().map(|&c| uplift(c)).find(|s| !is_black_texel(s)) {
+        Some(Spectrum::Rgb(r)) => r.kind,
+        Some(_) => return None,
+        None => RgbKind::Illuminant,
+    };
+    // Texel by texel, in parallel (the uplift is a table lookup per texel: a 4096 × 2048 map
+    // has eight million), straight into one vector in the texels' order; a texel of another
+    // form is marked by a NaN scale (an uplift's scale is finite).
+    let mut pairs = Vec::new();
+    rgb.par_iter()
+        .map(|&c| match uplift(c) {
+            Spectrum::Rgb(r) if r.scale == 0.0 => (r.sigmoid, 0.0),
+            Spectrum::Constant(0.0) => (RgbSigmoid::constant(0.0), 0.0),
+            Spectrum::Rgb(r) if r.kind == kind && r.scale.is_finite() => (r.sigmoid, r.scale),
+            _ => (RgbSigmoid::constant(0.0), f32::NAN),
+        })
+        .collect_into_vec(&mut pairs);
+    (!pairs.par_iter().any(|p| p.1.is_nan())).then_some((pairs, kind))
+}
+
+/// A texel without light: an RGB uplift of scale 0 or the constant 0.
+fn is_black_texel(s: &Spectrum) -> bool {
+    matches!(s, Spectrum::Rgb(r) if r.scale == 0.0) || matches!(s, Spectrum::Constant(0.0))
 }
 
 #[cfg(test)]
