@@ -49,12 +49,18 @@ impl PiecewiseLinear {
             && lambda.len() == value.len()
             && lambda.windows(2).all(|w| w[0] < w[1])
             && lambda.iter().chain(&value).all(|x| x.is_finite());
-        ok.then(|| Self {
+        ok.then(|| Self::from_checked(lambda, value, extrapolation))
+    }
+
+    /// The table of samples its constructor has checked (at least one, λ strictly increasing,
+    /// all finite), with its per-nanometre index.
+    fn from_checked(lambda: Vec<f32>, value: Vec<f32>, extrapolation: Extrapolation) -> Self {
+        Self {
             bucket_start: bucket_starts(&lambda),
             lambda,
             value,
             extrapolation,
-        })
+        }
     }
 
     /// From interleaved `[λ₀, v₀, λ₁, v₁, ...]` static data.
@@ -104,12 +110,7 @@ impl PiecewiseLinear {
         if lambda.is_empty() {
             return Err("spectrum file holds no \"wavelength value\" lines".into());
         }
-        Ok(Self {
-            bucket_start: bucket_starts(&lambda),
-            lambda,
-            value,
-            extrapolation,
-        })
+        Ok(Self::from_checked(lambda, value, extrapolation))
     }
 
     /// Parses Mitsuba's inline form `"400:0.1, 500:0.3"` (λ in nm; pairs separated by commas;
@@ -142,12 +143,7 @@ impl PiecewiseLinear {
             lambda.push(l);
             value.push(v);
         }
-        Ok(Self {
-            bucket_start: bucket_starts(&lambda),
-            lambda,
-            value,
-            extrapolation: Extrapolation::Zero,
-        })
+        Ok(Self::from_checked(lambda, value, Extrapolation::Zero))
     }
 
     /// The same table with another extrapolation rule.
