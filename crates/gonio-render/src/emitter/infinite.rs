@@ -498,13 +498,13 @@ fn compact_sigmoids(
     // Texel by texel, in parallel (the uplift is a table lookup per texel: a 4096 × 2048 map
     // has eight million), straight into one vector in the texels' order; a texel of another
     // form is marked by a NaN scale (an uplift's scale is finite).
+    let black = (RgbSigmoid::constant(0.0), 0.0);
     let mut pairs = Vec::new();
     rgb.par_iter()
         .map(|&c| match uplift(c) {
-            Spectrum::Rgb(r) if r.scale == 0.0 => (r.sigmoid, 0.0),
-            Spectrum::Constant(0.0) => (RgbSigmoid::constant(0.0), 0.0),
+            s if is_black_texel(&s) => black,
             Spectrum::Rgb(r) if r.kind == kind && r.scale.is_finite() => (r.sigmoid, r.scale),
-            _ => (RgbSigmoid::constant(0.0), f32::NAN),
+            _ => (black.0, f32::NAN),
         })
         .collect_into_vec(&mut pairs);
     (!pairs.par_iter().any(|p| p.1.is_nan())).then_some((pairs, kind))
