@@ -41,6 +41,31 @@ fn bucket_starts(lambda: &[f32]) -> Vec<u32> {
         .collect()
 }
 
+/// Appends the sample written as `(l, v)` to a table being parsed: both numbers, finite, λ above
+/// the last one; `bad` words the error about the entry.
+fn push_parsed(
+    lambda: &mut Vec<f32>,
+    value: &mut Vec<f32>,
+    (l, v): (&str, &str),
+    bad: impl Fn(&str) -> String,
+) -> Result<(), String> {
+    let l: f32 = l.trim().parse().map_err(|_| bad("wavelength is not a number"))?;
+    let v: f32 = v.trim().parse().map_err(|_| bad("value is not a number"))?;
+    if !l.is_finite() || !v.is_finite() {
+        return Err(bad("non-finite number"));
+    }
+    if let Some(&prev) = lambda.last()
+        && l <= prev
+    {
+        return Err(bad(&format!(
+            "wavelength {l} does not increase (previous {prev})"
+        )));
+    }
+    lambda.push(l);
+    value.push(v);
+    Ok(())
+}
+
 impl PiecewiseLinear {
     /// From samples; `lambda` must be strictly increasing, both the same length ≥ 1.
     /// Returns `None` otherwise (the scene reader turns that into an error naming the value).
@@ -91,21 +116,7 @@ impl PiecewiseLinear {
             if fields.len() != 2 {
                 return Err(bad("expected two numbers \"wavelength value\""));
             }
-            let l: f32 = fields[0].parse().map_err(|_| bad("wavelength is not a number"))?;
-            let v: f32 = fields[1].parse().map_err(|_| bad("value is not a number"))?;
-            if !l.is_finite() || !v.is_finite() {
-                return Err(bad("non-finite number"));
-            }
-            match lambda.last() {
-                Some(&prev) if l <= prev => {
-                    return Err(bad(&format!(
-                        "wavelength {l} does not increase (previous {prev})"
-                    )));
-                }
-                _ => {}
-            }
-            lambda.push(l);
-            value.push(v);
+            push_parsed(&mut lambda, &mut value, (fields[0], fields[1]), bad)?;
         }
         if lambda.is_empty() {
             return Err("spectrum file holds no \"wavelength value\" lines".into());
@@ -124,24 +135,10 @@ impl PiecewiseLinear {
                 ));
             }
             let bad = |why: &str| format!("spectrum entry \"{token}\": {why}");
-            let (l, v) = token
+            let pair = token
                 .split_once(':')
                 .ok_or_else(|| bad("expected \"wavelength:value\""))?;
-            let l: f32 = l.trim().parse().map_err(|_| bad("wavelength is not a number"))?;
-            let v: f32 = v.trim().parse().map_err(|_| bad("value is not a number"))?;
-            if !l.is_finite() || !v.is_finite() {
-                return Err(bad("non-finite number"));
-            }
-            match lambda.last() {
-                Some(&prev) if l <= prev => {
-                    return Err(bad(&format!(
-                        "wavelength {l} does not increase (previous {prev})"
-                    )));
-                }
-                _ => {}
-            }
-            lambda.push(l);
-            value.push(v);
+            push_parsed(&mut lambda, &mut value, pair, bad)?;
         }
         Ok(Self::from_checked(lambda, value, Extrapolation::Zero))
     }
