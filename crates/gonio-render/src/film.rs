@@ -33,7 +33,7 @@
 
 use crate::image::{ChannelImage, RgbImage};
 use crate::scene::FilterDesc;
-use glam::{UVec2, Vec2};
+use glam::{UVec2, Vec2, Vec4};
 
 /// A filter with its support radius precomputed.
 #[derive(Clone, Copy, Debug)]
@@ -347,9 +347,8 @@ impl FilmTile {
         if x0 > x1 || y0 > y1 {
             return;
         }
-        let tw = (self.max.x - self.min.x) as i64;
+        let tw = (self.max.x - self.min.x) as usize;
         let stride = self.stride;
-        let n = stride - 1;
         let nx = (x1 - x0 + 1) as usize;
         let mut stack = [0.0f32; 16];
         let mut heap;
@@ -362,23 +361,40 @@ impl FilmTile {
         for (i, w) in wx.iter_mut().enumerate() {
             *w = self.kernel.eval(p.x - (x0 + i as i64) as f32 - 0.5);
         }
-        for y in y0..=y1 {
+        // The row's pixels x0..=x1 as one slice (the bounds checked once per row).
+        let (cx, cy) = (
+            (x0 - self.min.x as i64) as usize,
+            (y0 - self.min.y as i64) as usize,
+        );
+        for (j, y) in (y0..=y1).enumerate() {
             let wy = self.kernel.eval(p.y - y as f32 - 0.5);
             if wy == 0.0 {
                 continue;
             }
-            let row = (y - self.min.y as i64) * tw;
-            for (i, &wxi) in wx.iter().enumerate() {
-                let w = wxi * wy;
-                if w == 0.0 {
-                    continue;
+            let at = ((cy + j) * tw + cx) * stride;
+            let row = &mut self.data[at..at + nx * stride];
+            if let &[r, g, b] = c {
+                // Three channels (the RGB film): one pixel's four sums side by side.
+                let c = Vec4::new(r, g, b, 1.0);
+                for (d, &wxi) in row.chunks_exact_mut(4).zip(wx.iter()) {
+                    let w = wxi * wy;
+                    if w != 0.0 {
+                        let d: &mut [f32; 4] = d.try_into().expect("four sums a pixel");
+                        *d = (Vec4::from_array(*d) + Vec4::splat(w) * c).to_array();
+                    }
                 }
-                let at = (row + x0 + i as i64 - self.min.x as i64) as usize * stride;
-                let d = &mut self.data[at..at + stride];
-                for (dk, &ck) in d[..n].iter_mut().zip(c) {
-                    *dk += w * ck;
+            } else {
+                for (d, &wxi) in row.chunks_exact_mut(stride).zip(wx.iter()) {
+                    let w = wxi * wy;
+                    if w == 0.0 {
+                        continue;
+                    }
+                    let (sums, weight) = d.split_at_mut(stride - 1);
+                    for (dk, &ck) in sums.iter_mut().zip(c) {
+                        *dk += w * ck;
+                    }
+                    weight[0] += w;
                 }
-                d[n] += w;
             }
         }
     }
