@@ -338,6 +338,12 @@ impl FilmTile {
             self.invalid += 1;
             return;
         }
+        if let FilterDesc::Box { radius } = self.kernel.filter
+            && radius <= 0.5
+        {
+            self.add_box_sample(p, radius, c);
+            return;
+        }
         let r = self.kernel.radius;
         // Pixel centres x + ½ with |p − x − ½| ≤ r.
         let x0 = ((p.x - 0.5 - r).ceil() as i64).max(self.min.x as i64);
@@ -397,6 +403,29 @@ impl FilmTile {
                 }
             }
         }
+    }
+}
+
+impl FilmTile {
+    /// [`Self::add_sample`] under a box of radius r ≤ ½: the one pixel `⌊p⌋` if
+    /// `−r ≤ p − ⌊p⌋ − ½ < r` on both axes (the filter's own test), weight 1.
+    #[inline]
+    fn add_box_sample(&mut self, p: Vec2, r: f32, c: &[f32]) {
+        let (x, y) = (p.x.floor() as i64, p.y.floor() as i64);
+        let inside = |d: f32| -r <= d && d < r;
+        if !(inside(p.x - x as f32 - 0.5) && inside(p.y - y as f32 - 0.5)) {
+            return;
+        }
+        let (lo, hi) = (self.min.as_i64vec2(), self.max.as_i64vec2());
+        if x < lo.x || x >= hi.x || y < lo.y || y >= hi.y {
+            return;
+        }
+        let at = ((y - lo.y) as usize * (hi.x - lo.x) as usize + (x - lo.x) as usize) * self.stride;
+        let (sums, weight) = self.data[at..at + self.stride].split_at_mut(self.stride - 1);
+        for (dk, &ck) in sums.iter_mut().zip(c) {
+            *dk += ck;
+        }
+        weight[0] += 1.0;
     }
 }
 

@@ -22,6 +22,77 @@ fn box_filter_averages_the_samples_of_each_pixel() {
 }
 
 #[test]
+fn box_samples_reach_one_pixel_by_the_half_open_rule_in_any_tile() {
+    // The box's one-pixel path (radius <= 1/2) against the rule written out: a sample at p
+    // belongs to pixel (i, j) iff -r <= p - (i, j) - 1/2 < r on both axes, and only a tile that
+    // stores that pixel takes it. Positions on pixel borders, film edges and tile edges, a box
+    // narrower than a pixel, and a film with more channels than RGB.
+    use gonio_render::film::Channels;
+    let positions = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(2.0, 1.0),
+        Vec2::new(1.999, 2.5),
+        Vec2::new(2.3, 2.2),
+        Vec2::new(2.75, 0.26),
+        Vec2::new(4.0, 2.9),
+        Vec2::new(-0.2, 1.5),
+        Vec2::new(3.5, 3.0),
+        Vec2::new(1.6, 0.4),
+        Vec2::new(3.45, 2.55),
+        Vec2::new(1.75, 1.25),
+    ];
+    for radius in [0.5f32, 0.25] {
+        let channels = Channels::rgb().with_layer("depth", &["Z"]);
+        let mut film = Film::with_channels(4, 3, FilterDesc::Box { radius }, channels);
+        let blocks = [
+            (UVec2::ZERO, UVec2::new(2, 2)),
+            (UVec2::new(2, 0), UVec2::new(4, 2)),
+            (UVec2::new(0, 2), UVec2::new(4, 3)),
+        ];
+        let mut expected = vec![[0.0f64; 5]; 12];
+        for (lo, hi) in blocks {
+            let mut tile = film.tile(lo, hi);
+            for (k, &p) in positions.iter().enumerate() {
+                let c = [k as f32 + 1.0, 0.5, 2.0 * k as f32, 10.0 + k as f32];
+                tile.add_sample(p, c);
+                for y in lo.y..hi.y {
+                    for x in lo.x..hi.x {
+                        let (dx, dy) = (p.x - x as f32 - 0.5, p.y - y as f32 - 0.5);
+                        if -radius <= dx && dx < radius && -radius <= dy && dy < radius {
+                            let e = &mut expected[(y * 4 + x) as usize];
+                            for (ek, ck) in e.iter_mut().zip(c.iter().chain([&1.0])) {
+                                *ek += *ck as f64;
+                            }
+                        }
+                    }
+                }
+            }
+            film.merge(&tile);
+        }
+        let all = film.to_channels();
+        let mut hits = 0;
+        for (i, e) in expected.iter().enumerate() {
+            let (x, y) = (i as u32 % 4, i as u32 / 4);
+            assert_eq!(film.weight(x, y), e[4], "radius {radius}, pixel ({x}, {y})");
+            if e[4] > 0.0 {
+                hits += 1;
+                for k in 0..4 {
+                    assert_eq!(
+                        all.data[i * 4 + k] as f64,
+                        (e[k] / e[4]) as f32 as f64,
+                        "radius {radius}, pixel ({x}, {y})"
+                    );
+                }
+            }
+        }
+        assert!(
+            hits >= if radius == 0.5 { 5 } else { 2 },
+            "radius {radius}: {hits} pixels lit"
+        );
+    }
+}
+
+#[test]
 fn tent_and_gaussian_weights_follow_mitsuba() {
     // A single sample at (2.5 + dx, 2.5): pixel (2,2) gets f(dx)·f(0), pixel (3,2) f(dx − 1)·f(0).
     let dx = 0.3f32;
