@@ -57,9 +57,7 @@ fn mis_exponent_defaults_and_bounds() {
             r#"value="2"/></integrator>"#,
             &format!(r#"value="{bad}"/></integrator>"#),
         );
-        let err = gonio_render::xml::load_scene_str(&xml, ".", &[])
-            .err()
-            .expect("refused");
+        let err = gonio_render::xml::load_scene_str(&xml, ".", &[]).expect_err("refused");
         assert!(err.to_string().contains("mis_exponent"), "{bad}: {err}");
     }
 }
