@@ -452,7 +452,9 @@ pub fn render_with<I: Integrator + ?Sized>(
                     return None;
                 }
                 let mut tile = film.tile(lo, hi);
-                let mut sampler = Sampler::new(options.pattern, spp, options.seed);
+                // Pixels share nets where the filter shares samples (`Sampler::z_ordered`).
+                let mut sampler =
+                    Sampler::new(options.pattern, spp, options.seed).z_ordered(film.border() > 0);
                 let mut value = vec![0.0f32; n_channels];
                 let mut scaled = vec![0.0f32; n_channels];
                 let mut splat = |p: Vec2, v: &[f32]| {
