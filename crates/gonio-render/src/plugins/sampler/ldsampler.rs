@@ -23,7 +23,7 @@ use crate::xml::{Builder, Params, SceneError};
 /// The `ldsampler` plugin.
 pub static PLUGIN: Plugin<SamplerDesc> = Plugin {
     name: "ldsampler",
-    summary: "Low-discrepancy samples (ours: Owen-scrambled Sobol points, the same (0, 2)-sequence in the first two dimensions); `sample_count` rounded up to a power of four.",
+    summary: "Low-discrepancy samples (ours: Owen-scrambled Sobol points, the same (0, 2)-sequence in the first two dimensions); `sample_count` rounded up to a power of four. Under a reconstruction filter that reaches neighbouring pixels (the default `gaussian`) the pixels take blocks of one sequence in Z order (as pbrt-v4's `zsobol`): the samples of every aligned 2ᵏ × 2ᵏ square of pixels are one net, not only each pixel's. The same pattern replaces `independent` unless `--sampler independent` is given.",
     params: &[SAMPLE_COUNT, SEED],
     build,
 };
