@@ -25,6 +25,42 @@ fn chi2_ok(counts: &[u64], expected: f64) -> (bool, f64) {
     (z < 4.5, z)
 }
 
+const BINS: usize = 32;
+
+/// Histograms of the samples of a 64 × 64 image at `spp` samples a pixel: dimension 0 (32 bins),
+/// the pair 1–2 (32 × 32 cells) and dimensions 0 × 3 (32 × 32, two dimensions that are not a
+/// pair: decorrelated?), with the number of samples.
+fn histograms(s: &mut Sampler, spp: u32) -> [(Vec<u64>, &'static str); 3] {
+    let mut c1 = vec![0u64; BINS];
+    let mut c2 = vec![0u64; BINS * BINS];
+    let mut c_cross = vec![0u64; BINS * BINS];
+    for py in 0..64 {
+        for px in 0..64 {
+            for i in 0..spp {
+                s.start_pixel_sample(UVec2::new(px, py), i);
+                let a = s.next_1d();
+                let b = s.next_2d();
+                let c = s.next_1d();
+                for v in [a, b.x, b.y, c] {
+                    assert!((0.0..1.0).contains(&v), "{:?}: {v}", s.pattern());
+                }
+                let bin = |v: f32| (v * BINS as f32) as usize;
+                c1[bin(a)] += 1;
+                c2[bin(b.x) * BINS + bin(b.y)] += 1;
+                c_cross[bin(a) * BINS + bin(c)] += 1;
+            }
+        }
+    }
+    [(c1, "1D"), (c2, "2D"), (c_cross, "dims 0×3")]
+}
+
+/// The χ² check of a histogram whose cells all expect the same count.
+fn assert_uniform(counts: &[u64], what: &str) {
+    let n: u64 = counts.iter().sum();
+    let (ok, z) = chi2_ok(counts, n as f64 / counts.len() as f64);
+    assert!(ok, "{what}: χ² z = {z}");
+}
+
 #[test]
 fn projections_are_uniform() {
     // Jittered patterns only: without jitter, samples sit at stratum centres by design.
@@ -37,31 +73,8 @@ fn projections_are_uniform() {
     for pattern in jittered {
         for spp in [1u32, 7, 16] {
             let mut s = Sampler::new(pattern, spp, 3);
-            let bins = 32usize;
-            let mut c1 = vec![0u64; bins];
-            let mut c2 = vec![0u64; bins * bins];
-            let mut c_cross = vec![0u64; bins * bins]; // dims 0 and 3: decorrelated?
-            let mut n = 0u64;
-            for py in 0..64 {
-                for px in 0..64 {
-                    for i in 0..spp {
-                        s.start_pixel_sample(UVec2::new(px, py), i);
-                        let a = s.next_1d();
-                        let b = s.next_2d();
-                        let c = s.next_1d();
-                        for v in [a, b.x, b.y, c] {
-                            assert!((0.0..1.0).contains(&v), "{pattern:?}: {v}");
-                        }
-                        c1[(a * bins as f32) as usize] += 1;
-                        c2[(b.x * bins as f32) as usize * bins + (b.y * bins as f32) as usize] += 1;
-                        c_cross[(a * bins as f32) as usize * bins + (c * bins as f32) as usize] += 1;
-                        n += 1;
-                    }
-                }
-            }
-            for (name, counts) in [("1D", &c1), ("2D", &c2), ("dims 0×3", &c_cross)] {
-                let (ok, z) = chi2_ok(counts, n as f64 / counts.len() as f64);
-                assert!(ok, "{pattern:?} spp {spp} {name}: χ² z = {z}");
+            for (counts, name) in histograms(&mut s, spp) {
+                assert_uniform(&counts, &format!("{pattern:?} spp {spp} {name}"));
             }
         }
     }
@@ -76,36 +89,18 @@ fn projections_are_uniform() {
 #[test]
 fn z_ordered_projections_are_uniform() {
     for spp in [1u32, 7, 16] {
-        let bins = 32usize;
-        let mut c_cross = vec![0u64; bins * bins];
-        let mut n_cross = 0u64;
+        let mut cross = vec![0u64; BINS * BINS];
         for seed in 0..8u64 {
             let mut s = Sampler::new(Pattern::Sobol, spp, seed).z_ordered(true);
-            let mut c1 = vec![0u64; bins];
-            let mut c2 = vec![0u64; bins * bins];
-            let mut n = 0u64;
-            for py in 0..64 {
-                for px in 0..64 {
-                    for i in 0..spp {
-                        s.start_pixel_sample(UVec2::new(px, py), i);
-                        let a = s.next_1d();
-                        let b = s.next_2d();
-                        let c = s.next_1d();
-                        c1[(a * bins as f32) as usize] += 1;
-                        c2[(b.x * bins as f32) as usize * bins + (b.y * bins as f32) as usize] += 1;
-                        c_cross[(a * bins as f32) as usize * bins + (c * bins as f32) as usize] += 1;
-                        n += 1;
-                    }
-                }
+            let [one, pair, (c, _)] = histograms(&mut s, spp);
+            for (counts, name) in [one, pair] {
+                assert_uniform(&counts, &format!("spp {spp} seed {seed} {name}"));
             }
-            n_cross += n;
-            for (name, counts) in [("1D", &c1), ("2D", &c2)] {
-                let (ok, z) = chi2_ok(counts, n as f64 / counts.len() as f64);
-                assert!(ok, "spp {spp} seed {seed} {name}: χ² z = {z}");
+            for (sum, x) in cross.iter_mut().zip(c) {
+                *sum += x;
             }
         }
-        let (ok, z) = chi2_ok(&c_cross, n_cross as f64 / c_cross.len() as f64);
-        assert!(ok, "spp {spp} dims 0×3 over eight seeds: χ² z = {z}");
+        assert_uniform(&cross, &format!("spp {spp} dims 0×3 over eight seeds"));
     }
 }
 
