@@ -379,13 +379,12 @@ impl FilmTile {
             }
             let at = ((cy + j) * tw + cx) * stride;
             let row = &mut self.data[at..at + nx * stride];
-            if let &[r, g, b] = c {
+            if let (4, &[r, g, b]) = (stride, c) {
                 // Three channels (the RGB film): one pixel's four sums side by side.
                 let c = Vec4::new(r, g, b, 1.0);
-                for (d, &wxi) in row.chunks_exact_mut(4).zip(wx.iter()) {
+                for (d, &wxi) in row.as_chunks_mut::<4>().0.iter_mut().zip(wx.iter()) {
                     let w = wxi * wy;
                     if w != 0.0 {
-                        let d: &mut [f32; 4] = d.try_into().expect("four sums a pixel");
                         *d = (Vec4::from_array(*d) + Vec4::splat(w) * c).to_array();
                     }
                 }

@@ -14,9 +14,10 @@
 //! `Sobol` scrambles each pixel's sequence with keys of its own; [`Sampler::z_ordered`] instead
 //! gives each pixel its own block of one sequence, in Morton (Z) order of the pixels (Ahmed and
 //! Wonka 2020, pbrt-v4's `ZSobolSampler`): pixel `p` of a tile takes indices
-//! `morton(p)·B … morton(p)·B + B − 1`, B the sample count rounded up to a power of two. A
-//! pixel's samples are still a (0, m, 2)-net in every dimension pair, and the pixels of every
-//! aligned 2ᵏ × 2ᵏ square are one larger net together: under a reconstruction filter wider than
+//! `morton(p)·B … morton(p)·B + B − 1`, B the sample count rounded up to a power of two. With
+//! spp = B = 2ᵐ a pixel's samples are still a (0, m, 2)-net in every pair `next_2d` draws, and
+//! the pixels of every aligned 2ᵏ × 2ᵏ square of a tile are one (0, m + 2k, 2)-net together
+//! (other sample counts fill part of each block, and the square part of such a net): under a reconstruction filter wider than
 //! a pixel (Mitsuba's default gaussian reaches 4 × 4 pixels) the samples a pixel averages are
 //! stratified jointly, not pixel by pixel (the renderer turns it on for such filters). Tiles of
 //! 2ᵇ × 2ᵇ pixels (b = min(16, ⌊(32 − log₂B)/2⌋), so that indices fit 32 bits) and each further
@@ -88,8 +89,8 @@ pub struct Sampler {
     /// The Sobol pattern's index of the current sample in the tile's sequence: the pixel's
     /// block and the sample's place in it (module docs).
     sobol_index: u32,
-    /// What the dimension keys are made from: the pixel's key, or for the Sobol pattern the
-    /// key of the pixel's tile and of the sample's round of B.
+    /// What the dimension keys are made from: the pixel's key, or in Z order the key of the
+    /// pixel's tile and of the sample's round of B.
     scramble_key: u64,
     /// The Sobol pattern's key of the pixel's tile (round 0) and the pixel's block, made once
     /// per pixel, when its pixels take blocks of one sequence in Z order.
@@ -104,7 +105,8 @@ pub struct Sampler {
     pixel_dim_keys: [u32; CACHED_KEYS],
     dim: u32,
     rng: Pcg32,
-    /// [`Sampler::key`] of the first [`CACHED_KEYS`] dimensions of the current pixel, made once
+    /// [`Sampler::key`] of the first [`CACHED_KEYS`] dimensions of the current pixel (in Z order:
+    /// tile and round), made once
     /// per pixel rather than once per sample and dimension (a pixel's samples run one after
     /// another).
     dim_keys: [u32; CACHED_KEYS],
@@ -243,6 +245,10 @@ fn owen_sobol(i: u32, k: u32) -> (u32, u32) {
     (x, y)
 }
 
+/// Salt of the rounds' keys ([`Sampler::z_ordered`]), apart from the dimensions' keys made
+/// from the same tile key.
+const ROUND_SALT: u64 = 0x9fb2_1c65_1e98_df25;
+
 /// Salt of the per-pixel block shifts' keys ([`Sampler::z_ordered`]), apart from the pixel's
 /// other keys.
 const PIXEL_SHUFFLE_SALT: u64 = 0x5bd1_e995_2f4a_7c15;
@@ -325,7 +331,8 @@ impl Sampler {
         self.pattern
     }
 
-    /// Starts sample `index` (in `0..spp`, larger values continue the sequences) of `pixel`.
+    /// Starts sample `index` (in `0..spp`; larger values continue the pixel's sequence, or in Z
+    /// order start rounds of B with keys of their own) of `pixel`.
     pub fn start_pixel_sample(&mut self, pixel: UVec2, index: u32) {
         if pixel != self.pixel {
             self.set_pixel(pixel);
@@ -382,7 +389,7 @@ impl Sampler {
         if round == 0 {
             self.tile_key
         } else {
-            mix64(self.tile_key ^ (round as u64).wrapping_mul(GOLDEN_GAMMA))
+            mix64(self.tile_key ^ ROUND_SALT ^ (round as u64).wrapping_mul(GOLDEN_GAMMA))
         }
     }
 
@@ -417,8 +424,9 @@ impl Sampler {
 
     /// The Sobol index dimension `dim` takes: in Z order, the pixel's block with the sample's
     /// place in it shifted per pixel and dimension (XOR with a key's log₂B low bits, a
-    /// permutation of the block), so that two dimensions pair a pixel's points differently in
-    /// every pixel; the block's points, and so the nets, are the same.
+    /// permutation of the block), so that two dimensions pair a pixel's points by one of B
+    /// shifts chosen per pixel rather than the same way in the whole tile; the block's points,
+    /// and so the nets, are the same.
     #[inline]
     fn z_index(&self, dim: u32) -> u32 {
         if !self.z_order {
@@ -663,134 +671,4 @@ impl PathSampler for PaddedSampler<'_> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The direct definition: XOR of the direction numbers of the set bits.
-    fn sobol_y_loop(i: u32) -> u32 {
-        let (mut y, mut v, mut bits) = (0u32, 1u32 << 31, i);
-        while bits != 0 {
-            if bits & 1 != 0 {
-                y ^= v;
-            }
-            bits >>= 1;
-            v ^= v >> 1;
-        }
-        y
-    }
-
-    #[test]
-    fn table_sobol_matches_the_definition() {
-        let mut r = Pcg32::new(1, 2);
-        for i in (0..4096).chain((0..10_000).map(|_| r.next_u32())) {
-            assert_eq!(sobol_y_rev(i).reverse_bits(), sobol_y_loop(i), "index {i}");
-        }
-        // First points of dimension 1: 0, 1/2, 3/4, 1/4 (·2³²).
-        let first: Vec<u32> = (0..4).map(sobol_y_loop).collect();
-        assert_eq!(first, vec![0, 1 << 31, 3 << 30, 1 << 30]);
-    }
-
-    #[test]
-    fn folded_scrambles_equal_the_plain_composition() {
-        let mut r = Pcg32::new(3, 4);
-        for _ in 0..10_000 {
-            let (i, k) = (r.next_u32() % 4096, r.next_u32());
-            let idx = owen_scramble(i, k);
-            let x = owen_scramble(idx.reverse_bits(), k.wrapping_mul(0x2545_f491) ^ 0x68bc_21eb);
-            let y = owen_scramble(sobol_y_loop(idx), k.wrapping_mul(0x9e37_79b9) ^ 0x02e5_be93);
-            assert_eq!(owen_sobol(i, k), (x, y));
-        }
-    }
-
-    /// The per-pixel key cache: a sampler that has visited other pixels has each dimension's
-    /// key as the definition gives it, and draws, for a pixel sample, exactly the numbers of a
-    /// fresh sampler started there, over the cached dimensions and past them.
-    #[test]
-    fn a_rewound_path_sampler_repeats_its_numbers() {
-        // Marked in the pattern's dimensions and past them (the independent stream, started
-        // lazily or already running): every number after the mark comes again, and the
-        // numbers after it differ from those before.
-        for pattern in [
-            Pattern::Sobol,
-            Pattern::Independent,
-            Pattern::Stratified { jitter: true },
-        ] {
-            for skip in [0u32, 5, STRUCTURED_DIMS - 1, STRUCTURED_DIMS + 3] {
-                let mut sampler = Sampler::new(pattern, 16, 3);
-                sampler.start_pixel_sample(UVec2::new(2, 7), 5);
-                let mut padded = sampler.padded();
-                let before: Vec<f32> = (0..skip).map(|_| padded.next_1d()).collect();
-                let mark = padded.mark();
-                let draw = |p: &mut PaddedSampler| -> Vec<f32> {
-                    (0..12)
-                        .flat_map(|_| {
-                            let v = p.next_2d();
-                            [v.x, v.y, p.next_1d()]
-                        })
-                        .collect()
-                };
-                let first = draw(&mut padded);
-                padded.rewind(mark);
-                assert_eq!(draw(&mut padded), first, "{pattern:?}, mark after {skip}");
-                assert!(before.iter().all(|b| !first.contains(b)), "{pattern:?}, {skip}");
-            }
-        }
-        let mut rng = Pcg32::new(1, 2);
-        let mark = rng.mark();
-        let a = [rng.next_1d(), rng.next_1d()];
-        rng.rewind(mark);
-        assert_eq!([rng.next_1d(), rng.next_1d()], a);
-    }
-
-    #[test]
-    fn cached_dimension_keys_give_the_numbers_of_a_fresh_sampler() {
-        for (pattern, z) in [
-            (Pattern::Sobol, false),
-            (Pattern::Sobol, true),
-            (Pattern::MultiJitter { jitter: true }, false),
-        ] {
-            let draw = |s: &mut Sampler| -> Vec<f32> {
-                (0..2 * CACHED_KEYS)
-                    .flat_map(|_| {
-                        let v = s.next_2d();
-                        [v.x, v.y, s.next_1d()]
-                    })
-                    .collect()
-            };
-            let mut walked = Sampler::new(pattern, 16, 9).z_ordered(z);
-            // Z order: the second pixel in another tile (b = 14 bits at 16 spp), then a
-            // sample of the next round (index >= 16), then back.
-            for (pixel, index) in [
-                (UVec2::new(3, 4), 0),
-                (UVec2::new(1 << 14, 6), 1),
-                (UVec2::new(3, 4), 21),
-                (UVec2::new(3, 5), 2),
-            ] {
-                walked.start_pixel_sample(pixel, index);
-                // The keys by their definition: the pixel's, or in Z order the tile's and the
-                // round's.
-                let key = if z {
-                    let tile = Sampler::pixel_key(9, UVec2::new(pixel.x >> 14, pixel.y >> 14));
-                    let round = (index / 16) as u64;
-                    if round == 0 {
-                        mix64(tile)
-                    } else {
-                        mix64(mix64(tile) ^ round.wrapping_mul(GOLDEN_GAMMA))
-                    }
-                } else {
-                    Sampler::pixel_key(9, pixel)
-                };
-                for dim in 0..2 * CACHED_KEYS as u32 {
-                    assert_eq!(walked.key(dim), Sampler::dim_key(key, dim), "{pixel}, {dim}");
-                }
-                let mut fresh = Sampler::new(pattern, 16, 9).z_ordered(z);
-                fresh.start_pixel_sample(pixel, index);
-                assert_eq!(
-                    draw(&mut walked),
-                    draw(&mut fresh),
-                    "{pattern:?} at {pixel}, {index}"
-                );
-            }
-        }
-    }
-}
+mod tests;
