@@ -403,9 +403,7 @@ impl FilmTile {
             }
         }
     }
-}
 
-impl FilmTile {
     /// [`Self::add_sample`] under a box of radius r ≤ ½: the one pixel `⌊p⌋` if
     /// `−r ≤ p − ⌊p⌋ − ½ < r` on both axes (the filter's own test), weight 1.
     #[inline]

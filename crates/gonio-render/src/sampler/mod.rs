@@ -26,9 +26,10 @@
 //! block's points as they are): without it, two dimensions that are not a pair shared the tile's
 //! pairing of their points, and the materials scene, z-ordered under a box filter, came out 3.7 %
 //! noisier than with per-pixel keys (with it, within 0.3 %; a nested scramble instead of the
-//! shift did no better and cost 3 % more instructions). Two such dimensions are decorrelated
-//! over the scrambles, but within one image still less thoroughly than by per-pixel keys (the χ²
-//! of their joint histogram over a whole image spreads wider; see `tests/sampler.rs`).
+//! shift did no better, within the seeds' spread, at 2 % more instructions than the shift). Two
+//! such dimensions are decorrelated over the scrambles, but within one image still less
+//! thoroughly than by per-pixel keys (the χ² of their joint histogram over a whole image spreads
+//! wider; see `tests/sampler.rs`).
 //!
 //! The shuffles (Kensler's hashed permutation, Burley's nested uniform scramble) use a different
 //! key for every dimension, so dimensions are decorrelated ("padding"). `Sobol` is our own
@@ -92,24 +93,55 @@ pub struct Sampler {
     /// What the dimension keys are made from: the pixel's key, or in Z order the key of the
     /// pixel's tile and of the sample's round of B.
     scramble_key: u64,
-    /// The Sobol pattern's key of the pixel's tile (round 0) and the pixel's block, made once
-    /// per pixel, when its pixels take blocks of one sequence in Z order.
-    tile_key: u64,
-    block: u32,
-    z_order: bool,
-    /// log₂B: the bits of a sample's place in its pixel's block, and their mask.
-    block_bits: u32,
-    block_mask: u32,
-    /// In Z order, the keys shifting the places in a pixel's block per dimension (its first
-    /// [`CACHED_KEYS`] dimensions, made once per pixel).
-    pixel_dim_keys: [u32; CACHED_KEYS],
+    /// The Sobol pattern's pixels in Z order ([`Sampler::z_ordered`]), or `None`.
+    z: Option<ZOrder>,
     dim: u32,
     rng: Pcg32,
     /// [`Sampler::key`] of the first [`CACHED_KEYS`] dimensions of the current pixel (in Z order:
-    /// tile and round), made once
-    /// per pixel rather than once per sample and dimension (a pixel's samples run one after
-    /// another).
+    /// tile and round), made once per pixel rather than once per sample and dimension (a
+    /// pixel's samples run one after another).
     dim_keys: [u32; CACHED_KEYS],
+}
+
+/// The Z order's layout and the current pixel's place in it (module docs).
+#[derive(Clone, Copy, Debug)]
+struct ZOrder {
+    /// log₂B (the bits of a sample's place in its pixel's block), their mask, and the bits per
+    /// axis of a tile's pixel coordinates ([`zsobol_layout`]).
+    block_bits: u32,
+    block_mask: u32,
+    tile_bits: u32,
+    /// The key of the pixel's tile (round 0) and the pixel's block, made once per pixel.
+    tile_key: u64,
+    block: u32,
+    /// The keys shifting the places in the pixel's block per dimension (its first
+    /// [`CACHED_KEYS`] dimensions, made once per pixel).
+    pixel_dim_keys: [u32; CACHED_KEYS],
+}
+
+impl ZOrder {
+    /// The layout for `spp` samples per pixel, before any pixel.
+    fn new(spp: u32) -> Self {
+        let (block_bits, tile_bits) = zsobol_layout(spp);
+        Self {
+            block_bits,
+            block_mask: ((1u64 << block_bits) - 1) as u32,
+            tile_bits,
+            tile_key: 0,
+            block: 0,
+            pixel_dim_keys: [0; CACHED_KEYS],
+        }
+    }
+
+    /// The scramble key of round `round` of the pixel's samples (the tile's for the first B).
+    #[inline]
+    fn round_key(&self, round: u32) -> u64 {
+        if round == 0 {
+            self.tile_key
+        } else {
+            mix64(self.tile_key ^ ROUND_SALT ^ (round as u64).wrapping_mul(GOLDEN_GAMMA))
+        }
+    }
 }
 
 /// Dimensions whose keys a sampler keeps per pixel: the structured ones a path draws.
@@ -290,12 +322,7 @@ impl Sampler {
             index: 0,
             sobol_index: 0,
             scramble_key: 0,
-            tile_key: 0,
-            block: 0,
-            z_order: false,
-            block_bits: zsobol_layout(spp.max(1)).0,
-            block_mask: ((1u64 << zsobol_layout(spp.max(1)).0) - 1) as u32,
-            pixel_dim_keys: [0; CACHED_KEYS],
+            z: None,
             dim: 0,
             rng: Pcg32::new(0, 0),
             dim_keys: [0; CACHED_KEYS],
@@ -310,7 +337,7 @@ impl Sampler {
     /// order when `on` (module docs): for reconstruction filters that reach neighbouring
     /// pixels. Other patterns are unchanged.
     pub fn z_ordered(mut self, on: bool) -> Self {
-        self.z_order = on && self.pattern == Pattern::Sobol;
+        self.z = (on && self.pattern == Pattern::Sobol).then(|| ZOrder::new(self.spp));
         self.set_pixel(self.pixel);
         self.start_pixel_sample(self.pixel, self.index);
         self
@@ -340,15 +367,12 @@ impl Sampler {
         self.index = index;
         self.dim = 0;
         self.sobol_index = index;
-        if self.z_order {
-            let lg = self.block_bits;
-            let round = ((index as u64) >> lg) as u32;
-            let key = self.sobol_key(round);
+        if let Some(z) = self.z {
+            let key = z.round_key(((index as u64) >> z.block_bits) as u32);
             if key != self.scramble_key {
                 self.set_scramble_key(key);
             }
-            let within = index as u64 & ((1u64 << lg) - 1);
-            self.sobol_index = (((self.block as u64) << lg) | within) as u32;
+            self.sobol_index = (((z.block as u64) << z.block_bits) as u32) | (index & z.block_mask);
         }
         if self.pattern == Pattern::Independent
             || matches!(self.pattern, Pattern::Stratified { jitter: true })
@@ -361,35 +385,25 @@ impl Sampler {
     fn set_pixel(&mut self, pixel: UVec2) {
         self.pixel_key = Self::pixel_key(self.seed, pixel);
         self.pixel = pixel;
-        let key = if self.z_order {
-            let bits = zsobol_layout(self.spp).1;
-            let tile = UVec2::new(
-                ((pixel.x as u64) >> bits) as u32,
-                ((pixel.y as u64) >> bits) as u32,
-            );
-            self.tile_key = mix64(Self::pixel_key(self.seed, tile));
-            self.block = morton2(pixel.x, pixel.y, bits);
-            for (dim, k) in self.pixel_dim_keys.iter_mut().enumerate() {
-                *k = Self::dim_key(self.pixel_key ^ PIXEL_SHUFFLE_SALT, dim as u32);
+        let key = match &mut self.z {
+            Some(z) => {
+                let bits = z.tile_bits;
+                let tile = UVec2::new(
+                    ((pixel.x as u64) >> bits) as u32,
+                    ((pixel.y as u64) >> bits) as u32,
+                );
+                z.tile_key = mix64(Self::pixel_key(self.seed, tile));
+                z.block = morton2(pixel.x, pixel.y, bits);
+                for (dim, k) in z.pixel_dim_keys.iter_mut().enumerate() {
+                    *k = Self::dim_key(self.pixel_key ^ PIXEL_SHUFFLE_SALT, dim as u32);
+                }
+                z.tile_key
             }
-            self.tile_key
-        } else {
-            self.pixel_key
+            None => self.pixel_key,
         };
         // Z-ordered pixels of one tile share their keys: made once per tile.
         if key != self.scramble_key {
             self.set_scramble_key(key);
-        }
-    }
-
-    /// The Sobol pattern's scramble key for round `round` of the current pixel's samples (the
-    /// tile's key for the first B).
-    #[inline]
-    fn sobol_key(&self, round: u32) -> u64 {
-        if round == 0 {
-            self.tile_key
-        } else {
-            mix64(self.tile_key ^ ROUND_SALT ^ (round as u64).wrapping_mul(GOLDEN_GAMMA))
         }
     }
 
@@ -429,14 +443,14 @@ impl Sampler {
     /// and so the nets, are the same.
     #[inline]
     fn z_index(&self, dim: u32) -> u32 {
-        if !self.z_order {
+        let Some(z) = &self.z else {
             return self.sobol_index;
-        }
-        let k = match self.pixel_dim_keys.get(dim as usize) {
+        };
+        let k = match z.pixel_dim_keys.get(dim as usize) {
             Some(&k) => k,
             None => Self::dim_key(self.pixel_key ^ PIXEL_SHUFFLE_SALT, dim),
         };
-        self.sobol_index ^ (k & self.block_mask)
+        self.sobol_index ^ (k & z.block_mask)
     }
 
     /// The next sample dimension.
