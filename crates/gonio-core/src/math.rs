@@ -16,9 +16,84 @@ pub fn find_interval(a: &[f32], x: f32) -> usize {
         .min(a.len().saturating_sub(2))
 }
 
+/// ⌊x⌋, bit for bit `f32::floor` (−0.0 and the infinities included; NaN stays NaN), without a
+/// call.
+///
+/// The portable x86-64 target has no rounding instruction (`roundss` is SSE4.1), so
+/// `f32::floor` there is a call into compiler-builtins' software floor, about 24 instructions
+/// (1.7 % of the copper preview's, from the lookups of environment maps, bitmaps, spectra and
+/// the film). Values of magnitude 2²³ and above, and NaN, are their own floor; below, the
+/// truncation toward zero, one less where it rounded up.
+#[inline]
+pub fn floor(x: f32) -> f32 {
+    if !(x.abs() < 8_388_608.0) {
+        return x;
+    }
+    let t = x as i32 as f32;
+    if t > x { t - 1.0 } else { t.copysign(x) }
+}
+
+/// ⌈x⌉ as −⌊−x⌋ ([`floor`]), bit for bit `f32::ceil`, without a call.
+#[inline]
+pub fn ceil(x: f32) -> f32 {
+    -floor(-x)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn floor_and_ceil_are_f32s_bit_for_bit() {
+        let special = [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            -1.5,
+            f32::MIN_POSITIVE,
+            -f32::MIN_POSITIVE,
+            1e-45,
+            -1e-45,
+            8_388_607.5,
+            -8_388_607.5,
+            8_388_608.0,
+            -8_388_609.0,
+            2_147_483_648.0,
+            -2_147_483_904.0,
+            1e30,
+            -1e30,
+            f32::MAX,
+            f32::MIN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            -f32::NAN,
+        ];
+        // Every 97th bit pattern besides: all exponents and signs, many mantissas.
+        let patterns = (0..=u32::MAX / 97).map(|k| f32::from_bits(k * 97));
+        for x in special.into_iter().chain(patterns) {
+            if x.is_nan() {
+                // A NaN's payload is not the point (libm may quiet a signalling one).
+                assert!(floor(x).is_nan() && ceil(x).is_nan());
+                continue;
+            }
+            assert_eq!(
+                floor(x).to_bits(),
+                x.floor().to_bits(),
+                "floor({x:e}) bits {:#x}",
+                x.to_bits()
+            );
+            assert_eq!(
+                ceil(x).to_bits(),
+                x.ceil().to_bits(),
+                "ceil({x:e}) bits {:#x}",
+                x.to_bits()
+            );
+        }
+    }
 
     #[test]
     fn finds_the_largest_lower_node_and_clamps() {

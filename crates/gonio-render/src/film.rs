@@ -34,6 +34,7 @@
 use crate::image::{ChannelImage, RgbImage};
 use crate::scene::FilterDesc;
 use glam::{UVec2, Vec2, Vec4};
+use gonio_core::math::{ceil, floor};
 
 /// A filter with its support radius precomputed.
 #[derive(Clone, Copy, Debug)]
@@ -346,10 +347,10 @@ impl FilmTile {
         }
         let r = self.kernel.radius;
         // Pixel centres x + ½ with |p − x − ½| ≤ r.
-        let x0 = ((p.x - 0.5 - r).ceil() as i64).max(self.min.x as i64);
-        let x1 = ((p.x - 0.5 + r).floor() as i64).min(self.max.x as i64 - 1);
-        let y0 = ((p.y - 0.5 - r).ceil() as i64).max(self.min.y as i64);
-        let y1 = ((p.y - 0.5 + r).floor() as i64).min(self.max.y as i64 - 1);
+        let x0 = (ceil(p.x - 0.5 - r) as i64).max(self.min.x as i64);
+        let x1 = (floor(p.x - 0.5 + r) as i64).min(self.max.x as i64 - 1);
+        let y0 = (ceil(p.y - 0.5 - r) as i64).max(self.min.y as i64);
+        let y1 = (floor(p.y - 0.5 + r) as i64).min(self.max.y as i64 - 1);
         if x0 > x1 || y0 > y1 {
             return;
         }
@@ -408,7 +409,7 @@ impl FilmTile {
     /// `−r ≤ p − ⌊p⌋ − ½ < r` on both axes (the filter's own test), weight 1.
     #[inline]
     fn add_box_sample(&mut self, p: Vec2, r: f32, c: &[f32]) {
-        let (x, y) = (p.x.floor() as i64, p.y.floor() as i64);
+        let (x, y) = (floor(p.x) as i64, floor(p.y) as i64);
         let inside = |d: f32| -r <= d && d < r;
         if !(inside(p.x - x as f32 - 0.5) && inside(p.y - y as f32 - 0.5)) {
             return;
@@ -509,10 +510,10 @@ impl SplatFilm {
             return;
         }
         let r = self.kernel.radius;
-        let x0 = ((p.x - 0.5 - r).ceil() as i64).max(0);
-        let x1 = ((p.x - 0.5 + r).floor() as i64).min(self.width as i64 - 1);
-        let y0 = ((p.y - 0.5 - r).ceil() as i64).max(0);
-        let y1 = ((p.y - 0.5 + r).floor() as i64).min(self.height as i64 - 1);
+        let x0 = (ceil(p.x - 0.5 - r) as i64).max(0);
+        let x1 = (floor(p.x - 0.5 + r) as i64).min(self.width as i64 - 1);
+        let y0 = (ceil(p.y - 0.5 - r) as i64).max(0);
+        let y1 = (floor(p.y - 0.5 + r) as i64).min(self.height as i64 - 1);
         for y in y0..=y1 {
             let wy = self.kernel.eval(p.y - y as f32 - 0.5) / self.norm_y[y as usize];
             if !(wy > 0.0) {

@@ -16,6 +16,7 @@ use glam::{Affine2, Vec2};
 use gonio_core::Spectrum;
 use gonio_core::color::luminance;
 use gonio_core::hash::mix64;
+use gonio_core::math::floor;
 use gonio_core::rgb2spec::srgb_to_sigmoid;
 use gonio_core::spectra::{RgbKind, RgbSpectrum};
 use rayon::prelude::*;
@@ -179,7 +180,7 @@ impl Bitmap {
                 if !(px.is_finite() && py.is_finite()) {
                     return [0.0; 3];
                 }
-                let (fx, fy) = (px.floor(), py.floor());
+                let (fx, fy) = (floor(px), floor(py));
                 let (tx, ty) = (px - fx, py - fy);
                 let (x0, y0) = (fx as i64, fy as i64);
                 let xs = [self.wrap.wrap(x0, w), self.wrap.wrap(x0 + 1, w)];
@@ -197,8 +198,8 @@ impl Bitmap {
 
     fn nearest(&self, uv: Vec2) -> (usize, usize) {
         let (w, h) = (self.width as i64, self.height as i64);
-        let fx = (uv.x * self.width as f32).floor();
-        let fy = (uv.y * self.height as f32).floor();
+        let fx = floor(uv.x * self.width as f32);
+        let fy = floor(uv.y * self.height as f32);
         let x = if fx.is_finite() { fx as i64 } else { 0 };
         let y = if fy.is_finite() { fy as i64 } else { 0 };
         (self.wrap.wrap(x, w), self.wrap.wrap(y, h))
@@ -229,7 +230,7 @@ impl Bitmap {
         if !(px.is_finite() && py.is_finite()) {
             return Vec2::ZERO;
         }
-        let (fx, fy) = (px.floor(), py.floor());
+        let (fx, fy) = (floor(px), floor(py));
         let (tx, ty) = (px - fx, py - fy);
         let (w, h) = (self.width as i64, self.height as i64);
         let (x0, y0) = (fx as i64, fy as i64);
@@ -465,8 +466,8 @@ impl Texture {
 #[inline]
 fn checker_is_color0(to_uv: Affine2, uv: Vec2) -> bool {
     let p = to_uv.transform_point2(uv);
-    let fx = p.x - p.x.floor();
-    let fy = p.y - p.y.floor();
+    let fx = p.x - floor(p.x);
+    let fy = p.y - floor(p.y);
     (fx > 0.5) == (fy > 0.5)
 }
 

@@ -3,7 +3,7 @@
 //! and named tables; measured η and k). The value at λ is the lerp on the interval holding it,
 //! found from a per-nanometre index; outside the table 0 or the end values ([`Extrapolation`]).
 
-use crate::math::find_interval;
+use crate::math::{find_interval, floor};
 use crate::spectrum::{LAMBDA_MAX, LAMBDA_MIN};
 
 /// What a piecewise-linear table returns outside its wavelength range.
@@ -175,7 +175,7 @@ impl PiecewiseLinear {
         }
         // Index of the last sample ≤ lambda, kept inside [0, n − 2]: `find_interval`'s, from
         // the bucket of ⌊λ⌋ on (whose start is at most the answer) when the table has buckets.
-        let i = match self.bucket_start.get((lambda - l[0].floor()) as usize) {
+        let i = match self.bucket_start.get((lambda - floor(l[0])) as usize) {
             Some(&start) => {
                 let mut i = start as usize;
                 while i + 2 < n && l[i + 1] <= lambda {

@@ -57,6 +57,7 @@ use super::envmap_product::CosineProduct;
 use glam::Vec4;
 use glam::{Affine3A, Vec2, Vec3};
 use gonio_core::color::luminance;
+use gonio_core::math::floor;
 use gonio_core::rgb2spec::RgbSigmoid;
 use gonio_core::sampling::Distribution2D;
 use gonio_core::spectra::RgbKind;
@@ -268,7 +269,7 @@ impl EnvMapLight {
     fn dir_to_uv_sin(&self, dir: Vec3) -> (Vec2, f32) {
         let v = self.to_local.transform_vector3(dir).normalize_or_zero();
         let mut u = v.x.atan2(-v.z) / TAU;
-        u -= u.floor();
+        u -= floor(u);
         let t = v.y.clamp(-1.0, 1.0).acos() / PI;
         (Vec2::new(u.min(1.0 - f32::EPSILON), t), v.x.hypot(v.z))
     }
@@ -289,12 +290,12 @@ impl EnvMapLight {
         let (y, y0) = if self.mitsuba_lookup {
             let rows = (h - 1).max(1) as f32;
             let y = uv.y.clamp(0.0, 1.0) * rows;
-            (y, y.floor().min(rows - 1.0).max(0.0))
+            (y, floor(y).min(rows - 1.0).max(0.0))
         } else {
             let y = uv.y * h as f32 - 0.5;
-            (y, y.floor())
+            (y, floor(y))
         };
-        let x0 = x.floor();
+        let x0 = floor(x);
         let (fx, fy) = (x - x0, y - y0);
         let (x0, y0) = (x0 as isize, y0 as isize);
         let at = |i: isize, j: isize| {
