@@ -343,8 +343,15 @@ impl FilmTile {
             && radius <= 0.5
         {
             self.add_box_sample(p, radius, c);
-            return;
+        } else {
+            self.add_footprint_sample(p, c);
         }
+    }
+
+    /// [`Self::add_sample`] through the filter's footprint: every pixel of the tile whose
+    /// centre is within the radius, weighted by [`Kernel::eval`] on both axes.
+    #[inline]
+    fn add_footprint_sample(&mut self, p: Vec2, c: &[f32]) {
         let r = self.kernel.radius;
         // Pixel centres x + ½ with |p − x − ½| ≤ r.
         let x0 = (ceil(p.x - 0.5 - r) as i64).max(self.min.x as i64);
@@ -406,7 +413,8 @@ impl FilmTile {
     }
 
     /// [`Self::add_sample`] under a box of radius r ≤ ½: the one pixel `⌊p⌋` if
-    /// `−r ≤ p − ⌊p⌋ − ½ < r` on both axes (the filter's own test), weight 1.
+    /// `−r ≤ p − ⌊p⌋ − ½ < r` on both axes (the filter's own test), weight 1: what
+    /// [`Self::add_footprint_sample`] adds, bit for bit (the unit test below), without its loops.
     #[inline]
     fn add_box_sample(&mut self, p: Vec2, r: f32, c: &[f32]) {
         let (x, y) = (floor(p.x) as i64, floor(p.y) as i64);
@@ -559,6 +567,46 @@ impl SplatFilm {
         for (v, s) in data.iter_mut().zip(&self.sums) {
             let s = s.load(Relaxed) as f64 / SPLAT_SCALE;
             *v = (*v as f64 + s * scale) as f32;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use gonio_core::rng::Pcg32;
+
+    /// The box's one-pixel path is an optimization of the footprint path: the same sums, bit
+    /// for bit, for any position (on and off pixel borders, inside and outside the tile and
+    /// the film), tile, radius up to ½ and channel count.
+    #[test]
+    fn box_one_pixel_path_adds_what_the_footprint_path_adds() {
+        let mut rng = Pcg32::new(7, 0);
+        for radius in [0.5f32, 0.4, 0.25, 0.01] {
+            let mut received = 0;
+            for channels in [Channels::rgb(), Channels::rgb().with_layer("depth", &["Z"])] {
+                let film = Film::with_channels(9, 7, FilterDesc::Box { radius }, channels);
+                for (lo, hi) in [((0, 0), (9, 7)), ((2, 3), (6, 5)), ((8, 6), (9, 7))] {
+                    let (lo, hi) = (UVec2::new(lo.0, lo.1), UVec2::new(hi.0, hi.1));
+                    let mut one = film.tile(lo, hi);
+                    let mut footprint = film.tile(lo, hi);
+                    for k in 0..4000 {
+                        // Every fourth position on a pixel border or a quarter-pixel grid line.
+                        let coord = |rng: &mut Pcg32, k: u32| {
+                            let x = rng.next_f32() * 11.0 - 1.0;
+                            if k % 4 == 0 { (x * 4.0).round() / 4.0 } else { x }
+                        };
+                        let p = Vec2::new(coord(&mut rng, k), coord(&mut rng, k / 2));
+                        let c: Vec<f32> = (0..film.channels().len()).map(|_| rng.next_f32() * 3.0).collect();
+                        one.add_box_sample(p, radius, &c);
+                        footprint.add_footprint_sample(p, &c);
+                    }
+                    let bits = |t: &FilmTile| t.data.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+                    assert_eq!(bits(&one), bits(&footprint), "radius {radius}, tile {lo}..{hi}");
+                    received += one.data.iter().filter(|&&v| v > 0.0).count();
+                }
+            }
+            assert!(received > 0, "radius {radius}: no tile received a sample");
         }
     }
 }
