@@ -333,29 +333,45 @@ impl EnvMapLight {
         if self.mitsuba_lookup {
             return self.le_mitsuba(uv, wl);
         }
-        let texels = self.bilinear(uv);
         if let Some((sigmoids, kind)) = &self.sigmoids {
             // Σ wᵢ fᵢ sᵢ(λ), then the factor all texels share.
-            let lambda = Vec4::from_array(wl.lambdas());
-            let mut acc = Vec4::ZERO;
-            for (i, w) in texels {
-                let (sigmoid, f) = sigmoids[i];
-                if w > 0.0 && f > 0.0 {
-                    acc += sigmoid.eval4(lambda) * (w * f);
-                }
-            }
-            if *kind == RgbKind::Illuminant {
-                acc *= Vec4::from_array(wl.d65());
-            }
+            let (acc, _) = self.sigmoid_sums(sigmoids, *kind, uv, wl, |w, f| w * f);
             return SampledSpectrum(acc * self.scale);
         }
         let mut l = SampledSpectrum::ZERO;
-        for (i, w) in texels {
+        for (i, w) in self.bilinear(uv) {
             if w > 0.0 && self.rgb[i] != [0.0; 3] {
                 l += self.spectra[i].sample(wl) * w;
             }
         }
         l * self.scale
+    }
+
+    /// The sums both lookups of a map of sigmoids take over the four texels around `uv`
+    /// ([`Self::bilinear`]) whose scale fᵢ is positive: Σ weight(wᵢ, fᵢ)·sᵢ(λ) (× D65 for an
+    /// emission map, a factor all texels share) and Σ wᵢ fᵢ.
+    #[inline]
+    fn sigmoid_sums(
+        &self,
+        sigmoids: &[(RgbSigmoid, f32)],
+        kind: RgbKind,
+        uv: Vec2,
+        wl: &SampledWavelengths,
+        weight: impl Fn(f32, f32) -> f32,
+    ) -> (Vec4, f32) {
+        let lambda = Vec4::from_array(wl.lambdas());
+        let (mut acc, mut f) = (Vec4::ZERO, 0.0f32);
+        for (i, w) in self.bilinear(uv) {
+            let (sigmoid, fi) = sigmoids[i];
+            if w > 0.0 && fi > 0.0 {
+                acc += sigmoid.eval4(lambda) * weight(w, fi);
+                f += fi * w;
+            }
+        }
+        if kind == RgbKind::Illuminant {
+            acc *= Vec4::from_array(wl.d65());
+        }
+        (acc, f)
     }
 
     /// Mitsuba 3.9.1's lookup: (Σ wᵢ sᵢ)(Σ wᵢ fᵢ)·scale, a texel's spectrum split into its
@@ -366,18 +382,7 @@ impl EnvMapLight {
         let mut f = 0.0f32;
         if let Some((sigmoids, kind)) = &self.sigmoids {
             // A texel's shape is its sigmoid (× D65, common to all texels), its scale f.
-            let lambda = Vec4::from_array(wl.lambdas());
-            let mut acc = Vec4::ZERO;
-            for (i, w) in self.bilinear(uv) {
-                let (sigmoid, fi) = sigmoids[i];
-                if fi > 0.0 {
-                    acc += sigmoid.eval4(lambda) * w;
-                    f += fi * w;
-                }
-            }
-            if *kind == RgbKind::Illuminant {
-                acc *= Vec4::from_array(wl.d65());
-            }
+            let (acc, f) = self.sigmoid_sums(sigmoids, *kind, uv, wl, |w, _| w);
             return SampledSpectrum(acc) * (f * self.scale);
         }
         for (i, w) in self.bilinear(uv) {
