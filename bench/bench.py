@@ -12,7 +12,9 @@ Scenes (all by default):
     against the references `bench/make_references.py` renders into `bench/reference/`.
 
 Each scene is rendered with
-  * gonio (`target/release/gonio render`, all cores, our default Sobol sampler),
+  * gonio (`target/dist/gonio render`: the `dist` profile of Cargo.toml, fat LTO and one
+    code-generation unit, as users install it; built first if it is missing; all cores, our
+    default Sobol sampler),
   * Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` (through `bench/mitsuba_render.py`,
     if this Python has `mitsuba`),
 several runs each at the same spp, and prints three Markdown tables. The first: median render time
@@ -36,7 +38,8 @@ by default), rendered by gonio in its polarized mode (the scenes ask for it) and
 testdata/mitsuba-corpus/reference (made by make_polarized_references.py), whose own noise is then
 part of every relMSE (compare the ratios, not the absolute errors).
 
-Usage (from the repository root, after `cargo build --release -p gonio`):
+Usage (from the repository root; the script builds `cargo build --profile dist -p gonio` when its
+binary is missing, about 3 minutes on 2 cores):
     python3 -m venv .venv-mitsuba && .venv-mitsuba/bin/pip install mitsuba==3.9.1 numpy
     apt-get install -y libllvm19    # for llvm_ad_spectral
     .venv-mitsuba/bin/python bench/bench.py [--spp 64] [--runs 3] [--scenes materials furnace]
@@ -220,6 +223,16 @@ def python_baseline_rss(python, variant):
     return rss if code == 0 else None
 
 
+def dist_binary():
+    """`target/dist/gonio` (under $CARGO_TARGET_DIR if set), built by cargo when missing."""
+    target = os.environ.get("CARGO_TARGET_DIR") or os.path.join(ROOT, "target")
+    path = os.path.join(target, "dist", "gonio")
+    if not os.path.exists(path):
+        print(f"# building {path} (cargo build --profile dist -p gonio)", file=sys.stderr)
+        subprocess.run(["cargo", "build", "--profile", "dist", "-p", "gonio"], cwd=ROOT, check=True)
+    return path
+
+
 def main():
     p = argparse.ArgumentParser()
     p.add_argument("--spp", type=int, default=64)
@@ -227,10 +240,13 @@ def main():
     p.add_argument("--scenes", nargs="*", default=None)
     p.add_argument("--polarized", action="store_true",
                    help="the polarized corpus scenes against Mitsuba's *_polarized variants")
-    p.add_argument("--gonio", default=os.path.join(ROOT, "target", "release", "gonio"))
+    p.add_argument("--gonio", default=None,
+                   help="the gonio binary (default: the dist profile's, built if missing)")
     p.add_argument("--mitsuba-tool", default=os.path.join(BENCH, "mitsuba_render.py"))
     p.add_argument("--no-mitsuba", action="store_true")
     a = p.parse_args()
+    if a.gonio is None:
+        a.gonio = dist_binary()
     if a.polarized:
         variants, scenes = POLARIZED_VARIANTS, a.scenes or POLARIZED_SCENES
     else:
