@@ -225,7 +225,8 @@ def python_baseline_rss(python, variant):
 
 def dist_binary():
     """`target/dist/gonio` (under $CARGO_TARGET_DIR if set), built by cargo when missing."""
-    target = os.environ.get("CARGO_TARGET_DIR") or os.path.join(ROOT, "target")
+    # cargo runs in ROOT below, so a relative CARGO_TARGET_DIR is relative to it.
+    target = os.path.join(ROOT, os.environ.get("CARGO_TARGET_DIR") or "target")
     path = os.path.join(target, "dist", "gonio")
     if not os.path.exists(path):
         print(f"# building {path} (cargo build --profile dist -p gonio)", file=sys.stderr)
