@@ -594,7 +594,11 @@ mod tests {
                         // Every fourth position on a pixel border or a quarter-pixel grid line.
                         let coord = |rng: &mut Pcg32, k: u32| {
                             let x = rng.next_f32() * 11.0 - 1.0;
-                            if k % 4 == 0 { (x * 4.0).round() / 4.0 } else { x }
+                            if k.is_multiple_of(4) {
+                                (x * 4.0).round() / 4.0
+                            } else {
+                                x
+                            }
                         };
                         let p = Vec2::new(coord(&mut rng, k), coord(&mut rng, k / 2));
                         let c: Vec<f32> = (0..film.channels().len()).map(|_| rng.next_f32() * 3.0).collect();
