@@ -215,33 +215,27 @@ fn sobol_pixels_of_an_aligned_square_are_one_net() {
                 "seed {seed}, {name}: not one point a cell"
             );
         }
-        // An unaligned square (pixels 9..13) is not one net: the property is the Z order's.
-        let mut shifted = vec![0u32; 1024];
-        for py in 4..8 {
-            for px in 9..13 {
-                for i in 0..64 {
-                    s.start_pixel_sample(UVec2::new(px, py), i);
-                    let _ = (s.next_2d(), s.next_1d());
-                    let v = s.next_2d();
-                    shifted[(v.x * 32.0) as usize * 32 + (v.y * 32.0) as usize] += 1;
+        // The vertex pair's 32 × 32 cells over the pixels xs × 4..8.
+        let square = |s: &mut Sampler, xs: std::ops::Range<u32>| {
+            let mut cells = vec![0u32; 1024];
+            for py in 4..8 {
+                for px in xs.clone() {
+                    for i in 0..64 {
+                        s.start_pixel_sample(UVec2::new(px, py), i);
+                        let _ = (s.next_2d(), s.next_1d());
+                        let v = s.next_2d();
+                        cells[(v.x * 32.0) as usize * 32 + (v.y * 32.0) as usize] += 1;
+                    }
                 }
             }
-        }
+            cells
+        };
+        // An unaligned square (pixels 9..13) is not one net: the property is the Z order's.
+        let shifted = square(&mut s, 9..13);
         assert!(shifted.iter().any(|&c| c != 1), "seed {seed}");
         // Nor is the aligned square with per-pixel keys (the Z order off): sixteen nets of their
         // own do not make one.
-        let mut plain = Sampler::new(Pattern::Sobol, 64, seed);
-        let mut unordered = vec![0u32; 1024];
-        for py in 4..8 {
-            for px in 8..12 {
-                for i in 0..64 {
-                    plain.start_pixel_sample(UVec2::new(px, py), i);
-                    let _ = (plain.next_2d(), plain.next_1d());
-                    let v = plain.next_2d();
-                    unordered[(v.x * 32.0) as usize * 32 + (v.y * 32.0) as usize] += 1;
-                }
-            }
-        }
+        let unordered = square(&mut Sampler::new(Pattern::Sobol, 64, seed), 8..12);
         assert!(unordered.iter().any(|&c| c != 1), "seed {seed}, per-pixel keys");
     }
 }
