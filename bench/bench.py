@@ -13,8 +13,8 @@ Scenes (all by default):
 
 Each scene is rendered with
   * gonio (`target/dist/gonio render`: the `dist` profile of Cargo.toml, fat LTO and one
-    code-generation unit, as users install it; built first if it is missing; all cores, our
-    default Sobol sampler),
+    code-generation unit, as users install it; brought up to date by cargo first; all cores,
+    our default Sobol sampler),
   * Mitsuba 3.9.1 `scalar_spectral` and `llvm_ad_spectral` (through `bench/mitsuba_render.py`,
     if this Python has `mitsuba`),
 several runs each at the same spp, and prints three Markdown tables. The first: median render time
@@ -38,8 +38,8 @@ by default), rendered by gonio in its polarized mode (the scenes ask for it) and
 testdata/mitsuba-corpus/reference (made by make_polarized_references.py), whose own noise is then
 part of every relMSE (compare the ratios, not the absolute errors).
 
-Usage (from the repository root; the script builds `cargo build --profile dist -p gonio` when its
-binary is missing, about 3 minutes on 2 cores):
+Usage (from the repository root; the script first runs `cargo build --profile dist -p gonio`,
+about 3 minutes on 2 cores when the binary is not up to date):
     python3 -m venv .venv-mitsuba && .venv-mitsuba/bin/pip install mitsuba==3.9.1 numpy
     apt-get install -y libllvm19    # for llvm_ad_spectral
     .venv-mitsuba/bin/python bench/bench.py [--spp 64] [--runs 3] [--scenes materials furnace]
@@ -224,14 +224,14 @@ def python_baseline_rss(python, variant):
 
 
 def dist_binary():
-    """`target/dist/gonio` (under $CARGO_TARGET_DIR if set), built by cargo when missing."""
+    """`target/dist/gonio` (under $CARGO_TARGET_DIR if set), brought up to date with the source
+    by cargo first (a second or two when it is; about 3 minutes on 2 cores when it is not), so
+    that the table never measures a stale binary."""
     # cargo runs in ROOT below, so a relative CARGO_TARGET_DIR is relative to it.
     target = os.path.join(ROOT, os.environ.get("CARGO_TARGET_DIR") or "target")
-    path = os.path.join(target, "dist", "gonio")
-    if not os.path.exists(path):
-        print(f"# building {path} (cargo build --profile dist -p gonio)", file=sys.stderr)
-        subprocess.run(["cargo", "build", "--profile", "dist", "-p", "gonio"], cwd=ROOT, check=True)
-    return path
+    print("# cargo build --profile dist -p gonio", file=sys.stderr)
+    subprocess.run(["cargo", "build", "--profile", "dist", "-p", "gonio"], cwd=ROOT, check=True)
+    return os.path.join(target, "dist", "gonio")
 
 
 def main():
@@ -242,7 +242,7 @@ def main():
     p.add_argument("--polarized", action="store_true",
                    help="the polarized corpus scenes against Mitsuba's *_polarized variants")
     p.add_argument("--gonio", default=None,
-                   help="the gonio binary (default: the dist profile's, built if missing)")
+                   help="the gonio binary (default: the dist profile's, built first)")
     p.add_argument("--mitsuba-tool", default=os.path.join(BENCH, "mitsuba_render.py"))
     p.add_argument("--no-mitsuba", action="store_true")
     a = p.parse_args()
