@@ -29,7 +29,7 @@ const BINS: usize = 32;
 
 /// Histograms of the samples of a 64 × 64 image at `spp` samples a pixel: dimension 0 (32 bins),
 /// the pair 1–2 (32 × 32 cells) and dimensions 0 × 3 (32 × 32, two dimensions that are not a
-/// pair: decorrelated?), with the number of samples.
+/// pair: decorrelated?).
 fn histograms(s: &mut Sampler, spp: u32) -> [(Vec<u64>, &'static str); 3] {
     histograms_of(s, spp, 0..64, 0..64)
 }

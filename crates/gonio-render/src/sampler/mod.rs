@@ -147,6 +147,23 @@ impl ZOrder {
 /// Dimensions whose keys a sampler keeps per pixel: the structured ones a path draws.
 const CACHED_KEYS: usize = STRUCTURED_DIMS as usize + 1;
 
+/// `keys[dim]` = [`Sampler::dim_key`]`(key, dim)` for the cached dimensions.
+#[inline]
+fn fill_dim_keys(keys: &mut [u32; CACHED_KEYS], key: u64) {
+    for (dim, k) in keys.iter_mut().enumerate() {
+        *k = Sampler::dim_key(key, dim as u32);
+    }
+}
+
+/// [`Sampler::dim_key`]`(key, dim)`, from `keys` ([`fill_dim_keys`] of `key`) where cached.
+#[inline]
+fn cached_dim_key(keys: &[u32; CACHED_KEYS], key: u64, dim: u32) -> u32 {
+    match keys.get(dim as usize) {
+        Some(&k) => k,
+        None => Sampler::dim_key(key, dim),
+    }
+}
+
 #[inline]
 fn u32_to_f32(x: u32) -> f32 {
     (x >> 8) as f32 * (1.0 / 16_777_216.0)
@@ -394,9 +411,7 @@ impl Sampler {
                 );
                 z.tile_key = mix64(Self::pixel_key(self.seed, tile));
                 z.block = morton2(pixel.x, pixel.y, bits);
-                for (dim, k) in z.pixel_dim_keys.iter_mut().enumerate() {
-                    *k = Self::dim_key(self.pixel_key ^ PIXEL_SHUFFLE_SALT, dim as u32);
-                }
+                fill_dim_keys(&mut z.pixel_dim_keys, self.pixel_key ^ PIXEL_SHUFFLE_SALT);
                 z.tile_key
             }
             None => self.pixel_key,
@@ -410,9 +425,7 @@ impl Sampler {
     /// Keys every dimension from `key` (the cached ones made now).
     fn set_scramble_key(&mut self, key: u64) {
         self.scramble_key = key;
-        for (dim, k) in self.dim_keys.iter_mut().enumerate() {
-            *k = Self::dim_key(key, dim as u32);
-        }
+        fill_dim_keys(&mut self.dim_keys, key);
     }
 
     /// The key of `pixel` under `seed`.
@@ -430,10 +443,7 @@ impl Sampler {
     /// The key of dimension `dim` of the current pixel sample.
     #[inline]
     fn key(&self, dim: u32) -> u32 {
-        match self.dim_keys.get(dim as usize) {
-            Some(&k) => k,
-            None => Self::dim_key(self.scramble_key, dim),
-        }
+        cached_dim_key(&self.dim_keys, self.scramble_key, dim)
     }
 
     /// The Sobol index dimension `dim` takes: in Z order, the pixel's block with the sample's
@@ -446,10 +456,7 @@ impl Sampler {
         let Some(z) = &self.z else {
             return self.sobol_index;
         };
-        let k = match z.pixel_dim_keys.get(dim as usize) {
-            Some(&k) => k,
-            None => Self::dim_key(self.pixel_key ^ PIXEL_SHUFFLE_SALT, dim),
-        };
+        let k = cached_dim_key(&z.pixel_dim_keys, self.pixel_key ^ PIXEL_SHUFFLE_SALT, dim);
         self.sobol_index ^ (k & z.block_mask)
     }
 
