@@ -54,6 +54,9 @@ pub struct IntegratorDesc {
     /// Ours: the highest probability with which Russian roulette continues a path, in (0, 1)
     /// (default 0.99; Mitsuba's is 0.95, fixed).
     pub rr_survival: f32,
+    /// Ours: Russian roulette continues a path with probability min(`rr_scale`·max(β)·η²,
+    /// `rr_survival`) (default 4; Mitsuba's and pbrt-v4's rule is 1).
+    pub rr_scale: f32,
     /// Hide directly visible emitters (Mitsuba `hide_emitters`, default false).
     pub hide_emitters: bool,
     /// Ours: shadow rays pass through `thindielectric` sheets, attenuated (default true).
@@ -224,6 +227,7 @@ impl IntegratorDesc {
             split_lights: 0,
             narrow_lobes: false,
             mis_exponent: 2.0,
+            rr_scale: 1.0,
             ..Self::default()
         }
     }
@@ -237,6 +241,7 @@ impl Default for IntegratorDesc {
             max_depth: -1,
             rr_depth: 5,
             rr_survival: 0.99,
+            rr_scale: 4.0,
             hide_emitters: false,
             thin_shadows: true,
             caustic_paths: true,

@@ -116,7 +116,7 @@ impl PathTracer<'_> {
         let beta_max = state.beta.intensity().max_component();
         if state.depth >= self.rr_depth {
             let u_rr = sampler.next_1d();
-            let q = (beta_max * state.eta * state.eta).min(self.rr_survival);
+            let q = (self.rr_scale * beta_max * state.eta * state.eta).min(self.rr_survival);
             if !(u_rr < q) {
                 return false;
             }

@@ -25,6 +25,13 @@ const RR_SURVIVAL: ParamSpec = ParamSpec::new(
     "(ours) highest probability with which Russian roulette continues a path, in (0, 1): light trapped in glass by total internal reflection is not boosted into fireflies",
 )
 .mitsuba(DefaultValue::Float(0.95));
+const RR_SCALE: ParamSpec = ParamSpec::new(
+    "rr_scale",
+    ParamType::Float,
+    DefaultValue::Float(4.0),
+    "(ours) Russian roulette continues a path with probability min(`rr_scale`·max(β)·η², `rr_survival`): paths whose throughput β is above 1/`rr_scale` go on. Mitsuba's and pbrt-v4's 1 makes a path as likely to go on as its throughput, but a pixel's value is its first surface's albedo times the light arriving there, so at albedos of ¼ to ½ the light a path still gathers is several times the pixel's value and the variance of early kills outweighs the time they save; a positive number",
+)
+.mitsuba(DefaultValue::Float(1.0));
 pub(super) const HIDE_EMITTERS: ParamSpec = ParamSpec::new(
     "hide_emitters",
     ParamType::Boolean,
@@ -115,6 +122,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         MAX_DEPTH,
         RR_DEPTH,
         RR_SURVIVAL,
+        RR_SCALE,
         HIDE_EMITTERS,
         THIN_SHADOWS,
         CAUSTIC_PATHS,
@@ -155,6 +163,7 @@ pub(super) fn read_path_rows(
 pub(super) fn with_estimator_defaults(p: &Params<'_>, desc: IntegratorDesc) -> IntegratorDesc {
     IntegratorDesc {
         rr_survival: p.default_of(&RR_SURVIVAL).float() as f32,
+        rr_scale: p.default_of(&RR_SCALE).float() as f32,
         thin_shadows: p.default_of(&THIN_SHADOWS).bool(),
         caustic_paths: p.default_of(&CAUSTIC_PATHS).bool(),
         refracted_nee: p.default_of(&REFRACTED_NEE).bool(),
@@ -175,6 +184,12 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         p.default_of(&RR_SURVIVAL).float(),
         |v| v > 0.0 && v < 1.0,
         "a probability above 0 and below 1",
+    )? as f32;
+    let rr_scale = p.float_checked(
+        RR_SCALE.name,
+        p.default_of(&RR_SCALE).float(),
+        |v| v > 0.0 && v.is_finite(),
+        "a positive number",
     )? as f32;
     let thin_shadows = p.bool(THIN_SHADOWS.name, p.default_of(&THIN_SHADOWS).bool())?;
     let caustic_paths = p.bool(CAUSTIC_PATHS.name, p.default_of(&CAUSTIC_PATHS).bool())?;
@@ -198,6 +213,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         max_depth,
         rr_depth,
         rr_survival,
+        rr_scale,
         hide_emitters,
         thin_shadows,
         caustic_paths,
