@@ -213,9 +213,9 @@ pub enum IntegratorKind {
 impl IntegratorDesc {
     /// The defaults with every estimator row of ours at Mitsuba's value: no sheets crossed by
     /// shadow rays, no light subpaths, refracted or manifold next-event estimation, lobe splits
-    /// or narrow-lobe rule, one light per vertex, the power heuristic's exponent 2 (the
-    /// integrators that render with Mitsuba's estimator: `direct`, `depth`, `ptracer`, `prb`'s
-    /// direct form).
+    /// or narrow-lobe rule, one light per vertex, the power heuristic's exponent 2, Russian
+    /// roulette on the throughput alone (the integrators that render with Mitsuba's estimator:
+    /// `direct`, `depth`, `ptracer`, `prb`'s direct form).
     pub fn mitsuba_estimators() -> Self {
         Self {
             thin_shadows: false,
