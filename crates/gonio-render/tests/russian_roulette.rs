@@ -10,6 +10,7 @@
 //! the higher cap.
 
 use crate::render_stats::{prepare, same_mean_less_noise};
+use gonio_render::scene::IntegratorDesc;
 use gonio_render::xml::{LoadOptions, load_scene_file_with};
 
 /// The cube under a lamp and a dim sky; lobe splitting off, so that the roulette alone decides
@@ -57,7 +58,24 @@ fn rr_survival_keeps_trapped_light_from_becoming_fireflies() {
 /// furnace) or a NaN is refused with the file, line and value.
 #[test]
 fn rr_survival_defaults_and_refusals() {
-    let dir = std::env::temp_dir().join(format!("gonio-rr-survival-{}", std::process::id()));
+    float_row_defaults_and_refusals(
+        "rr_survival",
+        |i| i.rr_survival,
+        (0.99, 0.95),
+        &["1", "0", "nan", "-0.5"],
+    );
+}
+
+/// The `path` row `name` (read from the integrator by `get`): `defaults` (ours, Mitsuba's under
+/// `--mitsuba-estimators`) when the scene does not write it, and each of `bad` refused with the
+/// file, the line and the value.
+fn float_row_defaults_and_refusals(
+    name: &str,
+    get: fn(&IntegratorDesc) -> f32,
+    defaults: (f32, f32),
+    bad: &[&str],
+) {
+    let dir = std::env::temp_dir().join(format!("gonio-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("scene.xml");
     let load = |xml: &str, mitsuba: bool| {
@@ -66,18 +84,18 @@ fn rr_survival_defaults_and_refusals() {
             mitsuba_estimators: mitsuba,
             ..LoadOptions::default()
         };
-        load_scene_file_with(&path, &options).map(|s| s.scene.integrator.rr_survival)
+        load_scene_file_with(&path, &options).map(|s| get(&s.scene.integrator))
     };
     let plain = r#"<scene version="3.0.0"><integrator type="path"/></scene>"#;
-    assert_eq!(load(plain, false).unwrap(), 0.99);
-    assert_eq!(load(plain, true).unwrap(), 0.95);
-    for bad in ["1", "0", "nan", "-0.5"] {
+    assert_eq!(load(plain, false).unwrap(), defaults.0);
+    assert_eq!(load(plain, true).unwrap(), defaults.1);
+    for bad in bad {
         let xml = format!(
-            "<scene version=\"3.0.0\">\n<integrator type=\"path\">\n<float name=\"rr_survival\" value=\"{bad}\"/>\n</integrator></scene>"
+            "<scene version=\"3.0.0\">\n<integrator type=\"path\">\n<float name=\"{name}\" value=\"{bad}\"/>\n</integrator></scene>"
         );
         let e = load(&xml, false).unwrap_err().to_string();
         assert!(
-            e.contains("scene.xml") && e.contains(":3") && e.contains("rr_survival"),
+            e.contains("scene.xml") && e.contains(":3") && e.contains(name) && e.to_lowercase().contains(bad),
             "{bad}: {e}"
         );
     }
@@ -131,32 +149,5 @@ fn rr_scale_keeps_dark_rooms_from_losing_their_bounces() {
 /// is refused with the file, line and value.
 #[test]
 fn rr_scale_defaults_and_refusals() {
-    let dir = std::env::temp_dir().join(format!("gonio-rr-scale-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.xml");
-    let load = |xml: &str, mitsuba: bool| {
-        std::fs::write(&path, xml).unwrap();
-        let options = LoadOptions {
-            mitsuba_estimators: mitsuba,
-            ..LoadOptions::default()
-        };
-        load_scene_file_with(&path, &options).map(|s| s.scene.integrator.rr_scale)
-    };
-    let plain = r#"<scene version="3.0.0"><integrator type="path"/></scene>"#;
-    assert_eq!(load(plain, false).unwrap(), 4.0);
-    assert_eq!(load(plain, true).unwrap(), 1.0);
-    for bad in ["0", "-1", "nan", "inf"] {
-        let xml = format!(
-            "<scene version=\"3.0.0\">\n<integrator type=\"path\">\n<float name=\"rr_scale\" value=\"{bad}\"/>\n</integrator></scene>"
-        );
-        let e = load(&xml, false).unwrap_err().to_string();
-        assert!(
-            e.contains("scene.xml")
-                && e.contains(":3")
-                && e.contains("rr_scale")
-                && e.to_lowercase().contains(bad),
-            "{bad}: {e}"
-        );
-    }
-    let _ = std::fs::remove_dir_all(&dir);
+    float_row_defaults_and_refusals("rr_scale", |i| i.rr_scale, (4.0, 1.0), &["0", "-1", "nan", "inf"]);
 }
