@@ -57,7 +57,7 @@
 //!    ¼ to ½ the light a path still gathers is 2–4 times the pixel's: s = 4 continues every path
 //!    whose throughput is above ¼. Measured on the bench scenes (64 spp against 16384-spp
 //!    references): relMSE −23 % to −45 % at +0–7 % time where surfaces are dark or glass traps
-//!    light; unchanged where few paths reach `rr_depth` (the `roughplastic` preview).
+//!    light; the `roughplastic` preview's image barely changes.
 //!
 //! `max_depth` counts path segments as Mitsuba does: −1 = unbounded, 0 = black, 1 = only emitters
 //! seen directly, 2 = direct lighting.
