@@ -519,6 +519,10 @@ fn beckmann_visible_slope_x_11(cos_theta: f32, sin_theta: f32, u1: f32) -> f32 {
         let value = normalization * (1.0 + b + k * (-inv_erf * inv_erf).exp()) - u1;
         let derivative = normalization * (1.0 - inv_erf * tan_theta);
         if value.abs() < tolerance {
+            // Converged at b, whose erf⁻¹ is already known (unless the clamp below moves b).
+            if b.abs() <= 1.0 - 6e-8 {
+                return inv_erf;
+            }
             break;
         }
         if value > 0.0 {
