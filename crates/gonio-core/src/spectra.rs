@@ -14,9 +14,11 @@
 //!   unbounded × D65 normalized to unit luminance, so `rgb_illuminant([1, 1, 1])` is the sRGB white
 //!   and renders as linear sRGB (1, 1, 1);
 //! * blackbody: Planck's law B(λ, T) = 2hc² / (λ⁵ (e^{hc/(λ k_B T)} − 1)) (c = 299792458 m/s,
-//!   h = 6.62606957e-34 J s, k_B = 1.3806488e-23 J/K, as pbrt-v4) divided by its value at Wien's
-//!   peak λ_max = 2.8977721e-3 m·K / T, so the peak is 1 (pbrt `BlackbodySpectrum`, Mitsuba
-//!   `blackbody`);
+//!   h = 6.62606957e-34 J s, k_B = 1.3806488e-23 J/K, as pbrt-v4), either divided by its value
+//!   at Wien's peak λ_max = 2.8977721e-3 m·K / T, so the peak is 1 (pbrt `BlackbodySpectrum`,
+//!   [`Spectrum::blackbody`]), or as a radiance in W·m⁻²·sr⁻¹·nm⁻¹ (B·10⁻⁹), 0 outside a
+//!   wavelength range (Mitsuba's `blackbody`: 360–830 nm by default,
+//!   [`Spectrum::blackbody_radiance`]);
 //! * Sellmeier: n²(λ) = 1 + Σⱼ Bⱼ λ²/(λ² − Cⱼ), λ in µm, Cⱼ in µm² (Schott catalogue form);
 //! * Cauchy: n(λ) = A + B/λ², λ in µm, B in µm².
 
@@ -108,15 +110,18 @@ pub fn planck(lambda_nm: f64, temperature_k: f64) -> f64 {
 /// Wien's displacement constant b, m·K: λ_max = b/T.
 pub const WIEN_B: f64 = 2.8977721e-3;
 
-/// A blackbody emitter normalized to a peak of 1.
+/// A blackbody emitter: Planck's law times a factor, 0 outside a wavelength range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Blackbody {
     temperature: f32,
     norm: f32,
+    /// The wavelengths (nm, both ends included) outside which the spectrum is 0.
+    range: [f32; 2],
 }
 
 impl Blackbody {
-    /// Blackbody of `temperature_k` kelvin; `None` unless the temperature is positive and finite.
+    /// Blackbody of `temperature_k` kelvin normalized to a peak of 1 at every wavelength (pbrt's);
+    /// `None` unless the temperature is positive and finite.
     pub fn new(temperature_k: f32) -> Option<Self> {
         if !(temperature_k > 0.0 && temperature_k.is_finite()) {
             return None;
@@ -126,24 +131,53 @@ impl Blackbody {
         Some(Self {
             temperature: temperature_k,
             norm: (1.0 / peak) as f32,
+            range: [0.0, f32::INFINITY],
         })
     }
+
+    /// Blackbody radiance of `temperature_k` kelvin in W·m⁻²·sr⁻¹·nm⁻¹ (B(λ, T)·10⁻⁹) within
+    /// `range` (nm, ends included) and 0 outside (Mitsuba 3's `blackbody`); `None` unless the
+    /// temperature is positive and finite and the range finite, non-negative and in order.
+    pub fn radiance(temperature_k: f32, range: [f32; 2]) -> Option<Self> {
+        let ok = range.iter().all(|l| l.is_finite() && *l >= 0.0) && range[0] <= range[1];
+        Some(Self {
+            norm: 1e-9,
+            range,
+            ..Self::new(temperature_k).filter(|_| ok)?
+        })
+    }
+
+    /// The same spectrum times `k` (non-negative and finite).
+    pub fn scaled(self, k: f32) -> Self {
+        Self {
+            norm: self.norm * k,
+            ..self
+        }
+    }
+
     /// The temperature, K.
     pub fn temperature(&self) -> f32 {
         self.temperature
     }
-    /// B(λ, T)/B(λ_max, T).
+
+    /// The factor times B(λ, T) inside the range, 0 outside.
     #[inline]
     pub fn eval(&self, lambda: f32) -> f32 {
+        if lambda < self.range[0] || lambda > self.range[1] {
+            return 0.0;
+        }
         (planck(lambda as f64, self.temperature as f64) * self.norm as f64) as f32
     }
+
+    /// The largest value over 360–830 nm: B is unimodal in λ, so its value at Wien's peak
+    /// clamped to the part of the visible range the spectrum covers.
     fn max_value(&self) -> f32 {
-        let peak_nm = (WIEN_B / self.temperature as f64 * 1e9) as f32;
-        if (LAMBDA_MIN..=LAMBDA_MAX).contains(&peak_nm) {
-            1.0
-        } else {
-            self.eval(LAMBDA_MIN).max(self.eval(LAMBDA_MAX))
+        let (lo, hi) = (self.range[0].max(LAMBDA_MIN), self.range[1].min(LAMBDA_MAX));
+        if lo > hi {
+            return 0.0;
         }
+        let peak_nm = (WIEN_B / self.temperature as f64 * 1e9) as f32;
+        self.eval(peak_nm.clamp(lo, hi))
     }
 }
 
@@ -270,14 +304,43 @@ impl Spectrum {
         Self::rgb_illuminant([1.0; 3])
     }
 
-    /// A blackbody of `temperature_k` kelvin normalized to peak 1 (Mitsuba/pbrt `blackbody`).
-    /// A non-positive or non-finite temperature gives the zero spectrum (the scene reader rejects
+    /// A blackbody of `temperature_k` kelvin normalized to peak 1 (pbrt's `blackbody`). A
+    /// non-positive or non-finite temperature gives the zero spectrum (the scene reader rejects
     /// it first).
     pub fn blackbody(temperature_k: f32) -> Self {
         match Blackbody::new(temperature_k) {
             Some(b) => Spectrum::Blackbody(b),
             None => Spectrum::Constant(0.0),
         }
+    }
+
+    /// Blackbody radiance in W·m⁻²·sr⁻¹·nm⁻¹ within `range` nm and 0 outside (Mitsuba 3's
+    /// `blackbody`, whose range is 360–830 nm by default; [`Blackbody::radiance`]). Invalid
+    /// arguments give the zero spectrum (the scene reader rejects them first).
+    pub fn blackbody_radiance(temperature_k: f32, range: [f32; 2]) -> Self {
+        match Blackbody::radiance(temperature_k, range) {
+            Some(b) => Spectrum::Blackbody(b),
+            None => Spectrum::Constant(0.0),
+        }
+    }
+
+    /// The spectrum times `k`, exactly, for every kind but the dispersion formulas (`None`:
+    /// they are indices of refraction, not amounts); `None` too where a product is not finite.
+    pub fn scaled(&self, k: f32) -> Option<Self> {
+        if !k.is_finite() {
+            return None;
+        }
+        let s = match self {
+            Spectrum::Constant(v) => Spectrum::Constant(v * k),
+            Spectrum::PiecewiseLinear(p) => Spectrum::piecewise(p.scaled(k)?),
+            Spectrum::Rgb(r) => Spectrum::Rgb(RgbSpectrum {
+                scale: r.scale * k,
+                ..*r
+            }),
+            Spectrum::Blackbody(b) => Spectrum::Blackbody(b.scaled(k)),
+            Spectrum::Sellmeier(_) | Spectrum::Cauchy(_) => return None,
+        };
+        s.max_value().is_finite().then_some(s)
     }
 
     /// A Sellmeier index of refraction (B dimensionless, C in µm²).
@@ -451,7 +514,7 @@ mod tests {
         let peak = (WIEN_B / 6000.0 * 1e9) as f32;
         assert!((s.eval(peak) - 1.0).abs() < 1e-6);
         assert!(s.eval(400.0) < 1.0 && s.eval(700.0) < 1.0);
-        assert_eq!(s.max_value(), 1.0);
+        assert_eq!(s.max_value(), s.eval(peak));
         // Peak outside the visible range (2000 K → 1449 nm): max at 830 nm.
         let cold = Spectrum::blackbody(2000.0);
         let brute = scan_visible(|l| cold.eval(l)).fold(0.0f32, f32::max);
@@ -459,6 +522,85 @@ mod tests {
         assert!(cold.max_value() < 1.0);
         assert_eq!(Spectrum::blackbody(-5.0), Spectrum::Constant(0.0));
         assert_eq!(Spectrum::blackbody(f32::NAN), Spectrum::Constant(0.0));
+    }
+
+    #[test]
+    fn blackbody_radiance_matches_mitsuba() {
+        // W·m⁻²·sr⁻¹·nm⁻¹, 0 outside 360–830 nm: Mitsuba 3's src/render/tests/test_spectra.py
+        // (`test03_blackbody`, 5000 K) and Mitsuba 3.9.1 `scalar_spectral` at 3000 K.
+        let hot = Spectrum::blackbody_radiance(5000.0, [360.0, 830.0]);
+        let cold = Spectrum::blackbody_radiance(3000.0, [360.0, 830.0]);
+        for (s, l, expected) in [
+            (&hot, 350.0, 0.0),
+            (&hot, 456.0, 10997.9),
+            (&hot, 700.0, 11812.0),
+            (&hot, 840.0, 0.0),
+            (&cold, 359.9, 0.0),
+            (&cold, 360.0, 32.265572),
+            (&cold, 456.0, 163.484253),
+            (&cold, 550.0, 386.542328),
+            (&cold, 700.0, 750.596375),
+            (&cold, 830.0, 938.49707),
+            (&cold, 830.1, 0.0),
+        ] {
+            let v = s.eval(l);
+            assert!(
+                (v - expected).abs() <= 1e-4 * expected,
+                "B({l} nm) = {v}, Mitsuba {expected}"
+            );
+        }
+        // The peaks: 5000 K at 580 nm, inside; 3000 K at 966 nm, so the range's end.
+        let peak = (WIEN_B / 5000.0 * 1e9) as f32;
+        assert_eq!(hot.max_value(), hot.eval(peak));
+        assert_eq!(cold.max_value(), cold.eval(830.0));
+        // Mitsuba's `wavelength_min` and `wavelength_max` (ends included).
+        let band = Spectrum::blackbody_radiance(5000.0, [400.0, 700.0]);
+        assert_eq!(band.eval(399.9), 0.0);
+        assert!((band.eval(400.0) - 8743.565).abs() < 1.0);
+        assert_eq!(band.max_value(), band.eval(peak));
+        assert_eq!(
+            Spectrum::blackbody_radiance(5000.0, [900.0, 1000.0]).max_value(),
+            0.0
+        );
+        for range in [
+            [700.0, 400.0],
+            [f32::NAN, 830.0],
+            [-1.0, 830.0],
+            [360.0, f32::INFINITY],
+        ] {
+            assert_eq!(
+                Spectrum::blackbody_radiance(5000.0, range),
+                Spectrum::Constant(0.0)
+            );
+        }
+        assert_eq!(
+            Spectrum::blackbody_radiance(0.0, [360.0, 830.0]),
+            Spectrum::Constant(0.0)
+        );
+    }
+
+    #[test]
+    fn scaled_multiplies_every_amount_and_refuses_indices() {
+        let table = PiecewiseLinear::new(vec![400.0, 700.0], vec![1.0, 3.0], Extrapolation::Zero).unwrap();
+        for s in [
+            Spectrum::Constant(0.5),
+            Spectrum::piecewise(table),
+            Spectrum::rgb_albedo([0.2, 0.5, 0.8]),
+            Spectrum::rgb_illuminant([2.0, 1.0, 0.5]),
+            Spectrum::blackbody(4000.0),
+            Spectrum::blackbody_radiance(4000.0, [360.0, 830.0]),
+        ] {
+            let twice = s.scaled(2.0).unwrap();
+            for l in [380.0, 450.0, 555.5, 650.0, 800.0] {
+                assert!(
+                    (twice.eval(l) - 2.0 * s.eval(l)).abs() <= 1e-6 * s.eval(l),
+                    "{s:?} at {l}"
+                );
+            }
+            assert_eq!(s.scaled(f32::NAN), None);
+        }
+        assert_eq!(Spectrum::cauchy(1.5, 0.004).scaled(2.0), None);
+        assert_eq!(Spectrum::Constant(1e38).scaled(1e10), None);
     }
 
     #[test]

@@ -39,6 +39,7 @@ mod render;
 mod render_stats;
 mod russian_roulette;
 mod sampler;
+mod spectrum_plugins;
 mod xml_errors;
 mod xml_grammar;
 mod xml_mesh;

@@ -48,6 +48,13 @@ fn required(name: &str) -> &'static str {
         "serialized" => "<string name=\"filename\" value=\"quad.serialized\"/>",
         "bitmap" | "envmap" => "<string name=\"filename\" value=\"rgbw.png\"/>",
         "blackbody" => "<float name=\"temperature\" value=\"3000\"/>",
+        "regular" => {
+            "<float name=\"wavelength_min\" value=\"400\"/><float name=\"wavelength_max\" value=\"700\"/><string name=\"values\" value=\"0.5, 0.7\"/>"
+        }
+        "irregular" => {
+            "<string name=\"wavelengths\" value=\"400, 700\"/><string name=\"values\" value=\"0.5, 0.7\"/>"
+        }
+        "srgb" => "<rgb name=\"color\" value=\"0.5, 0.2, 0.1\"/>",
         "thinlens" => "<float name=\"aperture_radius\" value=\"0.1\"/>",
         "instance" => "<shape type=\"shapegroup\"><shape type=\"sphere\"/></shape>",
         "sdfgrid" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
@@ -74,6 +81,7 @@ fn row_xml(p: &ParamSpec) -> Option<String> {
         (ParamType::Float | ParamType::Spectrum | ParamType::Texture, DefaultValue::Float(v)) => {
             format!("<float name=\"{n}\" value=\"{v}\"/>")
         }
+        (ParamType::Rgb, DefaultValue::Float(v)) => format!("<rgb name=\"{n}\" value=\"{v}\"/>"),
         (ParamType::String | ParamType::Ior, DefaultValue::Str(s)) => {
             format!("<string name=\"{n}\" value=\"{s}\"/>")
         }
@@ -94,9 +102,10 @@ fn every_table_default_has_its_parameters_type() {
                 let ok = match (p.ty, p.default) {
                     (_, DefaultValue::None) => true,
                     (_, DefaultValue::Derived(s)) => !s.is_empty(),
-                    (ParamType::Float | ParamType::Spectrum | ParamType::Texture, DefaultValue::Float(v)) => {
-                        v.is_finite()
-                    }
+                    (
+                        ParamType::Float | ParamType::Spectrum | ParamType::Texture | ParamType::Rgb,
+                        DefaultValue::Float(v),
+                    ) => v.is_finite(),
                     (ParamType::Integer, DefaultValue::Int(_)) => true,
                     (ParamType::Boolean, DefaultValue::Bool(_)) => true,
                     (

@@ -149,6 +149,15 @@ impl PiecewiseLinear {
         self
     }
 
+    /// The same table with every value times `k` (the products must stay finite).
+    pub fn scaled(&self, k: f32) -> Option<Self> {
+        Self::new(
+            self.lambda.clone(),
+            self.value.iter().map(|v| v * k).collect(),
+            self.extrapolation,
+        )
+    }
+
     /// The extrapolation rule.
     pub fn extrapolation(&self) -> Extrapolation {
         self.extrapolation

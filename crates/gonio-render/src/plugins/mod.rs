@@ -119,6 +119,9 @@ pub static SPECTRUM_PLUGINS: &[&Plugin<Texture>] = &[
     &spectrum::d65::PLUGIN,
     &spectrum::blackbody::PLUGIN,
     &spectrum::uniform::PLUGIN,
+    &spectrum::regular::PLUGIN,
+    &spectrum::irregular::PLUGIN,
+    &spectrum::srgb::PLUGIN,
 ];
 
 /// The table of one kind of plugin: its tag and the name, summary and parameters of each plugin.

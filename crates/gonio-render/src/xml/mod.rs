@@ -25,7 +25,7 @@ pub use params::{BsdfPlugin, DefaultValue, ParamSpec, ParamType, Plugin};
 pub(crate) use params::{Params, err, to_affine};
 pub(crate) use parse::{Obj, Tag};
 pub(crate) use plugins::{Builder, image_error, unknown_plugin};
-pub(crate) use values::SpecValue;
+pub(crate) use values::{SpecValue, parse_list};
 
 use crate::material::Material;
 use crate::scene::Scene;

@@ -21,6 +21,8 @@ pub enum ParamType {
     String,
     /// A spectrum that may not vary over the surface (`<float>`, `<rgb>`, `<spectrum>`).
     Spectrum,
+    /// A colour: `<rgb>` (or one number for all three components).
+    Rgb,
     /// A spectrum or a texture (`<float>`, `<rgb>`, `<spectrum>`, `<texture>`).
     Texture,
     /// An index of refraction: a number, a named material, or (ours) a dispersive glass or spectrum.
@@ -54,6 +56,7 @@ impl ParamType {
             ParamType::Boolean => "boolean",
             ParamType::String => "string",
             ParamType::Spectrum => "spectrum",
+            ParamType::Rgb => "rgb",
             ParamType::Texture => "spectrum or texture",
             ParamType::Ior => "float or string",
             ParamType::Bsdf => "bsdf",
@@ -317,6 +320,19 @@ impl<'d> Params<'d> {
                 Value::Float(v) => Ok(Some((v, &p.value_loc))),
                 Value::Int(v) => Ok(Some((v as f64, &p.value_loc))),
                 _ => Err(self.wrong_type(p, "float")),
+            },
+        }
+    }
+
+    /// An `<rgb>` colour (a `<float>` or `<integer>` gives all three components).
+    pub(crate) fn rgb_opt(&mut self, name: &str) -> Result<Option<([f64; 3], &'d Location)>> {
+        match self.get(name) {
+            None => Ok(None),
+            Some(p) => match p.value {
+                Value::Rgb(c) => Ok(Some((c, &p.value_loc))),
+                Value::Float(v) => Ok(Some(([v; 3], &p.value_loc))),
+                Value::Int(v) => Ok(Some(([v as f64; 3], &p.value_loc))),
+                _ => Err(self.wrong_type(p, "rgb")),
             },
         }
     }
