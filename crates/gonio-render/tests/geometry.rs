@@ -177,6 +177,31 @@ fn disk_hits_and_uv() {
     assert!((h.uv.y - 0.75).abs() < 1e-6, "φ = −π/2 wraps to 0.75: {:?}", h.uv);
 }
 
+/// Mitsuba's conventions for ∂p/∂u and ∂p/∂v where they are not the derivatives of p(u, v)
+/// (Mitsuba 3 `src/shapes/tests/test_disk.py` `test05`, `test_sphere.py` `test09`): the disk's are
+/// the unit radial and tangential directions, (1, 0, 0) and (0, 1, 0) at its centre; the
+/// sphere's ∂p/∂v at a pole is π (1, 0, 0). Bump maps and the `dp_dv` AOV follow them.
+#[test]
+fn disk_and_sphere_partials_follow_mitsuba_at_singular_points() {
+    let disk = world(&shape(Geometry::Disk, Affine3A::IDENTITY));
+    let h = hit(&disk, Ray::new(Vec3::new(0.1, -0.2, 1.0), -Vec3::Z)).unwrap();
+    let (c, s) = (0.1 / 0.05f32.sqrt(), -0.2 / 0.05f32.sqrt());
+    assert!(close(h.dpdu, Vec3::new(c, s, 0.0), 1e-5), "{:?}", h.dpdu);
+    assert!(close(h.dpdv, Vec3::new(-s, c, 0.0), 1e-5), "{:?}", h.dpdv);
+    let centre = hit(&disk, Ray::new(Vec3::new(0.0, 0.0, 1.0), -Vec3::Z)).unwrap();
+    assert_eq!((centre.dpdu, centre.dpdv), (Vec3::X, Vec3::Y));
+    let sphere = world(&shape(
+        Geometry::Sphere {
+            center: Vec3::ZERO,
+            radius: 1.0,
+        },
+        Affine3A::IDENTITY,
+    ));
+    let pole = hit(&sphere, Ray::new(Vec3::new(0.0, 0.0, -3.0), Vec3::Z)).unwrap();
+    assert!(close(pole.p, -Vec3::Z, 1e-6));
+    assert!(close(pole.dpdv, Vec3::new(PI, 0.0, 0.0), 1e-5), "{:?}", pole.dpdv);
+}
+
 /// Mitsuba's regression scene `various_shapes` scales a disk by (1.5, 2.5, 1): an ellipse of
 /// semi-axes 1.5 and 2.5 (area 3.75π), hit inside and missed outside its boundary, with uv
 /// (r, φ/2π) of the unit disk it came from; the scale along z leaves it unchanged.

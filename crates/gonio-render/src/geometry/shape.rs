@@ -485,7 +485,8 @@ impl WorldShape {
             Vec2::ZERO
         };
         let dpdu = *to_world * Vec3::new(-local.y, local.x, 0.0) * TAU;
-        // ∂p/∂v = π (cos θ cos φ, cos θ sin φ, −sin θ) (zero at the poles).
+        // ∂p/∂v = π (cos θ cos φ, cos θ sin φ, −sin θ); at the poles, where φ is undefined,
+        // π (1, 0, 0) (Mitsuba's `sphere`).
         let sin_theta = (local.x * local.x + local.y * local.y).sqrt();
         let dpdv = if sin_theta > 0.0 {
             *to_world
@@ -496,7 +497,7 @@ impl WorldShape {
                 )
                 * PI
         } else {
-            Vec3::ZERO
+            *to_world * Vec3::X * PI
         };
         SurfaceInteraction {
             p,
@@ -541,12 +542,12 @@ impl WorldShape {
                 if v < 0.0 {
                     v += 1.0;
                 }
-                // Mitsuba's disk: uv = (r, φ/2π); ∂p/∂u is the radial direction.
-                let dpdu = if r > 0.0 {
-                    to_world.transform_vector3(Vec3::new(x / r, y / r, 0.0))
-                } else {
-                    Vec3::ZERO
-                };
+                // Mitsuba's disk: uv = (r, φ/2π); its ∂p/∂u and ∂p/∂v are the unit radial and
+                // tangential directions (∂p/∂v is not the derivative 2πr·(−sin φ, cos φ)), at
+                // the centre those of φ = 0: bump maps and the dp_dv AOV then match Mitsuba's.
+                let (cos_phi, sin_phi) = if r > 0.0 { (x / r, y / r) } else { (1.0, 0.0) };
+                let dpdu = to_world.transform_vector3(Vec3::new(cos_phi, sin_phi, 0.0));
+                let dpdv = to_world.transform_vector3(Vec3::new(-sin_phi, cos_phi, 0.0));
                 SurfaceInteraction {
                     p,
                     t: 0.0,
@@ -554,7 +555,7 @@ impl WorldShape {
                     shading: Frame::from_normal_tangent(*n, dpdu),
                     uv: Vec2::new(r, v),
                     dpdu,
-                    dpdv: to_world.transform_vector3(Vec3::new(-y, x, 0.0)) * TAU,
+                    dpdv,
                     shape: 0,
                     prim: 0,
                     bary: Vec2::ZERO,
