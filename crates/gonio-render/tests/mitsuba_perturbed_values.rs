@@ -112,3 +112,38 @@ fn an_rgb_normal_map_is_its_three_values() {
     let g = f[0] * wo.z;
     assert!((g - 0.155906).abs() < 2e-4 * 0.155906, "{g}");
 }
+
+/// Regression: Mitsuba's test scene `test_normalmap_identity_roughconductor_path.xml` writes its
+/// constant map as a nested `<spectrum type="srgb">`, which gonio refused ("must be a bitmap
+/// or a constant"). It is the same map as the `<rgb>` value, nested or referenced.
+#[test]
+fn normalmap_takes_an_srgb_spectrum_object_as_its_constant() {
+    let with = |map: &str| {
+        let xml = format!(
+            r#"<scene version="3.0.0">
+                <spectrum type="srgb" id="tilt"><rgb name="color" value="0.7, 0.5, 0.9"/></spectrum>
+                <bsdf type="normalmap" id="m">{map}<bsdf type="roughconductor"/></bsdf>
+                <shape type="sphere"><ref id="m"/></shape>
+            </scene>"#
+        );
+        let s = gonio_render::xml::load_scene_str(&xml, std::path::PathBuf::from("."), &[])
+            .unwrap_or_else(|e| panic!("{map}: {e}"));
+        let wl = SampledWavelengths::fixed(550.0);
+        let (wi, wo) = (
+            glam::Vec3::new(0.3, 0.1, 0.95).normalize(),
+            glam::Vec3::new(-0.2, 0.3, 0.93).normalize(),
+        );
+        s.materials[s.shapes[0].material].with_bsdf(Vec2::splat(0.5), |b| {
+            b.eval_pdf(&BsdfContext::radiance(), wi, wo, &wl)
+        })
+    };
+    let rgb = with(r#"<rgb name="normalmap" value="0.7, 0.5, 0.9"/>"#);
+    let nested = with(
+        r#"<spectrum name="normalmap" type="srgb"><rgb name="color" value="0.7, 0.5, 0.9"/></spectrum>"#,
+    );
+    let referenced = with(r#"<ref name="normalmap" id="tilt"/>"#);
+    let flat = with(r#"<rgb name="normalmap" value="0.5, 0.5, 1"/>"#);
+    assert!(rgb.1 > 0.0 && rgb != flat, "the tilt changes the frame");
+    assert_eq!(nested, rgb);
+    assert_eq!(referenced, rgb);
+}

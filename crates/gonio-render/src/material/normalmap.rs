@@ -11,7 +11,7 @@
 //!
 //! | parameter       | type    | default |
 //! |-----------------|---------|---------|
-//! | `normalmap`     | texture | required (a bitmap with `raw="true"`, an `rgb` or a constant) |
+//! | `normalmap`     | texture | required (a bitmap with `raw="true"`, an `rgb`, an `srgb` spectrum or a constant) |
 //! | `flip_invalid_normals` | boolean | true |
 //! | `use_shadowing_function` | boolean | true |
 //! | (nested plugin) | bsdf    | required, exactly one |
@@ -29,7 +29,7 @@ const NORMALMAP: ParamSpec = ParamSpec::new(
     "normalmap",
     ParamType::Texture,
     DefaultValue::None,
-    "the tangent-space normals, RGB in [0, 1] ↦ [−1, 1] (a bitmap read with raw=\"true\", or an `rgb` constant)",
+    "the tangent-space normals, RGB in [0, 1] ↦ [−1, 1] (a bitmap read with raw=\"true\", or a constant: an `rgb` or an `srgb` spectrum)",
 );
 const NESTED: ParamSpec = ParamSpec::new(
     "(nested bsdf)",
@@ -77,10 +77,11 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
         ));
     };
     let texture = b.texture(p, &NORMALMAP, RgbKind::Unbounded)?;
-    let map = match &prop.value {
-        // An `<rgb>` constant is its three values, as Mitsuba's RGB variants read it (its
-        // spectral variants read the uplifted spectrum's coefficients instead).
-        crate::xml::Value::Rgb(c) => {
+    let map = match raw_color(b, &prop.value) {
+        // An `<rgb>` constant, or an `srgb` spectrum object, is its three values, as Mitsuba's
+        // RGB variants read it (its spectral variants read the uplifted spectrum's coefficients
+        // instead).
+        Some(c) => {
             let texel = Bitmap::new(
                 1,
                 1,
@@ -110,6 +111,29 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
         flip_invalid_normals,
         use_shadowing_function,
     }))
+}
+
+/// The colour a normal map given as a constant stands for: an `<rgb>` value, or the `color` of
+/// a nested or referenced `<spectrum type="srgb">` (Mitsuba's test scenes write the identity map
+/// so). The object itself was built, and so checked, by the caller.
+fn raw_color(b: &Builder<'_>, value: &crate::xml::Value) -> Option<[f64; 3]> {
+    use crate::xml::Value;
+    let idx = match value {
+        Value::Rgb(c) => return Some(*c),
+        Value::Object(i) => *i,
+        Value::Ref(id) => *b.doc.ids.get(id)?,
+        _ => return None,
+    };
+    let obj = &b.doc.objs[idx];
+    if obj.tag != Tag::Spectrum || obj.ty != "srgb" {
+        return None;
+    }
+    obj.props.iter().find_map(|p| match (p.name.as_str(), &p.value) {
+        ("color", Value::Rgb(c)) => Some(*c),
+        ("color", Value::Float(v)) => Some([*v; 3]),
+        ("color", Value::Int(v)) => Some([*v as f64; 3]),
+        _ => None,
+    })
 }
 
 /// The one nested BSDF of a frame-perturbing wrapper (`what` names it in errors).
