@@ -77,3 +77,52 @@ fn an_area_emitter_attached_twice_or_to_nothing_is_an_error() {
         "{e}"
     );
 }
+
+/// `merge` (Mitsuba 3 merges the nested meshes that share a BSDF, for speed) places its shapes as
+/// if written one by one: the same scene shapes, in order, with their own BSDFs and emitters,
+/// also nested and inside a `shapegroup`; elsewhere it is refused by name.
+#[test]
+fn merge_places_its_shapes_one_by_one() {
+    let shapes = r#"<shape type="sphere"><bsdf type="conductor"/></shape>
+        <shape type="rectangle"><bsdf type="dielectric"/></shape>
+        <shape type="disk"><emitter type="area"/></shape>"#;
+    let plain = load(shapes).unwrap();
+    let merged = load(&format!(
+        r#"<shape type="merge">{}</shape>"#,
+        shapes
+            .replacen(
+                "<shape type=\"disk\">",
+                "<shape type=\"merge\"><shape type=\"disk\">",
+                1
+            )
+            .replacen(
+                "<emitter type=\"area\"/></shape>",
+                "<emitter type=\"area\"/></shape></shape>",
+                1
+            )
+    ))
+    .unwrap();
+    assert_eq!(merged.shapes.len(), 3);
+    for (a, b) in plain.shapes.iter().zip(&merged.shapes) {
+        assert_eq!(format!("{:?}", a.geometry), format!("{:?}", b.geometry));
+        assert_eq!(a.emitter.is_some(), b.emitter.is_some());
+        assert_eq!(
+            format!("{:?}", plain.materials[a.material]),
+            format!("{:?}", merged.materials[b.material])
+        );
+    }
+    let grouped = load(
+        r#"<shape type="shapegroup" id="g"><shape type="merge"><shape type="sphere"/><shape type="rectangle"/></shape></shape>
+        <shape type="instance"><ref id="g"/></shape>"#,
+    )
+    .unwrap();
+    assert_eq!(grouped.shapes.len(), 2, "one instanced shape per merged member");
+    let e = load(r#"<shape type="merge"><float name="radius" value="2"/><shape type="sphere"/></shape>"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("radius"), "{e}");
+    let e = load(r#"<shape type="instance"><shape type="merge"><shape type="sphere"/></shape></shape>"#)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("merge") && e.contains(":1:"), "{e}");
+}

@@ -84,6 +84,7 @@ pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
     &shape::cylinder::PLUGIN,
     &shape::shapegroup::PLUGIN,
     &shape::instance::PLUGIN,
+    &shape::merge::PLUGIN,
     &shape::sdfgrid::PLUGIN,
     &shape::linearcurve::PLUGIN,
     &shape::bsplinecurve::PLUGIN,

@@ -80,11 +80,22 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, Scene
 
 /// Adds the top-level `<shape>` object `idx` to the scene's `shapes`: a `shapegroup` adds
 /// nothing (it is built and checked, and placed by its instances), an `instance` adds one shape
-/// per member of its group, any other shape itself.
+/// per member of its group, a `merge` its nested shapes, any other shape itself.
 pub(crate) fn place(b: &mut Builder<'_>, idx: usize, shapes: &mut Vec<ShapeDesc>) -> Result<(), SceneError> {
-    if b.doc.objs[idx].ty == "shapegroup" {
-        super::shapegroup::group(b, idx)?;
-        return Ok(());
+    match b.doc.objs[idx].ty.as_str() {
+        "shapegroup" => {
+            super::shapegroup::group(b, idx)?;
+            return Ok(());
+        }
+        "merge" => {
+            let mut kids = Vec::new();
+            super::merge::flatten(b, idx, &mut kids)?;
+            for kid in kids {
+                place(b, kid, shapes)?;
+            }
+            return Ok(());
+        }
+        _ => {}
     }
     let desc = b.build_plugin(super::super::SHAPE_PLUGINS, idx)?;
     expand(desc, shapes);

@@ -12,6 +12,7 @@ pub mod cylinder;
 pub mod disk;
 pub mod instance;
 pub mod linearcurve;
+pub mod merge;
 pub mod obj;
 pub mod ply;
 pub mod rectangle;

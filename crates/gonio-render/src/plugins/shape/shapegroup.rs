@@ -33,7 +33,14 @@ pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, SceneError> {
     let mut shapes = Vec::new();
+    // A nested `merge` stands for its shapes.
+    let mut members = Vec::new();
     for (i, prop) in p.objects(Tag::Shape)? {
+        let mut kids = Vec::new();
+        super::merge::flatten(b, i, &mut kids)?;
+        members.extend(kids.into_iter().map(|k| (k, prop)));
+    }
+    for (i, prop) in members {
         let ty = b.doc.objs[i].ty.as_str();
         if ty == "shapegroup" || ty == "instance" {
             return Err(err(
