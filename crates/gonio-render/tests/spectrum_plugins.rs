@@ -198,6 +198,10 @@ fn spectrum_objects_refuse_bad_values_by_name() {
             "type=\"irregular\"><string name=\"wavelengths\" value=\"400, 500\"/><string name=\"values\" value=\"1, -2\"/>",
             "-2",
         ),
+        (
+            "type=\"regular\"><float name=\"wavelength_min\" value=\"400\"/><float name=\"wavelength_max\" value=\"700\"/><string name=\"values\" value=\"1, 1e39\"/>",
+            "invalid value 1000000000000000000000000000000000000000",
+        ),
     ] {
         let e = radiance(&format!("<spectrum name=\"radiance\" {xml}</spectrum>"))
             .unwrap_err()

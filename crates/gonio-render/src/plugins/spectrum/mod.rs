@@ -93,7 +93,8 @@ fn number_list(
             ),
         ));
     }
-    if let Some(x) = v.iter().find(|x| !(x.is_finite() && **x >= 0.0)) {
+    // Finite in single precision, as the spectrum stores them.
+    if let Some(x) = v.iter().find(|x| !((**x as f32).is_finite() && **x >= 0.0)) {
         return Err(err(
             loc,
             ErrorKind::BadValue,
