@@ -6,9 +6,9 @@
 //! [`Camera::generate_ray`] for paths traced from the camera, [`Camera::connect`] (and
 //! [`Camera::project`]) for light tracing, which joins a point to the camera and needs the
 //! camera's importance and the density with which a camera sample would have produced the
-//! direction. Mitsuba's `orthographic` ([`OrthographicCamera`]) and `thinlens`
-//! ([`ThinLensCamera`]) sensors implement the same trait; they do not connect (light tracing of
-//! caustics is then off, [`Camera::connects`]).
+//! direction. Mitsuba's `orthographic` ([`OrthographicCamera`]), `thinlens`
+//! ([`ThinLensCamera`]) and `radiancemeter` ([`RadianceMeter`]) sensors implement the same trait;
+//! they do not connect (light tracing of caustics is then off, [`Camera::connects`]).
 //!
 //! Camera space: +z forward, +y up, **+x left** (Mitsuba's `lookat` builds the columns
 //! `[left, up, dir, origin]`). A camera-space point (x, y, z) lands at film coordinates
@@ -72,8 +72,8 @@ pub trait Camera: std::fmt::Debug + Send + Sync {
     }
 }
 
-/// The camera of a scene's sensor: [`PerspectiveCamera`], [`OrthographicCamera`] or
-/// [`ThinLensCamera`].
+/// The camera of a scene's sensor: [`PerspectiveCamera`], [`OrthographicCamera`],
+/// [`ThinLensCamera`] or [`RadianceMeter`].
 pub fn from_sensor(sensor: &SensorDesc) -> Box<dyn Camera> {
     match sensor.projection {
         Projection::Perspective => Box::new(PerspectiveCamera::new(sensor)),
@@ -82,6 +82,52 @@ pub fn from_sensor(sensor: &SensorDesc) -> Box<dyn Camera> {
             aperture_radius,
             focus_distance,
         } => Box::new(ThinLensCamera::new(sensor, aperture_radius, focus_distance)),
+        Projection::RadianceMeter => Box::new(RadianceMeter::new(sensor)),
+    }
+}
+
+/// Mitsuba's `radiancemeter`: every film position gives the one ray from the sensor's origin
+/// along its +z, unbounded. Light tracing cannot reach a point seen along one direction
+/// ([`Camera::connect`] is `None`, [`Camera::connects`] false).
+#[derive(Clone, Debug)]
+pub struct RadianceMeter {
+    o: Vec3,
+    d: Vec3,
+}
+
+impl RadianceMeter {
+    /// The meter of a scene sensor: `to_world`'s origin and normalized +z.
+    pub fn new(sensor: &SensorDesc) -> Self {
+        Self {
+            o: sensor.to_world.transform_point3(Vec3::ZERO),
+            d: sensor.to_world.transform_vector3(Vec3::Z).normalize(),
+        }
+    }
+}
+
+impl Camera for RadianceMeter {
+    fn generate_ray(&self, _film: Vec2) -> Ray {
+        Ray {
+            o: self.o,
+            d: self.d,
+            tmax: f32::INFINITY,
+        }
+    }
+
+    fn project(&self, _p: Vec3) -> Option<Vec2> {
+        None
+    }
+
+    fn position(&self) -> Vec3 {
+        self.o
+    }
+
+    fn connect(&self, _p: Vec3) -> Option<CameraConnection> {
+        None
+    }
+
+    fn connects(&self) -> bool {
+        false
     }
 }
 

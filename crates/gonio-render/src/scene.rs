@@ -296,6 +296,8 @@ pub enum Projection {
         /// Distance of the plane in focus, along +z.
         focus_distance: f32,
     },
+    /// `radiancemeter`: one ray, from `to_world`'s origin along its +z (a film of one pixel).
+    RadianceMeter,
 }
 
 /// Description of the `<film>` (`hdrfilm`), as the scene file gives it.

@@ -56,6 +56,9 @@ fn required(name: &str) -> &'static str {
         }
         "srgb" => "<rgb name=\"color\" value=\"0.5, 0.2, 0.1\"/>",
         "thinlens" => "<float name=\"aperture_radius\" value=\"0.1\"/>",
+        "radiancemeter" => {
+            "<film type=\"hdrfilm\"><integer name=\"width\" value=\"1\"/><integer name=\"height\" value=\"1\"/></film>"
+        }
         "instance" => "<shape type=\"shapegroup\"><shape type=\"sphere\"/></shape>",
         "sdfgrid" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
         "linearcurve" | "bsplinecurve" => "<string name=\"filename\" value=\"curve.txt\"/>",

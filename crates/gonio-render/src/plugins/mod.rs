@@ -48,6 +48,7 @@ pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[
     &sensor::perspective::PLUGIN,
     &sensor::orthographic::PLUGIN,
     &sensor::thinlens::PLUGIN,
+    &sensor::radiancemeter::PLUGIN,
 ];
 
 /// `<film>` plugins (nested in a sensor).

@@ -2,4 +2,5 @@
 
 pub mod orthographic;
 pub mod perspective;
+pub mod radiancemeter;
 pub mod thinlens;
