@@ -235,7 +235,7 @@ pub enum Spectrum {
     PiecewiseLinear(Arc<PiecewiseLinear>),
     /// An RGB colour uplifted with Jakob & Hanika's sigmoid polynomials.
     Rgb(RgbSpectrum),
-    /// Planck's law normalized to peak 1.
+    /// Planck's law, normalized to peak 1 (pbrt's) or as a radiance (Mitsuba's).
     Blackbody(Blackbody),
     /// Sellmeier dispersion formula (an index of refraction).
     Sellmeier(Sellmeier),
