@@ -316,7 +316,13 @@ impl MicrofacetDistribution {
             MicrofacetKind::Ggx => alpha_2 * u1 / (1.0 - u1),
         };
         let cos_theta = 1.0 / (1.0 + tan_theta_2).sqrt();
-        let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+        // sin θ = tan θ · cos θ: √(1 − cos²θ) would cancel near the pole, where the narrow lobes'
+        // samples are (a relative error of 2·10⁻⁵ in the pdf of Mitsuba's `test05_sample_ggx`).
+        let sin_theta = if tan_theta_2.is_finite() {
+            tan_theta_2.max(0.0).sqrt() * cos_theta
+        } else {
+            1.0
+        };
         Vec3::new(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta)
     }
 

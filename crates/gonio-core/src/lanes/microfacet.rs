@@ -175,7 +175,11 @@ impl<const N: usize, X: Isa> MicrofacetLanes<N, X> {
             MicrofacetKind::Ggx => alpha_2 * u1 / (1.0 - u1),
         };
         let cos_theta = (1.0 + tan_theta_2).sqrt().recip();
-        let sin_theta = (F32s::ONE - cos_theta * cos_theta).safe_sqrt();
+        // sin θ = tan θ · cos θ, without the cancellation of √(1 − cos²θ) near the pole (the
+        // scalar sampler's); 1 where tan θ overflows.
+        let sin_theta = tan_theta_2
+            .is_finite()
+            .select(tan_theta_2.safe_sqrt() * cos_theta, F32s::ONE);
         Vec3s::new(sin_theta * cos_phi, sin_theta * sin_phi, cos_theta)
     }
 
