@@ -142,6 +142,10 @@ fn normalmap_takes_an_srgb_spectrum_object_as_its_constant() {
         r#"<spectrum name="normalmap" type="srgb"><rgb name="color" value="0.7, 0.5, 0.9"/></spectrum>"#,
     );
     let referenced = with(r#"<ref name="normalmap" id="tilt"/>"#);
+    let raw = with(
+        r#"<texture name="normalmap" type="rawconstant"><rgb name="value" value="0.7, 0.5, 0.9"/></texture>"#,
+    );
+    assert_eq!(raw, rgb, "a rawconstant colour is the same map");
     let flat = with(r#"<rgb name="normalmap" value="0.5, 0.5, 1"/>"#);
     assert!(rgb.1 > 0.0 && rgb != flat, "the tilt changes the frame");
     assert_eq!(nested, rgb);

@@ -55,6 +55,7 @@ fn required(name: &str) -> &'static str {
             "<string name=\"wavelengths\" value=\"400, 700\"/><string name=\"values\" value=\"0.5, 0.7\"/>"
         }
         "srgb" => "<rgb name=\"color\" value=\"0.5, 0.2, 0.1\"/>",
+        "rawconstant" => "<float name=\"value\" value=\"0.5\"/>",
         "thinlens" => "<float name=\"aperture_radius\" value=\"0.1\"/>",
         "radiancemeter" => {
             "<film type=\"hdrfilm\"><integer name=\"width\" value=\"1\"/><integer name=\"height\" value=\"1\"/></film>"

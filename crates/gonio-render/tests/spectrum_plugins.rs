@@ -209,3 +209,27 @@ fn spectrum_objects_refuse_bad_values_by_name() {
         assert!(e.contains(quoted) && e.contains(":1:"), "{xml}: {e}");
     }
 }
+
+/// `rawconstant` (a texture): a number as written, never × D65 even as an emitter's radiance
+/// (Mitsuba 3.9.1's `RawConstantTexture`); negative or non-finite values refused by value.
+#[test]
+fn rawconstant_is_its_value_as_written() {
+    let texture = |value: &str| {
+        radiance(&format!(
+            "<texture name=\"radiance\" type=\"rawconstant\">{value}</texture>"
+        ))
+    };
+    assert_eq!(
+        texture("<float name=\"value\" value=\"2.5\"/>").unwrap(),
+        Spectrum::Constant(2.5)
+    );
+    for bad in [
+        "<float name=\"value\" value=\"-1\"/>",
+        "<float name=\"value\" value=\"inf\"/>",
+    ] {
+        let e = texture(bad).unwrap_err().to_string();
+        assert!(e.contains("invalid value") && e.contains(":1:"), "{bad}: {e}");
+    }
+    let e = texture("").unwrap_err().to_string();
+    assert!(e.contains("needs a value"), "{e}");
+}

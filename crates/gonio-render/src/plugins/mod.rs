@@ -109,6 +109,7 @@ pub static TEXTURE_PLUGINS: &[&Plugin<Texture>] = &[
     &texture::checkerboard::PLUGIN,
     &texture::bitmap::PLUGIN,
     &texture::mesh_attribute::PLUGIN,
+    &texture::rawconstant::PLUGIN,
     &texture::volume::PLUGIN,
 ];
 

@@ -5,4 +5,5 @@
 pub mod bitmap;
 pub mod checkerboard;
 pub mod mesh_attribute;
+pub mod rawconstant;
 pub mod volume;
