@@ -170,6 +170,14 @@ fn spectrum_objects_refuse_bad_values_by_name() {
         ),
         ("type=\"d65\"><rgb name=\"color\" value=\"1, -1, 0\"/>", "-1"),
         (
+            "type=\"d65\"><rgb name=\"color\" value=\"1e39, 0, 0\"/>",
+            "invalid color",
+        ),
+        (
+            "type=\"d65\"><rgb name=\"color\" value=\"1e30, 0, 0\"/><float name=\"scale\" value=\"1e30\"/>",
+            "beyond single precision",
+        ),
+        (
             "type=\"srgb\"><rgb name=\"color\" value=\"1.5, 0.2, 0.1\"/>",
             "1.5",
         ),

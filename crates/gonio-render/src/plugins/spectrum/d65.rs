@@ -32,7 +32,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneEr
     let color = match p.rgb_opt(COLOR.name)? {
         None => [COLOR.default.float(); 3],
         Some((c, loc)) => {
-            if !c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+            if !c.iter().all(|v| (*v as f32).is_finite() && *v >= 0.0) {
                 return Err(err(
                     loc,
                     ErrorKind::BadValue,
@@ -46,7 +46,13 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneEr
         }
     };
     let scale = scale(p)?;
-    Ok(Texture::Spectrum(Spectrum::rgb_illuminant(
-        color.map(|v| (v * scale) as f32),
-    )))
+    let tinted = color.map(|v| (v * scale) as f32);
+    if !tinted.iter().all(|v| v.is_finite()) {
+        return Err(err(
+            &p.obj.loc,
+            ErrorKind::BadValue,
+            format!("color × scale {scale} is beyond single precision"),
+        ));
+    }
+    Ok(Texture::Spectrum(Spectrum::rgb_illuminant(tinted)))
 }
