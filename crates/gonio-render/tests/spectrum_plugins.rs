@@ -155,6 +155,25 @@ fn regular_irregular_and_srgb_match_mitsuba() {
     // Two fits of the same uplift (our coefficient table against Mitsuba's).
     assert_values("srgb", &srgb, &mitsuba, 5e-3);
     assert_eq!(srgb, Spectrum::rgb_albedo([0.5, 0.2, 0.1]));
+    // `unbounded`: components above 1 accepted, fitted as the clamped colour (Mitsuba 3.9.1 gives
+    // the bounded fit of (1, 0.2, 0.1): 0.308132, 0.112816, 0.214045, 0.990411 at 400, 456,
+    // 550, 700 nm).
+    let unbounded = radiance(
+        "<spectrum name=\"radiance\" type=\"srgb\"><rgb name=\"color\" value=\"2.5, 0.2, 0.1\"/><boolean name=\"unbounded\" value=\"true\"/></spectrum>",
+    )
+    .unwrap();
+    for (l, e) in [
+        (400.0, 0.308132),
+        (456.0, 0.112816),
+        (550.0, 0.214045),
+        (700.0, 0.990411),
+    ] {
+        assert!(
+            (unbounded.eval(l) - e).abs() < 5e-3,
+            "srgb unbounded at {l} nm: {}, Mitsuba {e}",
+            unbounded.eval(l)
+        );
+    }
 }
 
 #[test]

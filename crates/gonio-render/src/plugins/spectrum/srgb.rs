@@ -4,7 +4,9 @@
 //!
 //! | parameter | type | default |
 //! |---|---|---|
-//! | `color` | rgb | required: each component in [0, 1] |
+//! | `color` | rgb | required: each component in [0, 1] (unless `unbounded`) |
+//! | `unbounded` | boolean | false: true accepts components above 1, fitted as the colour
+//! clamped to [0, 1] (what Mitsuba 3.9.1 does with them) |
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::texture::Texture;
@@ -18,11 +20,18 @@ const COLOR: ParamSpec = ParamSpec::new(
     "linear sRGB reflectance (required; each component in [0, 1])",
 );
 
+const UNBOUNDED: ParamSpec = ParamSpec::new(
+    "unbounded",
+    ParamType::Boolean,
+    DefaultValue::Bool(false),
+    "accept components above 1, fitted as the colour clamped to [0, 1] (as Mitsuba 3.9.1 does)",
+);
+
 /// The `srgb` plugin.
 pub static PLUGIN: Plugin<Texture> = Plugin {
     name: "srgb",
     summary: "A linear sRGB reflectance `color` as a smooth spectrum (Jakob and Hanika's uplift).",
-    params: &[COLOR],
+    params: &[COLOR, UNBOUNDED],
     build,
 };
 
@@ -34,12 +43,17 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneEr
             "<spectrum type=\"srgb\"> needs a color",
         ));
     };
-    if !c.iter().all(|v| (0.0..=1.0).contains(v)) {
+    let unbounded = p.bool(UNBOUNDED.name, UNBOUNDED.default.bool())?;
+    let top = if unbounded { f64::MAX } else { 1.0 };
+    if !c
+        .iter()
+        .all(|v| (0.0..=top).contains(v) && (*v as f32).is_finite())
+    {
         return Err(err(
             loc,
             ErrorKind::BadValue,
             format!(
-                "invalid color ({}, {}, {}) (a reflectance: each component in [0, 1])",
+                "invalid color ({}, {}, {}) (a reflectance: each component in [0, 1], or finite and non-negative with unbounded)",
                 c[0], c[1], c[2]
             ),
         ));
