@@ -324,6 +324,22 @@ pub fn uplift_emission_texel(rgb: [f32; 3]) -> Spectrum {
 }
 
 impl Texture {
+    /// One colour everywhere, read raw where colours are read (a normal map's constant) and
+    /// uplifted as an unbounded colour where a spectrum is needed: a 1 × 1 bitmap.
+    pub(crate) fn raw_rgb(c: [f64; 3]) -> Self {
+        let texel = Bitmap::new(
+            1,
+            1,
+            vec![c.map(|v| v as f32)],
+            FilterType::Nearest,
+            WrapMode::Repeat,
+            RgbKind::Unbounded,
+            glam::Affine2::IDENTITY,
+        )
+        .expect("one texel");
+        Texture::Bitmap(std::sync::Arc::new(texel))
+    }
+
     /// A constant texture.
     pub fn constant(v: f32) -> Self {
         Texture::Spectrum(Spectrum::Constant(v))

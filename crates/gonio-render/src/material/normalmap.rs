@@ -17,9 +17,9 @@
 //! | (nested plugin) | bsdf    | required, exactly one |
 
 use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, ShadingPoint, SurfaceMaterial};
-use crate::texture::{Bitmap, FilterType, Texture, WrapMode};
+use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag};
-use glam::{Affine2, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::surface::TooManyNodes;
 use gonio_core::bsdfs::{Perturbation, PerturbedFrame, SurfaceBsdf};
 use gonio_core::spectra::RgbKind;
@@ -81,19 +81,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
         // An `<rgb>` constant, or an `srgb` spectrum object, is its three values, as Mitsuba's
         // RGB variants read it (its spectral variants read the uplifted spectrum's coefficients
         // instead).
-        Some(c) => {
-            let texel = Bitmap::new(
-                1,
-                1,
-                vec![c.map(|v| v as f32)],
-                FilterType::Nearest,
-                WrapMode::Repeat,
-                RgbKind::Unbounded,
-                Affine2::IDENTITY,
-            )
-            .expect("one texel");
-            Texture::Bitmap(std::sync::Arc::new(texel))
-        }
+        Some(c) => Texture::raw_rgb(c),
         _ => texture,
     };
     if map.eval_3(Vec2::ZERO).is_none() {

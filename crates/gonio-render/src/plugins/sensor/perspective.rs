@@ -111,6 +111,20 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
     build_projective(b, p, true)
 }
 
+/// A sensor's nested film and sampler (rows [`FILM`], [`SAMPLER`]; their defaults when absent).
+pub(crate) fn film_and_sampler<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+) -> Result<(FilmDesc, SamplerDesc), SceneError> {
+    let film = b
+        .nested_one(p, Tag::Film, FILM_PLUGINS, "sensor")?
+        .unwrap_or_default();
+    let sampler = b
+        .nested_one(p, Tag::Sampler, SAMPLER_PLUGINS, "sensor")?
+        .unwrap_or_default();
+    Ok((film, sampler))
+}
+
 /// What `perspective`, `thinlens` (`has_fov = true`) and `orthographic` (`has_fov = false`, scale allowed
 /// in `to_world`) share: film, sampler, `to_world`, field of view, clipping, ignored shutter and
 /// principal point; the caller sets [`SensorDesc::projection`].
@@ -120,12 +134,7 @@ pub(crate) fn build_projective<'d>(
     has_fov: bool,
 ) -> Result<SensorDesc, SceneError> {
     let obj = p.obj;
-    let film = b
-        .nested_one(p, Tag::Film, FILM_PLUGINS, "sensor")?
-        .unwrap_or_default();
-    let sampler = b
-        .nested_one(p, Tag::Sampler, SAMPLER_PLUGINS, "sensor")?
-        .unwrap_or_default();
+    let (film, sampler) = film_and_sampler(b, p)?;
     let tw_loc = obj
         .props
         .iter()

@@ -10,10 +10,10 @@
 //! | `origin`, `direction` | (0, 0, 0), (0, 0, 1) |
 //! | nested `film`, `sampler` | hdrfilm (1 × 1 pixels required), independent |
 
-use super::perspective::{FILM, SAMPLER};
-use crate::plugins::{DefaultValue, FILM_PLUGINS, ParamSpec, ParamType, Plugin, SAMPLER_PLUGINS};
+use super::perspective::{FILM, SAMPLER, film_and_sampler};
+use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{Projection, SensorDesc};
-use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
+use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
 use glam::{Affine3A, Mat3, Vec3};
 
 const TO_WORLD: ParamSpec = ParamSpec::new(
@@ -44,12 +44,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, SceneError> {
-    let film = b
-        .nested_one(p, Tag::Film, FILM_PLUGINS, "sensor")?
-        .unwrap_or_default();
-    let sampler = b
-        .nested_one(p, Tag::Sampler, SAMPLER_PLUGINS, "sensor")?
-        .unwrap_or_default();
+    let (film, sampler) = film_and_sampler(b, p)?;
     if (film.width, film.height) != (1, 1) {
         return Err(err(
             &p.obj.loc,

@@ -9,10 +9,8 @@
 //! | `value` | float or rgb | required |
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::texture::{Bitmap, FilterType, Texture, WrapMode};
+use crate::texture::Texture;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Value, err};
-use glam::Affine2;
-use gonio_core::spectra::{RgbKind, Spectrum};
 
 const VALUE: ParamSpec = ParamSpec::new(
     "value",
@@ -51,19 +49,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneEr
         ));
     }
     Ok(match values[..] {
-        [r, g, b] => {
-            let texel = Bitmap::new(
-                1,
-                1,
-                vec![[r as f32, g as f32, b as f32]],
-                FilterType::Nearest,
-                WrapMode::Repeat,
-                RgbKind::Unbounded,
-                Affine2::IDENTITY,
-            )
-            .expect("one texel");
-            Texture::Bitmap(std::sync::Arc::new(texel))
-        }
-        _ => Texture::Spectrum(Spectrum::Constant(values[0] as f32)),
+        [r, g, b] => Texture::raw_rgb([r, g, b]),
+        _ => Texture::constant(values[0] as f32),
     })
 }
