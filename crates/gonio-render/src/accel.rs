@@ -59,6 +59,8 @@ pub struct Accel {
     flat: Option<flat::FlatBoxes>,
     prims: Vec<Prim>,
     build_time: Duration,
+    /// Some shape is hit only from outside (the curves: [`WorldShape::outside_only`]).
+    outside_only: bool,
 }
 
 impl std::fmt::Debug for Accel {
@@ -249,6 +251,7 @@ impl Accel {
             .then(|| embree::Triangles::new(&shapes))
             .flatten();
         let meshes_elsewhere = embree.is_some();
+        let outside_only = shapes.iter().any(|s| s.outside_only);
         let count: usize = shapes.iter().map(|s| own_prim_count(s, meshes_elsewhere)).sum();
         let mut build_time = start.elapsed();
         if count <= flat::MAX_PRIMS {
@@ -268,6 +271,7 @@ impl Accel {
                 flat,
                 prims,
                 build_time,
+                outside_only,
             };
         }
         let start = std::time::Instant::now();
@@ -303,6 +307,7 @@ impl Accel {
             flat: None,
             prims,
             build_time,
+            outside_only,
         }
     }
 
@@ -350,6 +355,9 @@ impl Accel {
             tris.closest_packet(rays, tri_hits);
             for ((o, ray), &tri) in out.iter_mut().zip(rays).zip(tri_hits.iter()) {
                 *o = self.closest_beside(ray, tri);
+                if self.outside_only && o.as_ref().is_some_and(|h| from_inside(&self.shapes, h, ray)) {
+                    *o = self.intersect(ray);
+                }
             }
         }
     }
@@ -401,13 +409,13 @@ impl Accel {
     }
 }
 
-impl Intersect for Accel {
-    fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+impl Accel {
+    fn closest(&self, ray: &Ray) -> Option<SurfaceInteraction> {
         let tri = self.embree.as_ref().and_then(|tris| tris.closest(ray));
         self.closest_beside(ray, tri)
     }
 
-    fn occluded(&self, ray: &Ray) -> bool {
+    fn any(&self, ray: &Ray) -> bool {
         if let Some(tris) = &self.embree
             && tris.any(ray)
         {
@@ -428,7 +436,7 @@ impl Intersect for Accel {
         })
     }
 
-    fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
+    fn each(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
         if let Some(tris) = &self.embree
             && tris.each(ray, &mut |shape, prim, h| {
                 f(&self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
@@ -461,6 +469,86 @@ impl Intersect for Accel {
         });
         stopped
     }
+}
+
+/// Whether `h` is the inside of a surface hit only from outside (its geometric normal, outward
+/// on the curves' tubes, faces along the ray).
+#[inline]
+fn from_inside(shapes: &[WorldShape], h: &SurfaceInteraction, ray: &Ray) -> bool {
+    shapes[h.shape as usize].outside_only && h.n.dot(ray.d) > 0.0
+}
+
+/// Surfaces hit from inside that one query passes before it gives up (a ray starts inside at
+/// most the few fibres that overlap there).
+const MAX_INSIDES: usize = 64;
+
+/// The closest hit along `ray` that is not the inside of an outside-only surface: `closest`
+/// again from just past each such hit (its distance then counted from the ray's origin).
+fn closest_outside(
+    shapes: &[WorldShape],
+    ray: &Ray,
+    closest: impl Fn(&Ray) -> Option<SurfaceInteraction>,
+) -> Option<SurfaceInteraction> {
+    let mut q = *ray;
+    let mut travelled = 0.0;
+    for _ in 0..MAX_INSIDES {
+        let mut h = closest(&q)?;
+        if !from_inside(shapes, &h, ray) {
+            h.t += travelled;
+            return Some(h);
+        }
+        let o = crate::geometry::offset_ray_origin(h.p, h.n, ray.d);
+        let step = (o - q.o).dot(ray.d);
+        travelled += step;
+        q = Ray {
+            o,
+            d: ray.d,
+            tmax: q.tmax - step,
+        };
+        if !(q.tmax > 0.0) {
+            return None;
+        }
+    }
+    None
+}
+
+/// `each` with the insides of outside-only surfaces left out.
+fn each_outside(
+    shapes: &[WorldShape],
+    ray: &Ray,
+    f: &mut dyn FnMut(&SurfaceInteraction) -> bool,
+    each: impl Fn(&Ray, &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool,
+) -> bool {
+    each(ray, &mut |h: &SurfaceInteraction| {
+        !from_inside(shapes, h, ray) && f(h)
+    })
+}
+
+/// Every query past the insides of outside-only surfaces (the curves), when the scene has them.
+impl Intersect for Accel {
+    fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        if self.outside_only {
+            closest_outside(&self.shapes, ray, |q| self.closest(q))
+        } else {
+            self.closest(ray)
+        }
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        if self.outside_only {
+            each_outside(&self.shapes, ray, &mut |_| true, |r, f| self.each(r, f))
+        } else {
+            self.any(ray)
+        }
+    }
+
+    fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
+        if self.outside_only {
+            each_outside(&self.shapes, ray, f, |r, g| self.each(r, g))
+        } else {
+            self.each(ray, f)
+        }
+    }
 
     fn shapes(&self) -> &[WorldShape] {
         &self.shapes
@@ -482,8 +570,8 @@ impl BruteForce {
     }
 }
 
-impl Intersect for BruteForce {
-    fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+impl BruteForce {
+    fn closest(&self, ray: &Ray) -> Option<SurfaceInteraction> {
         let tri = TriRay::new(ray);
         let mut q = *ray;
         let mut best = None;
@@ -498,14 +586,7 @@ impl Intersect for BruteForce {
         Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
     }
 
-    fn occluded(&self, ray: &Ray) -> bool {
-        let tri = TriRay::new(ray);
-        self.prims
-            .iter()
-            .any(|p| prim_test(&self.shapes, p, ray, &tri).is_some())
-    }
-
-    fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
+    fn each(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
         let tri = TriRay::new(ray);
         for p in &self.prims {
             if let Some((shape, inst)) = instance_prim(&self.shapes, p) {
@@ -522,6 +603,20 @@ impl Intersect for BruteForce {
             }
         }
         false
+    }
+}
+
+impl Intersect for BruteForce {
+    fn intersect(&self, ray: &Ray) -> Option<SurfaceInteraction> {
+        closest_outside(&self.shapes, ray, |q| self.closest(q))
+    }
+
+    fn occluded(&self, ray: &Ray) -> bool {
+        each_outside(&self.shapes, ray, &mut |_| true, |r, f| self.each(r, f))
+    }
+
+    fn for_each_hit(&self, ray: &Ray, f: &mut dyn FnMut(&SurfaceInteraction) -> bool) -> bool {
+        each_outside(&self.shapes, ray, f, |r, g| self.each(r, g))
     }
 
     fn shapes(&self) -> &[WorldShape] {

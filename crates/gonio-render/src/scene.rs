@@ -527,6 +527,9 @@ pub struct ShapeDesc {
     pub flip_normals: bool,
     /// Ignore vertex normals, shade with face normals (`face_normals`, default false; meshes).
     pub face_normals: bool,
+    /// Hit only from outside, never from within (the curve shapes, a tube Mitsuba's curves let
+    /// every ray out of): a ray that meets the inside of its surface passes through.
+    pub outside_only: bool,
     /// Index into [`Scene::materials`].
     pub material: usize,
     /// Area emitter attached to this shape.

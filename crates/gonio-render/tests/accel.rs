@@ -33,6 +33,7 @@ fn shape(geometry: Geometry, to_world: Affine3A) -> ShapeDesc {
         to_world,
         flip_normals: false,
         face_normals: false,
+        outside_only: false,
         material: 0,
         emitter: None,
         id: None,

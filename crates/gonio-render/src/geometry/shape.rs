@@ -166,6 +166,9 @@ pub struct WorldShape {
     pub flip_normals: bool,
     /// Meshes: shade with face normals even where vertex normals exist.
     pub face_normals: bool,
+    /// Hit only from outside (see [`crate::scene::ShapeDesc::outside_only`]): the acceleration
+    /// structures pass a ray through the inside of this surface.
+    pub outside_only: bool,
     /// Spheres: give hits their uv (an `atan2` and an `acos` per hit). True unless the renderer
     /// finds that nothing reads it (`render::PreparedScene`: no texture on the shape's material
     /// or emitter, no AOVs); the frame and the derivatives do not need it.
@@ -335,6 +338,7 @@ impl WorldShape {
             kind,
             flip_normals: shape.flip_normals,
             face_normals: shape.face_normals,
+            outside_only: shape.outside_only,
             uv: true,
         })
     }

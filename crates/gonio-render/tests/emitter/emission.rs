@@ -98,6 +98,7 @@ fn rectangle() -> WorldShape {
             * Affine3A::from_scale(Vec3::new(2.0, 1.5, 1.0)),
         flip_normals: false,
         face_normals: false,
+        outside_only: false,
         material: 0,
         emitter: None,
         id: None,

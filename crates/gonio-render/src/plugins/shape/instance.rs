@@ -69,6 +69,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, Scene
         to_world,
         flip_normals: false,
         face_normals: false,
+        outside_only: false,
         material: b.shape_material(None, false)?,
         emitter: None,
         id: p.obj.id.clone(),
@@ -113,6 +114,7 @@ pub fn expand(desc: ShapeDesc, shapes: &mut Vec<ShapeDesc>) {
                         member: Some(i),
                     },
                     material: m.material,
+                    outside_only: m.outside_only,
                     ..desc.clone()
                 });
             }

@@ -62,11 +62,15 @@ pub(crate) fn curve<'d>(
     let mesh = crate::geometry::curve::tessellate(&curves, kind);
     // The control points are already in world space.
     c.to_world = glam::Affine3A::IDENTITY;
-    super::assemble(
+    // Mitsuba's curves (Embree's round curves) are never hit from inside: light that enters a
+    // fibre (the `hair` model's transmission) leaves through it.
+    let mut desc = super::assemble(
         b,
         p,
         c,
         crate::scene::Geometry::Mesh(std::sync::Arc::new(mesh)),
         false,
-    )
+    )?;
+    desc.outside_only = true;
+    Ok(desc)
 }

@@ -143,6 +143,7 @@ pub(crate) fn assemble<'d>(
         to_world: common.to_world,
         flip_normals: common.flip_normals,
         face_normals,
+        outside_only: false,
         material,
         emitter,
         id: p.obj.id.clone(),

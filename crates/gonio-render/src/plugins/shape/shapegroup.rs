@@ -68,6 +68,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, Scene
         to_world: Affine3A::IDENTITY,
         flip_normals: false,
         face_normals: false,
+        outside_only: false,
         material: b.shape_material(None, false)?,
         emitter: None,
         id: p.obj.id.clone(),
