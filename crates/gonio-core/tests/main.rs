@@ -7,6 +7,7 @@
 mod battery;
 mod battery_broken;
 mod battery_support;
+mod hair_mitsuba;
 mod instruments_gonio;
 mod lambertsphere;
 mod lanes;

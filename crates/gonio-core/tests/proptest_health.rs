@@ -49,6 +49,14 @@ enum Spec {
     Diffuse {
         rho: SpecSpectrum,
     },
+    Hair {
+        eumelanin: f32,
+        pheomelanin: f32,
+        eta: f32,
+        beta_m: f32,
+        beta_n: f32,
+        tilt: f32,
+    },
     Conductor {
         n: f32,
         k: f32,
@@ -235,6 +243,23 @@ fn ior_pair() -> impl Strategy<Value = (f32, f32)> {
 fn leaf() -> impl Strategy<Value = Spec> {
     prop_oneof![
         prop_oneof![
+            (
+                (
+                    prop_oneof![Just(0.0f32), 0.0f32..=8.0],
+                    prop_oneof![Just(0.0f32), 0.0f32..=8.0]
+                ),
+                (1.0001f32..=2.5, unit(), unit(), -10.0f32..=10.0)
+            )
+                .prop_map(
+                    |((eumelanin, pheomelanin), (eta, beta_m, beta_n, tilt))| Spec::Hair {
+                        eumelanin,
+                        pheomelanin,
+                        eta,
+                        beta_m,
+                        beta_n,
+                        tilt
+                    }
+                ),
             proptest::collection::vec(unit(), 96).prop_map(|values| Spec::Tabulated { values }),
             (
                 0u8..3,

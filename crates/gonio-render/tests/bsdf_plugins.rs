@@ -18,6 +18,40 @@ fn unknown_plugin_error_lists_the_registry() {
 }
 
 #[test]
+fn hair_refuses_what_mitsuba_refuses() {
+    // Mitsuba 3.9.1 throws for each: pigments with `sigma_a`, equal indices, a roughness outside
+    // [0, 1]; gonio names the line and the value.
+    let cases = [
+        (
+            r#"<bsdf type="hair"><float name="eumelanin" value="0.5"/><rgb name="sigma_a" value="0.2, 0.3, 0.4"/></bsdf>"#,
+            ErrorKind::Grammar,
+            "either the pigments or `sigma_a`",
+        ),
+        (
+            r#"<bsdf type="hair"><float name="int_ior" value="1.2"/><float name="ext_ior" value="1.2"/></bsdf>"#,
+            ErrorKind::BadValue,
+            "indices must differ",
+        ),
+        (
+            r#"<bsdf type="hair"><float name="azimuthal_roughness" value="1.5"/></bsdf>"#,
+            ErrorKind::BadValue,
+            "azimuthal_roughness 1.5",
+        ),
+        (
+            r#"<bsdf type="hair"><float name="pheomelanin" value="-1"/></bsdf>"#,
+            ErrorKind::BadValue,
+            "pheomelanin -1",
+        ),
+    ];
+    for (text, kind, words) in cases {
+        let e = load_bsdf_str(text).unwrap_err();
+        assert_eq!(e.kind, kind, "{text}: {e}");
+        let msg = e.to_string();
+        assert!(msg.contains(words) && msg.contains(":1:"), "{text}: {msg}");
+    }
+}
+
+#[test]
 fn unused_parameter_error_lists_the_accepted_names() {
     let e =
         load_bsdf_str("<bsdf type=\"plastic\"><float name=\"int_iro\" value=\"1.5\"/></bsdf>").unwrap_err();
@@ -71,6 +105,9 @@ fn per_hit_value_equals_the_any_wavelength_bsdf() {
         "<bsdf type=\"principled\"><texture name=\"base_color\" type=\"checkerboard\"/><texture name=\"roughness\" type=\"checkerboard\"><float name=\"color0\" value=\"0.05\"/><float name=\"color1\" value=\"0.7\"/></texture><texture name=\"metallic\" type=\"checkerboard\"/><float name=\"eta\" value=\"1.33\"/></bsdf>",
         "<bsdf type=\"principledthin\"><rgb name=\"base_color\" value=\"0.7, 0.1, 0.1\"/><float name=\"roughness\" value=\"0.15\"/><float name=\"spec_tint\" value=\"0.1\"/><float name=\"anisotropic\" value=\"0.5\"/><float name=\"spec_trans\" value=\"0.8\"/><float name=\"diff_trans\" value=\"0.3\"/><float name=\"eta\" value=\"1.33\"/><float name=\"sheen\" value=\"0.4\"/></bsdf>",
         "<bsdf type=\"principledthin\"><texture name=\"base_color\" type=\"checkerboard\"/><texture name=\"diff_trans\" type=\"checkerboard\"><float name=\"color0\" value=\"0.2\"/><float name=\"color1\" value=\"1.8\"/></texture><texture name=\"eta\" type=\"checkerboard\"><float name=\"color0\" value=\"1.2\"/><float name=\"color1\" value=\"1.6\"/></texture><float name=\"spec_trans\" value=\"0.5\"/></bsdf>",
+        "<bsdf type=\"hair\"/>",
+        "<bsdf type=\"hair\"><float name=\"eumelanin\" value=\"0.2\"/><float name=\"pheomelanin\" value=\"0.8\"/><float name=\"longitudinal_roughness\" value=\"0.15\"/><float name=\"azimuthal_roughness\" value=\"0.6\"/><float name=\"scale_tilt\" value=\"4\"/><float name=\"int_ior\" value=\"1.6\"/></bsdf>",
+        "<bsdf type=\"hair\"><texture name=\"sigma_a\" type=\"checkerboard\"/><float name=\"scale\" value=\"3\"/></bsdf>",
         "<bsdf type=\"lambertsphere\"><rgb name=\"reflectance\" value=\"0.2, 0.5, 0.9\"/></bsdf>",
         "<bsdf type=\"lambertsphere\"><texture name=\"sphere_albedo\" type=\"checkerboard\"/><string name=\"model\" value=\"practical\"/></bsdf>",
         "<bsdf type=\"blendbsdf\"><texture name=\"weight\" type=\"checkerboard\"/><bsdf type=\"twosided\"><bsdf type=\"conductor\"/></bsdf><bsdf type=\"dielectric\"/></bsdf>",

@@ -88,6 +88,7 @@ fn ci_spp(name: &str) -> u32 {
 /// | bsdf_pplastic | 6.11e-4 | 4.03e-4 4.83e-4 4.91e-4 | |
 /// | bsdf_pplastic_diffuse | 5.11e-4 | 3.94e-4 4.37e-4 4.54e-4 | |
 /// | bsdf_pplastic_specular | 5.99e-4 | 3.71e-4 4.69e-4 4.94e-4 | |
+/// | bsdf_hair_strands (ours, see below) | 2.03e-4 (largest of five pairs) | 1.22e-4 1.13e-4 1.27e-4 | |
 /// | bsdf_mask_after | 5.50e-4 | 4.56e-4 6.08e-4 5.41e-4 (see below) | 1.94e-3 |
 /// | bsdf_normalmap_with | 5.65e-4 | 4.08e-4 4.86e-4 5.28e-4 | 1.46e-3 |
 /// | bsdf_bumpmap_with | 6.06e-4 | 4.55e-4 4.48e-4 5.03e-4 | 1.43e-3 |
@@ -150,6 +151,11 @@ fn ci_spp(name: &str) -> u32 {
 /// copy where Mitsuba itself rejects them (`type="Sphere"`, `"Rectangle"`), with a 96 × 96 film
 /// and the map reduced to 256 × 128; both renderers read the same files.
 ///
+/// `bsdf_hair_strands` is ours (Mitsuba's `hair` documentation scenes need a hair model the
+/// corpus does not ship): 24 `bsplinecurve` strands of `hair`, backlit, under a constant sky. Its
+/// transmitted lobes reach the camera only because curves are not hit from inside (rays that
+/// enter a fibre leave it): with the tubes' insides hit, the strands render 22–33 % darker.
+///
 /// `bsdf_roughplastic_preserve` keeps gonio's exact coat averages (its diffuse lobe up to 2 %
 /// brighter than Mitsuba's where Mitsuba's 64-node mean loses energy, see
 /// `mitsuba_roughplastic_values.rs`): under this map the difference stays inside the noise. Its
@@ -200,6 +206,7 @@ const SCENES: &[(&str, f64)] = &[
     ("bsdf_polarizer_absorbing", POL_ABSORBING),
     ("bsdf_blendbsdf", 1.57e-3),
     ("bsdf_blendbsdf_delta_pdf_mitsuba", 1.18e-3),
+    ("bsdf_hair_strands", 2.03e-4),
     ("texture_mesh_attribute_face", 8.16e-4),
     ("texture_mesh_attribute_vertex", 6.63e-4),
     ("shape_sphere_light_analytic", deviations::SPHERE_LIGHT),

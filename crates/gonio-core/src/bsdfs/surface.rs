@@ -74,6 +74,8 @@ pub enum LeafBsdf<'a> {
     CircularPolarizer(CircularPolarizer<SampledSpectrum>),
     /// `null` (and the pass-through of `mask`).
     Null(super::NullBsdf),
+    /// `hair`.
+    Hair(super::Hair<SampledSpectrum>),
 }
 
 /// Calls `$body` with `$b: &dyn Bsdf` bound to the model inside a [`LeafBsdf`] (static dispatch
@@ -102,6 +104,7 @@ macro_rules! with_leaf {
             LeafBsdf::Retarder($b) => $body,
             LeafBsdf::CircularPolarizer($b) => $body,
             LeafBsdf::Null($b) => $body,
+            LeafBsdf::Hair($b) => $body,
         }
     };
 }

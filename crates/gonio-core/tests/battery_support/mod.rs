@@ -12,7 +12,7 @@ use std::time::Instant;
 /// module (Šidák family size): 57
 /// `assert_passes`, 6 anisotropic and 6 stochastic runs, 2 direct `report`s and 3 quick ones
 /// (`roughdielectric_default`); pplastic: 2 `assert_passes` and 1 anisotropic.
-pub const RUNS: usize = 77;
+pub const RUNS: usize = 80;
 
 pub fn config() -> CheckConfig {
     CheckConfig {

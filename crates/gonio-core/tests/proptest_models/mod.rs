@@ -8,6 +8,18 @@ use super::*;
 pub(crate) fn with_bsdf<R>(spec: &Spec, f: &mut dyn FnMut(&dyn Bsdf) -> R) -> R {
     match spec {
         Spec::Diffuse { rho } => f(&Diffuse::new(rho.build())),
+        Spec::Hair {
+            eumelanin,
+            pheomelanin,
+            eta,
+            beta_m,
+            beta_n,
+            tilt,
+        } => f(&gonio_core::bsdfs::Hair {
+            sigma_a: gonio_core::bsdfs::HairAbsorption::pigments(*eumelanin, *pheomelanin),
+            eta: *eta,
+            lobes: gonio_core::bsdfs::HairLobes::new(*beta_m, *beta_n, *tilt),
+        }),
         Spec::Conductor { n, k, ext, tint } => {
             let mut c = Conductor::new(Spectrum::Constant(*n), Spectrum::Constant(*k));
             c.ext_ior = Ior::Constant(*ext);

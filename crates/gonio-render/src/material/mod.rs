@@ -21,6 +21,7 @@ pub mod circular;
 pub mod conductor;
 pub mod dielectric;
 pub mod diffuse;
+pub mod hair;
 pub mod lambertsphere;
 pub mod mask;
 pub mod normalmap;
@@ -46,6 +47,7 @@ pub use circular::CircularMaterial;
 pub use conductor::ConductorMaterial;
 pub use dielectric::DielectricMaterial;
 pub use diffuse::DiffuseMaterial;
+pub use hair::HairMaterial;
 pub use lambertsphere::LambertSphereMaterial;
 pub use mask::MaskMaterial;
 pub use normalmap::NormalMapMaterial;
@@ -88,6 +90,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &roughdielectric::PLUGIN,
     &principled::PLUGIN,
     &principledthin::PLUGIN,
+    &hair::PLUGIN,
     &lambertsphere::PLUGIN,
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
