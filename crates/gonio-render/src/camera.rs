@@ -16,7 +16,7 @@
 //! `aspect = width/height`; pixel = `(s·width, t·height)`. So image x grows to the camera's right
 //! and image y grows downwards. Rays start on the near plane and end on the far plane.
 
-use crate::geometry::Ray;
+use crate::geometry::{Ray, WorldShape};
 use crate::scene::{Projection, SensorDesc};
 use glam::{Affine3A, Vec2, Vec3};
 
@@ -64,6 +64,20 @@ pub trait Camera: std::fmt::Debug + Send + Sync {
         self.generate_ray(film)
     }
 
+    /// True for a sensor whose rays do not come from the film position but from two samples of
+    /// its own ([`Camera::generate_ray_sampled`]: a point and a direction on a shape).
+    fn needs_ray_samples(&self) -> bool {
+        false
+    }
+
+    /// The ray of a sensor that draws it from uniform samples `u_pos`, `u_dir` ∈ [0, 1)², and its
+    /// weight (the factor on the radiance it brings back). Sensors that map film positions
+    /// ([`Camera::needs_ray_samples`] false) give `generate_ray(film)` with weight 1.
+    fn generate_ray_sampled(&self, film: Vec2, u_pos: Vec2, u_dir: Vec2) -> (Ray, f32) {
+        let _ = (u_pos, u_dir);
+        (self.generate_ray(film), 1.0)
+    }
+
     /// False when [`Camera::connect`] cannot join a point to the film (the orthographic camera
     /// sees each point along one direction only; the thin lens would need a lens sample): the
     /// integrator then finds every path from the camera side.
@@ -73,9 +87,16 @@ pub trait Camera: std::fmt::Debug + Send + Sync {
 }
 
 /// The camera of a scene's sensor: [`PerspectiveCamera`], [`OrthographicCamera`],
-/// [`ThinLensCamera`] or [`RadianceMeter`].
-pub fn from_sensor(sensor: &SensorDesc) -> Box<dyn Camera> {
+/// [`ThinLensCamera`], [`RadianceMeter`] or [`IrradianceMeter`] (over `shapes[i]`, the scene's
+/// shapes in world space).
+///
+/// # Panics
+/// If an irradiance meter's shape is not in `shapes` (the scene reader sets a valid index).
+pub fn from_sensor(sensor: &SensorDesc, shapes: &[WorldShape]) -> Box<dyn Camera> {
     match sensor.projection {
+        Projection::IrradianceMeter { shape } => Box::new(IrradianceMeter {
+            shape: shapes[shape].clone(),
+        }),
         Projection::Perspective => Box::new(PerspectiveCamera::new(sensor)),
         Projection::Orthographic => Box::new(OrthographicCamera::new(sensor)),
         Projection::ThinLens {
@@ -120,6 +141,53 @@ impl Camera for RadianceMeter {
 
     fn position(&self) -> Vec3 {
         self.o
+    }
+
+    fn connect(&self, _p: Vec3) -> Option<CameraConnection> {
+        None
+    }
+
+    fn connects(&self) -> bool {
+        false
+    }
+}
+
+/// Mitsuba's `irradiancemeter`: a point uniform over the shape's area, a cosine-weighted
+/// direction about its (shading) normal, weight π, so that a sample's mean is the irradiance
+/// averaged over the shape. Light tracing does not connect to it ([`Camera::connects`] false).
+#[derive(Clone, Debug)]
+pub struct IrradianceMeter {
+    shape: WorldShape,
+}
+
+impl Camera for IrradianceMeter {
+    fn generate_ray(&self, _film: Vec2) -> Ray {
+        self.generate_ray_sampled(Vec2::ZERO, Vec2::splat(0.5), Vec2::splat(0.5))
+            .0
+    }
+
+    fn needs_ray_samples(&self) -> bool {
+        true
+    }
+
+    fn generate_ray_sampled(&self, _film: Vec2, u_pos: Vec2, u_dir: Vec2) -> (Ray, f32) {
+        let ps = crate::geometry::sampling::sample_area(&self.shape, u_pos);
+        let d = gonio_core::Frame::from_normal(ps.ns)
+            .to_world(gonio_core::warp::square_to_cosine_hemisphere(u_dir));
+        let ray = Ray {
+            o: crate::geometry::offset_ray_origin(ps.p, ps.n, d),
+            d,
+            tmax: f32::INFINITY,
+        };
+        (ray, std::f32::consts::PI)
+    }
+
+    fn project(&self, _p: Vec3) -> Option<Vec2> {
+        None
+    }
+
+    fn position(&self) -> Vec3 {
+        crate::geometry::sampling::sample_area(&self.shape, Vec2::splat(0.5)).p
     }
 
     fn connect(&self, _p: Vec3) -> Option<CameraConnection> {

@@ -177,7 +177,7 @@ impl PreparedScene {
             index: e.index,
             message: e.message,
         })?;
-        let mut camera = crate::camera::from_sensor(&scene.sensor);
+        let mut camera = crate::camera::from_sensor(&scene.sensor, &world);
         if let Some(crop) = film.crop {
             let full_pixels = film.width as f32 * film.height as f32;
             camera = Box::new(CroppedCamera {
@@ -317,6 +317,14 @@ impl Camera for CroppedCamera {
 
     fn generate_ray_lens(&self, film: Vec2, u_lens: Vec2) -> crate::geometry::Ray {
         self.full.generate_ray_lens(film + self.offset, u_lens)
+    }
+
+    fn needs_ray_samples(&self) -> bool {
+        self.full.needs_ray_samples()
+    }
+
+    fn generate_ray_sampled(&self, film: Vec2, u_pos: Vec2, u_dir: Vec2) -> (crate::geometry::Ray, f32) {
+        self.full.generate_ray_sampled(film + self.offset, u_pos, u_dir)
     }
 }
 
@@ -480,10 +488,18 @@ pub fn render_with<I: Integrator + ?Sized>(
                             sampler.start_pixel_sample(UVec2::new(fx as u32, fy as u32), s);
                             let film_pos = Vec2::new(fx as f32, fy as f32) + sampler.next_2d() - crop_shift;
                             let wl = wavelengths.sample(sampler.next_1d());
-                            let ray = if prepared.camera.needs_lens_sample() {
-                                prepared.camera.generate_ray_lens(film_pos, sampler.next_2d())
+                            let (ray, ray_weight) = if prepared.camera.needs_ray_samples() {
+                                let u_pos = sampler.next_2d();
+                                prepared
+                                    .camera
+                                    .generate_ray_sampled(film_pos, u_pos, sampler.next_2d())
+                            } else if prepared.camera.needs_lens_sample() {
+                                (
+                                    prepared.camera.generate_ray_lens(film_pos, sampler.next_2d()),
+                                    1.0,
+                                )
                             } else {
-                                prepared.camera.generate_ray(film_pos)
+                                (prepared.camera.generate_ray(film_pos), 1.0)
                             };
                             let mut sample = CameraSample {
                                 film: film_pos,
@@ -492,6 +508,11 @@ pub fn render_with<I: Integrator + ?Sized>(
                                 sampler: sampler.padded(),
                             };
                             integrator.sample(&mut sample, &mut value[..n_integrator], &mut splat);
+                            if ray_weight != 1.0 {
+                                for v in &mut value[..n_integrator] {
+                                    *v *= ray_weight;
+                                }
+                            }
                             if with_alpha {
                                 value[n_integrator] = prepared.alpha(&ray);
                             }

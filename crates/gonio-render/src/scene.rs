@@ -298,6 +298,11 @@ pub enum Projection {
     },
     /// `radiancemeter`: one ray, from `to_world`'s origin along its +z (a film of one pixel).
     RadianceMeter,
+    /// `irradiancemeter`: cosine-weighted rays from uniform points of a shape, weighted π.
+    IrradianceMeter {
+        /// The shape, an index into [`Scene::shapes`].
+        shape: usize,
+    },
 }
 
 /// Description of the `<film>` (`hdrfilm`), as the scene file gives it.

@@ -338,3 +338,75 @@ fn radiancemeter_reads_the_radiance_along_its_ray() {
     let e = load(&scene(r#"<vector name="direction" x="0" y="0" z="0"/>"#));
     assert!(e.contains("direction"), "{e}");
 }
+
+/// A 1 × 1 `irradiancemeter` on `shape` (its transform and BSDF inside), the rest of the scene
+/// around it.
+fn irradiance_scene(shape: &str, rest: &str, film: &str) -> String {
+    format!(
+        r#"<scene version="3.0.0"><integrator type="path"><integer name="max_depth" value="8"/></integrator>
+        {rest}
+        <shape type="{shape}"><bsdf type="diffuse"/>
+            <sensor type="irradiancemeter">{film}<sampler type="independent"/></sensor>
+        </shape></scene>"#
+    )
+}
+
+/// Mitsuba 3.9.1 `scalar_spectral`'s reading of the second meter of
+/// `irradiancemeter_reads_the_irradiance_over_its_shape`: the mean of 64 renders (`mi.render`,
+/// seeds 100–163) of 65 536 samples each, standard error of the mean 0.13 %, 0.11 %, 0.10 %.
+const MITSUBA_IRRADIANCE: [f32; 3] = [2.054_770_5, 1.851_636_6, 1.550_775_2];
+
+const ONE_PIXEL: &str = r#"<film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/><rfilter type="box"/></film>"#;
+
+#[test]
+fn irradiancemeter_reads_the_irradiance_over_its_shape() {
+    // Under a uniform sky of radiance L, every point of a convex shape receives E = π L.
+    let sky = r#"<emitter type="constant"><rgb name="radiance" value="0.3, 0.5, 0.9"/></emitter>"#;
+    let e = crate::integrator::render_xml(&irradiance_scene("sphere", sky, ONE_PIXEL), 16_384, 1).data[0];
+    for (v, l) in e.iter().zip([0.3f32, 0.5, 0.9]) {
+        assert!(
+            (v / (std::f32::consts::PI * l) - 1.0).abs() < 0.01,
+            "sphere under the sky: {e:?}"
+        );
+    }
+    // The `rectangle` (2 × 2) under a small lamp, with a red cube casting a shadow and a
+    // coloured bounce onto it, in a dim sky: [`MITSUBA_IRRADIANCE`].
+    let rest = r#"<emitter type="constant"><rgb name="radiance" value="0.2, 0.25, 0.3"/></emitter>
+        <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><rotate x="1" angle="180"/><translate y="0.3" z="2"/></transform>
+            <emitter type="area"><rgb name="radiance" value="10, 8, 5"/></emitter></shape>
+        <shape type="cube"><transform name="to_world"><scale value="0.3"/><translate x="0.6" z="0.8"/></transform>
+            <bsdf type="diffuse"><rgb name="reflectance" value="0.7, 0.2, 0.2"/></bsdf></shape>"#;
+    let e =
+        crate::integrator::render_xml(&irradiance_scene("rectangle", rest, ONE_PIXEL), 1 << 22, 2).data[0];
+    for (v, m) in e.iter().zip(MITSUBA_IRRADIANCE) {
+        assert!(
+            (v / m - 1.0).abs() < 0.01,
+            "square under the lamp: {e:?} against Mitsuba's {MITSUBA_IRRADIANCE:?}"
+        );
+    }
+}
+
+#[test]
+fn irradiancemeter_is_refused_where_mitsuba_refuses_it() {
+    let load = |text: &str| {
+        gonio_render::xml::load_scene_str(text, ".", &[])
+            .map(|_| ())
+            .unwrap_err()
+            .to_string()
+    };
+    // On its own, not nested in a shape.
+    let e = load(&format!(
+        r#"<scene version="3.0.0"><sensor type="irradiancemeter">{ONE_PIXEL}</sensor></scene>"#
+    ));
+    assert!(e.contains("nested in the <shape>") && e.contains(":1:"), "{e}");
+    // With a transform of its own.
+    let e = load(&irradiance_scene(
+        "sphere",
+        "",
+        &format!(r#"<transform name="to_world"><translate z="1"/></transform>{ONE_PIXEL}"#),
+    ));
+    assert!(e.contains("no to_world"), "{e}");
+    // A camera nested in a shape.
+    let e = load(&irradiance_scene("sphere", "", ONE_PIXEL).replace("irradiancemeter", "perspective"));
+    assert!(e.contains("cannot be nested in a shape"), "{e}");
+}

@@ -20,6 +20,10 @@ fn load(body: &str) -> Result<gonio_render::scene::Scene, SceneError> {
 fn scene_with(kind: &str, name: &str, params: &str) -> String {
     let object = |tag: &str| format!("<{tag} type=\"{name}\">{params}</{tag}>");
     match kind {
+        // The irradiance meter measures over the shape it is nested in.
+        "sensor" if name == "irradiancemeter" => {
+            format!("<shape type=\"sphere\">{}</shape>", object("sensor"))
+        }
         "integrator" | "sensor" | "shape" => object(kind),
         "emitter" if name == "area" => format!("<shape type=\"sphere\">{}</shape>", object("emitter")),
         "emitter" => object("emitter"),

@@ -4,7 +4,9 @@
 //! Meant for the curve shapes (`bsplinecurve`, `linearcurve`), whose shading frame runs its
 //! second tangent along the fibre (the model's y axis) and which, as in Mitsuba, cannot be hit
 //! from inside: the light a fibre transmits (TT) leaves through it unhindered. On other shapes the
-//! frame's tangent stands in for the fibre's direction.
+//! frame's tangent stands in for the fibre's direction. (On `linearcurve` Mitsuba 3.9.1's shading
+//! frame is `coordinate_system(n)`, not along the fibre, so its hair there lies at an arbitrary
+//! angle; later Mitsuba versions follow the fibre, as gonio does on both curves.)
 
 use super::dielectric::EXT_IOR;
 use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};

@@ -49,6 +49,7 @@ pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[
     &sensor::orthographic::PLUGIN,
     &sensor::thinlens::PLUGIN,
     &sensor::radiancemeter::PLUGIN,
+    &sensor::irradiancemeter::PLUGIN,
 ];
 
 /// `<film>` plugins (nested in a sensor).

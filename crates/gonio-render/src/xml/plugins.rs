@@ -55,6 +55,13 @@ pub(crate) struct Builder<'d> {
     pub(crate) mesh_attributes: HashMap<usize, crate::mesh::attributes::MeshAttributes>,
     /// Where each area emitter whose radiance reads the hit has its first such texture.
     pub(crate) hit_emitters: Vec<Location>,
+    /// True while the sensor nested in a shape is built (`irradiancemeter` must be).
+    pub(crate) in_shape: bool,
+    /// The sensor nested in the shape just built, and where it is: the scene takes it when it
+    /// places the shape (`shape::instance::place`).
+    pub(crate) shape_sensor: Option<(SensorDesc, Location)>,
+    /// Sensors nested in shapes placed in the scene, in document order.
+    pub(crate) shape_sensors: Vec<(SensorDesc, Location)>,
 }
 
 fn kind_key(k: RgbKind) -> u8 {
@@ -94,6 +101,9 @@ impl<'d> Builder<'d> {
             warnings: Vec::new(),
             groups: HashMap::new(),
             hit_log: Vec::new(),
+            in_shape: false,
+            shape_sensor: None,
+            shape_sensors: Vec::new(),
             hit_textures: HashMap::new(),
             hit_bsdfs: HashMap::new(),
             hit_emitters: Vec::new(),
@@ -200,7 +210,18 @@ impl<'d> Builder<'d> {
                             .push(format!("{}: more than one sensor; rendering the first", obj.loc));
                     }
                 }
-                Tag::Shape => crate::plugins::shape::instance::place(&mut self, idx, &mut shapes)?,
+                Tag::Shape => {
+                    crate::plugins::shape::instance::place(&mut self, idx, &mut shapes)?;
+                    // An irradiancemeter nested in the shape: a sensor in document order.
+                    for (s, loc) in std::mem::take(&mut self.shape_sensors) {
+                        if sensor.is_none() {
+                            sensor = Some(s);
+                        } else {
+                            self.warnings
+                                .push(format!("{loc}: more than one sensor; rendering the first"));
+                        }
+                    }
+                }
                 // An area emitter declared with an id and referenced by a shape (Mitsuba's
                 // `scenes/cbox`: `<shape ...><ref id="area-emitter"/></shape>`) is built there.
                 Tag::Emitter if referenced.contains(&idx) && crate::plugins::emitter::is_area(obj) => {}

@@ -1,5 +1,6 @@
 //! `<sensor>` plugins.
 
+pub mod irradiancemeter;
 pub mod orthographic;
 pub mod perspective;
 pub mod radiancemeter;

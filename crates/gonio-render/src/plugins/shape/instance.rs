@@ -100,6 +100,12 @@ pub(crate) fn place(b: &mut Builder<'_>, idx: usize, shapes: &mut Vec<ShapeDesc>
     }
     let desc = b.build_plugin(super::super::SHAPE_PLUGINS, idx)?;
     expand(desc, shapes);
+    if let Some((mut sensor, loc)) = b.shape_sensor.take() {
+        sensor.projection = crate::scene::Projection::IrradianceMeter {
+            shape: shapes.len() - 1,
+        };
+        b.shape_sensors.push((sensor, loc));
+    }
     Ok(())
 }
 

@@ -100,7 +100,49 @@ pub(crate) fn assemble<'d>(
 ) -> Result<ShapeDesc> {
     let bsdfs = p.objects(Tag::Bsdf)?;
     let emitters = p.objects(Tag::Emitter)?;
+    let sensors = p.objects(Tag::Sensor)?;
     p.finish()?;
+    // A sensor nested in the shape (Mitsuba's `irradiancemeter`), placed with the shape.
+    match sensors.as_slice() {
+        [] => {}
+        [(i, prop)] => {
+            let loc = prop.value_loc.clone();
+            if b.doc.objs[*i].ty != "irradiancemeter" {
+                return Err(err(
+                    &loc,
+                    ErrorKind::Grammar,
+                    format!(
+                        "a <sensor type=\"{}\"> cannot be nested in a shape (only an irradiancemeter measures over one)",
+                        b.doc.objs[*i].ty
+                    ),
+                ));
+            }
+            if !matches!(
+                geometry,
+                Geometry::Sphere { .. } | Geometry::Rectangle | Geometry::Disk | Geometry::Mesh(_)
+            ) {
+                return Err(err(
+                    &loc,
+                    ErrorKind::Grammar,
+                    format!(
+                        "an irradiancemeter cannot measure over a {} (no area to sample)",
+                        p.obj.ty
+                    ),
+                ));
+            }
+            b.in_shape = true;
+            let sensor = b.build_plugin(crate::plugins::SENSOR_PLUGINS, *i);
+            b.in_shape = false;
+            b.shape_sensor = Some((sensor?, loc));
+        }
+        [_, (_, extra), ..] => {
+            return Err(err(
+                &extra.loc,
+                ErrorKind::Grammar,
+                "more than one sensor nested in a shape",
+            ));
+        }
+    }
     // The textures of the emitter's radiance that read the hit (logged while it is built).
     let hits_before = b.hit_log.len();
     let emitter = match emitters.as_slice() {

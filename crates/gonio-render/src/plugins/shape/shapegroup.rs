@@ -52,6 +52,13 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, Scene
             ));
         }
         let shape = b.build_plugin(super::super::SHAPE_PLUGINS, i)?;
+        if let Some((_, loc)) = b.shape_sensor.take() {
+            return Err(err(
+                &loc,
+                ErrorKind::Grammar,
+                "an irradiancemeter cannot measure over a shape of a shapegroup (place the shape itself)",
+            ));
+        }
         if shape.emitter.is_some() {
             return Err(err(
                 &prop.loc,
