@@ -97,6 +97,10 @@ pub fn from_sensor(sensor: &SensorDesc, shapes: &[WorldShape]) -> Box<dyn Camera
         Projection::IrradianceMeter { shape } => Box::new(IrradianceMeter {
             shape: shapes[shape].clone(),
         }),
+        Projection::Batch => Box::new(BatchCamera {
+            cameras: sensor.children.iter().map(|c| from_sensor(c, shapes)).collect(),
+            share: (sensor.film.width / sensor.children.len().max(1) as u32) as f32,
+        }),
         Projection::Perspective => Box::new(PerspectiveCamera::new(sensor)),
         Projection::Orthographic => Box::new(OrthographicCamera::new(sensor)),
         Projection::ThinLens {
@@ -141,6 +145,58 @@ impl Camera for RadianceMeter {
 
     fn position(&self) -> Vec3 {
         self.o
+    }
+
+    fn connect(&self, _p: Vec3) -> Option<CameraConnection> {
+        None
+    }
+
+    fn connects(&self) -> bool {
+        false
+    }
+}
+
+/// Mitsuba's `batch`: its cameras side by side, each on `share` pixels of the film's width (a
+/// film position goes to the camera whose share holds it, moved into that share). Light tracing
+/// does not connect to it ([`Camera::connects`] false).
+#[derive(Debug)]
+pub struct BatchCamera {
+    cameras: Vec<Box<dyn Camera>>,
+    share: f32,
+}
+
+impl BatchCamera {
+    /// The camera whose share holds `film`, and the position in that share.
+    fn route(&self, film: Vec2) -> (&dyn Camera, Vec2) {
+        let i = ((film.x / self.share).max(0.0) as usize).min(self.cameras.len() - 1);
+        (
+            self.cameras[i].as_ref(),
+            film - Vec2::new(i as f32 * self.share, 0.0),
+        )
+    }
+}
+
+impl Camera for BatchCamera {
+    fn generate_ray(&self, film: Vec2) -> Ray {
+        let (c, f) = self.route(film);
+        c.generate_ray(f)
+    }
+
+    fn needs_lens_sample(&self) -> bool {
+        self.cameras.iter().any(|c| c.needs_lens_sample())
+    }
+
+    fn generate_ray_lens(&self, film: Vec2, u_lens: Vec2) -> Ray {
+        let (c, f) = self.route(film);
+        c.generate_ray_lens(f, u_lens)
+    }
+
+    fn project(&self, _p: Vec3) -> Option<Vec2> {
+        None
+    }
+
+    fn position(&self) -> Vec3 {
+        self.cameras[0].position()
     }
 
     fn connect(&self, _p: Vec3) -> Option<CameraConnection> {

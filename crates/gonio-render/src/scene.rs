@@ -278,6 +278,9 @@ pub struct SensorDesc {
     pub film: FilmDesc,
     /// The sampler.
     pub sampler: SamplerDesc,
+    /// `batch`: the sensors side by side on the film, each on its share of the width (empty for
+    /// every other sensor).
+    pub children: Vec<SensorDesc>,
 }
 
 /// How a sensor maps film positions to rays (Mitsuba 3 `src/sensors/`).
@@ -298,6 +301,8 @@ pub enum Projection {
     },
     /// `radiancemeter`: one ray, from `to_world`'s origin along its +z (a film of one pixel).
     RadianceMeter,
+    /// `batch`: [`SensorDesc::children`] side by side, left to right.
+    Batch,
     /// `irradiancemeter`: cosine-weighted rays from uniform points of a shape, weighted π.
     IrradianceMeter {
         /// The shape, an index into [`Scene::shapes`].

@@ -410,3 +410,85 @@ fn irradiancemeter_is_refused_where_mitsuba_refuses_it() {
     let e = load(&irradiance_scene("sphere", "", ONE_PIXEL).replace("irradiancemeter", "perspective"));
     assert!(e.contains("cannot be nested in a shape"), "{e}");
 }
+
+#[test]
+fn batch_renders_its_sensors_side_by_side() {
+    // Two views of a lit scene: the batch (film 2w × h) against each camera alone (w × h). The
+    // left share is keyed by the same pixels as the first camera alone, so with nothing that
+    // depends on the whole film (no light subpaths, a box filter) it is that render, bit for bit;
+    // the right share is the second view, drawn from other pixels' numbers: the same image
+    // within noise, and far from the first view.
+    let camera = |origin: &str, fov_axis: &str, film: &str| {
+        format!(
+            r#"<sensor type="perspective"><float name="fov" value="40"/><string name="fov_axis" value="{fov_axis}"/>
+            <transform name="to_world"><lookat origin="{origin}" target="0, 0, 0" up="0, 1, 0"/></transform>{film}</sensor>"#
+        )
+    };
+    let film = |w: u32| {
+        format!(
+            r#"<film type="hdrfilm"><integer name="width" value="{w}"/><integer name="height" value="24"/><rfilter type="box"/></film>"#
+        )
+    };
+    let scene = |sensor: &str| {
+        format!(
+            r#"<scene version="3.0.0"><integrator type="path"><boolean name="caustic_paths" value="false"/></integrator>
+            {sensor}
+            <emitter type="constant"><rgb name="radiance" value="0.4, 0.5, 0.6"/></emitter>
+            <shape type="sphere"><float name="radius" value="0.6"/><bsdf type="diffuse"><rgb name="reflectance" value="0.8, 0.3, 0.2"/></bsdf></shape>
+            <shape type="rectangle"><transform name="to_world"><scale value="3"/><rotate x="1" angle="-90"/><translate y="-0.6"/></transform>
+                <bsdf type="diffuse"/></shape>
+            </scene>"#
+        )
+    };
+    // `fov_axis` y: the field of view converts at the share's aspect ratio, not the whole film's.
+    let (a, b) = (camera("0, 0.5, 3", "y", ""), camera("2.5, 1, 1.5", "y", ""));
+    let batch = scene(&format!(r#"<sensor type="batch">{a}{b}{}</sensor>"#, film(64)));
+    let whole = crate::integrator::render_xml(&batch, 64, 5);
+    let alone = |c: &str| {
+        crate::integrator::render_xml(
+            &scene(&c.replace("</sensor>", &format!("{}</sensor>", film(32)))),
+            64,
+            5,
+        )
+    };
+    let (first, second) = (alone(&a), alone(&b));
+    assert_eq!((whole.width, whole.height), (64, 24));
+    let share = |img: &gonio_render::image::RgbImage, x0: usize| -> Vec<[f32; 3]> {
+        (0..24)
+            .flat_map(|y| (x0..x0 + 32).map(move |x| (x, y)))
+            .map(|(x, y)| img.data[y * img.width + x])
+            .collect()
+    };
+    assert_eq!(
+        share(&whole, 0),
+        first.data,
+        "the left share is the first camera's render"
+    );
+    let right = share(&whole, 32);
+    let diff = |p: &[[f32; 3]], q: &[[f32; 3]]| -> f64 {
+        p.iter()
+            .zip(q)
+            .map(|(u, v)| (0..3).map(|k| ((u[k] - v[k]) as f64).powi(2)).sum::<f64>())
+            .sum::<f64>()
+            / p.len() as f64
+    };
+    let (same, other) = (diff(&right, &second.data), diff(&right, &first.data));
+    assert!(
+        same * 20.0 < other,
+        "right share vs second camera {same:.2e}, vs first {other:.2e}"
+    );
+    // Refusals: a width the sensors do not divide, no sensor at all.
+    let load = |text: &str| {
+        gonio_render::xml::load_scene_str(text, ".", &[])
+            .map(|_| ())
+            .unwrap_err()
+            .to_string()
+    };
+    let e = load(&scene(&format!(
+        r#"<sensor type="batch">{a}{b}{}</sensor>"#,
+        film(63)
+    )));
+    assert!(e.contains("63") && e.contains("multiple"), "{e}");
+    let e = load(&scene(&format!(r#"<sensor type="batch">{}</sensor>"#, film(64))));
+    assert!(e.contains("at least one"), "{e}");
+}

@@ -61,6 +61,7 @@ fn required(name: &str) -> &'static str {
         "srgb" => "<rgb name=\"color\" value=\"0.5, 0.2, 0.1\"/>",
         "rawconstant" => "<float name=\"value\" value=\"0.5\"/>",
         "thinlens" => "<float name=\"aperture_radius\" value=\"0.1\"/>",
+        "batch" => "<sensor type=\"perspective\"/>",
         "radiancemeter" => {
             "<film type=\"hdrfilm\"><integer name=\"width\" value=\"1\"/><integer name=\"height\" value=\"1\"/></film>"
         }

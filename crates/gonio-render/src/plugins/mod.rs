@@ -50,6 +50,7 @@ pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[
     &sensor::thinlens::PLUGIN,
     &sensor::radiancemeter::PLUGIN,
     &sensor::irradiancemeter::PLUGIN,
+    &sensor::batch::PLUGIN,
 ];
 
 /// `<film>` plugins (nested in a sensor).

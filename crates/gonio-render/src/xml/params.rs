@@ -45,6 +45,8 @@ pub enum ParamType {
     Shape,
     /// A nested or referenced `<volume>`.
     Volume,
+    /// Nested `<sensor>` objects (`batch`, and a shape's `irradiancemeter`).
+    Sensor,
 }
 
 impl ParamType {
@@ -68,6 +70,7 @@ impl ParamType {
             ParamType::Rfilter => "rfilter",
             ParamType::Shape => "shape",
             ParamType::Volume => "volume",
+            ParamType::Sensor => "sensor",
         }
     }
 }

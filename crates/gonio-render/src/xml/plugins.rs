@@ -62,6 +62,8 @@ pub(crate) struct Builder<'d> {
     pub(crate) shape_sensor: Option<(SensorDesc, Location)>,
     /// Sensors nested in shapes placed in the scene, in document order.
     pub(crate) shape_sensors: Vec<(SensorDesc, Location)>,
+    /// While the sensors of a `batch` are built: the film share and the sampler they take.
+    pub(crate) batch_film: Option<(crate::scene::FilmDesc, crate::scene::SamplerDesc)>,
 }
 
 fn kind_key(k: RgbKind) -> u8 {
@@ -104,6 +106,7 @@ impl<'d> Builder<'d> {
             in_shape: false,
             shape_sensor: None,
             shape_sensors: Vec::new(),
+            batch_film: None,
             hit_textures: HashMap::new(),
             hit_bsdfs: HashMap::new(),
             hit_emitters: Vec::new(),

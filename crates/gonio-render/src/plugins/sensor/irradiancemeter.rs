@@ -59,5 +59,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
         far_clip: f32::INFINITY,
         film,
         sampler,
+        children: Vec::new(),
     })
 }

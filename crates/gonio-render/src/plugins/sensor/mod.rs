@@ -1,5 +1,6 @@
 //! `<sensor>` plugins.
 
+pub mod batch;
 pub mod irradiancemeter;
 pub mod orthographic;
 pub mod perspective;

@@ -122,7 +122,12 @@ pub(crate) fn film_and_sampler<'d>(
     let sampler = b
         .nested_one(p, Tag::Sampler, SAMPLER_PLUGINS, "sensor")?
         .unwrap_or_default();
-    Ok((film, sampler))
+    // A sensor of a `batch` takes its share of the batch's film and the batch's sampler (its
+    // own, read and checked above, are superseded, as in Mitsuba).
+    match &b.batch_film {
+        Some((film, sampler)) => Ok((film.clone(), sampler.clone())),
+        None => Ok((film, sampler)),
+    }
 }
 
 /// What `perspective`, `thinlens` (`has_fov = true`) and `orthographic` (`has_fov = false`, scale allowed
@@ -255,6 +260,7 @@ pub(crate) fn build_projective<'d>(
         far_clip: far_clip as f32,
         film,
         sampler,
+        children: Vec::new(),
     })
 }
 
@@ -289,6 +295,7 @@ pub(crate) fn default_sensor() -> SensorDesc {
         far_clip: FAR_CLIP.default.float() as f32,
         film,
         sampler: SamplerDesc::default(),
+        children: Vec::new(),
     }
 }
 
