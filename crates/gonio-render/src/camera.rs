@@ -16,6 +16,7 @@
 //! `aspect = width/height`; pixel = `(s·width, t·height)`. So image x grows to the camera's right
 //! and image y grows downwards. Rays start on the near plane and end on the far plane.
 
+use crate::emitter::BoundingSphere;
 use crate::geometry::{Ray, WorldShape};
 use crate::scene::{Projection, SensorDesc};
 use glam::{Affine3A, Vec2, Vec3};
@@ -87,18 +88,24 @@ pub trait Camera: std::fmt::Debug + Send + Sync {
 }
 
 /// The camera of a scene's sensor: [`PerspectiveCamera`], [`OrthographicCamera`],
-/// [`ThinLensCamera`], [`RadianceMeter`] or [`IrradianceMeter`] (over `shapes[i]`, the scene's
-/// shapes in world space).
+/// [`ThinLensCamera`], [`RadianceMeter`], [`IrradianceMeter`] (over `shapes[i]`, the scene's
+/// shapes in world space), [`BatchCamera`] or [`DistantSensor`] (outside `bounds`, the scene's
+/// bounding sphere).
 ///
 /// # Panics
 /// If an irradiance meter's shape is not in `shapes` (the scene reader sets a valid index).
-pub fn from_sensor(sensor: &SensorDesc, shapes: &[WorldShape]) -> Box<dyn Camera> {
+pub fn from_sensor(sensor: &SensorDesc, shapes: &[WorldShape], bounds: BoundingSphere) -> Box<dyn Camera> {
     match sensor.projection {
+        Projection::Distant { target_point } => Box::new(DistantSensor::new(sensor, target_point, bounds)),
         Projection::IrradianceMeter { shape } => Box::new(IrradianceMeter {
             shape: shapes[shape].clone(),
         }),
         Projection::Batch => Box::new(BatchCamera {
-            cameras: sensor.children.iter().map(|c| from_sensor(c, shapes)).collect(),
+            cameras: sensor
+                .children
+                .iter()
+                .map(|c| from_sensor(c, shapes, bounds))
+                .collect(),
             share: (sensor.film.width / sensor.children.len().max(1) as u32) as f32,
         }),
         Projection::Perspective => Box::new(PerspectiveCamera::new(sensor)),
@@ -145,6 +152,87 @@ impl Camera for RadianceMeter {
 
     fn position(&self) -> Vec3 {
         self.o
+    }
+
+    fn connect(&self, _p: Vec3) -> Option<CameraConnection> {
+        None
+    }
+
+    fn connects(&self) -> bool {
+        false
+    }
+}
+
+/// Mitsuba's `distant`: rays along `d` from two bounding-sphere radii before their target (a
+/// point, a point uniform over a shape's area, or a point uniform over the bounding sphere's
+/// cross-section, drawn from the lens sample). Light tracing does not connect to it.
+#[derive(Clone, Debug)]
+pub struct DistantSensor {
+    d: Vec3,
+    to_world: Affine3A,
+    target_point: Option<Vec3>,
+    target_shape: Option<WorldShape>,
+    bounds: BoundingSphere,
+}
+
+impl DistantSensor {
+    /// The sensor of a scene's `distant` (its target shape placed in the world).
+    ///
+    /// # Panics
+    /// If the target shape cannot be placed (the scene reader checked it).
+    pub fn new(sensor: &SensorDesc, target_point: Option<Vec3>, bounds: BoundingSphere) -> Self {
+        // Mitsuba: max(ε, r(1 + ε)).
+        let eps = 1e-4;
+        let bounds = BoundingSphere {
+            center: bounds.center,
+            radius: (bounds.radius * (1.0 + eps)).max(eps),
+        };
+        Self {
+            d: sensor.to_world.transform_vector3(Vec3::Z).normalize(),
+            to_world: sensor.to_world,
+            target_point,
+            target_shape: sensor
+                .target_shape
+                .as_ref()
+                .map(|s| WorldShape::from_scene(&s.0, "distant target").expect("a placeable target")),
+            bounds,
+        }
+    }
+}
+
+impl Camera for DistantSensor {
+    fn generate_ray(&self, film: Vec2) -> Ray {
+        self.generate_ray_lens(film, Vec2::splat(0.5))
+    }
+
+    fn needs_lens_sample(&self) -> bool {
+        self.target_point.is_none()
+    }
+
+    fn generate_ray_lens(&self, _film: Vec2, u: Vec2) -> Ray {
+        let r = self.bounds.radius;
+        let o = if let Some(t) = self.target_point {
+            t - 2.0 * r * self.d
+        } else if let Some(shape) = &self.target_shape {
+            crate::geometry::sampling::sample_area(shape, u).p - 2.0 * r * self.d
+        } else {
+            let q = gonio_core::warp::square_to_uniform_disk_concentric(u);
+            let across = self.to_world.transform_vector3(Vec3::new(q.x, q.y, 0.0));
+            self.bounds.center + (across - self.d) * r
+        };
+        Ray {
+            o,
+            d: self.d,
+            tmax: f32::INFINITY,
+        }
+    }
+
+    fn project(&self, _p: Vec3) -> Option<Vec2> {
+        None
+    }
+
+    fn position(&self) -> Vec3 {
+        self.bounds.center - 2.0 * self.bounds.radius * self.d
     }
 
     fn connect(&self, _p: Vec3) -> Option<CameraConnection> {

@@ -177,7 +177,7 @@ impl PreparedScene {
             index: e.index,
             message: e.message,
         })?;
-        let mut camera = crate::camera::from_sensor(&scene.sensor, &world);
+        let mut camera = crate::camera::from_sensor(&scene.sensor, &world, lights.bounds());
         if let Some(crop) = film.crop {
             let full_pixels = film.width as f32 * film.height as f32;
             camera = Box::new(CroppedCamera {

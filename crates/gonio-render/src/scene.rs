@@ -281,6 +281,19 @@ pub struct SensorDesc {
     /// `batch`: the sensors side by side on the film, each on its share of the width (empty for
     /// every other sensor).
     pub children: Vec<SensorDesc>,
+    /// `distant`: the shape its rays target (`None` for every other sensor).
+    pub target_shape: Option<TargetShape>,
+}
+
+/// A shape that only guides a sensor's rays (`distant`'s `target`), not part of the scene;
+/// equal when it is the same shape.
+#[derive(Clone, Debug)]
+pub struct TargetShape(pub Arc<ShapeDesc>);
+
+impl PartialEq for TargetShape {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
 }
 
 /// How a sensor maps film positions to rays (Mitsuba 3 `src/sensors/`).
@@ -303,6 +316,12 @@ pub enum Projection {
     RadianceMeter,
     /// `batch`: [`SensorDesc::children`] side by side, left to right.
     Batch,
+    /// `distant`: parallel rays along `to_world`'s +z from outside the scene, at `target_point`,
+    /// at points of [`SensorDesc::target_shape`], or (neither) across the scene's bounding sphere.
+    Distant {
+        /// The point every ray passes through.
+        target_point: Option<Vec3>,
+    },
     /// `irradiancemeter`: cosine-weighted rays from uniform points of a shape, weighted π.
     IrradianceMeter {
         /// The shape, an index into [`Scene::shapes`].

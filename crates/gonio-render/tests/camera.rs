@@ -492,3 +492,61 @@ fn batch_renders_its_sensors_side_by_side() {
     let e = load(&scene(&format!(r#"<sensor type="batch">{}</sensor>"#, film(64))));
     assert!(e.contains("at least one"), "{e}");
 }
+
+#[test]
+fn distant_sensor_reads_the_radiance_leaving_its_target() {
+    // A diffuse plane under a coloured sky, seen along (0.2, 0, −1): through a point of it, over a
+    // rectangle of it (a target shape, not part of the scene), or across the scene's bounding
+    // sphere (partly the plane, partly the sky below it). Mitsuba 3.9.1 `scalar_spectral`, the
+    // mean of 4 renders of 262 144 samples (standard errors ≤ 0.1 %).
+    let scene = |target: &str, film: &str| {
+        format!(
+            r#"<scene version="3.0.0"><integrator type="path"/>
+            <sensor type="distant"><vector name="direction" x="0.2" y="0" z="-1"/>{target}{film}</sensor>
+            <emitter type="constant"><rgb name="radiance" value="1, 0.8, 0.6"/></emitter>
+            <shape type="rectangle"><bsdf type="diffuse"><rgb name="reflectance" value="0.5, 0.3, 0.2"/></bsdf></shape>
+            </scene>"#
+        )
+    };
+    let cases = [
+        (
+            r#"<point name="target" x="0.1" y="0.2" z="0"/>"#,
+            [0.48995, 0.23891, 0.11637],
+        ),
+        (
+            r#"<shape type="rectangle" name="target"><transform name="to_world"><scale value="0.5"/><translate x="0.2"/></transform></shape>"#,
+            [0.48995, 0.23891, 0.11637],
+        ),
+        ("", [0.68174, 0.44979, 0.29802]),
+        // A target shape beside the plane: only the sky.
+        (
+            r#"<shape type="disk" name="target"><transform name="to_world"><translate x="5"/></transform></shape>"#,
+            [1.0, 0.8, 0.6],
+        ),
+    ];
+    for (target, mitsuba) in cases {
+        let v = crate::integrator::render_xml(&scene(target, ONE_PIXEL), 65_536, 1).data[0];
+        for (a, m) in v.iter().zip(mitsuba) {
+            assert!(
+                (a / m - 1.0).abs() < 0.005,
+                "target {target:?}: {v:?} against {mitsuba:?}"
+            );
+        }
+    }
+    let load = |text: &str| {
+        gonio_render::xml::load_scene_str(text, ".", &[])
+            .map(|_| ())
+            .unwrap_err()
+            .to_string()
+    };
+    let e = load(&scene(
+        "",
+        &ONE_PIXEL.replace(r#"name="width" value="1""#, r#"name="width" value="3""#),
+    ));
+    assert!(e.contains("1 × 1") && e.contains("3 × 1"), "{e}");
+    let e = load(&scene(
+        r#"<transform name="to_world"><rotate x="1" angle="90"/></transform>"#,
+        ONE_PIXEL,
+    ));
+    assert!(e.contains("not both"), "{e}");
+}

@@ -62,7 +62,7 @@ fn required(name: &str) -> &'static str {
         "rawconstant" => "<float name=\"value\" value=\"0.5\"/>",
         "thinlens" => "<float name=\"aperture_radius\" value=\"0.1\"/>",
         "batch" => "<sensor type=\"perspective\"/>",
-        "radiancemeter" => {
+        "radiancemeter" | "distant" => {
             "<film type=\"hdrfilm\"><integer name=\"width\" value=\"1\"/><integer name=\"height\" value=\"1\"/></film>"
         }
         "instance" => "<shape type=\"shapegroup\"><shape type=\"sphere\"/></shape>",

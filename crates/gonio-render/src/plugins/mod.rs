@@ -51,6 +51,7 @@ pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[
     &sensor::radiancemeter::PLUGIN,
     &sensor::irradiancemeter::PLUGIN,
     &sensor::batch::PLUGIN,
+    &sensor::distant::PLUGIN,
 ];
 
 /// `<film>` plugins (nested in a sensor).

@@ -78,5 +78,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
         film,
         sampler,
         children: children?,
+        target_shape: None,
     })
 }

@@ -1,6 +1,7 @@
 //! `<sensor>` plugins.
 
 pub mod batch;
+pub mod distant;
 pub mod irradiancemeter;
 pub mod orthographic;
 pub mod perspective;

@@ -261,6 +261,7 @@ pub(crate) fn build_projective<'d>(
         film,
         sampler,
         children: Vec::new(),
+        target_shape: None,
     })
 }
 
@@ -296,6 +297,7 @@ pub(crate) fn default_sensor() -> SensorDesc {
         film,
         sampler: SamplerDesc::default(),
         children: Vec::new(),
+        target_shape: None,
     }
 }
 

@@ -114,5 +114,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
         film,
         sampler,
         children: Vec::new(),
+        target_shape: None,
     })
 }
