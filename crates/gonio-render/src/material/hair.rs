@@ -4,7 +4,18 @@
 //! Meant for the curve shapes (`bsplinecurve`, `linearcurve`), whose shading frame runs its
 //! second tangent along the fibre (the model's y axis) and which, as in Mitsuba, cannot be hit
 //! from inside: the light a fibre transmits (TT) leaves through it unhindered. On other shapes the
-//! frame's tangent stands in for the fibre's direction. (On `linearcurve` Mitsuba 3.9.1's shading
+//! frame's tangent stands in for the fibre's direction.
+//!
+//! The model is a near-field one made for path tracing: light that reaches the camera through a
+//! fibre enters and leaves where the camera ray meets it. A light tracer (`ptracer`, and the
+//! `path` integrator's caustic light subpaths that end on a fibre) meets the fibre where the
+//! *light* does and connects that point to the camera through the fibre, a different
+//! approximation of the same walk: on the test strands (`bsdf_hair_strands`) `ptracer` renders
+//! them at 0.6–0.9 of the path tracer, whose image is Mitsuba's. (The open ends of `bsplinecurve`
+//! let light into a tube that then leaves it through the wall, which makes a light tracer differ
+//! a little on any material: +5 % for diffuse strands there, 1.00 with the capped `linearcurve`.)
+//!
+//! (On `linearcurve` Mitsuba 3.9.1's shading
 //! frame is `coordinate_system(n)`, not along the fibre, so its hair there lies at an arbitrary
 //! angle; later Mitsuba versions follow the fibre, as gonio does on both curves.)
 
