@@ -549,4 +549,9 @@ fn distant_sensor_reads_the_radiance_leaving_its_target() {
         ONE_PIXEL,
     ));
     assert!(e.contains("not both"), "{e}");
+    let e = load(&scene(
+        r#"<shape type="rectangle" name="target"><sensor type="irradiancemeter"/></shape>"#,
+        ONE_PIXEL,
+    ));
+    assert!(e.contains("cannot hold a sensor"), "{e}");
 }

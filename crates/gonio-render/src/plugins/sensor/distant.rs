@@ -105,6 +105,13 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
         [] => None,
         [(i, prop)] => {
             let shape = b.build_plugin(SHAPE_PLUGINS, *i)?;
+            if let Some((_, loc)) = b.shape_sensor.take() {
+                return Err(err(
+                    &loc,
+                    ErrorKind::Grammar,
+                    "a distant sensor's target shape cannot hold a sensor of its own",
+                ));
+            }
             if !matches!(
                 shape.geometry,
                 Geometry::Sphere { .. } | Geometry::Rectangle | Geometry::Disk | Geometry::Mesh(_)
