@@ -6,6 +6,7 @@
 
 mod battery;
 mod battery_broken;
+mod battery_hair;
 mod battery_support;
 mod hair_mitsuba;
 mod instruments_gonio;

@@ -1,4 +1,4 @@
-//! Helpers shared by `battery.rs` (correct models) and `battery_broken.rs` (negative
+//! Helpers shared by `battery.rs`, `battery_hair.rs` (correct models) and `battery_broken.rs` (negative
 //! controls): the family-wise α, the report, and the pass/fail assertions.
 #![allow(dead_code)] // each test module uses its part
 
@@ -8,10 +8,10 @@ use gonio_core::spectra::{Extrapolation, PiecewiseLinear, Spectrum};
 use std::sync::Arc;
 use std::time::Instant;
 
-/// Upper bound on the battery runs on correct models in `battery.rs` and its `battery_stochastic`
-/// module (Šidák family size): 57
+/// Upper bound on the battery runs on correct models in `battery.rs`, its `battery_stochastic`
+/// module and `battery_hair.rs` (Šidák family size): 57
 /// `assert_passes`, 6 anisotropic and 6 stochastic runs, 2 direct `report`s and 3 quick ones
-/// (`roughdielectric_default`); pplastic: 2 `assert_passes` and 1 anisotropic.
+/// (`roughdielectric_default`); pplastic: 2 `assert_passes` and 1 anisotropic; hair: 3.
 pub const RUNS: usize = 80;
 
 pub fn config() -> CheckConfig {
