@@ -8,3 +8,4 @@ pub mod path;
 pub mod prb;
 pub mod ptracer;
 pub mod stokes;
+pub mod volpath;

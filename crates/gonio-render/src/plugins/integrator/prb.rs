@@ -25,7 +25,7 @@ use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{IntegratorDesc, IntegratorKind};
 use crate::xml::{Builder, Params, SceneError};
 
-const MAX_DEPTH: ParamSpec = ParamSpec::new(
+pub(super) const MAX_DEPTH: ParamSpec = ParamSpec::new(
     "max_depth",
     ParamType::Integer,
     DefaultValue::Int(6),
