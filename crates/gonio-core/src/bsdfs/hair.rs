@@ -392,36 +392,74 @@ impl<S: SpectralValue> Hair<S> {
         sum + weights[P_MAX] * m
     }
 
-    /// S(ωi → ωo): the scattering function per unit solid angle, including the projection (what
-    /// Mitsuba's `eval` returns), with ωi towards the viewer and ωo towards the light.
-    pub fn scattering(&self, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    /// The incidence of `wi` and its attenuations A_0..A_3: what S and the pdf from `wi` share.
+    #[inline]
+    fn incidence_and_attenuation(
+        &self,
+        wi: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (Incidence, [SampledSpectrum; P_MAX + 1]) {
         let inc = self.incidence(wi);
         let a = self.attenuation(&inc, wl);
-        let s = self.lobe_sum(&inc, wo, &a, SampledSpectrum::ZERO);
+        (inc, a)
+    }
+
+    /// S at `wo` given the incidence and its attenuations (0 where not finite).
+    #[inline]
+    fn scattering_at(&self, inc: &Incidence, a: &[SampledSpectrum; P_MAX + 1], wo: Vec3) -> SampledSpectrum {
+        let s = self.lobe_sum(inc, wo, a, SampledSpectrum::ZERO);
         if s.is_finite() { s } else { SampledSpectrum::ZERO }
     }
 
-    /// The density of [`Bsdf::sample`] from `wi` at `wo`.
-    fn density(&self, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> f32 {
-        let inc = self.incidence(wi);
-        let pmf = Self::lobe_pmf(&self.attenuation(&inc, wl), wl);
-        let pdf = self.lobe_sum(&inc, wo, &pmf, 0.0);
+    /// The sampling density at `wo` given the incidence and its lobe probabilities (0 where not
+    /// finite).
+    #[inline]
+    fn density_at(&self, inc: &Incidence, pmf: &[f32; P_MAX + 1], wo: Vec3) -> f32 {
+        let pdf = self.lobe_sum(inc, wo, pmf, 0.0);
         if pdf.is_finite() { pdf } else { 0.0 }
     }
 
-    /// S in the transport direction of `ctx`: radiance S(wi → wo); importance its adjoint.
+    /// S(ωi → ωo): the scattering function per unit solid angle, including the projection (what
+    /// Mitsuba's `eval` returns), with ωi towards the viewer and ωo towards the light.
+    pub fn scattering(&self, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let (inc, a) = self.incidence_and_attenuation(wi, wl);
+        self.scattering_at(&inc, &a, wo)
+    }
+
+    /// S in the transport direction of `ctx` and the cosine f carries it over: radiance
+    /// S(wi → wo) from the incidence of `wi` already at hand, |cos θo|; importance the adjoint
+    /// S(wo → wi), |cos θi|.
     #[inline]
-    fn transport(
+    fn transported(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+        inc: &Incidence,
+        a: &[SampledSpectrum; P_MAX + 1],
+    ) -> (SampledSpectrum, f32) {
+        match ctx.mode {
+            TransportMode::Radiance => (self.scattering_at(inc, a, wo), wo.z.abs()),
+            TransportMode::Importance => (self.scattering(wo, wi, wl), wi.z.abs()),
+        }
+    }
+
+    /// f in the transport direction of `ctx` (radiance S(wi → wo)/|cos θo|, importance its
+    /// adjoint S(wo → wi)/|cos θi|) and the density of [`Bsdf::sample`] from `wi` at `wo`: the
+    /// radiance value and the density share one incidence.
+    #[inline]
+    fn f_and_pdf(
         &self,
         ctx: &BsdfContext,
         wi: Vec3,
         wo: Vec3,
         wl: &SampledWavelengths,
     ) -> (SampledSpectrum, f32) {
-        match ctx.mode {
-            TransportMode::Radiance => (self.scattering(wi, wo, wl), wo.z.abs()),
-            TransportMode::Importance => (self.scattering(wo, wi, wl), wi.z.abs()),
-        }
+        let (inc, a) = self.incidence_and_attenuation(wi, wl);
+        let pdf = self.density_at(&inc, &Self::lobe_pmf(&a, wl), wo);
+        let (s, cos) = self.transported(ctx, wi, wo, wl, &inc, &a);
+        (if cos > 0.0 { s / cos } else { SampledSpectrum::ZERO }, pdf)
     }
 }
 
@@ -440,7 +478,10 @@ impl<S: SpectralValue> Bsdf for Hair<S> {
         if !ctx.is_enabled(BsdfFlags::GLOSSY) {
             return SampledSpectrum::ZERO;
         }
-        let (s, cos) = self.transport(ctx, wi, wo, wl);
+        let (s, cos) = match ctx.mode {
+            TransportMode::Radiance => (self.scattering(wi, wo, wl), wo.z.abs()),
+            TransportMode::Importance => (self.scattering(wo, wi, wl), wi.z.abs()),
+        };
         if cos > 0.0 { s / cos } else { SampledSpectrum::ZERO }
     }
 
@@ -448,7 +489,21 @@ impl<S: SpectralValue> Bsdf for Hair<S> {
         if !ctx.is_enabled(BsdfFlags::GLOSSY) {
             return 0.0;
         }
-        self.density(wi, wo, wl)
+        let (inc, a) = self.incidence_and_attenuation(wi, wl);
+        self.density_at(&inc, &Self::lobe_pmf(&a, wl), wo)
+    }
+
+    fn eval_pdf(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        wo: Vec3,
+        wl: &SampledWavelengths,
+    ) -> (SampledSpectrum, f32) {
+        if !ctx.is_enabled(BsdfFlags::GLOSSY) {
+            return (SampledSpectrum::ZERO, 0.0);
+        }
+        self.f_and_pdf(ctx, wi, wo, wl)
     }
 
     fn sample(
@@ -462,8 +517,8 @@ impl<S: SpectralValue> Bsdf for Hair<S> {
         if !ctx.is_enabled(BsdfFlags::GLOSSY) {
             return None;
         }
-        let inc = self.incidence(wi);
-        let pmf = Self::lobe_pmf(&self.attenuation(&inc, wl), wl);
+        let (inc, a) = self.incidence_and_attenuation(wi, wl);
+        let pmf = Self::lobe_pmf(&a, wl);
         // The lobe, and u1 rescaled within its interval for the azimuth.
         let mut p = 0;
         let mut u = u1;
@@ -493,14 +548,14 @@ impl<S: SpectralValue> Bsdf for Hair<S> {
         };
         let (sin_phi_o, cos_phi_o) = (inc.phi + delta_phi).sin_cos();
         let wo = Vec3::new(cos_o * cos_phi_o, sin_o, cos_o * sin_phi_o).normalize();
-        let pdf = self.density(wi, wo, wl);
+        let pdf = self.density_at(&inc, &pmf, wo);
         if !(pdf > 0.0) {
             return None;
         }
         // f·|cos θo|/pdf: S/pdf in radiance transport, the adjoint's value in importance.
         // (|cos θo| over the transport's cosine is 1 in radiance mode; in importance mode it grows
         // without bound as wi grazes the normal plane, where a weight that overflows is dropped.)
-        let (s, cos) = self.transport(ctx, wi, wo, wl);
+        let (s, cos) = self.transported(ctx, wi, wo, wl, &inc, &a);
         let weight = (s / pdf) * (wo.z.abs() / cos);
         let weight = if weight.is_finite() {
             weight
