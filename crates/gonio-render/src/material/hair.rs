@@ -178,6 +178,15 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
     )))
 }
 
+/// `scale`·σa (a spectrum `Spectrum::scaled` cannot scale, a dispersion formula, absorbs nothing).
+fn scaled_sigma(sigma_a: gonio_core::Spectrum, scale: f32) -> HairAbsorption {
+    HairAbsorption::Sigma(
+        sigma_a
+            .scaled(scale)
+            .unwrap_or(gonio_core::Spectrum::Constant(0.0)),
+    )
+}
+
 /// `hair` in a scene.
 #[derive(Clone, Debug)]
 pub struct HairMaterial {
@@ -198,11 +207,7 @@ impl HairMaterial {
         lobes: HairLobes,
     ) -> Self {
         let absorption = match &sigma_a {
-            Some(t) => HairAbsorption::Sigma(
-                super::model_value(t)
-                    .scaled(scale)
-                    .unwrap_or(gonio_core::Spectrum::Constant(0.0)),
-            ),
+            Some(t) => scaled_sigma(super::model_value(t), scale),
             None => HairAbsorption::pigments(eumelanin, pheomelanin),
         };
         Self {
@@ -242,11 +247,7 @@ impl SurfaceMaterial for HairMaterial {
     fn visit(&self, uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
         match self.textured_sigma_a() {
             Some((t, scale)) => f(&Hair {
-                sigma_a: HairAbsorption::Sigma(
-                    t.eval(uv)
-                        .scaled(*scale)
-                        .unwrap_or(gonio_core::Spectrum::Constant(0.0)),
-                ),
+                sigma_a: scaled_sigma(t.eval(uv), *scale),
                 eta: self.model.eta,
                 lobes: self.model.lobes,
             }),

@@ -15,10 +15,10 @@
 //! | nested `film`, `sampler` | hdrfilm (1 × 1 pixels required), independent |
 
 use super::perspective::{FILM, SAMPLER, film_and_sampler};
+use super::radiancemeter::{check_forward, frame_along};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin, SHAPE_PLUGINS};
 use crate::scene::{Geometry, Projection, SensorDesc, TargetShape};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
-use glam::{Affine3A, Mat3};
 
 const TO_WORLD: ParamSpec = ParamSpec::new(
     "to_world",
@@ -69,31 +69,10 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
                 "give the distant sensor's direction either by to_world or by direction, not both (as Mitsuba requires)",
             ));
         }
-        Some((v, loc)) => {
-            let d = v.as_vec3();
-            if !(d.is_finite() && d.length() > 0.0) {
-                return Err(err(
-                    loc,
-                    ErrorKind::BadValue,
-                    format!(
-                        "invalid direction ({}, {}, {}) (must be finite and non-zero)",
-                        v.x, v.y, v.z
-                    ),
-                ));
-            }
-            let d = d.normalize();
-            let (x, y) = d.any_orthonormal_pair();
-            Affine3A::from_mat3(Mat3::from_cols(x, y, d))
-        }
+        Some(direction) => frame_along(Some(direction), glam::Vec3::ZERO)?,
         None => to_world,
     };
-    if !(to_world.is_finite() && to_world.matrix3.z_axis.length() > 0.0) {
-        return Err(err(
-            &p.obj.loc,
-            ErrorKind::BadValue,
-            "the distant sensor's to_world has no +z direction",
-        ));
-    }
+    check_forward(&to_world, p, "distant sensor")?;
     // A nested shape (Mitsuba's `<shape name="target" ...>`), or else a point.
     let shapes = p.objects(Tag::Shape)?;
     let target_point = if shapes.is_empty() {

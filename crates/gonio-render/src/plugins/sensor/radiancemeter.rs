@@ -70,23 +70,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
         to_world
     } else {
         let o = origin.map_or(Vec3::ZERO, |(v, _)| v.as_vec3());
-        let d = match direction {
-            None => Vec3::Z,
-            Some((v, loc)) => {
-                let d = v.as_vec3();
-                if !(d.is_finite() && d.length() > 0.0) {
-                    return Err(err(
-                        loc,
-                        ErrorKind::BadValue,
-                        format!(
-                            "invalid direction ({}, {}, {}) (must be finite and non-zero)",
-                            v.x, v.y, v.z
-                        ),
-                    ));
-                }
-                d.normalize()
-            }
-        };
         if !o.is_finite() {
             return Err(err(
                 &p.obj.loc,
@@ -94,17 +77,9 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
                 format!("invalid origin {o}"),
             ));
         }
-        let (x, y) = d.any_orthonormal_pair();
-        Affine3A::from_mat3_translation(Mat3::from_cols(x, y, d), o)
+        frame_along(direction, o)?
     };
-    let z = to_world.matrix3.z_axis;
-    if !(to_world.is_finite() && z.length() > 0.0) {
-        return Err(err(
-            &p.obj.loc,
-            ErrorKind::BadValue,
-            "the radiancemeter's to_world has no +z direction",
-        ));
-    }
+    check_forward(&to_world, p, "radiancemeter")?;
     Ok(SensorDesc {
         to_world,
         fov_x_deg: 0.0,
@@ -116,4 +91,46 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, Scen
         children: Vec::new(),
         target_shape: None,
     })
+}
+
+/// The frame at `origin` whose +z is `direction` (a vector, normalized; +z when absent), as the
+/// `direction` parameter of `radiancemeter` and `distant` gives it: refused when not finite or
+/// zero.
+pub(super) fn frame_along(
+    direction: Option<(glam::DVec3, &crate::xml::Location)>,
+    origin: Vec3,
+) -> Result<Affine3A, SceneError> {
+    let d = match direction {
+        None => Vec3::Z,
+        Some((v, loc)) => {
+            let d = v.as_vec3();
+            if !(d.is_finite() && d.length() > 0.0) {
+                return Err(err(
+                    loc,
+                    ErrorKind::BadValue,
+                    format!(
+                        "invalid direction ({}, {}, {}) (must be finite and non-zero)",
+                        v.x, v.y, v.z
+                    ),
+                ));
+            }
+            d.normalize()
+        }
+    };
+    let (x, y) = d.any_orthonormal_pair();
+    Ok(Affine3A::from_mat3_translation(Mat3::from_cols(x, y, d), origin))
+}
+
+/// Refuses a sensor frame without a +z direction (the rays' direction of `radiancemeter` and
+/// `distant`).
+pub(super) fn check_forward(to_world: &Affine3A, p: &Params<'_>, sensor: &str) -> Result<(), SceneError> {
+    if to_world.is_finite() && to_world.matrix3.z_axis.length() > 0.0 {
+        Ok(())
+    } else {
+        Err(err(
+            &p.obj.loc,
+            ErrorKind::BadValue,
+            format!("the {sensor}'s to_world has no +z direction"),
+        ))
+    }
 }
