@@ -311,3 +311,13 @@ fn comments_and_whitespace_are_ignored_and_scene_file_loads() {
     let s = load_scene_file(data().join("inc_child.xml"), &[("radius".into(), "4".into())]).unwrap();
     assert_eq!(sphere(&s, 0).1, 4.0);
 }
+
+/// Mitsuba keeps the first definition of a `<default>`: a scene's own defaults hold over those
+/// of the files it includes (its `medium_homogeneous_sss` sets `volpath` before including a
+/// set-up whose default is `path`).
+#[test]
+fn the_first_default_wins() {
+    let text = "<scene version=\"3.0.0\"><default name=\"d\" value=\"7\"/><default name=\"d\" value=\"3\"/>\
+        <integrator type=\"path\"><integer name=\"max_depth\" value=\"$d\"/></integrator></scene>";
+    assert_eq!(load_scene_str(text, data(), &[]).unwrap().integrator.max_depth, 7);
+}

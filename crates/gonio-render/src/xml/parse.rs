@@ -384,7 +384,10 @@ impl Parser {
                         format!("invalid parameter name \"{n}\""),
                     ));
                 }
-                self.defaults.insert(n.to_owned(), v.to_owned());
+                // The first definition wins, as in Mitsuba: a scene's defaults hold over those of
+                // the files it includes (Mitsuba's `medium_homogeneous_sss` sets `volpath` before
+                // including a set-up whose default is `path`).
+                self.defaults.entry(n.to_owned()).or_insert_with(|| v.to_owned());
                 Ok(())
             }
             "include" => {
