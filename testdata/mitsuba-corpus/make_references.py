@@ -14,7 +14,8 @@ The sensor and `direct` scenes (`sensor_thinlens`, `sensor_orthographic`,
 `_twosided`), the sdfgrid scenes (`shape_sdfgrid`, `_analytic`) and the curve scenes
 (`shape_linearcurve_basic`, `_parameterization`, `shape_bsplinecurve_basic`, `_parameterization`) and the
 `mesh_attribute` scenes (`texture_mesh_attribute_face`, `_vertex`, over `include/shape_scene.xml`)
-and `shape_sphere_light_analytic` have their films reduced to 120 x 90 (the direct ones 120 x 80); they
+and `shape_sphere_light_analytic` have their films reduced to 120 x 90 (the direct ones 120 x 80), as has
+`medium_homogeneous_sss` (over `include/shape_scene.xml`; its bunny is `common/meshes/bunny.ply`); they
 are rendered when named on the command line. Scenes that use `$spp` get SPP as that parameter.
 
 Usage (from this folder; takes minutes per scene):

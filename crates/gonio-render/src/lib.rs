@@ -14,6 +14,7 @@ pub mod geometry;
 pub mod image;
 pub mod integrator;
 pub mod material;
+pub mod medium;
 pub mod mesh;
 pub mod output;
 pub mod plugins;

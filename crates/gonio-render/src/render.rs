@@ -128,6 +128,8 @@ pub struct PreparedScene {
     accel: Accel,
     lights: Lights,
     shape_material: Vec<usize>,
+    /// The media on the two sides of each shape.
+    shape_media: Vec<crate::medium::MediumInterface>,
     camera: Box<dyn Camera>,
 }
 
@@ -152,6 +154,7 @@ impl PreparedScene {
         }
         let mut world = Vec::with_capacity(scene.shapes.len());
         let mut shape_material = Vec::with_capacity(scene.shapes.len());
+        let mut shape_media = Vec::with_capacity(scene.shapes.len());
         for (index, shape) in scene.shapes.iter_mut().enumerate() {
             let name = shape.id.clone().unwrap_or_else(|| format!("#{index}"));
             let mut w = WorldShape::from_scene_moving_mesh(shape, &name).map_err(|e| RenderError::Shape {
@@ -172,6 +175,7 @@ impl PreparedScene {
                 || scene.integrator.layers.is_some();
             world.push(w);
             shape_material.push(shape.material);
+            shape_media.push(shape.media);
         }
         let lights = Lights::from_scene(&scene, &world).map_err(|e| RenderError::Emitter {
             index: e.index,
@@ -193,6 +197,7 @@ impl PreparedScene {
             accel,
             lights,
             shape_material,
+            shape_media,
             camera,
         })
     }
@@ -238,6 +243,7 @@ impl PreparedScene {
             &self.shape_material,
         )
         .with_camera_if_it_connects(self.camera.as_ref())
+        .with_media(&self.scene.media, &self.shape_media, self.scene.sensor_medium)
         .with_sensor_up(self.scene.sensor.to_world.transform_vector3(glam::Vec3::Y))
     }
 

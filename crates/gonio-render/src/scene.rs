@@ -29,6 +29,10 @@ pub struct Scene {
     pub emitters: Vec<EmitterDesc>,
     /// Materials; [`ShapeDesc::material`] indexes this list.
     pub materials: Vec<Material>,
+    /// Participating media; [`ShapeDesc::media`] and [`Scene::sensor_medium`] index this list.
+    pub media: Vec<crate::medium::Medium>,
+    /// The medium the sensor is in (a `<medium>` nested in the `<sensor>`).
+    pub sensor_medium: Option<crate::medium::MediumId>,
 }
 
 impl Scene {
@@ -59,6 +63,9 @@ pub struct IntegratorDesc {
     pub rr_scale: f32,
     /// Hide directly visible emitters (Mitsuba `hide_emitters`, default false).
     pub hide_emitters: bool,
+    /// A volumetric path tracer (`volpath`, `volpathmis`, `prbvolpath`): participating media
+    /// take part (`crate::integrator::volpath`); `path` ignores them, as Mitsuba's does.
+    pub volumetric: bool,
     /// Ours: shadow rays pass through `thindielectric` sheets, attenuated (default true).
     pub thin_shadows: bool,
     /// Ours: trace light paths for the caustics seen directly (emitter → specular chain → smooth
@@ -243,6 +250,7 @@ impl Default for IntegratorDesc {
             rr_survival: 0.99,
             rr_scale: 4.0,
             hide_emitters: false,
+            volumetric: false,
             thin_shadows: true,
             caustic_paths: true,
             refracted_nee: true,
@@ -561,6 +569,8 @@ pub struct ShapeDesc {
     pub outside_only: bool,
     /// Index into [`Scene::materials`].
     pub material: usize,
+    /// The media inside and outside (`<ref name="interior">`, `"exterior"`).
+    pub media: crate::medium::MediumInterface,
     /// Area emitter attached to this shape.
     pub emitter: Option<AreaEmitterDesc>,
     /// The `id` attribute, if any.

@@ -34,6 +34,7 @@ fn shape(geometry: Geometry, to_world: Affine3A) -> ShapeDesc {
         flip_normals: false,
         face_normals: false,
         outside_only: false,
+        media: Default::default(),
         material: 0,
         emitter: None,
         id: None,

@@ -21,6 +21,7 @@ mod layers;
 mod light_splitting;
 mod lobe_split;
 mod manifold;
+mod media;
 mod mis_exponent;
 mod mitsuba_bsdf_values;
 mod mitsuba_json;

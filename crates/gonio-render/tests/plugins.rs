@@ -40,6 +40,8 @@ fn scene_with(kind: &str, name: &str, params: &str) -> String {
         ),
         "bsdf" => object("bsdf"),
         "volume" => object("volume"),
+        "medium" => object("medium"),
+        "phase" => format!("<medium type=\"homogeneous\">{}</medium>", object("phase")),
         k => panic!("unknown kind {k}"),
     }
 }
@@ -122,7 +124,8 @@ fn every_table_default_has_its_parameters_type() {
                         | ParamType::Ior
                         | ParamType::Film
                         | ParamType::Sampler
-                        | ParamType::Rfilter,
+                        | ParamType::Rfilter
+                        | ParamType::Phase,
                         DefaultValue::Str(s),
                     ) => !s.is_empty(),
                     _ => false,

@@ -589,35 +589,33 @@ fn differentiable_integrators_are_their_primal_integrators() {
     }
 }
 
-/// Mitsuba's volumetric path tracers on scenes without media are the path tracer: `volpath` and
-/// `volpathmis` with `path`'s defaults, `prbvolpath` with the differentiable integrators' depth 6;
-/// a medium is refused where it is declared.
+/// Mitsuba's volumetric path tracers are the path tracer's settings marked volumetric (media
+/// take part where the scene has them, `tests/media.rs`): `volpath` and `volpathmis` with
+/// `path`'s defaults, `prbvolpath` with the differentiable integrators' depth 6.
 #[test]
-fn volumetric_path_tracers_without_media_are_the_path_tracer() {
+fn volumetric_path_tracers_take_the_path_tracers_settings() {
     let path = load("<integrator type=\"path\"/>").integrator;
+    assert!(!path.volumetric);
+    let volumetric = |text: &str| {
+        let mut i = load(text).integrator;
+        assert!(i.volumetric, "{text}");
+        i.volumetric = false;
+        i
+    };
     for ty in ["volpath", "volpathmis"] {
-        assert_eq!(
-            load(&format!("<integrator type=\"{ty}\"/>")).integrator,
-            path,
-            "{ty}"
-        );
+        assert_eq!(volumetric(&format!("<integrator type=\"{ty}\"/>")), path, "{ty}");
     }
     let path6 =
         load("<integrator type=\"path\"><integer name=\"max_depth\" value=\"6\"/></integrator>").integrator;
-    assert_eq!(load("<integrator type=\"prbvolpath\"/>").integrator, path6);
-    let custom = load(
+    assert_eq!(volumetric("<integrator type=\"prbvolpath\"/>"), path6);
+    let custom = volumetric(
         "<integrator type=\"volpath\"><integer name=\"max_depth\" value=\"12\"/><integer name=\"rr_depth\" value=\"3\"/>\
          <boolean name=\"hide_emitters\" value=\"true\"/></integrator>",
-    )
-    .integrator;
+    );
     assert_eq!(
         (custom.max_depth, custom.rr_depth, custom.hide_emitters),
         (12, 3, true)
     );
-    let text = "<scene version=\"3.0.0\"><integrator type=\"volpath\"/>\
-                <medium type=\"homogeneous\" id=\"m\"><float name=\"sigma_t\" value=\"1\"/></medium></scene>";
-    let e = load_scene_str(text, data(), &[]).unwrap_err().to_string();
-    assert!(e.contains("medium") && e.contains(":1:"), "{e}");
 }
 
 /// `LoadOptions::mitsuba_estimators` (`gonio render --mitsuba-estimators`) turns every default of

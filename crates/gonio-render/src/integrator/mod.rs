@@ -117,6 +117,7 @@ mod path_state;
 pub mod polarized;
 mod ptracer;
 mod refracted;
+mod volpath;
 
 use path_state::{PathState, PrevVertex, StepFrom};
 
@@ -254,6 +255,10 @@ pub struct PathTracer<'a> {
     stokes: bool,
     /// The sensor's up direction in world space: the Stokes vectors' x-axis is d × up.
     sensor_up: Vec3,
+    /// The integrator is volumetric (`volpath`): media take part where the scene has them.
+    volumetric: bool,
+    /// The scene's participating media, when they take part ([`volpath`]).
+    media: Option<volpath::Media<'a>>,
 }
 
 /// A camera-path vertex while its BSDF exists.
@@ -345,6 +350,8 @@ impl<'a> PathTracer<'a> {
             polarized,
             stokes: settings.stokes,
             sensor_up: Vec3::Y,
+            volumetric: settings.volumetric,
+            media: None,
         };
         tracer.refracted_light = tracer.refracted_lights();
         tracer.refracted_nee = settings.refracted_nee
@@ -378,6 +385,28 @@ impl<'a> PathTracer<'a> {
     /// of the `stokes` layers as Mitsuba does (x-axis d × up for a camera ray d).
     pub fn with_sensor_up(mut self, up: Vec3) -> Self {
         self.sensor_up = up;
+        self
+    }
+
+    /// The scene's participating media, the media each shape separates and the sensor's
+    /// medium: a volumetric integrator (`volpath`) then renders with them ([`volpath`]); other
+    /// integrators ignore media, as Mitsuba's do.
+    pub fn with_media(
+        mut self,
+        media: &'a [crate::medium::Medium],
+        shape_media: &'a [crate::medium::MediumInterface],
+        sensor_medium: Option<crate::medium::MediumId>,
+    ) -> Self {
+        let any = sensor_medium.is_some() || shape_media.iter().any(|m| m.transition);
+        if self.volumetric && any && self.kind == IntegratorKind::Path && !self.polarized {
+            self.media = Some(volpath::Media {
+                media,
+                shape_media,
+                sensor_medium,
+            });
+            // Mitsuba's estimator: the path tracer's own strategies do not see the media.
+            self.caustics = None;
+        }
         self
     }
 
@@ -712,6 +741,11 @@ impl Integrator for PathTracer<'_> {
                 value.fill(0.0);
                 return self.sample_ptracer(sample, splat);
             }
+        }
+        if let Some(media) = &self.media {
+            let l = self.li_volumetric(media, sample.ray, &mut sample.sampler, &mut sample.wavelengths);
+            value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
+            return;
         }
         let mut light = caustics::LightSubpath::new();
         if self.traces_caustics() {

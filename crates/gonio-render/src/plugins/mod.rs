@@ -12,6 +12,8 @@
 pub mod emitter;
 pub mod film;
 pub mod integrator;
+pub mod medium;
+pub mod phase;
 pub mod rfilter;
 pub mod sampler;
 pub mod sensor;
@@ -123,6 +125,17 @@ pub static TEXTURE_PLUGINS: &[&Plugin<Texture>] = &[
 pub static VOLUME_PLUGINS: &[&Plugin<std::sync::Arc<crate::texture::volume::GridVolume>>] =
     &[&volume::gridvolume::PLUGIN];
 
+/// `<medium>` plugins.
+pub static MEDIUM_PLUGINS: &[&Plugin<crate::medium::Medium>] =
+    &[&medium::homogeneous::PLUGIN, &medium::heterogeneous::PLUGIN];
+
+/// `<phase>` plugins (nested in a medium).
+pub static PHASE_PLUGINS: &[&Plugin<gonio_core::phase::PhaseFunction>] = &[
+    &phase::isotropic::PLUGIN,
+    &phase::hg::PLUGIN,
+    &phase::rayleigh::PLUGIN,
+];
+
 /// `<spectrum type="...">` plugins.
 pub static SPECTRUM_PLUGINS: &[&Plugin<Texture>] = &[
     &spectrum::d65::PLUGIN,
@@ -165,6 +178,8 @@ pub fn all_kinds() -> Vec<KindTable> {
         table("emitter", "Emitters (`<emitter>`)", &[EMITTER_PLUGINS]),
         table("texture", "Textures (`<texture>`)", &[TEXTURE_PLUGINS]),
         table("volume", "Volumes (`<volume>`)", &[VOLUME_PLUGINS]),
+        table("medium", "Participating media (`<medium>`)", &[MEDIUM_PLUGINS]),
+        table("phase", "Phase functions (`<phase>`)", &[PHASE_PLUGINS]),
         table(
             "spectrum",
             "Spectra (`<spectrum type=\"...\">`)",

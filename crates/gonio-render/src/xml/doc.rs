@@ -24,6 +24,10 @@ pub(crate) enum Tag {
     Spectrum,
     /// `<volume>`: data over space (`gridvolume`), read by the `volume` texture.
     Volume,
+    /// `<medium>`: a participating medium (`homogeneous`).
+    Medium,
+    /// `<phase>`: a medium's phase function (`isotropic`, `hg`, `rayleigh`).
+    Phase,
 }
 
 impl Tag {
@@ -41,6 +45,8 @@ impl Tag {
             Tag::Texture => "texture",
             Tag::Spectrum => "spectrum",
             Tag::Volume => "volume",
+            Tag::Medium => "medium",
+            Tag::Phase => "phase",
         }
     }
 
@@ -56,6 +62,8 @@ impl Tag {
             "shape" => Tag::Shape,
             "texture" => Tag::Texture,
             "volume" => Tag::Volume,
+            "medium" => Tag::Medium,
+            "phase" => Tag::Phase,
             _ => return None,
         })
     }

@@ -47,6 +47,10 @@ pub enum ParamType {
     Volume,
     /// Nested `<sensor>` objects (`batch`, and a shape's `irradiancemeter`).
     Sensor,
+    /// A nested or referenced `<medium>` (a shape's `interior`, `exterior`; a sensor's).
+    Medium,
+    /// A nested `<phase>` (a medium's phase function).
+    Phase,
 }
 
 impl ParamType {
@@ -71,6 +75,8 @@ impl ParamType {
             ParamType::Shape => "shape",
             ParamType::Volume => "volume",
             ParamType::Sensor => "sensor",
+            ParamType::Medium => "medium",
+            ParamType::Phase => "phase",
         }
     }
 }

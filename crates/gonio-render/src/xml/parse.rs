@@ -348,11 +348,6 @@ impl Parser {
         }
         match tag {
             "scene" => Err(SceneError::new(loc, ErrorKind::Grammar, "nested <scene> element")),
-            "medium" | "phase" => Err(SceneError::new(
-                loc,
-                ErrorKind::UnknownPlugin,
-                format!("<{tag}> (participating media) is not supported"),
-            )),
             "ref" => {
                 let attrs = self.attrs(ctx, node, &["id", "name"])?;
                 let (id, _) = attrs.required("id", "ref")?;

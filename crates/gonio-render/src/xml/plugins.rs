@@ -64,6 +64,12 @@ pub(crate) struct Builder<'d> {
     pub(crate) shape_sensors: Vec<(SensorDesc, Location)>,
     /// While the sensors of a `batch` are built: the film share and the sampler they take.
     pub(crate) batch_film: Option<(crate::scene::FilmDesc, crate::scene::SamplerDesc)>,
+    /// The participating media built so far, and each one's object (built once however many
+    /// shapes refer to it).
+    media: Vec<crate::medium::Medium>,
+    medium_index: HashMap<usize, crate::medium::MediumId>,
+    /// The medium nested in the sensor built last.
+    pub(crate) sensor_medium: Option<crate::medium::MediumId>,
 }
 
 fn kind_key(k: RgbKind) -> u8 {
@@ -107,6 +113,9 @@ impl<'d> Builder<'d> {
             shape_sensor: None,
             shape_sensors: Vec::new(),
             batch_film: None,
+            media: Vec::new(),
+            medium_index: HashMap::new(),
+            sensor_medium: None,
             hit_textures: HashMap::new(),
             hit_bsdfs: HashMap::new(),
             hit_emitters: Vec::new(),
@@ -163,6 +172,7 @@ impl<'d> Builder<'d> {
         let root = &doc.objs[doc.root];
         let mut integrator: Option<IntegratorDesc> = None;
         let mut sensor: Option<SensorDesc> = None;
+        let mut sensor_medium = None;
         let mut shapes = Vec::new();
         let mut emitters = Vec::new();
         let referenced: std::collections::HashSet<usize> = doc
@@ -206,8 +216,10 @@ impl<'d> Builder<'d> {
                 }
                 Tag::Sensor => {
                     let s = self.build_plugin(SENSOR_PLUGINS, idx)?;
+                    let medium = self.sensor_medium.take();
                     if sensor.is_none() {
                         sensor = Some(s);
+                        sensor_medium = medium;
                     } else {
                         self.warnings
                             .push(format!("{}: more than one sensor; rendering the first", obj.loc));
@@ -232,6 +244,16 @@ impl<'d> Builder<'d> {
                 // Definitions: built (and so checked) even when nothing refers to them.
                 Tag::Bsdf => {
                     self.bsdf(idx, &obj.loc)?;
+                }
+                Tag::Medium => {
+                    self.medium(idx, &obj.loc)?;
+                }
+                Tag::Phase => {
+                    return Err(err(
+                        &obj.loc,
+                        ErrorKind::Grammar,
+                        "<phase> must be nested in a <medium>",
+                    ));
                 }
                 Tag::Volume if referenced.contains(&idx) => {}
                 Tag::Volume => {
@@ -290,6 +312,8 @@ impl<'d> Builder<'d> {
             shapes,
             emitters,
             materials: self.materials,
+            media: self.media,
+            sensor_medium,
         };
         // gonio's light tracer carries spectra, not Stokes vectors (Mitsuba's polarized variants
         // do carry them through `ptracer`): say so rather than drop the polarization silently.
@@ -324,6 +348,20 @@ impl<'d> Builder<'d> {
         let v = (plugin.build)(self, &mut p)?;
         p.finish()?;
         Ok(v)
+    }
+
+    /// The index in the scene's media of the `<medium>` object `idx` (built once).
+    pub(crate) fn medium(&mut self, idx: usize, loc: &Location) -> Result<crate::medium::MediumId> {
+        if let Some(&m) = self.medium_index.get(&idx) {
+            return Ok(m);
+        }
+        self.enter(idx, loc)?;
+        let medium = self.build_plugin(crate::plugins::MEDIUM_PLUGINS, idx);
+        self.leave();
+        let id = self.media.len() as crate::medium::MediumId;
+        self.media.push(medium?);
+        self.medium_index.insert(idx, id);
+        Ok(id)
     }
 
     /// The one nested `<tag>` object of `p` built with `registry` (`None` if there is none);

@@ -99,6 +99,7 @@ fn rectangle() -> WorldShape {
         flip_normals: false,
         face_normals: false,
         outside_only: false,
+        media: Default::default(),
         material: 0,
         emitter: None,
         id: None,

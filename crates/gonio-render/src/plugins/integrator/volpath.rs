@@ -1,15 +1,18 @@
-//! Mitsuba 3's volumetric path tracers on scenes without participating media: `volpath`,
-//! `volpathmis` (`src/integrators/volpath.cpp`, `volpathmis.cpp`) and the differentiable
-//! `prbvolpath` (`python/ad/integrators/prbvolpath.py`), for their image.
+//! Mitsuba 3's volumetric path tracers: `volpath`, `volpathmis` (`src/integrators/volpath.cpp`,
+//! `volpathmis.cpp`) and the differentiable `prbvolpath` (`python/ad/integrators/prbvolpath.py`),
+//! for their image.
 //!
-//! Without a medium their estimator is the path tracer's (emission and next-event estimation by
-//! MIS, BSDF sampling, Russian roulette from `rr_depth`), so gonio renders them with its `path`
-//! integrator and the path tracer's estimator rows (ours, or Mitsuba's under
-//! `--mitsuba-estimators`). A scene with a `<medium>` is refused where the medium is declared
-//! (gonio has no participating media). One difference under `--mitsuba-estimators`: Mitsuba's
-//! volumetric tracers let shadow rays through `null` surfaces (medium boundaries), its `path`
-//! does not, and gonio's `path` then does not either (its own default, `thin_shadows`, lets them
-//! through as the volumetric tracers do).
+//! In a scene with participating media (a shape's `interior`/`exterior`, a sensor's medium)
+//! they render with gonio's volumetric path tracer (`crate::integrator::volpath`: free-flight
+//! sampling, phase-function and light sampling in media, Mitsuba's estimator and depth
+//! counting; spectral MIS over the sample's wavelengths where `volpathmis` offers it, in all
+//! three). Without a medium their estimator is the path tracer's (emission and next-event
+//! estimation by MIS, BSDF sampling, Russian roulette from `rr_depth`), so gonio renders them
+//! with its `path` integrator and the path tracer's estimator rows (ours, or Mitsuba's under
+//! `--mitsuba-estimators`). One difference under `--mitsuba-estimators`: Mitsuba's volumetric
+//! tracers let shadow rays through `null` surfaces (medium boundaries), its `path` does not, and
+//! gonio's `path` then does not either (its own default, `thin_shadows`, lets them through as
+//! the volumetric tracers do).
 //!
 //! | parameter | default | meaning |
 //! |---|---|---|
@@ -35,7 +38,7 @@ const PRB_ROWS: [crate::plugins::ParamSpec; 5] = [
 /// The `volpath` plugin.
 pub static VOLPATH: Plugin<IntegratorDesc> = Plugin {
     name: "volpath",
-    summary: "Mitsuba's volumetric path tracer, on scenes without media: rendered by the path tracer (its estimator there).",
+    summary: "Mitsuba's volumetric path tracer: participating media; without them, the path tracer (its estimator there).",
     params: &ROWS,
     build,
 };
@@ -43,7 +46,7 @@ pub static VOLPATH: Plugin<IntegratorDesc> = Plugin {
 /// The `volpathmis` plugin.
 pub static VOLPATHMIS: Plugin<IntegratorDesc> = Plugin {
     name: "volpathmis",
-    summary: "Mitsuba's volumetric path tracer with spectral MIS, on scenes without media: rendered by the path tracer.",
+    summary: "Mitsuba's volumetric path tracer with spectral MIS: participating media; without them, the path tracer.",
     params: &ROWS,
     build,
 };
@@ -51,7 +54,7 @@ pub static VOLPATHMIS: Plugin<IntegratorDesc> = Plugin {
 /// The `prbvolpath` plugin.
 pub static PRBVOLPATH: Plugin<IntegratorDesc> = Plugin {
     name: "prbvolpath",
-    summary: "Mitsuba's differentiable volumetric path tracer, on scenes without media: its primal image, rendered by the path tracer.",
+    summary: "Mitsuba's differentiable volumetric path tracer: its primal image (participating media; without them, the path tracer).",
     params: &PRB_ROWS,
     build,
 };
@@ -70,6 +73,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
             max_depth,
             rr_depth,
             hide_emitters,
+            volumetric: true,
             kind: IntegratorKind::Path,
             ..IntegratorDesc::default()
         },

@@ -14,7 +14,7 @@
 //! | nested `film`, `sampler` | hdrfilm, independent |
 
 use super::perspective::{
-    FAR_CLIP, FILM, FOCUS_DISTANCE, NEAR_CLIP, SAMPLER, SHUTTER_CLOSE, SHUTTER_OPEN, build_projective,
+    FAR_CLIP, FILM, FOCUS_DISTANCE, MEDIUM, NEAR_CLIP, SAMPLER, SHUTTER_CLOSE, SHUTTER_OPEN, build_projective,
 };
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{Projection, SensorDesc};
@@ -40,6 +40,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
         SHUTTER_CLOSE,
         FILM,
         SAMPLER,
+        MEDIUM,
     ],
     build,
 };

@@ -78,6 +78,12 @@ pub(crate) const FILM: ParamSpec = ParamSpec::new(
     DefaultValue::Str("hdrfilm"),
     "at most one nested film",
 );
+pub(crate) const MEDIUM: ParamSpec = ParamSpec::new(
+    "(nested medium)",
+    ParamType::Medium,
+    DefaultValue::None,
+    "the `<medium>` the sensor is in (its rays start in it); none: vacuum",
+);
 pub(crate) const SAMPLER: ParamSpec = ParamSpec::new(
     "(nested sampler)",
     ParamType::Sampler,
@@ -103,6 +109,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
         SHUTTER_CLOSE,
         FILM,
         SAMPLER,
+        MEDIUM,
     ],
     build,
 };
@@ -122,6 +129,18 @@ pub(crate) fn film_and_sampler<'d>(
     let sampler = b
         .nested_one(p, Tag::Sampler, SAMPLER_PLUGINS, "sensor")?
         .unwrap_or_default();
+    // The medium the sensor is in (row [`MEDIUM`]), which the scene takes with the sensor.
+    b.sensor_medium = match p.objects(Tag::Medium)?.as_slice() {
+        [] => None,
+        [(i, prop)] => Some(b.medium(*i, &prop.value_loc)?),
+        [_, (_, extra), ..] => {
+            return Err(crate::xml::err(
+                &extra.loc,
+                crate::xml::ErrorKind::Grammar,
+                "more than one <medium> in a sensor",
+            ));
+        }
+    };
     // A sensor of a `batch` takes its share of the batch's film and the batch's sampler (its
     // own, read and checked above, are superseded, as in Mitsuba).
     match &b.batch_film {

@@ -16,7 +16,7 @@
 //! | nested `film`, `sampler` | hdrfilm, independent |
 
 use super::perspective::{
-    FAR_CLIP, FILM, FOCAL_LENGTH, FOV, FOV_AXIS, NEAR_CLIP, PRINCIPAL_POINT_OFFSET_X,
+    FAR_CLIP, FILM, FOCAL_LENGTH, FOV, FOV_AXIS, MEDIUM, NEAR_CLIP, PRINCIPAL_POINT_OFFSET_X,
     PRINCIPAL_POINT_OFFSET_Y, SAMPLER, SHUTTER_CLOSE, SHUTTER_OPEN, TO_WORLD, build_projective,
 };
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
@@ -55,6 +55,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
         SHUTTER_CLOSE,
         FILM,
         SAMPLER,
+        MEDIUM,
     ],
     build,
 };

@@ -9,7 +9,7 @@
 //! | `flip_normals`, nested `bsdf` and `emitter` | as every shape |
 
 use super::linearcurve::{FILENAME, curve};
-use super::{BSDF, EMITTER, FLIP_NORMALS, TO_WORLD};
+use super::{BSDF, EMITTER, FLIP_NORMALS, MEDIA, TO_WORLD};
 use crate::geometry::curve::CurveKind;
 use crate::plugins::Plugin;
 use crate::scene::ShapeDesc;
@@ -19,7 +19,7 @@ use crate::xml::{Builder, Params, SceneError};
 pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "bsplinecurve",
     summary: "Tubes swept by a sphere along uniform cubic B-splines (radius interpolated too), open ends (ours: a fine triangle mesh with exact normals and Mitsuba's uv).",
-    params: &[TO_WORLD, FLIP_NORMALS, FILENAME, BSDF, EMITTER],
+    params: &[TO_WORLD, FLIP_NORMALS, FILENAME, BSDF, EMITTER, MEDIA],
     build,
 };
 

@@ -1,7 +1,7 @@
 //! `cube`: the cube [−1, 1]³ as a triangle mesh (Mitsuba 3 `src/shapes/cube.cpp`;
 //! [`crate::mesh::cube`]).
 
-use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, TO_WORLD, assemble, common};
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MEDIA, TO_WORLD, assemble, common};
 use crate::plugins::Plugin;
 use crate::scene::{Geometry, ShapeDesc};
 use crate::xml::{Builder, Params, SceneError};
@@ -11,7 +11,7 @@ use std::sync::Arc;
 pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "cube",
     summary: "Cube [−1, 1]³ (12 triangles), placed by `to_world`.",
-    params: &[TO_WORLD, FLIP_NORMALS, FACE_NORMALS, BSDF, EMITTER],
+    params: &[TO_WORLD, FLIP_NORMALS, FACE_NORMALS, BSDF, EMITTER, MEDIA],
     build,
 };
 

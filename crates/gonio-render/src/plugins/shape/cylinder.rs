@@ -17,7 +17,7 @@
 //! | `radius` | 1 (positive) |
 //! | `to_world`, `flip_normals`, nested `bsdf` and `emitter` | as every shape |
 
-use super::{BSDF, EMITTER, FLIP_NORMALS, TO_WORLD, assemble, common};
+use super::{BSDF, EMITTER, FLIP_NORMALS, MEDIA, TO_WORLD, assemble, common};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{Geometry, ShapeDesc, TriangleMesh};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
@@ -50,7 +50,7 @@ pub const SEGMENTS: u32 = 256;
 pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "cylinder",
     summary: "Open cylinder (no caps) of the given radius from p0 to p1 (ours: 512 triangles with exact normals and uv).",
-    params: &[TO_WORLD, FLIP_NORMALS, P0, P1, RADIUS, BSDF, EMITTER],
+    params: &[TO_WORLD, FLIP_NORMALS, P0, P1, RADIUS, BSDF, EMITTER, MEDIA],
     build,
 };
 

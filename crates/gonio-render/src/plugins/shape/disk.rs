@@ -5,7 +5,7 @@
 //! the axes are sheared), the normal the transformed +z as a normal, so the scale along z only
 //! decides its side (through the sign of the determinant).
 
-use super::{BSDF, EMITTER, FLIP_NORMALS, TO_WORLD, assemble, common};
+use super::{BSDF, EMITTER, FLIP_NORMALS, MEDIA, TO_WORLD, assemble, common};
 use crate::plugins::Plugin;
 use crate::scene::{Geometry, ShapeDesc};
 use crate::xml::{Builder, Params, SceneError};
@@ -14,7 +14,7 @@ use crate::xml::{Builder, Params, SceneError};
 pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "disk",
     summary: "Unit disk in z = 0 with normal +z, placed by `to_world` (any affine map: an ellipse under a non-uniform scale).",
-    params: &[TO_WORLD, FLIP_NORMALS, BSDF, EMITTER],
+    params: &[TO_WORLD, FLIP_NORMALS, BSDF, EMITTER, MEDIA],
     build,
 };
 

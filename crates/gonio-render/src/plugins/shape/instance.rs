@@ -70,6 +70,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, Scene
         flip_normals: false,
         face_normals: false,
         outside_only: false,
+        media: Default::default(),
         material: b.shape_material(None, false)?,
         emitter: None,
         id: p.obj.id.clone(),
@@ -121,6 +122,7 @@ pub fn expand(desc: ShapeDesc, shapes: &mut Vec<ShapeDesc>) {
                     },
                     material: m.material,
                     outside_only: m.outside_only,
+                    media: m.media,
                     ..desc.clone()
                 });
             }

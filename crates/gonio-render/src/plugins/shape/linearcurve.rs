@@ -8,7 +8,7 @@
 //! | `to_world` | identity; moves the control points, not their radii |
 //! | `flip_normals`, nested `bsdf` and `emitter` | as every shape |
 
-use super::{BSDF, EMITTER, FLIP_NORMALS, TO_WORLD};
+use super::{BSDF, EMITTER, FLIP_NORMALS, MEDIA, TO_WORLD};
 use crate::geometry::curve::CurveKind;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::ShapeDesc;
@@ -26,7 +26,7 @@ pub(crate) const FILENAME: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "linearcurve",
     summary: "Tubes along straight segments between control points, with spherical joints and end caps (ours: a fine triangle mesh with exact normals and Mitsuba's uv).",
-    params: &[TO_WORLD, FLIP_NORMALS, FILENAME, BSDF, EMITTER],
+    params: &[TO_WORLD, FLIP_NORMALS, FILENAME, BSDF, EMITTER, MEDIA],
     build,
 };
 

@@ -51,6 +51,13 @@ pub const BSDF: ParamSpec = ParamSpec::new(
     DefaultValue::None,
     "at most one nested or referenced BSDF; without one, diffuse 0.5 (black if the shape emits)",
 );
+/// The media on the two sides, shared by every shape.
+pub const MEDIA: ParamSpec = ParamSpec::new(
+    "interior, exterior",
+    ParamType::Medium,
+    DefaultValue::None,
+    "the `<medium>` inside and outside the surface (`<ref name=\"interior\" id=\"...\"/>`); none: vacuum",
+);
 /// The nested emitter, shared by every shape.
 pub const EMITTER: ParamSpec = ParamSpec::new(
     "(nested emitter)",
@@ -89,6 +96,32 @@ pub(crate) fn common(p: &mut Params<'_>) -> Result<Common> {
     })
 }
 
+/// A shape's `interior` and `exterior` media (row [`MEDIA`]).
+pub(crate) fn shape_media<'d>(
+    b: &mut Builder<'d>,
+    p: &mut Params<'d>,
+) -> Result<crate::medium::MediumInterface> {
+    let (mut interior, mut exterior) = (None, None);
+    for (i, prop) in p.objects(Tag::Medium)? {
+        let slot = match prop.name.as_str() {
+            "interior" => &mut interior,
+            "exterior" => &mut exterior,
+            other => {
+                return Err(err(
+                    &prop.loc,
+                    ErrorKind::UnusedParameter,
+                    format!(
+                        "a <medium> named \"{other}\" in {} (a shape takes \"interior\" and \"exterior\")",
+                        p.what()
+                    ),
+                ));
+            }
+        };
+        *slot = Some(b.medium(i, &prop.value_loc)?);
+    }
+    Ok(crate::medium::MediumInterface::new(interior, exterior))
+}
+
 /// The shape of `geometry`: reads its nested BSDF and emitter, checks that no parameter is left
 /// unread, then builds the emitter and finds the material.
 pub(crate) fn assemble<'d>(
@@ -101,6 +134,7 @@ pub(crate) fn assemble<'d>(
     let bsdfs = p.objects(Tag::Bsdf)?;
     let emitters = p.objects(Tag::Emitter)?;
     let sensors = p.objects(Tag::Sensor)?;
+    let media = shape_media(b, p)?;
     p.finish()?;
     // A sensor nested in the shape (Mitsuba's `irradiancemeter`), placed with the shape.
     match sensors.as_slice() {
@@ -187,6 +221,7 @@ pub(crate) fn assemble<'d>(
         face_normals,
         outside_only: false,
         material,
+        media,
         emitter,
         id: p.obj.id.clone(),
     };

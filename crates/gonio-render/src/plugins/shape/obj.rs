@@ -1,6 +1,6 @@
 //! `obj`: a Wavefront OBJ triangle mesh (Mitsuba 3 `src/shapes/obj.cpp`; loader [`crate::mesh::load_obj`]).
 
-use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, mesh_file};
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MEDIA, MeshFormat, TO_WORLD, mesh_file};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::ShapeDesc;
 use crate::xml::{Builder, Params, SceneError};
@@ -30,6 +30,7 @@ pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
         FLIP_TEX_COORDS,
         BSDF,
         EMITTER,
+        MEDIA,
     ],
     build,
 };

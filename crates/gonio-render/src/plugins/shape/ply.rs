@@ -1,6 +1,6 @@
 //! `ply`: a Stanford PLY triangle mesh, ASCII or binary (Mitsuba 3 `src/shapes/ply.cpp`; loader [`crate::mesh::load_ply`]).
 
-use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, mesh_file};
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MEDIA, MeshFormat, TO_WORLD, mesh_file};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::ShapeDesc;
 use crate::xml::{Builder, Params, SceneError};
@@ -30,6 +30,7 @@ pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
         FLIP_TEX_COORDS,
         BSDF,
         EMITTER,
+        MEDIA,
     ],
     build,
 };

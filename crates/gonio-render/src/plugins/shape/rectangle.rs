@@ -1,7 +1,7 @@
 //! `rectangle`: the square [−1, 1]² in the plane z = 0, normal +z (Mitsuba 3
 //! `src/shapes/rectangle.cpp`).
 
-use super::{BSDF, EMITTER, FLIP_NORMALS, TO_WORLD, assemble, common};
+use super::{BSDF, EMITTER, FLIP_NORMALS, MEDIA, TO_WORLD, assemble, common};
 use crate::plugins::Plugin;
 use crate::scene::{Geometry, ShapeDesc};
 use crate::xml::{Builder, Params, SceneError};
@@ -10,7 +10,7 @@ use crate::xml::{Builder, Params, SceneError};
 pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "rectangle",
     summary: "Rectangle [−1, 1]² in z = 0 with normal +z, placed by `to_world`.",
-    params: &[TO_WORLD, FLIP_NORMALS, BSDF, EMITTER],
+    params: &[TO_WORLD, FLIP_NORMALS, BSDF, EMITTER, MEDIA],
     build,
 };
 

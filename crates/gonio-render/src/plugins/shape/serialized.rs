@@ -1,7 +1,7 @@
 //! `serialized`: one mesh of a Mitsuba serialized file (Mitsuba 3 `src/shapes/serialized.cpp`;
 //! loader [`crate::mesh::serialized::load_serialized`]).
 
-use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MeshFormat, TO_WORLD, assemble, common, mesh};
+use super::{BSDF, EMITTER, FACE_NORMALS, FLIP_NORMALS, MEDIA, MeshFormat, TO_WORLD, assemble, common, mesh};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{Geometry, ShapeDesc};
 use crate::xml::{Builder, Params, SceneError};
@@ -31,6 +31,7 @@ pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
         FACE_NORMALS,
         BSDF,
         EMITTER,
+        MEDIA,
     ],
     build,
 };

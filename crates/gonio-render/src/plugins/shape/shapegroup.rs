@@ -76,6 +76,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<ShapeDesc, Scene
         flip_normals: false,
         face_normals: false,
         outside_only: false,
+        media: Default::default(),
         material: b.shape_material(None, false)?,
         emitter: None,
         id: p.obj.id.clone(),

@@ -1,7 +1,7 @@
 //! `sphere`: an analytic sphere (Mitsuba 3 `src/shapes/sphere.cpp`); `to_world` may only rotate,
 //! scale uniformly and translate it.
 
-use super::{BSDF, EMITTER, FLIP_NORMALS, TO_WORLD, assemble, check_similarity, common};
+use super::{BSDF, EMITTER, FLIP_NORMALS, MEDIA, TO_WORLD, assemble, check_similarity, common};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{Geometry, ShapeDesc};
 use crate::xml::{Builder, Params, SceneError};
@@ -24,7 +24,7 @@ const RADIUS: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<ShapeDesc> = Plugin {
     name: "sphere",
     summary: "Sphere of the given centre and radius.",
-    params: &[TO_WORLD, FLIP_NORMALS, CENTER, RADIUS, BSDF, EMITTER],
+    params: &[TO_WORLD, FLIP_NORMALS, CENTER, RADIUS, BSDF, EMITTER, MEDIA],
     build,
 };
 

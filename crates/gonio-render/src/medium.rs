@@ -1,0 +1,181 @@
+//! Participating media as the renderer holds them: the `homogeneous` medium (Mitsuba 3
+//! `src/media/homogeneous.cpp`) and the interface a shape's surface makes between two media.
+//!
+//! A homogeneous medium has one extinction σt(λ) = `scale`·`sigma_t`(λ) everywhere (a number or
+//! a spectrum), a single-scattering albedo α(λ) (a reflectance-like spectrum, or a `gridvolume`
+//! read at the scattering point: Mitsuba's albedo is a volume), so σs = α·σt, and a phase
+//! function ([`gonio_core::phase`]); its free flights are drawn exactly
+//! ([`gonio_core::medium::sample_free_flight`]). A heterogeneous medium (Mitsuba 3
+//! `src/media/heterogeneous.cpp`) reads σt from a `gridvolume` too: it is tracked under the
+//! majorant σ̄ = `scale`·max σt, by delta tracking along paths and ratio tracking along shadow
+//! rays ([`gonio_core::medium::null_collision_event`]), and only inside the grid's box (outside
+//! it the medium is empty, as in Mitsuba). The integrator is `volpath`
+//! (`crate::integrator::volpath`).
+//!
+//! A shape takes media with `<ref name="interior" id="..."/>` and `name="exterior"`: the side its
+//! normal points to is the exterior. A ray that leaves such a surface enters the medium on the
+//! side its direction points to (Mitsuba's `SurfaceInteraction::target_medium`); surfaces that
+//! name no medium leave the ray in the medium it was in. A sensor nesting a medium starts its
+//! rays in it.
+
+use crate::texture::volume::GridVolume;
+use glam::Vec3;
+use gonio_core::phase::PhaseFunction;
+use gonio_core::{SampledSpectrum, SampledWavelengths, Spectrum};
+use std::sync::Arc;
+
+/// Index of a medium in [`crate::scene::Scene::media`].
+pub type MediumId = u32;
+
+/// The media on the two sides of a shape's surface (`None`: vacuum).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MediumInterface {
+    /// The medium inside (against the normal).
+    pub interior: Option<MediumId>,
+    /// The medium outside (the side the normal points to).
+    pub exterior: Option<MediumId>,
+    /// True when the shape names a medium on either side: crossing it changes the ray's medium.
+    pub transition: bool,
+}
+
+impl MediumInterface {
+    /// The interface between `interior` and `exterior`.
+    pub fn new(interior: Option<MediumId>, exterior: Option<MediumId>) -> Self {
+        Self {
+            interior,
+            exterior,
+            transition: interior.is_some() || exterior.is_some(),
+        }
+    }
+
+    /// The medium a ray leaving the surface along `d` is in, given the geometric normal `n` and
+    /// the medium `current` the ray arrived in (kept where the surface is no transition).
+    #[inline]
+    pub fn target(&self, d: Vec3, n: Vec3, current: Option<MediumId>) -> Option<MediumId> {
+        if !self.transition {
+            current
+        } else if d.dot(n) > 0.0 {
+            self.exterior
+        } else {
+            self.interior
+        }
+    }
+}
+
+/// A medium's single-scattering albedo.
+#[derive(Clone, Debug)]
+pub enum Albedo {
+    /// The same everywhere.
+    Spectrum(Spectrum),
+    /// A grid read at the scattering point (one channel, or linear RGB uplifted as a
+    /// reflectance).
+    Volume(Arc<GridVolume>),
+}
+
+/// A medium's extinction before `scale` (1/length).
+#[derive(Clone, Debug)]
+pub enum Extinction {
+    /// The same everywhere (the homogeneous medium; a heterogeneous one given a number).
+    Spectrum(Spectrum),
+    /// A grid (one channel, or linear RGB uplifted as an unbounded colour), zero outside its box.
+    Volume(Arc<GridVolume>),
+}
+
+/// A participating medium: homogeneous, or heterogeneous when its extinction is a grid.
+#[derive(Clone, Debug)]
+pub struct Medium {
+    /// Extinction before `scale` (1/length).
+    pub sigma_t: Extinction,
+    /// Single-scattering albedo.
+    pub albedo: Albedo,
+    /// Multiplier of σt (Mitsuba's `scale`).
+    pub scale: f32,
+    /// The phase function.
+    pub phase: PhaseFunction,
+    /// Next-event estimation at scattering events in this medium (Mitsuba's `sample_emitters`).
+    pub sample_emitters: bool,
+}
+
+impl Medium {
+    /// The constant extinction σt at the sample's wavelengths; `None` where it is a grid.
+    #[inline]
+    pub fn uniform_sigma_t(&self, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
+        match &self.sigma_t {
+            Extinction::Spectrum(s) => Some(s.sample(wl) * self.scale),
+            Extinction::Volume(_) => None,
+        }
+    }
+
+    /// σt at world point `p` (0 outside a grid's box).
+    pub fn sigma_t_at(&self, p: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        match &self.sigma_t {
+            Extinction::Spectrum(s) => s.sample(wl) * self.scale,
+            Extinction::Volume(g) => {
+                let x = g.to_local.transform_point3(p);
+                if !(x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all()) {
+                    return SampledSpectrum::splat(0.0);
+                }
+                let c = g.eval(p).map(|v| v.max(0.0));
+                let s = if g.channels == 1 {
+                    SampledSpectrum::splat(c[0])
+                } else {
+                    Spectrum::rgb_unbounded(c).sample(wl)
+                };
+                s * self.scale
+            }
+        }
+    }
+
+    /// A grey bound σ̄ ≥ σt(λ, p) everywhere (an uplifted RGB colour stays below twice its largest
+    /// component).
+    pub fn majorant(&self) -> f32 {
+        self.scale
+            * match &self.sigma_t {
+                Extinction::Spectrum(s) => s.max_value(),
+                Extinction::Volume(g) if g.channels == 1 => g.max(),
+                Extinction::Volume(g) => 2.0 * g.max(),
+            }
+    }
+
+    /// The part [t0, t1] of the ray `o + t·d`, t in [0, `t_max`], where the medium may have
+    /// extinction: all of it, or the part inside a grid's box (`None`: it misses the box).
+    pub fn extent(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
+        let Extinction::Volume(g) = &self.sigma_t else {
+            return Some((0.0, t_max));
+        };
+        // The box [0, 1]³ in the grid's space, where the ray keeps its parameter t.
+        let (o, d) = (g.to_local.transform_point3(o), g.to_local.transform_vector3(d));
+        let (mut t0, mut t1) = (0.0f32, t_max);
+        for a in 0..3 {
+            let inv = 1.0 / d[a];
+            let (near, far) = ((0.0 - o[a]) * inv, (1.0 - o[a]) * inv);
+            let (near, far) = if near <= far { (near, far) } else { (far, near) };
+            // NaN (a ray in the slab's plane) leaves the bound as it is.
+            t0 = if near > t0 { near } else { t0 };
+            t1 = if far < t1 { far } else { t1 };
+        }
+        (t0 <= t1).then_some((t0, t1))
+    }
+
+    /// True when the medium only absorbs (α ≡ 0): a path then crosses it with the transmittance
+    /// exp(−σt·d) instead of a free-flight sample (the same expectation, without the variance
+    /// of a path that survives with probability T).
+    pub fn absorbs_only(&self) -> bool {
+        matches!(&self.albedo, Albedo::Spectrum(s) if s.max_value() == 0.0)
+    }
+
+    /// α at world point `p`.
+    pub fn albedo(&self, p: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        match &self.albedo {
+            Albedo::Spectrum(s) => s.sample(wl),
+            Albedo::Volume(g) => {
+                let c = g.eval(p).map(|v| v.clamp(0.0, 1.0));
+                if g.channels == 1 {
+                    SampledSpectrum::splat(c[0])
+                } else {
+                    Spectrum::rgb_albedo(c).sample(wl)
+                }
+            }
+        }
+    }
+}
