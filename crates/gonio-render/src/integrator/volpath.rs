@@ -126,6 +126,7 @@ impl PathTracer<'_> {
                         delta: !m.sample_emitters,
                     });
                     state.depth += 1;
+                    state.null_crossings = 0;
                     ray = Ray::new(p, ps.wo);
                     if !self.russian_roulette(&mut state, sampler) {
                         break;
@@ -203,6 +204,9 @@ impl PathTracer<'_> {
                 delta: bs.flags.is_delta(),
             });
             state.depth += 1;
+            // The bound on sheets counts those between two scattering events (a path in and
+            // out of a fog box crosses many in all).
+            state.null_crossings = 0;
             if !self.russian_roulette(&mut state, sampler) {
                 break;
             }
