@@ -228,11 +228,12 @@ fn media_are_read_with_mitsubas_parameters_and_refused_where_they_are_wrong() {
         <medium type=\"homogeneous\" id=\"m\"><rgb name=\"sigma_t\" value=\"0.2, 0.4, 0.8\"/><float name=\"scale\" value=\"2\"/>\
             <phase type=\"hg\"><float name=\"g\" value=\"-0.3\"/></phase></medium>\
         <medium type=\"homogeneous\" id=\"n\"/>\
-        <sensor type=\"perspective\"><ref id=\"n\"/></sensor>\
+        <sensor type=\"perspective\"><ref id=\"n\"/></sensor><emitter type=\"constant\"><ref id=\"n\"/></emitter>\
         <shape type=\"sphere\"><ref name=\"interior\" id=\"m\"/><ref name=\"exterior\" id=\"n\"/></shape>\
         <shape type=\"cube\"><ref name=\"interior\" id=\"m\"/></shape></scene>";
     let scene = load_scene_str(text, data(), &[]).expect("media load");
-    // One medium object, one medium, however many shapes refer to it; Mitsuba's defaults.
+    // One medium object, one medium, however many shapes (and the sensor and an emitter, which
+    // Mitsuba lets hold one) refer to it; Mitsuba's defaults.
     assert_eq!(scene.media.len(), 2);
     let (m, n) = (&scene.media[0], &scene.media[1]);
     assert_eq!(

@@ -315,6 +315,14 @@ impl<'d> Builder<'d> {
             media: self.media,
             sensor_medium,
         };
+        // The volumetric path tracer carries spectra: a polarized render leaves media out.
+        let has_media = scene.sensor_medium.is_some() || scene.shapes.iter().any(|s| s.media.transition);
+        if scene.integrator.volumetric && has_media && scene.asks_for_polarization() {
+            self.warnings.push(format!(
+                "{}: participating media are rendered unpolarized only: this polarized render leaves them out",
+                root.loc
+            ));
+        }
         // gonio's light tracer carries spectra, not Stokes vectors (Mitsuba's polarized variants
         // do carry them through `ptracer`): say so rather than drop the polarization silently.
         if scene.integrator.kind == IntegratorKind::PTracer && scene.asks_for_polarization() {

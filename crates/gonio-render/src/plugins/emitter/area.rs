@@ -29,7 +29,7 @@ const WHITEPOINT: ParamSpec = ParamSpec::ours_or_mitsuba(
 pub static PLUGIN: Plugin<AreaEmitterDesc> = Plugin {
     name: "area",
     summary: "Area light: the shape it is nested in emits `radiance` on the side its normal points to.",
-    params: &[RADIANCE, WHITEPOINT],
+    params: &[RADIANCE, WHITEPOINT, super::MEDIUM],
     build,
 };
 

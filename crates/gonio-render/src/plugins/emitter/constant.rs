@@ -17,7 +17,7 @@ const RADIANCE: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "constant",
     summary: "Constant environment: uniform radiance from the sphere of directions.",
-    params: &[RADIANCE],
+    params: &[RADIANCE, super::MEDIUM],
     build,
 };
 

@@ -30,7 +30,7 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "directional",
     summary: "Directional light: parallel rays along `direction`.",
-    params: &[IRRADIANCE, DIRECTION, TO_WORLD],
+    params: &[IRRADIANCE, DIRECTION, TO_WORLD, super::MEDIUM],
     build,
 };
 

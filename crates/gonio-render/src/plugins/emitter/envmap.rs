@@ -62,6 +62,7 @@ pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
         MIS_COMPENSATION,
         PRODUCT_SAMPLING,
         LOOKUP,
+        super::MEDIUM,
     ],
     build,
 };

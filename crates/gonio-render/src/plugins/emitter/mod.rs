@@ -10,9 +10,38 @@ pub mod point;
 pub mod projector;
 pub mod spot;
 
-use crate::plugins::{AREA_EMITTER_PLUGINS, EMITTER_PLUGINS, Plugin};
+use crate::plugins::{AREA_EMITTER_PLUGINS, DefaultValue, EMITTER_PLUGINS, ParamSpec, ParamType, Plugin};
 use crate::scene::{AreaEmitterDesc, EmitterDesc};
-use crate::xml::{Builder, ErrorKind, Location, SceneError, err, unknown_plugin};
+use crate::xml::{Builder, ErrorKind, Location, Params, SceneError, Tag, err, unknown_plugin};
+
+/// The medium an emitter is in, shared by every emitter.
+pub const MEDIUM: ParamSpec = ParamSpec::new(
+    "(nested medium)",
+    ParamType::Medium,
+    DefaultValue::None,
+    "the `<medium>` the emitter is in, as Mitsuba's emitters take one: read and checked, unused (Mitsuba's volumetric path tracers never read it either: a shadow ray takes the medium at its origin)",
+);
+
+/// Runs an emitter plugin, having read its nested medium (row [`MEDIUM`]).
+fn run_emitter<T>(b: &mut Builder<'_>, plugin: &'static Plugin<T>, idx: usize) -> Result<T, SceneError> {
+    let mut p = Params::with_specs(b.doc, idx, plugin.params);
+    match p.objects(Tag::Medium)?.as_slice() {
+        [] => {}
+        [(i, prop)] => {
+            b.medium(*i, &prop.value_loc)?;
+        }
+        [_, (_, extra), ..] => {
+            return Err(err(
+                &extra.loc,
+                ErrorKind::Grammar,
+                "more than one <medium> in an emitter",
+            ));
+        }
+    }
+    let v = (plugin.build)(b, &mut p)?;
+    p.finish()?;
+    Ok(v)
+}
 
 /// Whether the `<emitter>` object is one a shape carries (`area`).
 pub(crate) fn is_area(obj: &crate::xml::Obj) -> bool {
@@ -37,7 +66,7 @@ pub(crate) fn build(b: &mut Builder<'_>, idx: usize) -> Result<EmitterDesc, Scen
         names.extend(Plugin::names(EMITTER_PLUGINS));
         return Err(unknown_plugin(obj, &names));
     };
-    b.run_plugin(plugin, idx)
+    run_emitter(b, plugin, idx)
 }
 
 /// Builds the emitter object `idx` nested in a shape (at `loc`).
@@ -67,7 +96,7 @@ pub(crate) fn area(b: &mut Builder<'_>, idx: usize, loc: &Location) -> Result<Ar
     }
     b.attached_emitters.insert(idx, loc.clone());
     b.enter(idx, loc)?;
-    let e = b.run_plugin(plugin, idx)?;
+    let e = run_emitter(b, plugin, idx)?;
     b.leave();
     Ok(e)
 }

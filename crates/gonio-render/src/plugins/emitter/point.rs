@@ -29,7 +29,7 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "point",
     summary: "Point light radiating the same intensity in every direction.",
-    params: &[INTENSITY, POSITION, TO_WORLD],
+    params: &[INTENSITY, POSITION, TO_WORLD, super::MEDIUM],
     build,
 };
 

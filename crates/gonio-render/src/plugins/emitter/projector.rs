@@ -70,6 +70,7 @@ pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
         FOV_AXIS,
         TO_WORLD,
         WHITEPOINT,
+        super::MEDIUM,
     ],
     build,
 };

@@ -44,7 +44,14 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<EmitterDesc> = Plugin {
     name: "spot",
     summary: "Spot light along +z of `to_world`: full intensity within `beam_width`, then linear in angle down to 0 at `cutoff_angle`.",
-    params: &[INTENSITY, CUTOFF_ANGLE, BEAM_WIDTH, TEXTURE, TO_WORLD],
+    params: &[
+        INTENSITY,
+        CUTOFF_ANGLE,
+        BEAM_WIDTH,
+        TEXTURE,
+        TO_WORLD,
+        super::MEDIUM,
+    ],
     build,
 };
 
