@@ -45,47 +45,74 @@ fn live(wl: &SampledWavelengths) -> usize {
 /// Draws the distance to the next collision along a ray in a medium of extinction `sigma_t`
 /// (per wavelength, ≥ 0) before the surface at `t_max` (may be infinite) from one uniform number
 /// `u` (see the module documentation). A ray that escapes to infinity through a medium with
-/// σt > 0 at every live wavelength always collides.
+/// σt > 0 at every live wavelength always collides. [`sample_distance`] and
+/// [`flight_weight`] in one.
 pub fn sample_free_flight(
     sigma_t: SampledSpectrum,
     t_max: f32,
     u: f32,
     wl: &SampledWavelengths,
 ) -> FreeFlight {
-    let n = live(wl);
-    // The wavelength that drives the draw, and u reused for the distance.
-    let scaled = u * n as f32;
-    let c = (scaled as usize).min(n - 1);
-    let u = (scaled - c as f32).clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+    let t = sample_distance(sigma_t, u, wl);
+    let collided = t < t_max;
+    let t = if collided { t } else { t_max };
+    FreeFlight {
+        t,
+        collided,
+        weight: flight_weight(sigma_t, t, collided, wl),
+    }
+}
+
+/// The distance to the next collision in an unbounded medium of extinction `sigma_t`, drawn from
+/// `u` at a wavelength chosen by `u` among the live ones (infinite where that σt is 0). A
+/// renderer can draw it before it knows where the next surface is, and look for that surface
+/// only up to it (Mitsuba's order): the flight collided if no surface is nearer.
+#[inline]
+pub fn sample_distance(sigma_t: SampledSpectrum, u: f32, wl: &SampledWavelengths) -> f32 {
     let s = sigma_t.to_array();
-    let t = if s[c] > 0.0 {
+    let (c, u) = if s.iter().all(|&x| x == s[0]) {
+        (0, u)
+    } else {
+        // The wavelength that drives the draw, and u reused for the distance.
+        let n = live(wl);
+        let scaled = u * n as f32;
+        let c = (scaled as usize).min(n - 1);
+        (c, scaled - c as f32)
+    };
+    let u = u.clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+    if s[c] > 0.0 {
         -(1.0 - u).ln() / s[c]
     } else {
         f32::INFINITY
-    };
-    if t < t_max {
+    }
+}
+
+/// The throughput's factor for a flight drawn by [`sample_distance`] that `collided` at `t`
+/// (T/p, σs not included) or reached a surface at `t` (T/P; `t` infinite: escaped).
+#[inline]
+pub fn flight_weight(
+    sigma_t: SampledSpectrum,
+    t: f32,
+    collided: bool,
+    wl: &SampledWavelengths,
+) -> SampledSpectrum {
+    let n = live(wl);
+    let s = sigma_t.to_array();
+    if s.iter().all(|&x| x == s[0]) {
+        // Grey: the analogue flight (1/σt at a collision, 1 past it), no exponentials.
+        return mask(SampledSpectrum::splat(if collided { 1.0 / s[0] } else { 1.0 }), n);
+    }
+    if collided {
         let tr = (sigma_t * -t).exp();
         let pdf = (sigma_t * tr).to_array()[..n].iter().sum::<f32>() / n as f32;
-        FreeFlight {
-            t,
-            collided: true,
-            weight: mask(tr * (1.0 / pdf), n),
-        }
+        mask(tr * (1.0 / pdf), n)
     } else {
-        let tr = if t_max.is_finite() {
-            (sigma_t * -t_max).exp()
-        } else {
-            SampledSpectrum::from_fn(|j| if s[j] > 0.0 { 0.0 } else { 1.0 })
-        };
+        let tr = transmittance(sigma_t, t);
         let p = tr.to_array()[..n].iter().sum::<f32>() / n as f32;
-        FreeFlight {
-            t: t_max,
-            collided: false,
-            weight: if p > 0.0 {
-                mask(tr * (1.0 / p), n)
-            } else {
-                SampledSpectrum::splat(0.0)
-            },
+        if p > 0.0 {
+            mask(tr * (1.0 / p), n)
+        } else {
+            SampledSpectrum::splat(0.0)
         }
     }
 }

@@ -48,6 +48,34 @@ enum Prim {
     Analytic { shape: u32 },
 }
 
+/// A closest hit from [`Accel::intersect_lazy`]: its distance known, its interaction built on
+/// demand by [`Accel::complete`].
+#[derive(Clone, Copy, Debug)]
+pub enum LazyHit {
+    /// Built already (scenes whose queries re-trace past inside hits).
+    Built(SurfaceInteraction),
+    /// The primitive hit and where.
+    Pending {
+        /// Distance and the primitive's coordinates.
+        hit: PrimHit,
+        /// Shape index.
+        shape: u32,
+        /// Primitive within the shape.
+        prim: u32,
+    },
+}
+
+impl LazyHit {
+    /// The distance along the ray.
+    #[inline]
+    pub fn t(&self) -> f32 {
+        match self {
+            LazyHit::Built(si) => si.t,
+            LazyHit::Pending { hit, .. } => hit.t,
+        }
+    }
+}
+
 /// The BVH over a list of [`WorldShape`]s.
 pub struct Accel {
     shapes: Vec<WorldShape>,
@@ -367,14 +395,45 @@ impl Accel {
     /// Embree's.
     #[inline]
     fn closest_beside(&self, ray: &Ray, tri: Option<(u32, u32, PrimHit)>) -> Option<SurfaceInteraction> {
+        let (h, shape, prim) = self.closest_record_beside(ray, tri)?;
+        Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
+    }
+
+    /// [`Self::closest_beside`] before the interaction is built: (hit, shape, primitive).
+    #[inline]
+    fn closest_record_beside(
+        &self,
+        ray: &Ray,
+        tri: Option<(u32, u32, PrimHit)>,
+    ) -> Option<(PrimHit, u32, u32)> {
         let mut q = *ray;
         if let Some((_, _, h)) = tri {
             q.tmax = h.t;
         }
-        let (h, shape, prim) = self
-            .own_closest(&q)
-            .or(tri.map(|(shape, prim, h)| (h, shape, prim)))?;
-        Some(self.shapes[shape as usize].interaction(shape, prim as usize, ray, h))
+        self.own_closest(&q)
+            .or(tri.map(|(shape, prim, h)| (h, shape, prim)))
+    }
+
+    /// The closest hit of `ray` with its interaction left to build ([`Self::complete`]): a free
+    /// flight through a medium needs only the distance, and in a dense medium most flights end
+    /// before the surface (building the interaction costs the mesh's loads and the frame).
+    pub fn intersect_lazy(&self, ray: &Ray) -> Option<LazyHit> {
+        if self.outside_only {
+            return self.intersect(ray).map(LazyHit::Built);
+        }
+        let tri = self.embree.as_ref().and_then(|tris| tris.closest(ray));
+        let (hit, shape, prim) = self.closest_record_beside(ray, tri)?;
+        Some(LazyHit::Pending { hit, shape, prim })
+    }
+
+    /// The interaction of a hit found by [`Self::intersect_lazy`] along the same `ray`.
+    pub fn complete(&self, ray: &Ray, hit: LazyHit) -> SurfaceInteraction {
+        match hit {
+            LazyHit::Built(si) => si,
+            LazyHit::Pending { hit, shape, prim } => {
+                self.shapes[shape as usize].interaction(shape, prim as usize, ray, hit)
+            }
+        }
     }
 
     /// The closest hit in our own structure (all primitives, or the analytic ones beside

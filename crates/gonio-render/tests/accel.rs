@@ -145,6 +145,29 @@ fn packet_queries_agree_with_single_ray_queries() {
     }
 }
 
+/// The lazy query of the volumetric path tracer (`intersect_lazy`, then `complete`) finds the
+/// single-ray query's hit, with and without Embree, for rays of every length.
+#[test]
+fn lazy_queries_equal_single_ray_queries() {
+    for allow_embree in [true, false] {
+        let mut rng = Rng(4321);
+        let accel = Accel::with_embree(random_scene(&mut rng), allow_embree);
+        let mut hits = 0;
+        for i in 0..2000 {
+            let mut ray = Ray::new(rng.v3(-7.0, 7.0), rng.dir());
+            if i % 3 == 0 {
+                ray.tmax = rng.range(0.5, 6.0);
+            }
+            let lazy = accel.intersect_lazy(&ray);
+            let eager = accel.intersect(&ray);
+            assert_eq!(lazy.map(|h| h.t()), eager.map(|h| h.t), "ray {i}");
+            assert_eq!(lazy.map(|h| accel.complete(&ray, h)), eager, "ray {i}");
+            hits += eager.is_some() as u32;
+        }
+        assert!(hits > 500, "the test scene should be hit often: {hits}");
+    }
+}
+
 /// `.ci/run` installs Embree: a CI run that fell back to our BVH would measure and test the
 /// wrong path without saying so.
 #[test]

@@ -40,7 +40,7 @@
 
 use super::path_state::{PathState, PrevVertex};
 use super::{MAX_NULL_CROSSINGS, PathTracer};
-use crate::accel::Intersect;
+use crate::accel::{Intersect, LazyHit};
 use crate::emitter::LightRef;
 use crate::geometry::{Ray, SurfaceInteraction, spawn_ray_between};
 use crate::material::ShadingPoint;
@@ -48,7 +48,7 @@ use crate::medium::{Medium, MediumId, MediumInterface};
 use crate::sampler::PathSampler;
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
-use gonio_core::medium::{Tracking, null_collision_event, sample_free_flight, transmittance};
+use gonio_core::medium::{Tracking, flight_weight, null_collision_event, sample_distance, transmittance};
 use gonio_core::{Bsdf, BsdfContext, BsdfFlags, SampledSpectrum, SampledWavelengths};
 
 /// Largest number of tentative collisions a flight through a grid takes (a bound against a
@@ -93,10 +93,10 @@ impl PathTracer<'_> {
         let mut medium = media.sensor_medium;
         let mut bsdf = SurfaceBsdf::new();
         loop {
-            let hit = self.accel.intersect(&ray);
+            let mut lazy = None;
             if let Some(m) = media.medium(medium) {
-                let t_max = hit.as_ref().map_or(f32::INFINITY, |h| h.t);
-                let (collision, weight) = self.fly(m, &ray, t_max, sampler, wl);
+                let (surface, collision, weight) = self.fly(m, &ray, sampler, wl);
+                lazy = surface;
                 state.beta *= weight;
                 if let Some(p) = collision {
                     if state.depth.saturating_add(1) >= self.max_depth {
@@ -137,6 +137,11 @@ impl PathTracer<'_> {
                     break;
                 }
             }
+            // The surface is reached: its interaction now.
+            let hit = match media.medium(medium) {
+                Some(_) => lazy.map(|h| self.accel.complete(&ray, h)),
+                None => self.accel.intersect(&ray),
+            };
             let show = !(self.hide_emitters && state.depth == 0);
             let Some(si) = hit else {
                 if show {
@@ -218,10 +223,56 @@ impl PathTracer<'_> {
         }
     }
 
-    /// The flight of `ray` through medium `m` up to the surface at `t_max`: the scattering event's
-    /// point (`None` when the ray reaches the surface) and the throughput's factor (σs included
-    /// at a scattering event).
+    /// The flight of `ray` through medium `m`: the surface it reaches (`None` where it escapes
+    /// or scatters first), the scattering event's point (`None` when the ray reaches a surface or
+    /// escapes) and the throughput's factor (σs included at a scattering event). In a homogeneous
+    /// medium the distance is drawn first and the surface looked for only up to it (Mitsuba's
+    /// order: in a dense medium most queries are short).
     fn fly(
+        &self,
+        m: &Medium,
+        ray: &Ray,
+        sampler: &mut impl PathSampler,
+        wl: &SampledWavelengths,
+    ) -> (Option<LazyHit>, Option<Vec3>, SampledSpectrum) {
+        match m.uniform_sigma_t(wl) {
+            // Only absorption: the transmittance, nothing drawn.
+            Some(sigma_t) if m.absorbs_only() => {
+                let hit = self.accel.intersect_lazy(ray);
+                let t_max = hit.as_ref().map_or(f32::INFINITY, LazyHit::t);
+                (hit, None, transmittance(sigma_t, t_max))
+            }
+            Some(sigma_t) => {
+                let t = sample_distance(sigma_t, sampler.next_1d(), wl);
+                let hit = self.accel.intersect_lazy(&Ray {
+                    tmax: ray.tmax.min(t),
+                    ..*ray
+                });
+                match hit {
+                    None if t < ray.tmax => {
+                        let p = ray.at(t);
+                        let w = flight_weight(sigma_t, t, true, wl) * m.albedo(p, wl) * sigma_t;
+                        (None, Some(p), w)
+                    }
+                    _ => {
+                        let t_max = hit.as_ref().map_or(ray.tmax, LazyHit::t);
+                        (hit, None, flight_weight(sigma_t, t_max, false, wl))
+                    }
+                }
+            }
+            None => {
+                let hit = self.accel.intersect_lazy(ray);
+                let t_max = hit.as_ref().map_or(f32::INFINITY, LazyHit::t);
+                let (collision, w) = self.track(m, ray, t_max, sampler, wl);
+                (if collision.is_some() { None } else { hit }, collision, w)
+            }
+        }
+    }
+
+    /// Delta tracking through a grid medium up to the surface at `t_max` (see [`Self::fly`]):
+    /// the scattering event's point, if any, and the throughput's factor; a grid that only
+    /// absorbs takes its transmittance.
+    fn track(
         &self,
         m: &Medium,
         ray: &Ray,
@@ -229,48 +280,33 @@ impl PathTracer<'_> {
         sampler: &mut impl PathSampler,
         wl: &SampledWavelengths,
     ) -> (Option<Vec3>, SampledSpectrum) {
+        if m.absorbs_only() {
+            return (None, self.medium_transmittance(m, ray, t_max, sampler, wl));
+        }
         let one = SampledSpectrum::splat(1.0);
-        match m.uniform_sigma_t(wl) {
-            // Only absorption: the transmittance, nothing drawn.
-            Some(sigma_t) if m.absorbs_only() => (None, transmittance(sigma_t, t_max)),
-            Some(sigma_t) => {
-                let f = sample_free_flight(sigma_t, t_max, sampler.next_1d(), wl);
-                if f.collided {
-                    let p = ray.at(f.t);
-                    (Some(p), f.weight * m.albedo(p, wl) * sigma_t)
-                } else {
-                    (None, f.weight)
-                }
+        let bar = m.majorant();
+        let Some((t0, t1)) = m.extent(ray.o, ray.d, t_max).filter(|_| bar > 0.0) else {
+            return (None, one);
+        };
+        let (mut t, mut w) = (t0, one);
+        for _ in 0..MAX_TRACKING_STEPS {
+            t += -(1.0 - sampler.next_1d()).ln() / bar;
+            if t >= t1 {
+                return (None, w);
             }
-            // A grid that only absorbs: its transmittance (ratio tracking).
-            None if m.absorbs_only() => (None, self.medium_transmittance(m, ray, t_max, sampler, wl)),
-            // A grid: delta tracking inside its box.
-            None => {
-                let bar = m.majorant();
-                let Some((t0, t1)) = m.extent(ray.o, ray.d, t_max).filter(|_| bar > 0.0) else {
-                    return (None, one);
-                };
-                let (mut t, mut w) = (t0, one);
-                for _ in 0..MAX_TRACKING_STEPS {
-                    t += -(1.0 - sampler.next_1d()).ln() / bar;
-                    if t >= t1 {
+            let p = ray.at(t);
+            let sigma_t = m.sigma_t_at(p, wl);
+            match null_collision_event(sigma_t, bar, sampler.next_1d(), wl) {
+                Tracking::Real(f) => return (Some(p), w * f * m.albedo(p, wl) * sigma_t),
+                Tracking::Null(f) => {
+                    w *= f;
+                    if w.is_black() {
                         return (None, w);
                     }
-                    let p = ray.at(t);
-                    let sigma_t = m.sigma_t_at(p, wl);
-                    match null_collision_event(sigma_t, bar, sampler.next_1d(), wl) {
-                        Tracking::Real(f) => return (Some(p), w * f * m.albedo(p, wl) * sigma_t),
-                        Tracking::Null(f) => {
-                            w *= f;
-                            if w.is_black() {
-                                return (None, w);
-                            }
-                        }
-                    }
                 }
-                (None, SampledSpectrum::splat(0.0))
             }
         }
+        (None, SampledSpectrum::splat(0.0))
     }
 
     /// The transmittance of medium `m` along `ray` up to `t_max`: exact where σt is constant,
