@@ -305,6 +305,10 @@ fn media_are_read_with_mitsubas_parameters_and_refused_where_they_are_wrong() {
         &["scale", "-1"],
     );
     bad(
+        "<medium type=\"homogeneous\"><float name=\"sigma_t\" value=\"1e30\"/><float name=\"scale\" value=\"1e30\"/></medium>",
+        &["overflows", "scale"],
+    );
+    bad(
         "<medium type=\"homogeneous\"><float name=\"sigma_t\" value=\"nan\"/></medium>",
         &["sigma_t", "NaN"],
     );

@@ -154,11 +154,25 @@ pub(crate) fn build_medium<'d>(
         }
     };
     p.finish()?;
-    Ok(Medium {
+    let medium = Medium {
         sigma_t,
         albedo,
         scale: scale as f32,
         phase,
         sample_emitters,
-    })
+    };
+    // σt × scale must stay finite in single precision (a free flight of length 0 forever, or
+    // tracking that never advances, otherwise).
+    let bound = medium.majorant();
+    if !bound.is_finite() {
+        return Err(err(
+            &p.obj.loc,
+            ErrorKind::BadValue,
+            format!(
+                "the extinction of {} overflows single precision (sigma_t times scale {scale:e})",
+                p.what()
+            ),
+        ));
+    }
+    Ok(medium)
 }
