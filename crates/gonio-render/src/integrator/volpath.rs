@@ -159,13 +159,14 @@ impl PathTracer<'_> {
             let flags = bsdf.flags();
             let wi = si.shading.to_local(-ray.d);
             let smooth = flags.has_smooth();
-            // A surface that only lets light through (`null`) is no vertex: no depth, no lights.
-            let real = flags != BsdfFlags::NULL;
-            if real && state.depth.saturating_add(1) >= self.max_depth {
+            // At the last segment only a straight pass (a `null` or `thindielectric` surface's
+            // NULL lobe, no scattering event) may go on, as in Mitsuba.
+            let at_limit = state.depth.saturating_add(1) >= self.max_depth;
+            if at_limit && !flags.contains(BsdfFlags::NULL) {
                 break;
             }
             let interface = media.interface(si.shape);
-            if smooth {
+            if smooth && !at_limit {
                 let (u_sel, u) = (sampler.next_1d(), sampler.next_2d());
                 let r = self.surface_light_ref(&si, wi, flags);
                 l += state.beta
@@ -200,6 +201,9 @@ impl PathTracer<'_> {
                     break;
                 }
                 continue;
+            }
+            if at_limit {
+                break;
             }
             state.beta *= bs.weight;
             state.eta *= bs.eta;
