@@ -227,10 +227,13 @@ impl<'d> Builder<'d> {
                 }
                 Tag::Shape => {
                     crate::plugins::shape::instance::place(&mut self, idx, &mut shapes)?;
-                    // An irradiancemeter nested in the shape: a sensor in document order.
+                    // An irradiancemeter nested in the shape: a sensor in document order (with
+                    // the medium nested in it, if any).
+                    let medium = self.sensor_medium.take();
                     for (s, loc) in std::mem::take(&mut self.shape_sensors) {
                         if sensor.is_none() {
                             sensor = Some(s);
+                            sensor_medium = medium;
                         } else {
                             self.warnings
                                 .push(format!("{loc}: more than one sensor; rendering the first"));
