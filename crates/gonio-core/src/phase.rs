@@ -194,6 +194,61 @@ mod tests {
         }
     }
 
+    /// The sampled cosines ωi · ωo follow the distribution 2π·p integrates to (Kolmogorov–Smirnov:
+    /// D below 1.63/√N, the 1 % level), and the azimuth about ωi is uniform.
+    #[test]
+    fn sampled_cosines_follow_the_density() {
+        let n = 100_000;
+        let wi = Vec3::new(-0.2, 0.6, 0.7).normalize();
+        for p in [
+            PhaseFunction::Isotropic,
+            PhaseFunction::Rayleigh,
+            PhaseFunction::HenyeyGreenstein { g: 0.8 },
+            PhaseFunction::HenyeyGreenstein { g: -0.4 },
+        ] {
+            let mut rng = crate::rng::Pcg32::new(11, 3);
+            let mut mu: Vec<f64> = Vec::with_capacity(n);
+            let frame = Frame::from_normal(wi);
+            let mut quadrants = [0usize; 4];
+            for _ in 0..n {
+                let s = p.sample(wi, Vec2::new(rng.next_f32(), rng.next_f32()));
+                mu.push(wi.dot(s.wo).clamp(-1.0, 1.0) as f64);
+                let l = frame.to_local(s.wo);
+                quadrants[(l.x >= 0.0) as usize * 2 + (l.y >= 0.0) as usize] += 1;
+            }
+            mu.sort_by(f64::total_cmp);
+            // The cumulative distribution of μ by the midpoint rule on a fine grid.
+            let m = 20_000;
+            let mut cdf = vec![0.0f64; m + 1];
+            for k in 0..m {
+                let c = -1.0 + 2.0 * (k as f64 + 0.5) / m as f64;
+                let s = (1.0 - c * c).sqrt();
+                let wo = frame.to_world(Vec3::new(s as f32, 0.0, c as f32));
+                cdf[k + 1] = cdf[k] + 2.0 * std::f64::consts::PI * p.eval(wi, wo) as f64 * 2.0 / m as f64;
+            }
+            let at = |x: f64| {
+                let t = ((x + 1.0) / 2.0 * m as f64).clamp(0.0, m as f64);
+                let k = (t as usize).min(m - 1);
+                cdf[k] + (cdf[k + 1] - cdf[k]) * (t - k as f64)
+            };
+            let d = mu
+                .iter()
+                .enumerate()
+                .map(|(i, &x)| {
+                    let f = at(x);
+                    (f - i as f64 / n as f64)
+                        .abs()
+                        .max((f - (i + 1) as f64 / n as f64).abs())
+                })
+                .fold(0.0, f64::max);
+            assert!(d < 1.63 / (n as f64).sqrt(), "{p:?}: KS D = {d}");
+            for q in quadrants {
+                // Each quadrant of azimuth holds a quarter: 5σ of a binomial is 0.007.
+                assert!((q as f64 / n as f64 - 0.25).abs() < 0.007, "{p:?}: {quadrants:?}");
+            }
+        }
+    }
+
     #[test]
     fn rayleigh_sampling_inverts_its_cumulative_distribution() {
         let p = PhaseFunction::Rayleigh;
