@@ -123,7 +123,8 @@ pub enum Tracking {
     /// A real collision: the throughput's factor 1/p̄ before σs (the caller multiplies by
     /// σs = α·σt at a scattering event).
     Real(SampledSpectrum),
-    /// A null collision: the throughput's factor σn/(σ̄·(1 − p̄)), σn = σ̄ − σt; the flight goes on.
+    /// A null collision: the throughput's factor σn/(σ̄·(1 − p̄)), σn = σ̄ − σt; the flight goes
+    /// on.
     Null(SampledSpectrum),
 }
 

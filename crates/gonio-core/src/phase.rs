@@ -10,11 +10,14 @@
 //! | plugin | p(cos θ) | parameter (default) |
 //! |---|---|---|
 //! | `isotropic` | 1/(4π) | — |
-//! | `hg` (Henyey and Greenstein 1941) | (1 − g²) / (4π (1 + g² + 2g cos θ)^{3/2}) | `g` ∈ (−1, 1) (0.8): the mean cosine of the deflection; > 0 forward |
+//! | `hg` (Henyey and Greenstein 1941) | (1 − g²) / (4π (1 + g² + 2g cos θ)^{3/2}) | `g` ∈ (−1, 1) (0.8) |
+//!
+//! g is the mean cosine of the deflection (−ωi · ωo); g > 0 scatters forwards.
 //! | `rayleigh` | 3 (1 + cos² θ) / (16π) | — |
 //!
 //! Every model is sampled exactly (the sample's weight p/pdf is 1): Henyey–Greenstein by the
-//! inverse of its cumulative distribution in cos θ (pbrt-v4's `SampleHenyeyGreenstein`), Rayleigh by Cardano's root of the cubic its distribution is.
+//! inverse of its cumulative distribution in cos θ (pbrt-v4's `SampleHenyeyGreenstein`),
+//! Rayleigh by Cardano's root of the cubic its distribution is.
 
 use crate::frame::Frame;
 use crate::warp::square_to_uniform_sphere;

@@ -157,9 +157,9 @@ impl Medium {
         (t0 <= t1).then_some((t0, t1))
     }
 
-    /// True when the medium only absorbs (α given as the number 0): a path then crosses it with the transmittance
-    /// exp(−σt·d) instead of a free-flight sample (the same expectation, without the variance
-    /// of a path that survives with probability T).
+    /// True when the medium only absorbs (α given as the number 0): a path then crosses it
+    /// with the transmittance exp(−σt·d) instead of a free-flight sample (the same expectation,
+    /// without the variance of a path that survives with probability T).
     #[inline]
     pub fn absorbs_only(&self) -> bool {
         matches!(&self.albedo, Albedo::Spectrum(Spectrum::Constant(a)) if *a == 0.0)

@@ -50,7 +50,7 @@
 //!    q_max⁻ⁿ, and at 0.95 the rare survivors of 50 bounces are fireflies 13× too bright
 //!    (`tests/russian_roulette.rs`). `s` is `rr_scale` (ours, 4; Mitsuba's and pbrt-v4's
 //!    rule is s = 1). Roulette trades variance for time: a path killed with probability 1 − q
-//!    adds (1/q − 1)·E[F²] to the variance of its future contribution F and saves (1 − q) of its
+//!    adds (1/q − 1)·E\[F²\] to the variance of its future contribution F and saves (1 − q) of its
 //!    cost, so q should follow F relative to the pixel's value (Vorba and Křivánek 2016's
 //!    adjoint-driven roulette), and s = 1 assumes F is of the order of the pixel. But a pixel's
 //!    value is its first surface's albedo times the light arriving there, and with albedos of
@@ -389,8 +389,8 @@ impl<'a> PathTracer<'a> {
     }
 
     /// The scene's participating media, the media each shape separates and the sensor's
-    /// medium: a volumetric integrator (`volpath`) then renders with them ([`volpath`]); other
-    /// integrators ignore media, as Mitsuba's do.
+    /// medium: a volumetric integrator (`volpath`) then renders with them (the module
+    /// `integrator/volpath.rs`); other integrators ignore media, as Mitsuba's do.
     pub fn with_media(
         mut self,
         media: &'a [crate::medium::Medium],
