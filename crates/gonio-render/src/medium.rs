@@ -34,25 +34,25 @@ pub struct MediumInterface {
     pub interior: Option<MediumId>,
     /// The medium outside (the side the normal points to).
     pub exterior: Option<MediumId>,
-    /// True when the shape names a medium on either side: crossing it changes the ray's medium.
-    pub transition: bool,
 }
 
 impl MediumInterface {
     /// The interface between `interior` and `exterior`.
     pub fn new(interior: Option<MediumId>, exterior: Option<MediumId>) -> Self {
-        Self {
-            interior,
-            exterior,
-            transition: interior.is_some() || exterior.is_some(),
-        }
+        Self { interior, exterior }
+    }
+
+    /// True when the shape names a medium on either side: crossing it changes the ray's medium.
+    #[inline]
+    pub fn is_transition(&self) -> bool {
+        self.interior.is_some() || self.exterior.is_some()
     }
 
     /// The medium a ray leaving the surface along `d` is in, given the geometric normal `n` and
     /// the medium `current` the ray arrived in (kept where the surface is no transition).
     #[inline]
     pub fn target(&self, d: Vec3, n: Vec3, current: Option<MediumId>) -> Option<MediumId> {
-        if !self.transition {
+        if !self.is_transition() {
             current
         } else if d.dot(n) > 0.0 {
             self.exterior
@@ -94,9 +94,35 @@ pub struct Medium {
     pub phase: PhaseFunction,
     /// Next-event estimation at scattering events in this medium (Mitsuba's `sample_emitters`).
     pub sample_emitters: bool,
+    /// [`Medium::majorant`], computed once (a grid's maximum is a scan of the grid).
+    majorant: f32,
 }
 
 impl Medium {
+    /// The medium of these parts.
+    pub fn new(
+        sigma_t: Extinction,
+        albedo: Albedo,
+        scale: f32,
+        phase: PhaseFunction,
+        sample_emitters: bool,
+    ) -> Self {
+        let majorant = scale
+            * match &sigma_t {
+                Extinction::Spectrum(s) => s.max_value(),
+                Extinction::Volume(g) if g.channels == 1 => g.max(),
+                Extinction::Volume(g) => 2.0 * g.max(),
+            };
+        Self {
+            sigma_t,
+            albedo,
+            scale,
+            phase,
+            sample_emitters,
+            majorant,
+        }
+    }
+
     /// The constant extinction σt at the sample's wavelengths; `None` where it is a grid.
     #[inline]
     pub fn uniform_sigma_t(&self, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
@@ -115,7 +141,7 @@ impl Medium {
                 if !(x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all()) {
                     return SampledSpectrum::splat(0.0);
                 }
-                let c = g.eval(p).map(|v| v.max(0.0));
+                let c = g.eval_local(x).map(|v| v.max(0.0));
                 let s = if g.channels == 1 {
                     SampledSpectrum::splat(c[0])
                 } else {
@@ -128,13 +154,9 @@ impl Medium {
 
     /// A grey bound σ̄ ≥ σt(λ, p) everywhere (an uplifted RGB colour stays below twice its largest
     /// component).
+    #[inline]
     pub fn majorant(&self) -> f32 {
-        self.scale
-            * match &self.sigma_t {
-                Extinction::Spectrum(s) => s.max_value(),
-                Extinction::Volume(g) if g.channels == 1 => g.max(),
-                Extinction::Volume(g) => 2.0 * g.max(),
-            }
+        self.majorant
     }
 
     /// The part [t0, t1] of the ray `o + t·d`, t in [0, `t_max`], where the medium may have

@@ -302,7 +302,7 @@ fn media_are_read_with_mitsubas_parameters_and_refused_where_they_are_wrong() {
         (scene.shapes[0].media.interior, scene.shapes[0].media.exterior),
         (Some(0), Some(1))
     );
-    assert!(scene.shapes[1].media.transition && scene.shapes[1].media.exterior.is_none());
+    assert!(scene.shapes[1].media.is_transition() && scene.shapes[1].media.exterior.is_none());
     // Without a BSDF a medium's shape is diffuse, as in Mitsuba (media boundaries say `null`).
     assert!(!scene.materials[scene.shapes[0].material].has_null_transmission());
 

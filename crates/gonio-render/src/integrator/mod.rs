@@ -397,7 +397,7 @@ impl<'a> PathTracer<'a> {
         shape_media: &'a [crate::medium::MediumInterface],
         sensor_medium: Option<crate::medium::MediumId>,
     ) -> Self {
-        let any = sensor_medium.is_some() || shape_media.iter().any(|m| m.transition);
+        let any = sensor_medium.is_some() || shape_media.iter().any(|m| m.is_transition());
         if self.volumetric && any && self.kind == IntegratorKind::Path && !self.polarized {
             self.media = Some(volpath::Media {
                 media,

@@ -61,7 +61,12 @@ impl GridVolume {
 
     /// The channels at the world point `p` (one channel repeated three times).
     pub fn eval(&self, p: Vec3) -> [f32; 3] {
-        let x = self.to_local.transform_point3(p).to_array();
+        self.eval_local(self.to_local.transform_point3(p))
+    }
+
+    /// [`GridVolume::eval`] at a point `x` already in the grid's space ([0, 1]³ inside).
+    pub fn eval_local(&self, x: Vec3) -> [f32; 3] {
+        let x = x.to_array();
         if !x.iter().all(|v| v.is_finite()) {
             return [0.0; 3];
         }

@@ -319,7 +319,7 @@ impl<'d> Builder<'d> {
             sensor_medium,
         };
         // The volumetric path tracer carries spectra: a polarized render leaves media out.
-        let has_media = scene.sensor_medium.is_some() || scene.shapes.iter().any(|s| s.media.transition);
+        let has_media = scene.sensor_medium.is_some() || scene.shapes.iter().any(|s| s.media.is_transition());
         if scene.integrator.volumetric && has_media && scene.asks_for_polarization() {
             self.warnings.push(format!(
                 "{}: participating media are rendered unpolarized only: this polarized render leaves them out",

@@ -154,13 +154,7 @@ pub(crate) fn build_medium<'d>(
         }
     };
     p.finish()?;
-    let medium = Medium {
-        sigma_t,
-        albedo,
-        scale: scale as f32,
-        phase,
-        sample_emitters,
-    };
+    let medium = Medium::new(sigma_t, albedo, scale as f32, phase, sample_emitters);
     // σt × scale must stay finite in single precision (a free flight of length 0 forever, or
     // tracking that never advances, otherwise).
     let bound = medium.majorant();
