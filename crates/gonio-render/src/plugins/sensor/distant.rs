@@ -49,16 +49,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<SensorDesc, SceneError> {
     let (film, sampler) = film_and_sampler(b, p)?;
-    if (film.width, film.height) != (1, 1) {
-        return Err(err(
-            &p.obj.loc,
-            ErrorKind::BadValue,
-            format!(
-                "a distant sensor records one value: its film must be 1 × 1 pixels, not {} × {} (as Mitsuba requires)",
-                film.width, film.height
-            ),
-        ));
-    }
+    super::one_pixel(&film, p, "a distant sensor records one value")?;
     let has_to_world = p.has(TO_WORLD.name);
     let to_world = p.affine(TO_WORLD.name)?;
     let to_world = match p.point_opt(DIRECTION.name)? {
