@@ -25,7 +25,7 @@ const NESTED: ParamSpec = ParamSpec::new(
     "(nested bsdf)",
     ParamType::Bsdf,
     DefaultValue::None,
-    "exactly two nested BSDFs, ordered by name (document order for unnamed ones)",
+    "exactly two nested BSDFs, in document order (as Mitsuba 3.9.1 reads them, whatever their names)",
 );
 
 /// The `blendbsdf` plugin.

@@ -500,8 +500,10 @@ impl<'d> Params<'d> {
         })
     }
 
-    /// Nested objects (positional or named) whose tag is `tag`, sorted by property name (Mitsuba
-    /// orders a plugin's child objects by name; `_arg_N` keeps document order).
+    /// Nested objects (positional or named) whose tag is `tag`, in document order: Mitsuba 3.9.1
+    /// hands a plugin its child objects in the order they were declared, whatever their names
+    /// (its documentation says alphanumeric order; `blendbsdf`, `twosided` and `blendphase` with
+    /// children named `b` then `a` take `b` first).
     pub(crate) fn objects(&mut self, tag: Tag) -> Result<Vec<(usize, &'d Prop)>> {
         let mut out = Vec::new();
         for (i, p) in self.obj.props.iter().enumerate() {
@@ -515,7 +517,6 @@ impl<'d> Params<'d> {
                 out.push((target, p));
             }
         }
-        out.sort_by(|a, b| a.1.name.cmp(&b.1.name));
         Ok(out)
     }
 
