@@ -12,23 +12,29 @@
 //! | `isotropic` | 1/(4π) | — |
 //! | `hg` (Henyey and Greenstein 1941) | (1 − g²) / (4π (1 + g² + 2g cos θ)^{3/2}) | `g` ∈ (−1, 1) (0.8) |
 //!
-//! g is the mean cosine of the deflection (−ωi · ωo); g > 0 scatters forwards.
 //! | `rayleigh` | 3 (1 + cos² θ) / (16π) | — |
+//! | `tabphase` | p(μ)/(2π), p piecewise linear in μ = −cos θ on n nodes spread evenly over [−1, 1], normalized | `values` (the nodes) |
+//!
+//! g is the mean cosine of the deflection (−ωi · ωo); g > 0 scatters forwards. `tabphase`'s table
+//! is laid out in the physics convention, μ = 1 forwards (Mitsuba 3 `src/phase/tabphase.cpp`).
 //!
 //! Every model is sampled exactly (the sample's weight p/pdf is 1): Henyey–Greenstein by the
 //! inverse of its cumulative distribution in cos θ (pbrt-v4's `SampleHenyeyGreenstein`),
-//! Rayleigh by Cardano's root of the cubic its distribution is.
+//! Rayleigh by Cardano's root of the cubic its distribution is, a table by choosing a cell by
+//! its trapezoid's mass and inverting the linear density inside it.
 
 use crate::frame::Frame;
+use crate::sampling::Distribution1D;
 use crate::warp::square_to_uniform_sphere;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 /// 1/(4π).
 const INV_FOUR_PI: f32 = 0.25 / PI;
 
-/// A phase function (`Copy`, allocation free).
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A phase function (allocation free to evaluate and sample; a table is shared, not copied).
+#[derive(Clone, Debug, PartialEq)]
 pub enum PhaseFunction {
     /// The same density in every direction, 1/(4π).
     Isotropic,
@@ -39,6 +45,72 @@ pub enum PhaseFunction {
     },
     /// Rayleigh scattering by particles much smaller than the wavelength (unpolarized).
     Rayleigh,
+    /// A table over the cosine of the deflection (Mitsuba's `tabphase`).
+    Tabulated(Arc<TabulatedPhase>),
+}
+
+/// A phase function tabulated over μ = −ωi · ωo (the cosine of the deflection; 1 forwards) on
+/// n ≥ 2 nodes spread evenly over [−1, 1], linear between them and normalized to ∫ p dω = 1:
+/// p(ωi, ωo) = p̂(μ)/(2π) with ∫₋₁¹ p̂ dμ = 1 (Mitsuba's `tabphase`, its
+/// `ContinuousDistribution`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TabulatedPhase {
+    /// p̂ at the nodes, normalized.
+    nodes: Box<[f32]>,
+    /// The cells by the mass of their trapezoids.
+    cells: Distribution1D,
+}
+
+impl TabulatedPhase {
+    /// The table of these node values (not normalized). `None` unless there are at least two,
+    /// all finite and non-negative, and some positive.
+    pub fn new(values: &[f32]) -> Option<Self> {
+        if values.len() < 2 || values.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+            return None;
+        }
+        let h = 2.0 / (values.len() - 1) as f64;
+        let masses: Vec<f32> = values
+            .windows(2)
+            .map(|w| (0.5 * (w[0] as f64 + w[1] as f64) * h) as f32)
+            .collect();
+        let integral: f64 = masses.iter().map(|&m| m as f64).sum();
+        if !(integral > 0.0 && integral.is_finite()) {
+            return None;
+        }
+        Some(Self {
+            nodes: values.iter().map(|&v| (v as f64 / integral) as f32).collect(),
+            cells: Distribution1D::new(&masses),
+        })
+    }
+
+    /// Width of a cell in μ.
+    #[inline]
+    fn cell_width(&self) -> f32 {
+        2.0 / (self.nodes.len() - 1) as f32
+    }
+
+    /// p̂(μ): the normalized density over μ ∈ [−1, 1] (linear between the nodes).
+    #[inline]
+    pub fn density(&self, mu: f32) -> f32 {
+        let n = self.nodes.len();
+        let t = ((mu + 1.0) / self.cell_width()).clamp(0.0, (n - 1) as f32);
+        let i = (t as usize).min(n - 2);
+        let f = t - i as f32;
+        self.nodes[i] * (1.0 - f) + self.nodes[i + 1] * f
+    }
+
+    /// Draws μ with density p̂ from a uniform number.
+    #[inline]
+    pub fn sample_mu(&self, u: f32) -> f32 {
+        let (i, _, v) = self.cells.sample_discrete(u);
+        let (y0, y1) = (self.nodes[i], self.nodes[i + 1]);
+        // Inside the cell, the density ∝ y0 + (y1 − y0)·t; its cumulative mass
+        // y0·t + (y1 − y0)·t²/2 equals v·(y0 + y1)/2 at t: the root in [0, 1], written without
+        // the cancellation of (−y0 + √…)/(y1 − y0) (a cell drawn has y0 + y1 > 0).
+        let target = v * (y0 + y1);
+        let t = (target / (y0 + (y0 * y0 + (y1 - y0) * target).max(0.0).sqrt())).clamp(0.0, 1.0);
+        (-1.0 + (i as f32 + t) * self.cell_width()).clamp(-1.0, 1.0)
+    }
 }
 
 /// A direction drawn from a phase function, with its density.
@@ -68,19 +140,20 @@ impl PhaseFunction {
     #[inline]
     pub fn eval(&self, wi: Vec3, wo: Vec3) -> f32 {
         let c = wi.dot(wo).clamp(-1.0, 1.0);
-        match *self {
+        match self {
             PhaseFunction::Isotropic => INV_FOUR_PI,
-            PhaseFunction::HenyeyGreenstein { g } => henyey_greenstein(c, g),
+            PhaseFunction::HenyeyGreenstein { g } => henyey_greenstein(c, *g),
             PhaseFunction::Rayleigh => rayleigh(c),
+            PhaseFunction::Tabulated(t) => t.density(-c) * (0.5 / PI),
         }
     }
 
     /// Draws ωo for `wi` from two uniform numbers; its density is [`PhaseFunction::eval`].
     #[inline]
     pub fn sample(&self, wi: Vec3, u: Vec2) -> PhaseSample {
-        let wo = match *self {
+        let wo = match self {
             PhaseFunction::Isotropic => square_to_uniform_sphere(u),
-            PhaseFunction::HenyeyGreenstein { g } => {
+            &PhaseFunction::HenyeyGreenstein { g } => {
                 // cos θ = ωi · ωo by the inverse cumulative distribution (pbrt-v4,
                 // `SampleHenyeyGreenstein`): negative mostly for g > 0.
                 let cos_theta = if g.abs() < 1e-3 {
@@ -99,6 +172,7 @@ impl PhaseFunction {
                 let mu = (q + r).cbrt() + (q - r).cbrt();
                 around(wi, mu.clamp(-1.0, 1.0), u.y)
             }
+            PhaseFunction::Tabulated(t) => around(wi, -t.sample_mu(u.x), u.y),
         };
         PhaseSample {
             wo,
@@ -108,8 +182,20 @@ impl PhaseFunction {
 
     /// The mean cosine of the deflection (g; 0 for the symmetric models).
     pub fn mean_cosine(&self) -> f32 {
-        match *self {
-            PhaseFunction::HenyeyGreenstein { g } => g,
+        match self {
+            PhaseFunction::HenyeyGreenstein { g } => *g,
+            PhaseFunction::Tabulated(t) => {
+                // ∫ μ p̂(μ) dμ, exact for the linear pieces (Simpson's rule on each cell).
+                let h = t.cell_width();
+                (0..t.nodes.len() - 1)
+                    .map(|i| {
+                        let (a, b) = (-1.0 + i as f32 * h, -1.0 + (i + 1) as f32 * h);
+                        let (ya, yb) = (t.nodes[i], t.nodes[i + 1]);
+                        let m = 0.5 * (a + b);
+                        h / 6.0 * (a * ya + 4.0 * m * 0.5 * (ya + yb) + b * yb)
+                    })
+                    .sum()
+            }
             _ => 0.0,
         }
     }
@@ -126,6 +212,16 @@ fn around(axis: Vec3, cos_theta: f32, u: f32) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A table with slopes of both signs, a flat cell and a zero node.
+    fn tables() -> [PhaseFunction; 2] {
+        [
+            PhaseFunction::Tabulated(Arc::new(
+                TabulatedPhase::new(&[0.2, 0.5, 0.5, 0.1, 1.0, 4.0]).unwrap(),
+            )),
+            PhaseFunction::Tabulated(Arc::new(TabulatedPhase::new(&[0.0, 3.0, 0.0, 0.0, 2.0]).unwrap())),
+        ]
+    }
 
     /// ∫ p dω by the midpoint rule in cos θ (the models depend on it alone).
     fn integral(p: PhaseFunction) -> f64 {
@@ -152,8 +248,11 @@ mod tests {
             PhaseFunction::HenyeyGreenstein { g: 0.0 },
             PhaseFunction::HenyeyGreenstein { g: 0.7 },
             PhaseFunction::HenyeyGreenstein { g: -0.5 },
-        ] {
-            let i = integral(p);
+        ]
+        .into_iter()
+        .chain(tables())
+        {
+            let i = integral(p.clone());
             assert!((i - 1.0).abs() < 1e-4, "{p:?}: ∫p = {i}");
         }
     }
@@ -186,7 +285,10 @@ mod tests {
             PhaseFunction::Rayleigh,
             PhaseFunction::HenyeyGreenstein { g: 0.9 },
             PhaseFunction::HenyeyGreenstein { g: -0.3 },
-        ] {
+        ]
+        .into_iter()
+        .chain(tables())
+        {
             let wi = Vec3::new(0.3, -0.5, 0.8).normalize();
             for _ in 0..1000 {
                 let s = p.sample(wi, Vec2::new(rng.next_f32(), rng.next_f32()));
@@ -208,7 +310,10 @@ mod tests {
             PhaseFunction::Rayleigh,
             PhaseFunction::HenyeyGreenstein { g: 0.8 },
             PhaseFunction::HenyeyGreenstein { g: -0.4 },
-        ] {
+        ]
+        .into_iter()
+        .chain(tables())
+        {
             let mut rng = crate::rng::Pcg32::new(11, 3);
             let mut mu: Vec<f64> = Vec::with_capacity(n);
             let frame = Frame::from_normal(wi);
@@ -260,6 +365,32 @@ mod tests {
             let mu = s.wo.z as f64;
             let cdf = (mu * mu * mu + 3.0 * mu + 4.0) / 8.0;
             assert!((cdf - u as f64).abs() < 1e-5, "u {u}: cdf {cdf}");
+        }
+    }
+
+    /// The table is read in the physics convention (μ = 1 forwards, ωo = −ωi), linear between
+    /// its nodes, normalized, and its mean cosine is ∫ μ p̂ dμ.
+    #[test]
+    fn a_table_is_read_forwards_linear_and_normalized() {
+        let t = TabulatedPhase::new(&[1.0, 3.0]).unwrap();
+        // p̂(μ) = (2 + μ)/4 on [−1, 1]: ∫ = 1.
+        for mu in [-1.0f32, -0.3, 0.0, 0.6, 1.0] {
+            assert!((t.density(mu) - (2.0 + mu) / 4.0).abs() < 1e-6, "μ {mu}");
+        }
+        let p = PhaseFunction::Tabulated(Arc::new(t));
+        let wi = Vec3::Z;
+        assert!((p.eval(wi, -Vec3::Z) - 0.75 / (2.0 * PI)).abs() < 1e-6);
+        assert!((p.eval(wi, Vec3::Z) - 0.25 / (2.0 * PI)).abs() < 1e-6);
+        // ∫ μ (2 + μ)/4 dμ = 1/6.
+        assert!((p.mean_cosine() - 1.0 / 6.0).abs() < 1e-6);
+        for bad in [
+            &[1.0f32][..],
+            &[0.0, 0.0],
+            &[1.0, -0.1],
+            &[1.0, f32::NAN],
+            &[f32::INFINITY, 1.0],
+        ] {
+            assert!(TabulatedPhase::new(bad).is_none(), "{bad:?}");
         }
     }
 }

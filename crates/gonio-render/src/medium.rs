@@ -4,7 +4,7 @@
 //! A homogeneous medium has one extinction σt(λ) = `scale`·`sigma_t`(λ) everywhere (a number or
 //! a spectrum), a single-scattering albedo α(λ) (a reflectance-like spectrum, or a `gridvolume`
 //! read at the scattering point: Mitsuba's albedo is a volume), so σs = α·σt, and a phase
-//! function ([`gonio_core::phase`]); its free flights are drawn exactly
+//! function ([`Phase`]: a model of [`gonio_core::phase`], or a `blendphase` of two); its free flights are drawn exactly
 //! ([`gonio_core::medium::sample_free_flight`]). A heterogeneous medium (Mitsuba 3
 //! `src/media/heterogeneous.cpp`) reads σt from a `gridvolume` too: it is tracked under the
 //! majorant σ̄ = `scale`·max σt, by delta tracking along paths and ratio tracking along shadow
@@ -18,9 +18,10 @@
 //! name no medium leave the ray in the medium it was in. A sensor nesting a medium starts its
 //! rays in it.
 
+use crate::plugins::phase::blendphase::BlendPhase;
 use crate::texture::volume::GridVolume;
-use glam::Vec3;
-use gonio_core::phase::PhaseFunction;
+use glam::{Vec2, Vec3};
+use gonio_core::phase::{PhaseFunction, PhaseSample};
 use gonio_core::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::sync::Arc;
 
@@ -62,6 +63,37 @@ impl MediumInterface {
     }
 }
 
+/// A medium's phase function: one of the models, or a blend of two whose weight may vary in space
+/// (so both take the scattering point).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Phase {
+    /// `isotropic`, `hg`, `rayleigh`, `tabphase`.
+    Model(PhaseFunction),
+    /// `blendphase`.
+    Blend(Box<BlendPhase>),
+}
+
+impl Phase {
+    /// p(ωi, ωo) at world point `p`.
+    #[inline]
+    pub fn eval(&self, p: Vec3, wi: Vec3, wo: Vec3) -> f32 {
+        match self {
+            Phase::Model(m) => m.eval(wi, wo),
+            Phase::Blend(b) => b.eval(p, wi, wo),
+        }
+    }
+
+    /// Draws ωo at world point `p` from two uniform numbers; the sample's density is
+    /// [`Phase::eval`] (its weight p/pdf is 1).
+    #[inline]
+    pub fn sample(&self, p: Vec3, wi: Vec3, u: Vec2) -> PhaseSample {
+        match self {
+            Phase::Model(m) => m.sample(wi, u),
+            Phase::Blend(b) => b.sample(p, wi, u),
+        }
+    }
+}
+
 /// A medium's single-scattering albedo.
 #[derive(Clone, Debug)]
 pub enum Albedo {
@@ -91,7 +123,7 @@ pub struct Medium {
     /// Multiplier of σt (Mitsuba's `scale`).
     pub scale: f32,
     /// The phase function.
-    pub phase: PhaseFunction,
+    pub phase: Phase,
     /// Next-event estimation at scattering events in this medium (Mitsuba's `sample_emitters`).
     pub sample_emitters: bool,
     /// [`Medium::majorant`], computed once (a grid's maximum is a scan of the grid).
@@ -100,13 +132,7 @@ pub struct Medium {
 
 impl Medium {
     /// The medium of these parts.
-    pub fn new(
-        sigma_t: Extinction,
-        albedo: Albedo,
-        scale: f32,
-        phase: PhaseFunction,
-        sample_emitters: bool,
-    ) -> Self {
+    pub fn new(sigma_t: Extinction, albedo: Albedo, scale: f32, phase: Phase, sample_emitters: bool) -> Self {
         let majorant = scale
             * match &sigma_t {
                 Extinction::Spectrum(s) => s.max_value(),

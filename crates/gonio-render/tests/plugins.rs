@@ -75,6 +75,8 @@ fn required(name: &str) -> &'static str {
         "aov" => "<string name=\"aovs\" value=\"d:depth\"/>",
         "mesh_attribute" => "<string name=\"name\" value=\"vertex_color\"/>",
         "gridvolume" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
+        "tabphase" => "<string name=\"values\" value=\"1, 2, 3\"/>",
+        "blendphase" => "<phase type=\"isotropic\"/><phase type=\"rayleigh\"/>",
         "volume" => {
             "<volume type=\"gridvolume\"><string name=\"filename\" value=\"sphere_sdf.vol\"/></volume>"
         }

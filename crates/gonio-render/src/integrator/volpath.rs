@@ -114,7 +114,7 @@ impl PathTracer<'_> {
                         let u = (sampler.next_1d(), sampler.next_2d());
                         l += state.beta * self.phase_next_event(media, m, medium, &r, wi, u, sampler, wl);
                     }
-                    let ps = m.phase.sample(wi, sampler.next_2d());
+                    let ps = m.phase.sample(p, wi, sampler.next_2d());
                     if !(ps.pdf > 0.0) {
                         break;
                     }
@@ -373,7 +373,7 @@ impl PathTracer<'_> {
         let mut sum = SampledSpectrum::splat(0.0);
         self.lights
             .for_each_sample(self.accel.shapes(), r, u, wl, |_, ls| {
-                let f = m.phase.eval(wi, ls.wi);
+                let f = m.phase.eval(r.p, wi, ls.wi);
                 if !(f > 0.0) {
                     return;
                 }

@@ -130,10 +130,12 @@ pub static MEDIUM_PLUGINS: &[&Plugin<crate::medium::Medium>] =
     &[&medium::homogeneous::PLUGIN, &medium::heterogeneous::PLUGIN];
 
 /// `<phase>` plugins (nested in a medium).
-pub static PHASE_PLUGINS: &[&Plugin<gonio_core::phase::PhaseFunction>] = &[
+pub static PHASE_PLUGINS: &[&Plugin<crate::medium::Phase>] = &[
     &phase::isotropic::PLUGIN,
     &phase::hg::PLUGIN,
     &phase::rayleigh::PLUGIN,
+    &phase::tabphase::PLUGIN,
+    &phase::blendphase::PLUGIN,
 ];
 
 /// `<spectrum type="...">` plugins.

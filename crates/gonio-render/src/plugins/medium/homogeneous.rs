@@ -17,7 +17,7 @@
 //! | `has_spectral_extinction` | true | accepted: gonio samples distances with spectral MIS, exact for any σt |
 //! | (nested phase) | isotropic | the phase function |
 
-use crate::medium::{Albedo, Extinction, Medium};
+use crate::medium::{Albedo, Extinction, Medium, Phase};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, Value, err};
 use gonio_core::phase::PhaseFunction;
@@ -143,7 +143,7 @@ pub(crate) fn build_medium<'d>(
     let sample_emitters = p.bool(SAMPLE_EMITTERS.name, SAMPLE_EMITTERS.default.bool())?;
     p.bool(SPECTRAL_EXTINCTION.name, SPECTRAL_EXTINCTION.default.bool())?;
     let phase = match p.objects(Tag::Phase)?.as_slice() {
-        [] => PhaseFunction::Isotropic,
+        [] => Phase::Model(PhaseFunction::Isotropic),
         [(i, _)] => b.build_plugin(crate::plugins::PHASE_PLUGINS, *i)?,
         [_, (_, extra), ..] => {
             return Err(err(

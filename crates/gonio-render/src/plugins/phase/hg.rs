@@ -6,6 +6,7 @@
 //! |---|---|---|
 //! | `g` | 0.8 | mean cosine of the deflection, in (−1, 1) |
 
+use crate::medium::Phase;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
 use gonio_core::phase::PhaseFunction;
@@ -18,14 +19,14 @@ const G: ParamSpec = ParamSpec::new(
 );
 
 /// The `hg` plugin.
-pub static PLUGIN: Plugin<PhaseFunction> = Plugin {
+pub static PLUGIN: Plugin<Phase> = Plugin {
     name: "hg",
     summary: "Henyey–Greenstein phase function with asymmetry g.",
     params: &[G],
     build,
 };
 
-fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<PhaseFunction, SceneError> {
+fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Phase, SceneError> {
     let (g, loc) = match p.float_opt(G.name)? {
         Some((g, loc)) => (g, loc),
         None => (G.default.float(), &p.obj.loc),
@@ -39,5 +40,5 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<PhaseFunction, S
             ),
         ));
     }
-    Ok(PhaseFunction::HenyeyGreenstein { g: g as f32 })
+    Ok(Phase::Model(PhaseFunction::HenyeyGreenstein { g: g as f32 }))
 }

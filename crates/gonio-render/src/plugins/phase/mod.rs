@@ -1,6 +1,9 @@
 //! `<phase>` plugins (Mitsuba 3 `src/phase/`): the phase function nested in a `<medium>`. The
-//! models are [`gonio_core::phase::PhaseFunction`].
+//! models are [`gonio_core::phase::PhaseFunction`], held as [`crate::medium::Phase`] (which
+//! adds `blendphase`).
 
+pub mod blendphase;
 pub mod hg;
 pub mod isotropic;
 pub mod rayleigh;
+pub mod tabphase;
