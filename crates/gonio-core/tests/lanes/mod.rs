@@ -4,7 +4,9 @@
 //! widths 4, 8 and 16, the models at 4 lanes and through `dispatch` (which compiles 16, 8 and 4
 //! lanes and runs the CPU's). Each width a model is tested at compiles its whole kernel again,
 //! minutes of the CI build for all of them: the principled models' dispatch tests need the
-//! feature `lane-dispatch-tests`.
+//! feature `lane-dispatch-tests`. Each test calls its kernels through one non-inlined
+//! comparison per model and width (`principled::compare_once`): inlined into every test, the
+//! two principled kernels made one function LLVM took four minutes over.
 
 mod math;
 mod microfacet;
