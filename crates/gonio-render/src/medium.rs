@@ -95,7 +95,7 @@ impl Phase {
 }
 
 /// A medium's single-scattering albedo.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Albedo {
     /// The same everywhere.
     Spectrum(Spectrum),
@@ -105,7 +105,7 @@ pub enum Albedo {
 }
 
 /// A medium's extinction before `scale` (1/length).
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Extinction {
     /// The same everywhere (the homogeneous medium; a heterogeneous one given a number).
     Spectrum(Spectrum),

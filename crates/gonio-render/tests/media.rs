@@ -604,3 +604,54 @@ fn tabulated_and_blended_phase_functions_are_refused_where_they_are_wrong() {
         "{got} against {expected}"
     );
 }
+
+/// `constvolume` is the long form of a constant: a medium's albedo and extinction read as the
+/// spectra given directly, a blend's weight as the value's mean (Mitsuba's `eval_1`); an albedo
+/// above 1 and a value that is no number are refused where they are written.
+#[test]
+fn a_constant_volume_is_the_constant_it_holds() {
+    let load_media = |body: &str| {
+        load_scene_str(&format!("<scene version=\"3.0.0\">{body}</scene>"), data(), &[])
+            .unwrap_or_else(|e| panic!("{e}"))
+            .media
+    };
+    let long = load_media(
+        r#"<medium type="heterogeneous" id="a"><volume name="albedo" type="constvolume"><rgb name="value" value="0.9, 0.5, 0.2"/></volume>
+           <volume name="sigma_t" type="constvolume"><rgb name="value" value="2, 3, 4"/></volume></medium>
+           <medium type="homogeneous" id="b"><volume name="sigma_t" type="constvolume"><float name="value" value="0.7"/></volume>
+           <phase type="blendphase"><volume name="weight" type="constvolume"><float name="value" value="0.3"/></volume>
+           <phase type="isotropic"/><phase type="rayleigh"/></phase></medium>"#,
+    );
+    let short = load_media(
+        r#"<medium type="heterogeneous" id="a"><rgb name="albedo" value="0.9, 0.5, 0.2"/><rgb name="sigma_t" value="2, 3, 4"/></medium>
+           <medium type="homogeneous" id="b"><float name="sigma_t" value="0.7"/>
+           <phase type="blendphase"><float name="weight" value="0.3"/><phase type="isotropic"/><phase type="rayleigh"/></phase></medium>"#,
+    );
+    for (l, s) in long.iter().zip(&short) {
+        assert_eq!(l.sigma_t, s.sigma_t);
+        assert_eq!(l.phase, s.phase);
+        let wl = gonio_core::SampledWavelengths::sample_visible(0.37);
+        assert_eq!(l.albedo(Vec3::ZERO, &wl), s.albedo(Vec3::ZERO, &wl));
+    }
+    let bad = |body: &str, quotes: &[&str]| {
+        let text =
+            format!("<scene version=\"3.0.0\">\n<medium type=\"homogeneous\">{body}</medium>\n</scene>");
+        let e = load_scene_str(&text, data(), &[]).unwrap_err().to_string();
+        assert!(e.contains(":2:"), "{e}");
+        for q in quotes {
+            assert!(e.contains(q), "{e} lacks {q}");
+        }
+    };
+    bad(
+        r#"<volume name="albedo" type="constvolume"><rgb name="value" value="0.5, 1.5, 0.5"/></volume>"#,
+        &["albedo", "constvolume", "[0, 1]"],
+    );
+    bad(
+        r#"<volume name="albedo" type="constvolume"><float name="value" value="nan"/></volume>"#,
+        &["value", "NaN"],
+    );
+    bad(
+        r#"<volume name="density" type="constvolume"><float name="value" value="1"/></volume>"#,
+        &["\"density\"", "albedo"],
+    );
+}

@@ -597,6 +597,29 @@ fn a_volume_texture_is_its_grid_at_the_hit_and_bad_grids_are_refused() {
     // A missing file.
     let e = load(scene("none.vol")).expect_err("no file").to_string();
     assert!(e.contains("scene.xml:6") && e.contains("none.vol"), "{e}");
+    // A `constvolume`: the same value at every point.
+    let s = load(
+        "<scene version=\"3.0.0\"><shape type=\"rectangle\"><bsdf type=\"diffuse\">\
+         <texture type=\"volume\" name=\"reflectance\"><volume type=\"constvolume\" name=\"volume\">\
+         <float name=\"value\" value=\"0.35\"/></volume></texture></bsdf></shape></scene>"
+            .to_string(),
+    )
+    .expect("constvolume loads");
+    let m = &s.materials[s.shapes[0].material];
+    for x in [-3.0f32, 0.0, 7.0] {
+        let at = ShadingPoint {
+            p: Vec3::new(x, 0.3, 0.0),
+            ..ShadingPoint::flat(Vec2::ZERO)
+        };
+        let f = m
+            .bsdf_at_point(&at, &wl)
+            .eval(&BsdfContext::radiance(), Vec3::Z, Vec3::Z, &wl);
+        assert!(
+            (f[0] * std::f32::consts::PI - 0.35).abs() < 1e-6,
+            "x = {x}: {}",
+            f[0]
+        );
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -122,8 +122,8 @@ pub static TEXTURE_PLUGINS: &[&Plugin<Texture>] = &[
 ];
 
 /// `<volume>` plugins.
-pub static VOLUME_PLUGINS: &[&Plugin<std::sync::Arc<crate::texture::volume::GridVolume>>] =
-    &[&volume::gridvolume::PLUGIN];
+pub static VOLUME_PLUGINS: &[&Plugin<crate::texture::volume::Volume>] =
+    &[&volume::gridvolume::PLUGIN, &volume::constvolume::PLUGIN];
 
 /// `<medium>` plugins.
 pub static MEDIUM_PLUGINS: &[&Plugin<crate::medium::Medium>] =

@@ -27,6 +27,18 @@
 
 use super::WrapMode;
 use glam::{Affine3A, Vec3};
+use gonio_core::Spectrum;
+use std::sync::Arc;
+
+/// A `<volume>` as built: a grid, or one value everywhere (`constvolume`, which its users turn
+/// into their constant form: a medium's spectrum, a blend's number, a constant texture).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Volume {
+    /// `gridvolume`.
+    Grid(Arc<GridVolume>),
+    /// `constvolume`.
+    Constant(Spectrum),
+}
 
 /// A grid of samples over the unit cube of its local space.
 #[derive(Clone, Debug, PartialEq)]

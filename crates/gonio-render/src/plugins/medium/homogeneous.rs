@@ -19,6 +19,7 @@
 
 use crate::medium::{Albedo, Extinction, Medium, Phase};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
+use crate::texture::volume::Volume;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, Value, err};
 use gonio_core::phase::PhaseFunction;
 use gonio_core::spectra::RgbKind;
@@ -87,28 +88,41 @@ pub(crate) fn build_medium<'d>(
 ) -> Result<Medium, SceneError> {
     let (mut sigma_t, mut albedo) = (None, None);
     for (i, prop) in p.objects(Tag::Volume)? {
-        match prop.name.as_str() {
-            "albedo" => albedo = Some(Albedo::Volume(b.build_plugin(crate::plugins::VOLUME_PLUGINS, i)?)),
-            "sigma_t" if grids => {
-                sigma_t = Some(Extinction::Volume(
-                    b.build_plugin(crate::plugins::VOLUME_PLUGINS, i)?,
-                ));
+        let what = p.what();
+        let refused = |why: &str| {
+            err(
+                &prop.loc,
+                ErrorKind::UnusedParameter,
+                format!("a <volume> named \"{}\" in {what} ({why})", prop.name),
+            )
+        };
+        let grids_here = if grids {
+            "\"sigma_t\" and \"albedo\" may be volumes"
+        } else {
+            "only \"albedo\" may be a grid; a grid of sigma_t is the heterogeneous medium"
+        };
+        if prop.name != "albedo" && prop.name != SIGMA_T.name {
+            return Err(refused(grids_here));
+        }
+        let volume = b.build_plugin(crate::plugins::VOLUME_PLUGINS, i)?;
+        match (prop.name.as_str(), volume) {
+            ("albedo", Volume::Grid(g)) => albedo = Some(Albedo::Volume(g)),
+            ("albedo", Volume::Constant(a)) => {
+                if a.max_value() > 1.0 {
+                    return Err(err(
+                        &prop.loc,
+                        ErrorKind::BadValue,
+                        format!(
+                            "invalid albedo of {what}: a constvolume reaching {} (an albedo lies in [0, 1])",
+                            a.max_value()
+                        ),
+                    ));
+                }
+                albedo = Some(Albedo::Spectrum(a));
             }
-            other => {
-                return Err(err(
-                    &prop.loc,
-                    ErrorKind::UnusedParameter,
-                    format!(
-                        "a <volume> named \"{other}\" in {} ({})",
-                        p.what(),
-                        if grids {
-                            "\"sigma_t\" and \"albedo\" may be volumes"
-                        } else {
-                            "only \"albedo\" may be a volume; a grid of sigma_t is the heterogeneous medium"
-                        }
-                    ),
-                ));
-            }
+            (_, Volume::Constant(s)) => sigma_t = Some(Extinction::Spectrum(s)),
+            (_, Volume::Grid(g)) if grids => sigma_t = Some(Extinction::Volume(g)),
+            (_, Volume::Grid(_)) => return Err(refused(grids_here)),
         }
     }
     let sigma_t = match sigma_t {

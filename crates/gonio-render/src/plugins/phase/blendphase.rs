@@ -2,7 +2,8 @@
 //!
 //! p(x, ωi, ωo) = (1 − w(x))·p₀(ωi, ωo) + w(x)·p₁(ωi, ωo),
 //!
-//! w clamped to [0, 1], a number or a one-channel `gridvolume` read at the scattering point x.
+//! w clamped to [0, 1], a number or a one-channel `gridvolume` read at the scattering point x (a
+//! `constvolume` gives its mean).
 //! The two nested phase functions are taken in document order, as Mitsuba 3.9.1 takes them
 //! (its documentation says the order of their names; its loader keeps the order of the file);
 //! either may be a blend itself.
@@ -21,7 +22,7 @@
 
 use crate::medium::Phase;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::texture::volume::GridVolume;
+use crate::texture::volume::{GridVolume, Volume};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
 use glam::{Vec2, Vec3};
 use gonio_core::phase::PhaseSample;
@@ -129,18 +130,21 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Phase, SceneErro
                 ),
             ));
         }
-        let g = b.build_plugin(crate::plugins::VOLUME_PLUGINS, i)?;
-        if g.channels != 1 {
-            return Err(err(
-                &prop.loc,
-                ErrorKind::BadValue,
-                format!(
-                    "the \"weight\" volume of {what} has {} channels (a weight is one number: give a one-channel grid)",
-                    g.channels
-                ),
-            ));
-        }
-        weight = Some(BlendWeight::Volume(g));
+        weight = Some(match b.build_plugin(crate::plugins::VOLUME_PLUGINS, i)? {
+            // Mitsuba's `eval_1` of a constant: its mean over the wavelengths.
+            Volume::Constant(w) => BlendWeight::Constant(w.mean().clamp(0.0, 1.0)),
+            Volume::Grid(g) if g.channels == 1 => BlendWeight::Volume(g),
+            Volume::Grid(g) => {
+                return Err(err(
+                    &prop.loc,
+                    ErrorKind::BadValue,
+                    format!(
+                        "the \"weight\" volume of {what} has {} channels (a weight is one number: give a one-channel grid)",
+                        g.channels
+                    ),
+                ));
+            }
+        });
     }
     let weight = match weight {
         Some(w) => w,

@@ -3,6 +3,7 @@
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::texture::Texture;
+use crate::texture::volume::Volume;
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
 
 const VOLUME: ParamSpec = ParamSpec::new(
@@ -15,7 +16,7 @@ const VOLUME: ParamSpec = ParamSpec::new(
 /// The `volume` plugin.
 pub static PLUGIN: Plugin<Texture> = Plugin {
     name: "volume",
-    summary: "A `<volume>` (`gridvolume`) evaluated at the surface point, in world space.",
+    summary: "A `<volume>` (`gridvolume`, `constvolume`) evaluated at the surface point, in world space.",
     params: &[VOLUME],
     build,
 };
@@ -39,7 +40,12 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneEr
             ));
         }
     };
-    let grid = b.build_plugin(crate::plugins::VOLUME_PLUGINS, idx)?;
-    b.note_hit_texture(None, &prop.value_loc);
-    Ok(Texture::Volume(grid))
+    match b.build_plugin(crate::plugins::VOLUME_PLUGINS, idx)? {
+        Volume::Grid(grid) => {
+            b.note_hit_texture(None, &prop.value_loc);
+            Ok(Texture::Volume(grid))
+        }
+        // The same value at every point.
+        Volume::Constant(s) => Ok(Texture::Spectrum(s)),
+    }
 }

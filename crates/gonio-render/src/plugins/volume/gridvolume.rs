@@ -4,7 +4,7 @@
 use crate::geometry::sdfgrid::read_vol;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::texture::WrapMode;
-use crate::texture::volume::GridVolume;
+use crate::texture::volume::{GridVolume, Volume};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
 use std::sync::Arc;
 
@@ -46,14 +46,14 @@ const ACCEL: ParamSpec = ParamSpec::new(
 );
 
 /// The `gridvolume` plugin.
-pub static PLUGIN: Plugin<Arc<GridVolume>> = Plugin {
+pub static PLUGIN: Plugin<Volume> = Plugin {
     name: "gridvolume",
     summary: "A `.vol` grid over the unit cube placed by `to_world`, trilinear or nearest lookups.",
     params: &[FILENAME, FILTER_TYPE, WRAP_MODE, RAW, TO_WORLD, ACCEL],
     build,
 };
 
-fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Arc<GridVolume>, SceneError> {
+fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Volume, SceneError> {
     let Some((name, loc)) = p.string_opt(FILENAME.name)? else {
         return Err(err(
             &p.obj.loc,
@@ -114,7 +114,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Arc<GridVolume>,
             ),
         ));
     }
-    Ok(Arc::new(GridVolume {
+    Ok(Volume::Grid(Arc::new(GridVolume {
         res: v.res,
         channels: v.channels,
         data: v.data,
@@ -122,5 +122,5 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Arc<GridVolume>,
         wrap,
         raw,
         to_local: to_world.inverse(),
-    }))
+    })))
 }
