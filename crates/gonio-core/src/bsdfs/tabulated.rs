@@ -128,6 +128,15 @@ fn locate(axis: &[f32], x: f32) -> (usize, f32) {
     (k, (x - axis[k]) / (axis[k + 1] - axis[k]))
 }
 
+/// A point of the table's angular grid: along θa, θb and φd, the lower node and the weight of
+/// the upper one ([`locate`]).
+#[derive(Clone, Copy, Debug)]
+struct GridPoint {
+    i: (usize, f32),
+    o: (usize, f32),
+    p: (usize, f32),
+}
+
 /// Sampling grid resolution per θi node.
 const SAMPLE_THETA: usize = 32;
 const SAMPLE_PHI: usize = 32;
@@ -187,9 +196,10 @@ impl Tabulated {
                 let tc = 0.5 * (t0 + t1);
                 for c in 0..np {
                     let pc = (c as f32 + 0.5) * PI / np as f32;
+                    let g = self.grid_points(theta_i, tc, pc);
                     let mut f = 0.0;
                     for l in 0..nl {
-                        f += self.lookup_sym(theta_i, tc, pc, l);
+                        f += self.lookup_sym(&g, l);
                     }
                     cells[r * np + c] = (f / nl as f32 * tc.cos() * solid).max(0.0);
                 }
@@ -203,12 +213,27 @@ impl Tabulated {
         }
     }
 
-    /// The table interpolated at (θ_a, θ_b, φd) for wavelength index `l`, one direction order.
+    /// The cells and weights of (θ_a, θ_b, φd) on the table's angular axes.
     #[inline]
-    fn lookup(&self, ta: f32, tb: f32, phi: f32, l: usize) -> f32 {
-        let (i, wi) = locate(&self.ti, ta);
-        let (o, wo) = locate(&self.to, tb);
-        let (p, wp) = locate(&self.pd, phi);
+    fn grid_point(&self, ta: f32, tb: f32, phi: f32) -> GridPoint {
+        GridPoint {
+            i: locate(&self.ti, ta),
+            o: locate(&self.to, tb),
+            p: locate(&self.pd, phi),
+        }
+    }
+
+    /// The grid points of both direction orders, (θa, θb, φd) and (θb, θa, φd): located once,
+    /// read at every wavelength.
+    #[inline]
+    fn grid_points(&self, ta: f32, tb: f32, phi: f32) -> [GridPoint; 2] {
+        [self.grid_point(ta, tb, phi), self.grid_point(tb, ta, phi)]
+    }
+
+    /// The table interpolated at grid point `g` for wavelength index `l`, one direction order.
+    #[inline]
+    fn lookup(&self, g: &GridPoint, l: usize) -> f32 {
+        let ((i, wi), (o, wo), (p, wp)) = (g.i, g.o, g.p);
         let (ni, no, np) = (self.ti.len(), self.to.len(), self.pd.len());
         let mut acc = 0.0;
         for (di, fi) in [(0, 1.0 - wi), (1, wi)] {
@@ -232,8 +257,8 @@ impl Tabulated {
 
     /// Reciprocal lookup: the mean of both direction orders.
     #[inline]
-    fn lookup_sym(&self, ta: f32, tb: f32, phi: f32, l: usize) -> f32 {
-        0.5 * (self.lookup(ta, tb, phi, l) + self.lookup(tb, ta, phi, l))
+    fn lookup_sym(&self, g: &[GridPoint; 2], l: usize) -> f32 {
+        0.5 * (self.lookup(&g[0], l) + self.lookup(&g[1], l))
     }
 
     #[inline]
@@ -249,13 +274,13 @@ impl Tabulated {
 
     /// f at one wavelength (nm), linear in λ between the table's wavelengths.
     #[inline]
-    fn eval_at(&self, ta: f32, tb: f32, phi: f32, lambda: f32) -> f32 {
+    fn eval_at(&self, g: &[GridPoint; 2], lambda: f32) -> f32 {
         let (l, wl) = locate(&self.data.wavelengths_nm, lambda);
-        let a = self.lookup_sym(ta, tb, phi, l);
+        let a = self.lookup_sym(g, l);
         if wl == 0.0 || l + 1 >= self.data.wavelengths_nm.len() {
             return a;
         }
-        (1.0 - wl) * a + wl * self.lookup_sym(ta, tb, phi, l + 1)
+        (1.0 - wl) * a + wl * self.lookup_sym(g, l + 1)
     }
 
     /// The table part of the pdf for θi node `node`, per solid angle (including the ½ of the
@@ -284,7 +309,8 @@ impl Bsdf for Tabulated {
             return SampledSpectrum::ZERO;
         }
         let (ta, tb, phi) = Self::angles(wi, wo);
-        SampledSpectrum::from_fn(|k| self.eval_at(ta, tb, phi, wl.lambda(k)))
+        let g = self.grid_points(ta, tb, phi);
+        SampledSpectrum::from_fn(|k| self.eval_at(&g, wl.lambda(k)))
     }
 
     fn pdf(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, _wl: &SampledWavelengths) -> f32 {
