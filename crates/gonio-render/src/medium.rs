@@ -19,9 +19,11 @@
 //! rays in it.
 
 use crate::plugins::phase::blendphase::BlendPhase;
+use crate::texture::uplift;
 use crate::texture::volume::GridVolume;
 use glam::{Vec2, Vec3};
 use gonio_core::phase::{PhaseFunction, PhaseSample};
+use gonio_core::spectra::RgbKind;
 use gonio_core::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::sync::Arc;
 
@@ -171,7 +173,9 @@ impl Medium {
                 let s = if g.channels == 1 {
                     SampledSpectrum::splat(c[0])
                 } else {
-                    Spectrum::rgb_unbounded(c).sample(wl)
+                    // The table's uplift: this runs at every collision of a tracked path (the
+                    // Newton-polished fit costs microseconds a colour).
+                    uplift(c, RgbKind::Unbounded).sample(wl)
                 };
                 s * self.scale
             }
@@ -222,7 +226,7 @@ impl Medium {
                 if g.channels == 1 {
                     SampledSpectrum::splat(c[0])
                 } else {
-                    Spectrum::rgb_albedo(c).sample(wl)
+                    uplift(c, RgbKind::Albedo).sample(wl)
                 }
             }
         }

@@ -379,7 +379,7 @@ impl Texture {
             Texture::Volume(g) => match hit::hit_point() {
                 None => Spectrum::Constant(0.0),
                 Some(p) if g.channels == 1 => Spectrum::Constant(g.eval(p)[0]),
-                Some(p) => Spectrum::rgb_unbounded(g.eval(p)),
+                Some(p) => uplift(g.eval(p), RgbKind::Unbounded),
             },
         }
     }
