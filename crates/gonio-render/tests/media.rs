@@ -310,6 +310,17 @@ fn a_sensor_inside_a_medium_sees_through_it() {
     }
 }
 
+/// The scene of `body` (on its own line 2) is refused with an error naming line 2 and quoting
+/// each of `quotes`.
+fn refused(body: &str, quotes: &[&str]) {
+    let text = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
+    let e = load_scene_str(&text, data(), &[]).unwrap_err().to_string();
+    assert!(e.contains(":2:"), "{e}");
+    for q in quotes {
+        assert!(e.contains(q), "{e} lacks {q}");
+    }
+}
+
 /// A `<medium>` and its `<phase>`, referenced by shapes (`interior`, `exterior`) and nested in a
 /// sensor; each error names the file, line and value.
 #[test]
@@ -345,14 +356,7 @@ fn media_are_read_with_mitsubas_parameters_and_refused_where_they_are_wrong() {
     // Without a BSDF a medium's shape is diffuse, as in Mitsuba (media boundaries say `null`).
     assert!(!scene.materials[scene.shapes[0].material].has_null_transmission());
 
-    let bad = |body: &str, quotes: &[&str]| {
-        let text = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
-        let e = load_scene_str(&text, data(), &[]).unwrap_err().to_string();
-        assert!(e.contains(":2:"), "{e}");
-        for q in quotes {
-            assert!(e.contains(q), "{e} lacks {q}");
-        }
-    };
+    let bad = refused;
     bad(
         "<medium type=\"homogeneous\"><phase type=\"hg\"><float name=\"g\" value=\"1\"/></phase></medium>",
         &["\"g\"", "1"],
@@ -573,13 +577,7 @@ fn blended_and_tabulated_phase_samples_follow_their_density() {
 #[test]
 fn tabulated_and_blended_phase_functions_are_refused_where_they_are_wrong() {
     let bad = |body: &str, quotes: &[&str]| {
-        let text =
-            format!("<scene version=\"3.0.0\">\n<medium type=\"homogeneous\">{body}</medium>\n</scene>");
-        let e = load_scene_str(&text, data(), &[]).unwrap_err().to_string();
-        assert!(e.contains(":2:"), "{e}");
-        for q in quotes {
-            assert!(e.contains(q), "{e} lacks {q}");
-        }
+        refused(&format!("<medium type=\"homogeneous\">{body}</medium>"), quotes)
     };
     bad(r#"<phase type="tabphase"/>"#, &["tabphase", "values"]);
     bad(
@@ -673,13 +671,7 @@ fn a_constant_volume_is_the_constant_it_holds() {
         assert_eq!(l.albedo(Vec3::ZERO, &wl), s.albedo(Vec3::ZERO, &wl));
     }
     let bad = |body: &str, quotes: &[&str]| {
-        let text =
-            format!("<scene version=\"3.0.0\">\n<medium type=\"homogeneous\">{body}</medium>\n</scene>");
-        let e = load_scene_str(&text, data(), &[]).unwrap_err().to_string();
-        assert!(e.contains(":2:"), "{e}");
-        for q in quotes {
-            assert!(e.contains(q), "{e} lacks {q}");
-        }
+        refused(&format!("<medium type=\"homogeneous\">{body}</medium>"), quotes)
     };
     bad(
         r#"<volume name="albedo" type="constvolume"><rgb name="value" value="0.5, 1.5, 0.5"/></volume>"#,

@@ -576,8 +576,9 @@ fn a_volume_texture_is_its_grid_at_the_hit_and_bad_grids_are_refused() {
     let m = &s.materials[s.shapes[0].material];
     // The grid spans [−2, 2]³; sample centres at x = −1 (0.2) and x = 1 (0.6); half-way between
     // them (x = 0) the trilinear value is 0.4; beyond the centres it is clamped.
+    // The diffuse reflectance at (x, 0.3, 0): π·f at normal incidence and exitance.
     let wl = SampledWavelengths::sample_visible(0.5);
-    for (x, want) in [(0.0f32, 0.4f32), (-0.5, 0.3), (1.5, 0.6), (-1.8, 0.2)] {
+    let reflectance_at = |m: &gonio_render::material::Material, x: f32| {
         let at = ShadingPoint {
             p: Vec3::new(x, 0.3, 0.0),
             ..ShadingPoint::flat(Vec2::ZERO)
@@ -585,7 +586,10 @@ fn a_volume_texture_is_its_grid_at_the_hit_and_bad_grids_are_refused() {
         let f = m
             .bsdf_at_point(&at, &wl)
             .eval(&BsdfContext::radiance(), Vec3::Z, Vec3::Z, &wl);
-        let got = f[0] * std::f32::consts::PI;
+        f[0] * std::f32::consts::PI
+    };
+    for (x, want) in [(0.0f32, 0.4f32), (-0.5, 0.3), (1.5, 0.6), (-1.8, 0.2)] {
+        let got = reflectance_at(m, x);
         assert!((got - want).abs() < 1e-5, "x = {x}: {got} vs {want}");
     }
     // Two channels: refused, naming the file, line and value.
@@ -607,18 +611,8 @@ fn a_volume_texture_is_its_grid_at_the_hit_and_bad_grids_are_refused() {
     .expect("constvolume loads");
     let m = &s.materials[s.shapes[0].material];
     for x in [-3.0f32, 0.0, 7.0] {
-        let at = ShadingPoint {
-            p: Vec3::new(x, 0.3, 0.0),
-            ..ShadingPoint::flat(Vec2::ZERO)
-        };
-        let f = m
-            .bsdf_at_point(&at, &wl)
-            .eval(&BsdfContext::radiance(), Vec3::Z, Vec3::Z, &wl);
-        assert!(
-            (f[0] * std::f32::consts::PI - 0.35).abs() < 1e-6,
-            "x = {x}: {}",
-            f[0]
-        );
+        let got = reflectance_at(m, x);
+        assert!((got - 0.35).abs() < 1e-6, "x = {x}: {got}");
     }
 }
 
