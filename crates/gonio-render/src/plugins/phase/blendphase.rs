@@ -23,7 +23,7 @@
 use crate::medium::Phase;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::texture::volume::{GridVolume, Volume};
-use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
+use crate::xml::{Builder, ErrorKind, Location, Params, SceneError, Tag, err};
 use glam::{Vec2, Vec3};
 use gonio_core::phase::PhaseSample;
 use std::sync::Arc;
@@ -156,21 +156,22 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Phase, SceneErro
         )? as f32),
     };
     let nested = p.objects(Tag::Phase)?;
-    if nested.len() != 2 {
+    let [first, second] = nested.as_slice() else {
         let loc = nested.get(2).map_or(&p.obj.loc, |(_, prop)| &prop.loc);
         return Err(err(
             loc,
             ErrorKind::Grammar,
             format!("{what} needs two nested phase functions, not {}", nested.len()),
         ));
-    }
-    let mut phases = Vec::with_capacity(2);
-    for (i, prop) in nested {
-        b.enter(i, &prop.loc)?;
+    };
+    // Guarded like every nested object reached through references (a cycle is an error, not a
+    // recursion without end).
+    let mut child = |i: usize, loc: &Location| {
+        b.enter(i, loc)?;
         let phase = b.build_plugin(crate::plugins::PHASE_PLUGINS, i);
         b.leave();
-        phases.push(phase?);
-    }
-    let phases: [Phase; 2] = phases.try_into().expect("two phases");
+        phase
+    };
+    let phases = [child(first.0, &first.1.loc)?, child(second.0, &second.1.loc)?];
     Ok(Phase::Blend(Box::new(BlendPhase { weight, phases })))
 }
