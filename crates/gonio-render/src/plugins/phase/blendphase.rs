@@ -99,19 +99,32 @@ impl BlendPhase {
     /// mixture's density.
     #[inline]
     pub fn sample(&self, p: Vec3, wi: Vec3, u: Vec2) -> PhaseSample {
+        // The weight is read once (a grid lookup), the chosen component's density comes with
+        // its sample, and only the other component is evaluated.
         let w = self.weight_at(p);
-        let s = if u.x < w {
-            self.phases[1].sample(p, wi, Vec2::new(u.x / w, u.y))
+        if u.x < w {
+            let s = self.phases[1].sample(p, wi, Vec2::new(u.x / w, u.y));
+            let p0 = if w < 1.0 {
+                self.phases[0].eval(p, wi, s.wo)
+            } else {
+                0.0
+            };
+            PhaseSample {
+                wo: s.wo,
+                pdf: (1.0 - w) * p0 + w * s.pdf,
+            }
         } else {
-            self.phases[0].sample(
-                p,
-                wi,
-                Vec2::new(((u.x - w) / (1.0 - w)).min(1.0 - f32::EPSILON / 2.0), u.y),
-            )
-        };
-        PhaseSample {
-            wo: s.wo,
-            pdf: self.eval(p, wi, s.wo),
+            let v = ((u.x - w) / (1.0 - w)).min(1.0 - f32::EPSILON / 2.0);
+            let s = self.phases[0].sample(p, wi, Vec2::new(v, u.y));
+            let p1 = if w > 0.0 {
+                self.phases[1].eval(p, wi, s.wo)
+            } else {
+                0.0
+            };
+            PhaseSample {
+                wo: s.wo,
+                pdf: (1.0 - w) * s.pdf + w * p1,
+            }
         }
     }
 }
