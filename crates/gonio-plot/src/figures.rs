@@ -593,9 +593,9 @@ mod tests {
         );
         assert!(svg.contains("R_p (∥)"), "legend");
         let png = f.to_png().unwrap();
-        let img = ::image::load_from_memory(&png).unwrap().to_rgb8();
-        assert_eq!((img.width(), img.height()), f.size());
-        let dark = img.pixels().filter(|p| p.0.iter().all(|&c| c < 100)).count();
+        let (w, h, rgb) = crate::decode_rgb_png(&png);
+        assert_eq!((w, h), f.size());
+        let dark = rgb.chunks_exact(3).filter(|p| p.iter().all(|&c| c < 100)).count();
         assert!(dark > 2000, "text and curves were drawn ({dark} dark pixels)");
     }
 
@@ -666,11 +666,12 @@ mod text_fits {
 
     /// Pixels of the figure's 2-pixel border that are not white.
     fn ink_on_border(f: &Figure) -> usize {
-        let img = ::image::load_from_memory(&f.to_png().unwrap()).unwrap().to_rgb8();
-        let (w, h) = img.dimensions();
-        img.enumerate_pixels()
-            .filter(|(x, y, p)| {
-                (*x < 2 || *y < 2 || *x + 2 >= w || *y + 2 >= h) && p.0.iter().any(|&c| c < 245)
+        let (w, h, rgb) = crate::decode_rgb_png(&f.to_png().unwrap());
+        rgb.chunks_exact(3)
+            .enumerate()
+            .filter(|(i, p)| {
+                let (x, y) = (*i as u32 % w, *i as u32 / w);
+                (x < 2 || y < 2 || x + 2 >= w || y + 2 >= h) && p.iter().any(|&c| c < 245)
             })
             .count()
     }

@@ -246,17 +246,11 @@ fn blit(buf: &mut [u8], w: u32, h: u32, r: &Raster) {
 }
 
 fn encode_png(rgb: &[u8], w: u32, h: u32) -> Result<Vec<u8>, PlotError> {
-    use ::image::ImageEncoder;
-    let mut out = Vec::new();
-    ::image::codecs::png::PngEncoder::new(&mut out)
-        .write_image(rgb, w, h, ::image::ExtendedColorType::Rgb8)
-        .map_err(draw_err)?;
-    Ok(out)
+    png_bytes(rgb, w, h, png::ColorType::Rgb)
 }
 
 /// A raster as an RGBA PNG (transparent where `None`).
 fn raster_png(r: &Raster) -> Result<(Vec<u8>, u32, u32), PlotError> {
-    use ::image::ImageEncoder;
     let mut rgba = Vec::with_capacity(r.rgb.len() * 4);
     for p in &r.rgb {
         match p {
@@ -264,11 +258,38 @@ fn raster_png(r: &Raster) -> Result<(Vec<u8>, u32, u32), PlotError> {
             None => rgba.extend([0, 0, 0, 0]),
         }
     }
+    Ok((
+        png_bytes(&rgba, r.width, r.height, png::ColorType::Rgba)?,
+        r.width,
+        r.height,
+    ))
+}
+
+/// 8-bit samples of `color` as PNG bytes.
+fn png_bytes(samples: &[u8], w: u32, h: u32, color: png::ColorType) -> Result<Vec<u8>, PlotError> {
     let mut out = Vec::new();
-    ::image::codecs::png::PngEncoder::new(&mut out)
-        .write_image(&rgba, r.width, r.height, ::image::ExtendedColorType::Rgba8)
-        .map_err(draw_err)?;
-    Ok((out, r.width, r.height))
+    let mut encoder = png::Encoder::new(&mut out, w, h);
+    encoder.set_color(color);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(draw_err)?;
+    writer.write_image_data(samples).map_err(draw_err)?;
+    writer.finish().map_err(draw_err)?;
+    Ok(out)
+}
+
+/// Decodes an 8-bit RGB PNG of ours (the tests read figures back): (width, height, samples).
+#[cfg(test)]
+fn decode_rgb_png(png_bytes: &[u8]) -> (u32, u32, Vec<u8>) {
+    let decoder = png::Decoder::new(std::io::Cursor::new(png_bytes));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(
+        (info.color_type, info.bit_depth),
+        (png::ColorType::Rgb, png::BitDepth::Eight)
+    );
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
 }
 
 /// Standard base64 (RFC 4648 §4, padded), for PNGs embedded in SVG `data:` URIs.

@@ -154,14 +154,10 @@ pub(crate) fn encode_exr(
 fn encode_rgbe(image: &ChannelImage) -> Result<Vec<u8>, String> {
     let idx = planes(image, &["R", "G", "B"])?;
     let n = image.names.len();
-    let pixels: Vec<::image::Rgb<f32>> = (0..image.width * image.height)
-        .map(|i| ::image::Rgb([0, 1, 2].map(|c| image.data[i * n + idx[c]].max(0.0))))
+    let pixels: Vec<[f32; 3]> = (0..image.width * image.height)
+        .map(|i| [0, 1, 2].map(|c| image.data[i * n + idx[c]]))
         .collect();
-    let mut out = Vec::new();
-    ::image::codecs::hdr::HdrEncoder::new(&mut out)
-        .encode(&pixels, image.width, image.height)
-        .map_err(|e| e.to_string())?;
-    Ok(out)
+    Ok(crate::image::rgbe::encode(image.width, image.height, &pixels))
 }
 
 fn encode_pfm(image: &ChannelImage) -> Result<Vec<u8>, String> {

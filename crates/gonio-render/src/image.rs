@@ -1,5 +1,6 @@
-//! Linear-RGB images and image files: reading EXR (`exr`), PNG/JPEG (`image`, sRGB-decoded) and
-//! Radiance HDR (`image`), writing float EXR and 8-bit sRGB PNG, always atomically.
+//! Linear-RGB images and image files: reading EXR (`exr`), PNG (`png`), JPEG (`zune-jpeg`), BMP
+//! (`zune-bmp`), the integer ones sRGB-decoded, and Radiance HDR ([`rgbe`]); writing float EXR
+//! and 8-bit sRGB PNG, always atomically.
 //!
 //! Formats are recognized by their magic bytes, not by the file name, so a mislabelled file still
 //! reads and a file that is none of them gives a clear [`ImageError`] naming it.
@@ -7,6 +8,9 @@
 //! Every write goes through [`crate::output::write_atomically`] (a temporary file in the
 //! destination's folder, then renamed over the destination): a reader never sees a half-written
 //! image, and a crash leaves the old file in place.
+
+pub mod codecs;
+pub mod rgbe;
 
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
@@ -135,46 +139,29 @@ impl RgbImage {
         if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
             return decode_exr(bytes, path);
         }
-        let (format, name) = if bytes.starts_with(b"\x89PNG") {
-            (::image::ImageFormat::Png, "PNG")
+        type Decoder = fn(&[u8]) -> Result<(usize, usize, Vec<[f32; 3]>), String>;
+        let (decoder, name, integer): (Decoder, _, _) = if bytes.starts_with(b"\x89PNG") {
+            (codecs::decode_png, "PNG", true)
         } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
-            (::image::ImageFormat::Jpeg, "JPEG")
+            (codecs::decode_jpeg, "JPEG", true)
         } else if bytes.starts_with(b"#?") {
-            (::image::ImageFormat::Hdr, "Radiance HDR")
+            // "#?" and the writing program's name: "#?RADIANCE", "#?RGBE" (Mitsuba, pbrt, stb).
+            (rgbe::decode, "Radiance HDR", false)
         } else if bytes.starts_with(b"BM") {
-            (::image::ImageFormat::Bmp, "BMP")
+            (codecs::decode_bmp, "BMP", true)
         } else {
             return Err(ImageError::UnknownFormat {
                 path: path.to_owned(),
             });
         };
-        // The Radiance format's magic is "#?" followed by the writing program's name; `image`
-        // accepts only "#?RADIANCE", but "#?RGBE" (Mitsuba's, pbrt's, stb's writers) is as common.
-        let renamed;
-        let bytes = match bytes.strip_prefix(b"#?RGBE\n") {
-            Some(rest) if format == ::image::ImageFormat::Hdr => {
-                renamed = [b"#?RADIANCE\n".as_slice(), rest].concat();
-                renamed.as_slice()
-            }
-            _ => bytes,
-        };
-        let decoded =
-            ::image::load_from_memory_with_format(bytes, format).map_err(|e| ImageError::Decode {
-                path: path.to_owned(),
-                format: name,
-                message: e.to_string(),
-            })?;
-        let width = decoded.width() as usize;
-        let height = decoded.height() as usize;
-        let rgb = decoded.to_rgb32f();
-        let decode_srgb = encoding == Encoding::Srgb && format != ::image::ImageFormat::Hdr;
-        let data = rgb
-            .pixels()
-            .map(|p| {
-                let c = [p.0[0], p.0[1], p.0[2]];
-                if decode_srgb { c.map(srgb_to_linear) } else { c }
-            })
-            .collect();
+        let (width, height, mut data) = decoder(bytes).map_err(|message| ImageError::Decode {
+            path: path.to_owned(),
+            format: name,
+            message,
+        })?;
+        if integer && encoding == Encoding::Srgb {
+            data.iter_mut().for_each(|c| *c = c.map(srgb_to_linear));
+        }
         Ok(Self { width, height, data })
     }
 
@@ -243,16 +230,7 @@ impl RgbImage {
     }
 
     fn encode_png(&self) -> Result<Vec<u8>, String> {
-        use ::image::ImageEncoder;
-        let mut out = Vec::new();
-        let (w, h) = (
-            u32::try_from(self.width).map_err(|e| e.to_string())?,
-            u32::try_from(self.height).map_err(|e| e.to_string())?,
-        );
-        ::image::codecs::png::PngEncoder::new(&mut out)
-            .write_image(&self.to_srgb8(), w, h, ::image::ExtendedColorType::Rgb8)
-            .map_err(|e| e.to_string())?;
-        Ok(out)
+        codecs::encode_png_rgb8(&self.to_srgb8(), self.width, self.height)
     }
 }
 
@@ -448,27 +426,12 @@ pub fn write_png_rgb8(
     height: usize,
     rgb8: &[u8],
 ) -> Result<(), ImageError> {
-    use ::image::ImageEncoder;
     let path = path.as_ref();
-    let encode_err = |message: String| ImageError::Encode {
+    let bytes = codecs::encode_png_rgb8(rgb8, width, height).map_err(|message| ImageError::Encode {
         path: path.to_owned(),
         message,
-    };
-    if rgb8.len() != width * height * 3 {
-        return Err(encode_err(format!(
-            "{} bytes for {width} × {height} RGB pixels",
-            rgb8.len()
-        )));
-    }
-    let (w, h) = (
-        u32::try_from(width).map_err(|e| encode_err(e.to_string()))?,
-        u32::try_from(height).map_err(|e| encode_err(e.to_string()))?,
-    );
-    let mut out = Vec::new();
-    ::image::codecs::png::PngEncoder::new(&mut out)
-        .write_image(rgb8, w, h, ::image::ExtendedColorType::Rgb8)
-        .map_err(|e| encode_err(e.to_string()))?;
-    write_atomically(path, &out)
+    })?;
+    write_atomically(path, &bytes)
 }
 
 /// Writes `bytes` through the one atomic writer ([`crate::output::write_atomically`]).

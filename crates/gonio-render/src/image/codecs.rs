@@ -1,0 +1,138 @@
+//! The integer image formats through their crates: PNG (`png`), JPEG (`zune-jpeg`), BMP
+//! (`zune-bmp`), each decoded to RGB in [0, 1] (stored value over the largest integer, grey
+//! replicated, alpha dropped: Mitsuba's reading of an RGB texture), and PNG written.
+//!
+//! The sRGB curve is the caller's ([`super::Encoding`]). Every decoder refuses an image above
+//! [`MAX_PIXELS`] before allocating for it.
+
+use super::rgbe::MAX_PIXELS;
+use std::io::Cursor;
+use zune_core::bytestream::ZCursor;
+use zune_core::colorspace::ColorSpace;
+use zune_core::options::DecoderOptions;
+
+/// An image as (width, height, linear-or-encoded RGB pixels, rows top to bottom).
+pub type Decoded = (usize, usize, Vec<[f32; 3]>);
+
+/// Decodes a PNG of any colour type and depth (palettes and depths below 8 bits expanded,
+/// 16-bit samples over 65535).
+pub fn decode_png(bytes: &[u8]) -> Result<Decoded, String> {
+    let limits = png::Limits { bytes: 1 << 31 };
+    let mut decoder = png::Decoder::new_with_limits(Cursor::new(bytes), limits);
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().map_err(|e| e.to_string())?;
+    let (width, height) = {
+        let info = reader.info();
+        (info.width as usize, info.height as usize)
+    };
+    check_size(width, height)?;
+    let size = reader.output_buffer_size().ok_or("the image is too large")?;
+    let mut buf = vec![0u8; size];
+    let frame = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    let channels = frame.color_type.samples();
+    let line = frame.line_size;
+    let sample: fn(&[u8], usize) -> f32 = match frame.bit_depth {
+        png::BitDepth::Eight => |b, i| f32::from(b[i]) / 255.0,
+        png::BitDepth::Sixteen => |b, i| f32::from(u16::from_be_bytes([b[2 * i], b[2 * i + 1]])) / 65535.0,
+        depth => return Err(format!("bit depth {depth:?} after expansion")),
+    };
+    let mut out = Vec::with_capacity(width * height);
+    for row in buf.chunks_exact(line).take(height) {
+        out.extend((0..width).map(|x| pixel(channels, |c| sample(row, x * channels + c))));
+    }
+    Ok((width, height, out))
+}
+
+/// Decodes a baseline or progressive JPEG (grey, YCbCr or CMYK) to 8-bit RGB.
+pub fn decode_jpeg(bytes: &[u8]) -> Result<Decoded, String> {
+    let options = options().jpeg_set_out_colorspace(ColorSpace::RGB);
+    let mut decoder = zune_jpeg::JpegDecoder::new_with_options(ZCursor::new(bytes), options);
+    decoder.decode_headers().map_err(|e| e.to_string())?;
+    let (width, height) = decoder.dimensions().ok_or("no image size in the headers")?;
+    check_size(width, height)?;
+    let channels = decoder
+        .output_colorspace()
+        .ok_or("no colour space in the headers")?
+        .num_components();
+    let buf = decoder.decode().map_err(|e| e.to_string())?;
+    Ok((width, height, bytes_to_rgb(&buf, width * height, channels)?))
+}
+
+/// Decodes a BMP (1 to 32 bits per pixel, palettes, run-length and bit-field forms).
+pub fn decode_bmp(bytes: &[u8]) -> Result<Decoded, String> {
+    // zune-bmp's errors have only a `Debug` form (its message, with a newline).
+    let bmp_err = |e: zune_bmp::BmpDecoderErrors| format!("{e:?}").trim_end().to_string();
+    let mut decoder = zune_bmp::BmpDecoder::new_with_options(ZCursor::new(bytes), options());
+    decoder.decode_headers().map_err(bmp_err)?;
+    let (width, height) = decoder.dimensions().ok_or("no image size in the headers")?;
+    check_size(width, height)?;
+    let channels = decoder
+        .colorspace()
+        .ok_or("no colour space in the headers")?
+        .num_components();
+    let buf = decoder.decode().map_err(bmp_err)?;
+    Ok((width, height, bytes_to_rgb(&buf, width * height, channels)?))
+}
+
+/// Encodes 8-bit RGB (row-major) as a PNG.
+pub fn encode_png_rgb8(rgb8: &[u8], width: usize, height: usize) -> Result<Vec<u8>, String> {
+    if rgb8.len() != width * height * 3 {
+        return Err(format!("{} bytes for {width} × {height} RGB pixels", rgb8.len()));
+    }
+    let w = u32::try_from(width).map_err(|e| e.to_string())?;
+    let h = u32::try_from(height).map_err(|e| e.to_string())?;
+    let mut out = Vec::new();
+    let mut encoder = png::Encoder::new(&mut out, w, h);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    let mut writer = encoder.write_header().map_err(|e| e.to_string())?;
+    writer.write_image_data(rgb8).map_err(|e| e.to_string())?;
+    writer.finish().map_err(|e| e.to_string())?;
+    Ok(out)
+}
+
+/// The zune decoders' options: sizes up to 65536 (their default stops at 16384; the pixel
+/// count is checked separately), lenient about the small format deviations real files have.
+fn options() -> DecoderOptions {
+    DecoderOptions::default()
+        .set_strict_mode(false)
+        .set_max_width(1 << 16)
+        .set_max_height(1 << 16)
+}
+
+fn check_size(width: usize, height: usize) -> Result<(), String> {
+    if width == 0 || height == 0 {
+        return Err(format!("an empty image ({width} × {height})"));
+    }
+    if width.saturating_mul(height) > MAX_PIXELS {
+        return Err(format!(
+            "{width} × {height} pixels (at most {MAX_PIXELS} are read)"
+        ));
+    }
+    Ok(())
+}
+
+/// 8-bit samples of `channels` per pixel (grey, grey + alpha, RGB, RGBA) as RGB in [0, 1].
+fn bytes_to_rgb(buf: &[u8], pixels: usize, channels: usize) -> Result<Vec<[f32; 3]>, String> {
+    if !(1..=4).contains(&channels) || buf.len() < pixels * channels {
+        return Err(format!(
+            "{} bytes for {pixels} pixels of {channels} channels",
+            buf.len()
+        ));
+    }
+    Ok(buf
+        .chunks_exact(channels)
+        .take(pixels)
+        .map(|p| pixel(channels, |c| f32::from(p[c]) / 255.0))
+        .collect())
+}
+
+/// One pixel of `channels` samples as RGB: grey (1 or 2 channels) replicated, alpha dropped.
+#[inline]
+fn pixel(channels: usize, sample: impl Fn(usize) -> f32) -> [f32; 3] {
+    if channels < 3 {
+        [sample(0); 3]
+    } else {
+        [sample(0), sample(1), sample(2)]
+    }
+}
