@@ -201,6 +201,7 @@ fn sampled_normals_follow_the_pdf() {
     // (< 0.35 %); at 2·10⁵ samples that difference stays far inside the noise.
     let cfg = Chi2Config {
         samples: 200_000,
+        stratified_samples: 200_000,
         ..Chi2Config::default()
     };
     let mut rows = Vec::new();

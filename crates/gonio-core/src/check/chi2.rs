@@ -279,7 +279,7 @@ pub fn histogram(
             cfg.samples
         }
         SamplerKind::Stratified => {
-            let side = (cfg.samples as f64).sqrt().floor().max(1.0) as u32;
+            let side = (cfg.stratified_samples as f64).sqrt().floor().max(1.0) as u32;
             let n = side * side;
             let perm = permutation(n, rng);
             let grid = Stratified2D::new(side, side, Pcg32::new(rng.next_u32() as u64, 1));
@@ -595,6 +595,7 @@ mod tests {
         let d = crate::bsdfs::Diffuse::default();
         let cfg = Chi2Config {
             samples: 100_000,
+            stratified_samples: 100_000,
             ..Chi2Config::default()
         };
         let ctx = BsdfContext::radiance();

@@ -180,8 +180,13 @@ impl fmt::Display for SamplerKind {
 /// Settings of the χ² test (defaults: Mitsuba 3's recipe, `src/python/python/chi2.py`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Chi2Config {
-    /// Number of `sample` calls per configuration (10⁶).
+    /// Number of `sample` calls per configuration with the independent sampler (10⁶).
     pub samples: usize,
+    /// Number of `sample` calls per configuration with the stratified sampler (10⁶; rounded
+    /// down to a square). Its histograms test the same distribution from jittered inputs (a
+    /// warp that reuses or rescales its random numbers badly shows there); the test suite sizes
+    /// them at a quarter of `samples`. The Kronecker sampler takes `samples`.
+    pub stratified_samples: usize,
     /// cos θ bins; φ gets `res / 2` (101 → 50 × 101 cells; odd keeps a bin edge off the horizon).
     pub res: usize,
     /// Quadrature nodes per cell and axis for the expected counts (odd, composite Simpson; 5).
@@ -205,6 +210,7 @@ impl Default for Chi2Config {
     fn default() -> Self {
         Self {
             samples: 1_000_000,
+            stratified_samples: 1_000_000,
             res: 101,
             ires: 5,
             max_depth: 3,
@@ -285,6 +291,7 @@ impl CheckConfig {
     pub fn quick() -> Self {
         let mut c = Self::default();
         c.chi2.samples = 100_000;
+        c.chi2.stratified_samples = 100_000;
         c.chi2.samplers = vec![SamplerKind::Independent];
         c.consistency_samples /= 10;
         c.pdf_integral_samples /= 10;

@@ -14,11 +14,22 @@ use std::time::Instant;
 /// (`roughdielectric_default`); pplastic: 2 `assert_passes` and 1 anisotropic; hair: 3.
 pub const RUNS: usize = 80;
 
+/// The battery's defaults with the family-wise α split over [`RUNS`], and the stratified
+/// sampler's χ² histograms at a quarter of the independent sampler's 10⁶ samples (Mitsuba's
+/// recipe uses the independent one alone; the stratified and Kronecker rows are our extra ones,
+/// each a third of a battery's χ² work; sized for CI's time budget).
+///
+/// Not the Kronecker rows: at 2.5·10⁵ points the R₃ sequence fails the hair fibre's χ² at every
+/// incidence (p down to 10⁻¹³⁷) where 10⁶ points, the independent and the stratified samplers
+/// pass. A lattice-like sequence equidistributes boxes, not the curved preimages of the cells
+/// under a three-dimensional warp, so its counts need not be multinomial; left as found.
 pub fn config() -> CheckConfig {
-    CheckConfig {
+    let mut config = CheckConfig {
         alpha: sidak(0.01, RUNS),
         ..CheckConfig::default()
-    }
+    };
+    config.chi2.stratified_samples = config.chi2.samples / 4;
+    config
 }
 
 pub fn piecewise(pairs: &[f32]) -> Spectrum {
