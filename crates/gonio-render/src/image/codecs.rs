@@ -136,3 +136,91 @@ fn pixel(channels: usize, sample: impl Fn(usize) -> f32) -> [f32; 3] {
         [sample(0), sample(1), sample(2)]
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A PNG of `color` and `depth` holding `data`, through the `png` encoder.
+    fn png_of(
+        w: u32,
+        h: u32,
+        color: png::ColorType,
+        depth: png::BitDepth,
+        data: &[u8],
+        palette: Option<&[u8]>,
+    ) -> Vec<u8> {
+        let mut out = Vec::new();
+        let mut e = png::Encoder::new(&mut out, w, h);
+        e.set_color(color);
+        e.set_depth(depth);
+        if let Some(p) = palette {
+            e.set_palette(p.to_vec());
+        }
+        let mut w = e.write_header().unwrap();
+        w.write_image_data(data).unwrap();
+        w.finish().unwrap();
+        out
+    }
+
+    #[test]
+    fn png_colour_types_and_depths_decode_to_rgb() {
+        use png::{BitDepth, ColorType};
+        // 16-bit grey: big-endian samples over 65535, replicated.
+        let (w, h, px) = decode_png(&png_of(
+            2,
+            1,
+            ColorType::Grayscale,
+            BitDepth::Sixteen,
+            &[0xff, 0xff, 0x80, 0x00],
+            None,
+        ))
+        .unwrap();
+        assert_eq!((w, h), (2, 1));
+        assert_eq!(px, vec![[1.0; 3], [32768.0 / 65535.0; 3]]);
+        // Grey + alpha: the alpha is dropped.
+        let (_, _, px) = decode_png(&png_of(
+            1,
+            1,
+            ColorType::GrayscaleAlpha,
+            BitDepth::Eight,
+            &[51, 0],
+            None,
+        ))
+        .unwrap();
+        assert_eq!(px, vec![[0.2; 3]]);
+        // A 2-bit palette, expanded.
+        let palette = [255, 0, 0, 0, 255, 0, 0, 0, 255, 10, 20, 30];
+        let (_, _, px) = decode_png(&png_of(
+            4,
+            1,
+            ColorType::Indexed,
+            BitDepth::Two,
+            &[0b00_01_10_11],
+            Some(&palette),
+        ))
+        .unwrap();
+        assert_eq!(
+            px,
+            vec![
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [10.0 / 255.0, 20.0 / 255.0, 30.0 / 255.0]
+            ]
+        );
+        // 16-bit RGBA.
+        let rgba = [0, 0, 0xff, 0xff, 0x40, 0x00, 0x12, 0x34];
+        let (_, _, px) = decode_png(&png_of(1, 1, ColorType::Rgba, BitDepth::Sixteen, &rgba, None)).unwrap();
+        assert_eq!(px, vec![[0.0, 1.0, 16384.0 / 65535.0]]);
+    }
+
+    #[test]
+    fn broken_or_empty_integer_images_are_refused() {
+        assert!(decode_png(b"\x89PNG\r\n\x1a\nrest").is_err());
+        assert!(decode_jpeg(&[0xff, 0xd8, 0xff, 0xe0, 0, 2]).is_err());
+        assert!(decode_bmp(b"BM\0\0").is_err());
+        assert!(check_size(0, 5).unwrap_err().contains("empty"));
+        assert!(check_size(1 << 15, 1 << 15).unwrap_err().contains("at most"));
+    }
+}
