@@ -5,6 +5,34 @@
 //! and the checks every model must pass (χ², reciprocity, energy).
 //!
 //! Invariants: no file or scene I/O in this crate; `eval`, `pdf` and `sample` never allocate.
+//!
+//! A model is a [`Bsdf`]: evaluate it, sample it, check it.
+//!
+//! ```
+//! use glam::{Vec2, Vec3};
+//! use gonio_core::bsdfs::{Diffuse, Dielectric};
+//! use gonio_core::check::{CheckConfig, all_passed, battery};
+//! use gonio_core::fresnel::fresnel_dielectric;
+//! use gonio_core::{Bsdf, BsdfContext, SampledWavelengths, Spectrum};
+//!
+//! // Lambert: f = ρ/π for directions on the same side.
+//! let lambert = Diffuse::new(Spectrum::Constant(0.5));
+//! let ctx = BsdfContext::radiance();
+//! let wl = SampledWavelengths::fixed(550.0);
+//! let (wi, wo) = (Vec3::new(0.0, 0.6, 0.8), Vec3::Z);
+//! let f = lambert.eval(&ctx, wi, wo, &wl);
+//! assert!((f.average() - 0.5 / std::f32::consts::PI).abs() < 1e-6);
+//!
+//! // Glass at normal incidence reflects ((η − 1)/(η + 1))² = 4 %.
+//! assert!((fresnel_dielectric(1.0, 1.5).reflectance - 0.04).abs() < 1e-6);
+//! let glass = Dielectric::default();
+//! let mut wl2 = wl;
+//! let s = glass.sample(&ctx, Vec3::Z, 0.5, Vec2::new(0.5, 0.5), &mut wl2).unwrap();
+//! assert!(s.flags.is_delta());
+//!
+//! // The property battery behind `gonio check` (χ², reciprocity, energy, ...).
+//! assert!(all_passed(&battery(&lambert, &CheckConfig::quick())));
+//! ```
 #![warn(missing_docs)]
 
 pub mod albedo;

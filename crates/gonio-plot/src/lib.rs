@@ -12,6 +12,16 @@
 //!   (`.png` or `.svg`, or both for any other name) and returns each file's name and bytes.
 //! * Raster content (the hemisphere images) is composited under the vector drawing: copied into
 //!   the bitmap for PNG, embedded as a base64 PNG `<image>` for SVG.
+//!
+//! ```
+//! use gonio_plot::figures::fresnel_dielectric_figure;
+//!
+//! // R_s, R_p and R of glass against the angle of incidence, with Brewster's angle marked.
+//! let figure = fresnel_dielectric_figure(1.5, "glass");
+//! let png = figure.to_png().unwrap();
+//! assert!(png.starts_with(b"\x89PNG"));
+//! assert!(figure.to_svg().unwrap().contains("<svg"));
+//! ```
 
 #![warn(missing_docs)]
 
