@@ -1,13 +1,14 @@
 //! `gonio compare` end to end: output, exit codes 0/1/2, the difference image.
 
 use gonio_render::image::RgbImage;
-use std::path::PathBuf;
 use std::process::Command;
 
-fn dir() -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gonio-compare-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh temporary folder, removed when the handle drops.
+fn dir() -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix("gonio-compare-cli-")
+        .tempdir()
+        .unwrap()
 }
 
 fn run(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
@@ -26,6 +27,7 @@ fn run(args: &[&std::ffi::OsStr]) -> (i32, String, String) {
 #[test]
 fn exit_codes_and_report() {
     let d = dir();
+    let d = d.path();
     let reference = RgbImage::from_fn(16, 16, |x, y| [0.5 + 0.01 * x as f32, 0.25, 0.1 * y as f32]);
     let mut close = reference.clone();
     close.set(3, 3, [0.52, 0.25, 0.3]);
@@ -85,6 +87,7 @@ fn exit_codes_and_report() {
 #[test]
 fn bad_input_exits_2_naming_the_file() {
     let d = dir();
+    let d = d.path();
     let good = d.join("good.exr");
     RgbImage::new(4, 4).write_exr(&good).unwrap();
     let junk = d.join("junk.exr");

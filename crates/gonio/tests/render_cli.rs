@@ -13,11 +13,12 @@ fn scene(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(format!("../../testdata/mitsuba/scenes/{name}.xml"))
 }
 
-fn tempdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("gonio-render-cli-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+/// A fresh temporary folder, removed when the handle drops (hold it for the test's length).
+fn tempdir(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("gonio-render-cli-{tag}-"))
+        .tempdir()
+        .unwrap()
 }
 
 fn run(args: &[&str], cwd: &Path) -> Output {
@@ -27,6 +28,7 @@ fn run(args: &[&str], cwd: &Path) -> Output {
 #[test]
 fn renders_exr_and_png_and_is_deterministic_across_threads() {
     let dir = tempdir("basic");
+    let dir = dir.path();
     let s = scene("cornell-spheres");
     let s = s.to_str().unwrap();
     let common = [
@@ -41,9 +43,9 @@ fn renders_exr_and_png_and_is_deterministic_across_threads() {
         "--seed",
         "5",
     ];
-    let a = run(&[&common[..], &["-o", "a.exr", "--threads", "1"]].concat(), &dir);
+    let a = run(&[&common[..], &["-o", "a.exr", "--threads", "1"]].concat(), dir);
     assert!(a.status.success(), "{}", String::from_utf8_lossy(&a.stderr));
-    let b = run(&[&common[..], &["-o", "b.exr", "--threads", "2"]].concat(), &dir);
+    let b = run(&[&common[..], &["-o", "b.exr", "--threads", "2"]].concat(), dir);
     assert!(b.status.success());
     let (ia, ib) = (
         RgbImage::read(dir.join("a.exr")).unwrap(),
@@ -60,28 +62,28 @@ fn renders_exr_and_png_and_is_deterministic_across_threads() {
     // Mitsuba's independent sampler gives another (noisier) image of the same scene.
     let ind = run(
         &[&common[..], &["-o", "d.exr", "--sampler", "independent"]].concat(),
-        &dir,
+        dir,
     );
     assert!(ind.status.success());
     assert!(RgbImage::read(dir.join("d.exr")).unwrap().data != ia.data);
     std::fs::remove_file(dir.join("d.exr")).unwrap();
 
-    let p = run(&[&common[..], &["-o", "c.png"]].concat(), &dir);
+    let p = run(&[&common[..], &["-o", "c.png"]].concat(), dir);
     assert!(p.status.success());
     let bytes = std::fs::read(dir.join("c.png")).unwrap();
     assert_eq!(&bytes[1..4], b"PNG");
     // No temporary files are left behind.
-    let names: Vec<String> = std::fs::read_dir(&dir)
+    let names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
     assert_eq!(names.len(), 3, "{names:?}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn no_scene_renders_the_default_gallery_to_png_and_exr() {
     let dir = tempdir("default");
+    let dir = dir.path();
     let out = run(
         &[
             "render",
@@ -93,7 +95,7 @@ fn no_scene_renders_the_default_gallery_to_png_and_exr() {
             "spp=2",
             "--quiet",
         ],
-        &dir,
+        dir,
     );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(
@@ -104,53 +106,53 @@ fn no_scene_renders_the_default_gallery_to_png_and_exr() {
     let exr = RgbImage::read(dir.join("gonio.exr")).unwrap();
     let png = RgbImage::read(dir.join("gonio.png")).unwrap();
     assert_eq!((exr.width, exr.height, png.width, png.height), (32, 16, 32, 16));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn bad_input_is_a_clear_error() {
     let dir = tempdir("errors");
-    let missing = run(&["render", "no-such-scene.xml", "-o", "x.exr"], &dir);
+    let dir = dir.path();
+    let missing = run(&["render", "no-such-scene.xml", "-o", "x.exr"], dir);
     assert_eq!(missing.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&missing.stderr).contains("no-such-scene.xml"));
 
     let s = scene("furnace");
     let s = s.to_str().unwrap();
-    let bad_define = run(&["render", s, "-D", "width"], &dir);
+    let bad_define = run(&["render", s, "-D", "width"], dir);
     assert_eq!(bad_define.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad_define.stderr).contains("NAME=VALUE"));
 
-    let bad_ext = run(&["render", s, "-o", "x.tiff", "--spp", "1"], &dir);
+    let bad_ext = run(&["render", s, "-o", "x.tiff", "--spp", "1"], dir);
     assert_eq!(bad_ext.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad_ext.stderr).contains("x.tiff"));
 
-    let bad_sampler = run(&["render", s, "--sampler", "halton", "--spp", "1"], &dir);
+    let bad_sampler = run(&["render", s, "--sampler", "halton", "--spp", "1"], dir);
     assert_eq!(
         bad_sampler.status.code(),
         Some(2),
         "clap rejects an unknown sampler"
     );
 
-    let zero = run(&["render", s, "--spp", "0"], &dir);
+    let zero = run(&["render", s, "--spp", "0"], dir);
     assert_eq!(zero.status.code(), Some(2));
 
-    let unused = run(&["render", s, "-D", "nonsense=3", "--spp", "1"], &dir);
+    let unused = run(&["render", s, "-D", "nonsense=3", "--spp", "1"], dir);
     assert_eq!(
         unused.status.code(),
         Some(2),
         "an unused -D is an error, as in Mitsuba"
     );
     assert_eq!(
-        std::fs::read_dir(&dir).unwrap().count(),
+        std::fs::read_dir(dir).unwrap().count(),
         0,
         "nothing written on error"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn ctrl_c_still_writes_the_image() {
     let dir = tempdir("sigint");
+    let dir = dir.path();
     let s = scene("cornell-spheres");
     let child = gonio()
         .args([
@@ -165,7 +167,7 @@ fn ctrl_c_still_writes_the_image() {
             "-o",
             "i.exr",
         ])
-        .current_dir(&dir)
+        .current_dir(dir)
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
@@ -186,7 +188,6 @@ fn ctrl_c_still_writes_the_image() {
     let img = RgbImage::read(dir.join("i.exr")).expect("the partial image is written");
     assert_eq!((img.width, img.height), (64, 64));
     assert!(img.data.iter().any(|c| c[0] > 0.0));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -194,6 +195,7 @@ fn loader_warnings_reach_the_user() {
     // A scene without an integrator renders with Mitsuba's defaults, and says so on stderr with
     // the file and position of the scene element.
     let dir = tempdir("warnings");
+    let dir = dir.path();
     std::fs::write(
         dir.join("nointeg.xml"),
         r#"<scene version="3.0.0">
@@ -203,7 +205,7 @@ fn loader_warnings_reach_the_user() {
 </scene>"#,
     )
     .unwrap();
-    let out = run(&["render", "nointeg.xml", "-o", "ni.exr"], &dir);
+    let out = run(&["render", "nointeg.xml", "-o", "ni.exr"], dir);
     assert!(out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
@@ -247,6 +249,7 @@ fn output_goes_next_to_the_scene_in_the_films_format_as_in_mitsuba() {
     // No -o: `<scene folder>/<scene name>.<file_format's extension>`, whatever the working
     // directory; several scenes in one call; Mitsuba's -t and --define spellings.
     let dir = tempdir("beside");
+    let dir = dir.path();
     let scenes = dir.join("scenes");
     std::fs::create_dir_all(&scenes).unwrap();
     let a = film_scene(&scenes, "a.xml", "");
@@ -264,12 +267,12 @@ fn output_goes_next_to_the_scene_in_the_films_format_as_in_mitsuba() {
             "spp=2",
             "-q",
         ],
-        &dir,
+        dir,
     );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(scenes.join("a.exr").exists() && scenes.join("b.pfm").exists() && scenes.join("c.hdr").exists());
     assert_eq!(
-        std::fs::read_dir(&dir).unwrap().count(),
+        std::fs::read_dir(dir).unwrap().count(),
         1,
         "nothing in the working directory"
     );
@@ -286,24 +289,24 @@ fn output_goes_next_to_the_scene_in_the_films_format_as_in_mitsuba() {
     // One -o for several scenes is ambiguous.
     let two = run(
         &["render", a.to_str().unwrap(), b.to_str().unwrap(), "-o", "x.exr"],
-        &dir,
+        dir,
     );
     assert_eq!(two.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&two.stderr).contains("-o"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn film_pixel_and_component_formats_are_honoured() {
     use exr::prelude::{AttributeValue, FlatSamples};
     let dir = tempdir("formats");
+    let dir = dir.path();
     let rgba = film_scene(
-        &dir,
+        dir,
         "rgba.xml",
         r#"<string name="pixel_format" value="rgba"/><string name="component_format" value="float32"/>"#,
     );
     let lum = film_scene(
-        &dir,
+        dir,
         "lum.xml",
         r#"<string name="pixel_format" value="luminance"/>"#,
     );
@@ -316,7 +319,7 @@ fn film_pixel_and_component_formats_are_honoured() {
             "7",
             "-q",
         ],
-        &dir,
+        dir,
     );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 
@@ -358,7 +361,6 @@ fn film_pixel_and_component_formats_are_honoured() {
     let y = list[0].sample_data.value_by_flat_index(8 * 16 + 8).to_f32();
     let expect = 0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2];
     assert!((y - expect).abs() < 2e-3 * expect, "{y} vs {expect}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `--mitsuba-estimators` renders a scene as if every estimator parameter of ours were written
@@ -367,8 +369,9 @@ fn film_pixel_and_component_formats_are_honoured() {
 #[test]
 fn mitsuba_estimators_flag_equals_writing_mitsubas_values() {
     let dir = tempdir("mitsuba-estimators");
+    let dir = dir.path();
     let write = |name: &str, bsdf: &str| {
-        let xml = std::fs::read_to_string(film_scene(&dir, name, "")).unwrap();
+        let xml = std::fs::read_to_string(film_scene(dir, name, "")).unwrap();
         let xml = xml.replace(r#"<bsdf type="diffuse"/>"#, bsdf);
         std::fs::write(dir.join(name), xml).unwrap();
         dir.join(name)
@@ -385,20 +388,20 @@ fn mitsuba_estimators_flag_equals_writing_mitsubas_values() {
             args.push("--mitsuba-estimators");
         }
         args.push(scene.to_str().unwrap());
-        let o = run(&args, &dir);
+        let o = run(&args, dir);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         RgbImage::read(&out).unwrap().data
     };
     let flagged = render(&plain, "flagged.exr", true);
     assert_eq!(flagged, render(&written, "written.exr", false));
     assert_ne!(flagged, render(&plain, "plain.exr", false));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn a_mesh_scene_without_embree_says_its_meshes_use_our_bvh() {
     // Two cubes (24 triangles, past the flat list's 16 primitives): Embree's work when loaded.
     let dir = tempdir("embree-note");
+    let dir = dir.path();
     let xml = r#"<scene version="3.0.0">
     <integrator type="path"/>
     <sensor type="perspective">
@@ -416,7 +419,7 @@ fn a_mesh_scene_without_embree_says_its_meshes_use_our_bvh() {
     let render = |embree: Option<&str>| {
         let mut c = gonio();
         c.args(["render", s.to_str().unwrap(), "-o", "cubes.exr"])
-            .current_dir(&dir);
+            .current_dir(dir);
         if let Some(v) = embree {
             c.env("GONIO_EMBREE", v);
         }
@@ -437,7 +440,7 @@ fn a_mesh_scene_without_embree_says_its_meshes_use_our_bvh() {
     // Quiet stays quiet.
     let mut c = gonio();
     c.args(["render", s.to_str().unwrap(), "-o", "cubes.exr", "--quiet"])
-        .current_dir(&dir)
+        .current_dir(dir)
         .env("GONIO_EMBREE", "off");
     let out = c.output().expect("gonio runs");
     assert!(out.status.success() && out.stderr.is_empty(), "{:?}", out);

@@ -656,10 +656,12 @@ fn stokes_planes(img: &ChannelImage) -> [Vec<f64>; 4] {
     ["S0.G", "S1.G", "S2.G", "S3.G"].map(|c| plane(img, c))
 }
 
-/// A 2 × 2 EXR of one colour, written for a test into the system's temporary folder (the reader
-/// takes a constant normal map only as a bitmap); returns its path.
+/// A 2 × 2 EXR of one colour, written for a test into Cargo's folder for test files
+/// (`CARGO_TARGET_TMPDIR`: the reader takes a constant normal map only as a bitmap); returns its
+/// path.
 fn constant_bitmap(tag: &str, rgb: [f32; 3]) -> String {
-    let path = std::env::temp_dir().join(format!("gonio-test-{}-{tag}.exr", std::process::id()));
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("gonio-test-{}-{tag}.exr", std::process::id()));
     gonio_render::image::RgbImage::from_fn(2, 2, |_, _| rgb)
         .write(&path)
         .expect("temporary bitmap writes");
