@@ -5,8 +5,10 @@
 //! lanes and runs the CPU's). Each width a model is tested at compiles its whole kernel again,
 //! minutes of the CI build for all of them: the principled models' dispatch tests need the
 //! feature `lane-dispatch-tests`. Each test calls its kernels through one non-inlined
-//! comparison per model and width (`principled::compare_once`): inlined into every test, the
-//! two principled kernels made one function LLVM took four minutes over.
+//! comparison per model and width (`principled::compare_once`) or each kernel call behind its
+//! own call (`models::apart`): inlined into every test, the two principled kernels made one
+//! function LLVM took four minutes over, and the three microfacet models' tests 85 s of the
+//! test build (now 7 s).
 
 mod math;
 mod microfacet;

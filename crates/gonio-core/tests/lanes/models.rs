@@ -72,6 +72,14 @@ impl<const N: usize, X: Isa> Batch<N, X> {
     }
 }
 
+/// Runs `f` behind a call: each kernel call of a test is compiled as a function of its own
+/// instead of inlined into the test's loop (the `#[inline(always)]` kernels made one function of
+/// each test, which LLVM took most of a minute over; same code, same results).
+#[inline(never)]
+fn apart<R>(f: impl FnOnce() -> R) -> R {
+    f()
+}
+
 fn spectra_close(a: SampledSpectrum, b: SampledSpectrum, tol: f32) -> bool {
     (0..4).all(|i| close(a[i], b[i], tol))
 }
@@ -162,12 +170,12 @@ fn conductor_agrees<const N: usize, X: Isa>() {
             if round % 2 == 1 {
                 lanes.distribution = textured_roughness(lanes.distribution, &mut rng);
             }
-            let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            let ev = apart(|| lanes.eval_pdf(&ctx, batch.wi, batch.wo));
             assert!(
-                same_bits(lanes.eval(&ctx, batch.wi, batch.wo), ev.0),
+                same_bits(apart(|| lanes.eval(&ctx, batch.wi, batch.wo)), ev.0),
                 "eval is eval_pdf's value"
             );
-            let s = lanes.sample(&ctx, batch.wi, batch.u2);
+            let s = apart(|| lanes.sample(&ctx, batch.wi, batch.u2));
             mismatches += compare(&batch, ev, &s, |k| {
                 let mut m = model.clone();
                 m.distribution = lanes.distribution.lane(k);
@@ -275,12 +283,12 @@ fn plastic_agrees<const N: usize, X: Isa>() {
         for _ in 0..150 {
             let batch = Batch::<N, X>::draw(&mut rng);
             let lanes = model.lanes(&batch.wl);
-            let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            let ev = apart(|| lanes.eval_pdf(&ctx, batch.wi, batch.wo));
             assert!(
-                same_bits(lanes.eval(&ctx, batch.wi, batch.wo), ev.0),
+                same_bits(apart(|| lanes.eval(&ctx, batch.wi, batch.wo)), ev.0),
                 "eval is eval_pdf's value"
             );
-            let s = lanes.sample(&ctx, batch.wi, batch.u1, batch.u2);
+            let s = apart(|| lanes.sample(&ctx, batch.wi, batch.u1, batch.u2));
             mismatches += compare(&batch, ev, &s, |_| model.clone());
             total += N;
         }
@@ -311,8 +319,8 @@ fn roughplastic_lanes_honour_the_lobe_mask() {
         };
         let batch = Batch::<4>::draw(&mut rng);
         let lanes = model.lanes(&batch.wl);
-        let (f, pdf) = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
-        let s = lanes.sample(&ctx, batch.wi, batch.u1, batch.u2);
+        let (f, pdf) = apart(|| lanes.eval_pdf(&ctx, batch.wi, batch.wo));
+        let s = apart(|| lanes.sample(&ctx, batch.wi, batch.u1, batch.u2));
         for k in 0..4 {
             let (wi, wo, wl) = (batch.wi.lane(k), batch.wo.lane(k), &batch.wl[k]);
             let (fs, ps) = model.eval_pdf(&ctx, wi, wo, wl);
@@ -372,12 +380,12 @@ fn dielectric_agrees<const N: usize, X: Isa>(mode: gonio_core::TransportMode) {
             if round % 2 == 1 {
                 lanes.distribution = textured_roughness(lanes.distribution, &mut rng);
             }
-            let ev = lanes.eval_pdf(&ctx, batch.wi, batch.wo);
+            let ev = apart(|| lanes.eval_pdf(&ctx, batch.wi, batch.wo));
             assert!(
-                same_bits(lanes.eval(&ctx, batch.wi, batch.wo), ev.0),
+                same_bits(apart(|| lanes.eval(&ctx, batch.wi, batch.wo)), ev.0),
                 "eval is eval_pdf's value"
             );
-            let s = lanes.sample(&ctx, batch.wi, batch.u1, batch.u2);
+            let s = apart(|| lanes.sample(&ctx, batch.wi, batch.u1, batch.u2));
             mismatches += compare_in(&ctx, &batch, ev, &s, |k| {
                 let mut m = model.clone();
                 m.distribution = lanes.distribution.lane(k);
