@@ -139,7 +139,7 @@ impl RgbImage {
         if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
             return decode_exr(bytes, path);
         }
-        type Decoder = fn(&[u8]) -> Result<(usize, usize, Vec<[f32; 3]>), String>;
+        type Decoder = fn(&[u8]) -> Result<codecs::Decoded, String>;
         let (decoder, name, integer): (Decoder, _, _) = if bytes.starts_with(b"\x89PNG") {
             (codecs::decode_png, "PNG", true)
         } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {

@@ -19,11 +19,9 @@
 //! rays in it.
 
 use crate::plugins::phase::blendphase::BlendPhase;
-use crate::texture::uplift;
 use crate::texture::volume::GridVolume;
 use glam::{Vec2, Vec3};
 use gonio_core::phase::{PhaseFunction, PhaseSample};
-use gonio_core::spectra::RgbKind;
 use gonio_core::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::sync::Arc;
 
@@ -101,8 +99,8 @@ impl Phase {
 pub enum Albedo {
     /// The same everywhere.
     Spectrum(Spectrum),
-    /// A grid read at the scattering point (one channel, or linear RGB uplifted as a
-    /// reflectance).
+    /// A grid read at the scattering point (one channel, or linear RGB as Mitsuba's spectral
+    /// `gridvolume` reads it, clamped to [0, 1]).
     Volume(Arc<GridVolume>),
 }
 
@@ -111,7 +109,8 @@ pub enum Albedo {
 pub enum Extinction {
     /// The same everywhere (the homogeneous medium; a heterogeneous one given a number).
     Spectrum(Spectrum),
-    /// A grid (one channel, or linear RGB uplifted as an unbounded colour), zero outside its box.
+    /// A grid (one channel, or linear RGB as Mitsuba's spectral `gridvolume` reads it), zero
+    /// outside its box.
     Volume(Arc<GridVolume>),
 }
 
@@ -169,15 +168,10 @@ impl Medium {
                 if !(x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all()) {
                     return SampledSpectrum::splat(0.0);
                 }
-                let c = g.eval_local(x).map(|v| v.max(0.0));
-                let s = if g.channels == 1 {
-                    SampledSpectrum::splat(c[0])
-                } else {
-                    // The table's uplift: this runs at every collision of a tracked path (the
-                    // Newton-polished fit costs microseconds a colour).
-                    uplift(c, RgbKind::Unbounded).sample(wl)
-                };
-                s * self.scale
+                // Negative extinction reads as 0 (one channel; colour samples are uplifted
+                // from non-negative values).
+                let s = g.spectrum_local(x, wl);
+                SampledSpectrum(s.0.max(glam::Vec4::ZERO)) * self.scale
             }
         }
     }
@@ -222,13 +216,57 @@ impl Medium {
         match &self.albedo {
             Albedo::Spectrum(s) => s.sample(wl),
             Albedo::Volume(g) => {
-                let c = g.eval(p).map(|v| v.clamp(0.0, 1.0));
-                if g.channels == 1 {
-                    SampledSpectrum::splat(c[0])
-                } else {
-                    uplift(c, RgbKind::Albedo).sample(wl)
-                }
+                // Mitsuba's colour samples (2·max(rgb) times the sigmoid of rgb/(2·max)) can
+                // exceed 1 at some wavelengths for saturated colours; an albedo above 1 creates
+                // energy, so it is clamped to [0, 1] per wavelength (equal to Mitsuba's wherever
+                // Mitsuba's is at most 1).
+                let a = g.spectrum_local(g.to_local.transform_point3(p), wl);
+                SampledSpectrum(a.0.clamp(glam::Vec4::ZERO, glam::Vec4::ONE))
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::texture::WrapMode;
+    use crate::texture::volume::spectral_samples;
+    use glam::Affine3A;
+
+    /// Mitsuba 3.9.1 reads the saturated colour (0.8, 0.1, 0) of a `gridvolume` as 1.313 at
+    /// 680 nm (2·max(rgb) times the sigmoid of rgb/(2·max)): as an albedo that creates energy at
+    /// every scattering. The medium's albedo is clamped to 1 there; below 1 it is Mitsuba's.
+    #[test]
+    fn an_albedo_grid_of_a_saturated_colour_stays_at_most_one() {
+        let data = vec![0.8, 0.1, 0.0];
+        let grid = GridVolume {
+            res: [1, 1, 1],
+            channels: 3,
+            spectra: spectral_samples(&data, 3, false),
+            data,
+            trilinear: true,
+            wrap: WrapMode::Clamp,
+            raw: false,
+            to_local: Affine3A::IDENTITY,
+        };
+        let medium = Medium::new(
+            Extinction::Spectrum(Spectrum::Constant(1.0)),
+            Albedo::Volume(Arc::new(grid)),
+            1.0,
+            Phase::Model(PhaseFunction::Isotropic),
+            true,
+        );
+        let wl = SampledWavelengths::from_parts([450.0, 520.0, 600.0, 680.0], [1.0; 4]);
+        let a = medium.albedo(Vec3::splat(0.5), &wl);
+        // Mitsuba: 0.021224, 0.067321, 0.453848, 1.313242.
+        for (k, want) in [0.021224f32, 0.067321, 0.453848, 1.0].into_iter().enumerate() {
+            assert!(
+                (a[k] - want).abs() < 2e-3 * want.max(0.05),
+                "λ {}: {}",
+                wl.lambda(k),
+                a[k]
+            );
         }
     }
 }

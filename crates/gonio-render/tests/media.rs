@@ -189,12 +189,12 @@ fn heterogeneous_media_match_mitsuba() {
 
 /// A heterogeneous medium whose extinction is a three-channel grid: σt = 6 ×
 /// `tests/data/cloud_rgb.vol` (ours: 8³ voxels of linear RGB, a blob of (0.95, 0.6·ripple + 0.05,
-/// 0.3 + ripple) shades, written by a few lines of Python), uplifted as an unbounded colour,
-/// with nearest-voxel lookups and the albedo `albedo`.
-fn rgb_cloud(albedo: f32) -> String {
+/// 0.3 + ripple) shades, written by a few lines of Python), with `filter` lookups and the albedo
+/// `albedo`.
+fn rgb_cloud(albedo: f32, filter: &str) -> String {
     format!(
         r#"<medium type="heterogeneous" id="fog">
-            <volume name="sigma_t" type="gridvolume"><string name="filename" value="{}"/><string name="filter_type" value="nearest"/>
+            <volume name="sigma_t" type="gridvolume"><string name="filename" value="{}"/><string name="filter_type" value="{filter}"/>
                 <transform name="to_world"><scale value="1.6"/><translate x="-0.8" y="-0.95" z="-0.8"/></transform></volume>
             <float name="scale" value="6"/><float name="albedo" value="{albedo}"/>
             <phase type="hg"><float name="g" value="0.5"/></phase></medium>"#,
@@ -204,25 +204,53 @@ fn rgb_cloud(albedo: f32) -> String {
 
 /// A three-channel extinction grid (its majorant twice the largest component, the chromatic
 /// tracking of both estimators) against Mitsuba 3.9.1 (`llvm_ad_spectral`, 16 × 2²⁰ samples):
-/// the sky through it (no floor) and multiple scattering over the floor. Nearest-voxel lookups:
-/// between voxel centres Mitsuba interpolates each voxel's uplift coefficients, gonio uplifts
-/// the interpolated colour, and with trilinear lookups of this coarse, strongly coloured grid the
-/// sky through it differs by 4.4 % in green and 2.6 % in blue (Mitsuba (−0.00172, 0.04250,
-/// 0.05231) ± (1.6e-5, 8.1e-5, 1.2e-4), gonio (−0.00260, 0.04437, 0.05366) ± (1.2e-5, 4.0e-5,
+/// the sky through it (no floor) and multiple scattering over the floor, with nearest-voxel and
+/// with trilinear lookups, where Mitsuba multiplies the interpolated
+/// spectra of the eight voxels by their interpolated scales (`texture/volume.rs`). Before gonio
+/// did so it uplifted the interpolated colour, and this coarse, strongly coloured grid came out
+/// 4.4 % off in green and 2.6 % in blue (gonio (−0.00260, 0.04437, 0.05366) ± (1.2e-5, 4.0e-5,
 /// 5.1e-5), 4 × 2¹⁶ samples).
 #[test]
 fn an_rgb_extinction_grid_matches_mitsuba() {
     assert_agrees(
         "absorbing",
-        meter_mean(&cube_scene(&rgb_cloud(0.0), false, "volpath"), 1 << 16, 4),
+        meter_mean(
+            &cube_scene(&rgb_cloud(0.0, "nearest"), false, "volpath"),
+            1 << 16,
+            4,
+        ),
         [-0.002750, 0.041919, 0.051176],
         [2.4e-5, 8.9e-5, 9.1e-5],
     );
     assert_agrees(
         "scattering",
-        meter_mean(&cube_scene(&rgb_cloud(0.8), true, "volpath"), 1 << 15, 4),
+        meter_mean(
+            &cube_scene(&rgb_cloud(0.8, "nearest"), true, "volpath"),
+            1 << 15,
+            4,
+        ),
         [0.256022, 0.310372, 0.309103],
         [1.0e-4, 1.4e-4, 1.4e-4],
+    );
+    assert_agrees(
+        "absorbing, trilinear",
+        meter_mean(
+            &cube_scene(&rgb_cloud(0.0, "trilinear"), false, "volpath"),
+            1 << 16,
+            4,
+        ),
+        [-0.001721, 0.042498, 0.052314],
+        [1.6e-5, 8.1e-5, 1.2e-4],
+    );
+    assert_agrees(
+        "scattering, trilinear",
+        meter_mean(
+            &cube_scene(&rgb_cloud(0.8, "trilinear"), true, "volpath"),
+            1 << 15,
+            4,
+        ),
+        [0.258883, 0.310824, 0.309263],
+        [7.5e-5, 1.4e-4, 1.4e-4],
     );
 }
 

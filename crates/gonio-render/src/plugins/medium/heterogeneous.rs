@@ -2,7 +2,8 @@
 //! `src/media/heterogeneous.cpp`; runtime [`crate::medium::Medium`]).
 //!
 //! σt(p, λ) = `scale`·`sigma_t`(p, λ), read from a `<volume>` (`gridvolume`: one channel, or
-//! linear RGB uplifted as an unbounded colour) and zero outside the grid's box, as in Mitsuba
+//! linear RGB read as Mitsuba's spectral variants read it, `texture/volume.rs`) and zero outside
+//! the grid's box, as in Mitsuba
 //! (whose medium samples only inside it); `sigma_t` may also be a number or spectrum (then the
 //! medium is homogeneous). The albedo is a spectrum or a volume, the phase function the nested
 //! `<phase>`. gonio tracks it under the majorant σ̄ = `scale`·max σt: delta tracking along paths,

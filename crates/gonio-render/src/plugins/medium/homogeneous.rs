@@ -6,7 +6,8 @@
 //! is uplifted as Mitsuba does (as a reflectance: the extinction's spectral shape, and so the
 //! transmittance through a chromatic medium, then equals Mitsuba's), a brighter one (which
 //! Mitsuba refuses) as an unbounded colour. `albedo` is a reflectance-like spectrum or a
-//! `<volume>` read where light scatters.
+//! `<volume>` read where light scatters (a colour grid as Mitsuba reads it, clamped to [0, 1]
+//! per wavelength: Mitsuba's saturated colours exceed 1 there).
 //!
 //! | parameter | default | meaning |
 //! |---|---|---|

@@ -4,7 +4,7 @@
 use crate::geometry::sdfgrid::read_vol;
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::texture::WrapMode;
-use crate::texture::volume::{GridVolume, Volume};
+use crate::texture::volume::{GridVolume, Volume, spectral_samples};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
 use std::sync::Arc;
 
@@ -117,6 +117,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Volume, SceneErr
     Ok(Volume::Grid(Arc::new(GridVolume {
         res: v.res,
         channels: v.channels,
+        spectra: spectral_samples(&v.data, v.channels, raw),
         data: v.data,
         trilinear,
         wrap,
