@@ -100,8 +100,14 @@ pub enum Albedo {
     /// The same everywhere.
     Spectrum(Spectrum),
     /// A grid read at the scattering point (one channel, or linear RGB as Mitsuba's spectral
-    /// `gridvolume` reads it, clamped to [0, 1]).
-    Volume(Arc<GridVolume>),
+    /// `gridvolume` reads it), clamped to [0, 1] per wavelength unless `unclamped`.
+    Volume {
+        /// The grid.
+        grid: Arc<GridVolume>,
+        /// Mitsuba's reading (`--mitsuba-estimators`): the stored form of a saturated colour
+        /// above 1 kept, an albedo that creates energy.
+        unclamped: bool,
+    },
 }
 
 /// A medium's extinction before `scale` (1/length).
@@ -215,13 +221,14 @@ impl Medium {
     pub fn albedo(&self, p: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         match &self.albedo {
             Albedo::Spectrum(s) => s.sample(wl),
-            Albedo::Volume(g) => {
+            Albedo::Volume { grid: g, unclamped } => {
                 // Mitsuba's colour samples (2·max(rgb) times the sigmoid of rgb/(2·max)) can
                 // exceed 1 at some wavelengths for saturated colours; an albedo above 1 creates
                 // energy, so it is clamped to [0, 1] per wavelength (equal to Mitsuba's wherever
-                // Mitsuba's is at most 1).
+                // Mitsuba's is at most 1), except under Mitsuba's estimators.
                 let a = g.spectrum_local(g.to_local.transform_point3(p), wl);
-                SampledSpectrum(a.0.clamp(glam::Vec4::ZERO, glam::Vec4::ONE))
+                let top = if *unclamped { f32::INFINITY } else { 1.0 };
+                SampledSpectrum(a.0.clamp(glam::Vec4::ZERO, glam::Vec4::splat(top)))
             }
         }
     }
@@ -236,7 +243,8 @@ mod tests {
 
     /// Mitsuba 3.9.1 reads the saturated colour (0.8, 0.1, 0) of a `gridvolume` as 1.313 at
     /// 680 nm (2·max(rgb) times the sigmoid of rgb/(2·max)): as an albedo that creates energy at
-    /// every scattering. The medium's albedo is clamped to 1 there; below 1 it is Mitsuba's.
+    /// every scattering. The medium's albedo is clamped to 1 there (below 1 it is Mitsuba's);
+    /// Mitsuba's estimators keep 1.313.
     #[test]
     fn an_albedo_grid_of_a_saturated_colour_stays_at_most_one() {
         let data = vec![0.8, 0.1, 0.0];
@@ -250,23 +258,25 @@ mod tests {
             raw: false,
             to_local: Affine3A::IDENTITY,
         };
-        let medium = Medium::new(
-            Extinction::Spectrum(Spectrum::Constant(1.0)),
-            Albedo::Volume(Arc::new(grid)),
-            1.0,
-            Phase::Model(PhaseFunction::Isotropic),
-            true,
-        );
+        let grid = Arc::new(grid);
         let wl = SampledWavelengths::from_parts([450.0, 520.0, 600.0, 680.0], [1.0; 4]);
-        let a = medium.albedo(Vec3::splat(0.5), &wl);
-        // Mitsuba: 0.021224, 0.067321, 0.453848, 1.313242.
-        for (k, want) in [0.021224f32, 0.067321, 0.453848, 1.0].into_iter().enumerate() {
-            assert!(
-                (a[k] - want).abs() < 2e-3 * want.max(0.05),
-                "λ {}: {}",
-                wl.lambda(k),
-                a[k]
+        // Ours, then Mitsuba's (`--mitsuba-estimators`): 0.021224, 0.067321, 0.453848, 1.313242.
+        for (unclamped, top) in [(false, 1.0f32), (true, 1.313242)] {
+            let medium = Medium::new(
+                Extinction::Spectrum(Spectrum::Constant(1.0)),
+                Albedo::Volume {
+                    grid: grid.clone(),
+                    unclamped,
+                },
+                1.0,
+                Phase::Model(PhaseFunction::Isotropic),
+                true,
             );
+            let a = medium.albedo(Vec3::splat(0.5), &wl);
+            for (k, want) in [0.021224f32, 0.067321, 0.453848, top].into_iter().enumerate() {
+                let (got, lambda) = (a[k], wl.lambda(k));
+                assert!((got - want).abs() < 2e-3 * want.max(0.05), "λ {lambda}: {got}");
+            }
         }
     }
 }

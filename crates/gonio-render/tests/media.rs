@@ -714,3 +714,34 @@ fn a_constant_volume_is_the_constant_it_holds() {
         &["\"density\"", "albedo"],
     );
 }
+
+/// A colour albedo grid is clamped to [0, 1] per wavelength; under Mitsuba's estimators it
+/// keeps Mitsuba's values above 1 (`medium.rs`, the saturated colours' stored form).
+#[test]
+fn mitsuba_estimators_keep_an_albedo_grid_unclamped() {
+    use gonio_render::medium::Albedo;
+    use gonio_render::xml::{LoadOptions, load_scene_file_with};
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("scene.xml");
+    std::fs::write(
+        &path,
+        format!(
+            r#"<scene version="3.0.0"><medium type="homogeneous" id="m">
+                <volume name="albedo" type="gridvolume"><string name="filename" value="{}"/></volume>
+            </medium><shape type="sphere"><ref name="interior" id="m"/><bsdf type="null"/></shape></scene>"#,
+            data().join("cloud_rgb.vol").display()
+        ),
+    )
+    .unwrap();
+    for mitsuba in [false, true] {
+        let options = LoadOptions {
+            mitsuba_estimators: mitsuba,
+            ..LoadOptions::default()
+        };
+        let scene = load_scene_file_with(&path, &options).unwrap().scene;
+        match &scene.media[0].albedo {
+            Albedo::Volume { unclamped, .. } => assert_eq!(*unclamped, mitsuba),
+            other => panic!("a grid albedo, not {other:?}"),
+        }
+    }
+}

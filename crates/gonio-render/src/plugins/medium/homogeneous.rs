@@ -7,7 +7,8 @@
 //! transmittance through a chromatic medium, then equals Mitsuba's), a brighter one (which
 //! Mitsuba refuses) as an unbounded colour. `albedo` is a reflectance-like spectrum or a
 //! `<volume>` read where light scatters (a colour grid as Mitsuba reads it, clamped to [0, 1]
-//! per wavelength: Mitsuba's saturated colours exceed 1 there).
+//! per wavelength: Mitsuba's saturated colours exceed 1 there, which `--mitsuba-estimators`
+//! keeps).
 //!
 //! | parameter | default | meaning |
 //! |---|---|---|
@@ -107,7 +108,12 @@ pub(crate) fn build_medium<'d>(
         }
         let volume = b.build_plugin(crate::plugins::VOLUME_PLUGINS, i)?;
         match (prop.name.as_str(), volume) {
-            ("albedo", Volume::Grid(g)) => albedo = Some(Albedo::Volume(g)),
+            ("albedo", Volume::Grid(g)) => {
+                albedo = Some(Albedo::Volume {
+                    grid: g,
+                    unclamped: p.doc.mitsuba_estimators,
+                })
+            }
             ("albedo", Volume::Constant(a)) => {
                 if a.max_value() > 1.0 {
                     return Err(err(
