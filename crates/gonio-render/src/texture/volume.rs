@@ -175,12 +175,13 @@ impl GridVolume {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use gonio_core::spectra::RgbKind;
 
     /// Two colour samples along x (0.8, 0.1, 0) and (0, 0.3, 0.6), read at four wavelengths by
     /// Mitsuba 3.9.1 `scalar_spectral` (`gridvolume.eval`, x = 0.25, 0.5, 0.6, 0.75; the first
     /// and last are the two sample centres): the interpolated spectra times the interpolated
-    /// scales, not the spectrum of the interpolated colour (which gives 0.411, 0.290, 0.218,
-    /// 0.416 at x = 0.6).
+    /// scales, not the spectrum of the interpolated colour (Mitsuba's uplift of (0.24, 0.24,
+    /// 0.42) at x = 0.6: 0.4065, 0.2658, 0.2337, 0.3141, which the test also tells apart).
     #[test]
     fn colour_grids_read_as_mitsuba_reads_them() {
         let data = vec![0.8, 0.1, 0.0, 0.0, 0.3, 0.6];
@@ -202,6 +203,15 @@ mod tests {
             (0.75, [0.57764697, 0.38559416, 0.11672914, 0.031640887]),
         ];
         let mitsuba_nearest = [(0.25, mitsuba_trilinear[0].1), (0.6, mitsuba_trilinear[3].1)];
+        // The reading this replaced, the interpolated colour uplifted, is 10 % lower at 680 nm.
+        let g = grid(true);
+        let old =
+            crate::texture::uplift(g.eval_local(Vec3::new(0.6, 0.5, 0.5)), RgbKind::Unbounded).sample(&wl)[3];
+        let new = g.spectrum_local(Vec3::new(0.6, 0.5, 0.5), &wl)[3];
+        assert!(
+            (old - 0.3141).abs() < 2e-3 && (new - old).abs() > 0.03,
+            "{old} vs {new}"
+        );
         for (trilinear, cases) in [(true, &mitsuba_trilinear[..]), (false, &mitsuba_nearest[..])] {
             let g = grid(trilinear);
             for &(x, want) in cases {
