@@ -15,6 +15,10 @@ pub mod rgbe;
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
+/// The largest image the integer and RGBE decoders read, in pixels (2²⁸: 16384 × 16384, 3 GiB
+/// as f32 RGB); checked before allocating for it.
+pub const MAX_PIXELS: usize = 1 << 28;
+
 /// A linear RGB image in row-major order (row 0 at the top), one `[r, g, b]` per pixel.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RgbImage {

@@ -5,7 +5,7 @@
 //! The sRGB curve is the caller's ([`super::Encoding`]). Every decoder refuses an image above
 //! [`MAX_PIXELS`] before allocating for it.
 
-use super::rgbe::MAX_PIXELS;
+use super::MAX_PIXELS;
 use std::io::Cursor;
 use zune_core::bytestream::ZCursor;
 use zune_core::colorspace::ColorSpace;

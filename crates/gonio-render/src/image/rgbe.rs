@@ -12,8 +12,7 @@
 //! `image` brings a colour-management crate whose compilation is most of the test build's
 //! third-party time. The format fits in this file.
 
-/// The largest image read, in pixels (2²⁸: 16384 × 16384; 3 GiB as f32 RGB).
-pub const MAX_PIXELS: usize = 1 << 28;
+use super::MAX_PIXELS;
 
 /// Decodes a Radiance RGBE image into linear RGB, rows top to bottom. Errors name what is wrong
 /// (the caller adds the file).
@@ -87,7 +86,7 @@ fn frexp(v: f64) -> (f64, i32) {
 /// first scanline).
 fn header(bytes: &[u8]) -> Result<(usize, usize, bool, usize), String> {
     let mut lines = Lines { bytes, at: 0 };
-    let first = lines.next().ok_or("empty file")?;
+    let first = lines.next().ok_or("no header line")?;
     if !first.starts_with("#?") {
         return Err("not a Radiance file (no `#?` signature)".into());
     }
