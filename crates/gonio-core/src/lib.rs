@@ -59,6 +59,7 @@ pub mod quadrature;
 pub mod rgb2spec;
 pub mod rng;
 pub mod sampling;
+pub mod sensor_response;
 pub mod spectra;
 pub mod spectrum;
 pub mod warp;

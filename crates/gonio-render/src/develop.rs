@@ -22,6 +22,10 @@ use std::path::Path;
 /// Develops the film's channels (`R`, `G`, `B`, optionally `A`, then other layers) into the
 /// channels of `format`.
 pub fn develop(image: &ChannelImage, format: PixelFormat) -> ChannelImage {
+    if format == PixelFormat::Bands {
+        // A spectral film's channels are its bands, written as recorded.
+        return image.clone();
+    }
     let n = image.names.len();
     let find = |c: &str| image.names.iter().position(|name| name == c);
     let (r, g, b, a) = (find("R"), find("G"), find("B"), find("A"));
@@ -32,6 +36,7 @@ pub fn develop(image: &ChannelImage, format: PixelFormat) -> ChannelImage {
         PixelFormat::LuminanceAlpha => &["Y", "A"],
         PixelFormat::Xyz => &["X", "Y", "Z"],
         PixelFormat::Xyza => &["X", "Y", "Z", "A"],
+        PixelFormat::Bands => &[],
     };
     let others: Vec<usize> = (0..n)
         .filter(|&k| !["R", "G", "B", "A"].contains(&image.names[k].as_str()))

@@ -35,6 +35,7 @@ use crate::image::{ChannelImage, RgbImage};
 use crate::scene::FilterDesc;
 use glam::{UVec2, Vec2, Vec4};
 use gonio_core::math::{ceil, floor};
+use gonio_core::sensor_response::SensorResponse;
 
 /// A filter with its support radius precomputed.
 #[derive(Clone, Copy, Debug)]
@@ -129,6 +130,15 @@ impl Channels {
     /// `R`, `G`, `B`: linear sRGB radiance.
     pub fn rgb() -> Self {
         Self::new(["R", "G", "B"])
+    }
+
+    /// What a film of this response records: `R`, `G`, `B`, or one channel per spectral band
+    /// under the band's name.
+    pub fn for_response(response: &SensorResponse) -> Self {
+        match response {
+            SensorResponse::Srgb => Self::rgb(),
+            SensorResponse::Bands(b) => Self::new(b.names().iter().cloned()),
+        }
     }
 
     /// Channels with these names (EXR naming: `R`, or `layer.R` for a layer).

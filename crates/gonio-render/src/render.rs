@@ -47,6 +47,7 @@ use crate::integrator::{CameraSample, Integrator, PathTracer};
 use crate::sampler::{Pattern, Sampler};
 use crate::scene::{IntegratorDesc, Scene};
 use glam::{UVec2, Vec2};
+use gonio_core::sensor_response::SensorResponse;
 use gonio_core::spectrum::VisibleWavelengthTable;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -245,6 +246,7 @@ impl PreparedScene {
         .with_camera_if_it_connects(self.camera.as_ref())
         .with_media(&self.scene.media, &self.shape_media, self.scene.sensor_medium)
         .with_sensor_up(self.scene.sensor.to_world.transform_vector3(glam::Vec3::Y))
+        .with_response(self.scene.sensor.film.response.clone())
     }
 
     /// An empty film of the sensor's size and filter with an integrator's channels, and `A`
@@ -453,7 +455,12 @@ pub fn render_with<I: Integrator + ?Sized>(
     let inv_light_paths = 1.0 / total as f32;
     let done = AtomicU64::new(0);
     let mut complete_spp = 0;
-    let wavelengths = VisibleWavelengthTable::get();
+    // The wavelengths: the visible density for a colour film, the bands' for a spectral one.
+    let visible = VisibleWavelengthTable::get();
+    let bands = match &prepared.scene.sensor.film.response {
+        SensorResponse::Bands(b) => Some(b.as_ref()),
+        SensorResponse::Srgb => None,
+    };
     let mut cancelled = false;
 
     let mut start = 0;
@@ -493,7 +500,8 @@ pub fn render_with<I: Integrator + ?Sized>(
                             let (fx, fy) = (px + crop_offset.x as i64, py + crop_offset.y as i64);
                             sampler.start_pixel_sample(UVec2::new(fx as u32, fy as u32), s);
                             let film_pos = Vec2::new(fx as f32, fy as f32) + sampler.next_2d() - crop_shift;
-                            let wl = wavelengths.sample(sampler.next_1d());
+                            let u_lambda = sampler.next_1d();
+                            let wl = bands.map_or_else(|| visible.sample(u_lambda), |b| b.sample(u_lambda));
                             let (ray, ray_weight) = if prepared.camera.needs_ray_samples() {
                                 let u_pos = sampler.next_2d();
                                 prepared

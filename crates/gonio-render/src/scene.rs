@@ -10,6 +10,7 @@
 
 use glam::{Affine3A, Vec2, Vec3};
 use gonio_core::Spectrum;
+use gonio_core::sensor_response::SensorResponse;
 use std::sync::Arc;
 
 pub use crate::material::Material;
@@ -354,6 +355,8 @@ pub struct FilmDesc {
     /// Mitsuba's `sample_border`: also sample the band of pixels outside the image that the
     /// filter reaches, so the edge pixels see samples from both sides (default false).
     pub sample_border: bool,
+    /// What the film records: linear sRGB (`hdrfilm`) or spectral bands (`specfilm`).
+    pub response: SensorResponse,
 }
 
 /// A crop window: the rendered image is the `size` pixels of the full film starting at
@@ -382,6 +385,7 @@ impl Default for FilmDesc {
             output: FilmOutput::default(),
             crop: None,
             sample_border: false,
+            response: SensorResponse::Srgb,
         }
     }
 }
@@ -402,6 +406,8 @@ pub enum PixelFormat {
     Xyz,
     /// `X`, `Y`, `Z`, `A`.
     Xyza,
+    /// The film's spectral bands, one channel each under its own name (`specfilm`).
+    Bands,
 }
 
 impl PixelFormat {

@@ -40,6 +40,7 @@ mod render;
 mod render_stats;
 mod russian_roulette;
 mod sampler;
+mod specfilm;
 mod spectrum_plugins;
 mod xml_errors;
 mod xml_grammar;

@@ -77,6 +77,7 @@ fn required(name: &str) -> &'static str {
         "gridvolume" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
         "tabphase" => "<string name=\"values\" value=\"1, 2, 3\"/>",
         "blendphase" => "<phase type=\"isotropic\"/><phase type=\"rayleigh\"/>",
+        "specfilm" => "<spectrum name=\"band\" value=\"400:1, 700:1\"/>",
         "volume" => {
             "<volume type=\"gridvolume\"><string name=\"filename\" value=\"sphere_sdf.vol\"/></volume>"
         }

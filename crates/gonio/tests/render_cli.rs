@@ -445,3 +445,30 @@ fn a_mesh_scene_without_embree_says_its_meshes_use_our_bvh() {
     let out = c.output().expect("gonio runs");
     assert!(out.status.success() && out.stderr.is_empty(), "{:?}", out);
 }
+
+/// A spectral film (`specfilm`) is written as OpenEXR with one channel per band, the default
+/// output takes `.exr`, and any other extension is refused before rendering (no file).
+#[test]
+fn a_spectral_film_writes_its_bands_to_exr_only() {
+    let dir = tempdir("specfilm");
+    let dir = dir.path();
+    let s = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/specfilm/bands.xml");
+    let s = s.to_str().unwrap();
+    let out = run(&["render", s, "--spp", "2", "-q", "-o", "bands.exr"], dir);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let img = gonio_render::image::ChannelImage::read(dir.join("bands.exr")).unwrap();
+    let mut names = img.names.clone();
+    names.sort();
+    assert_eq!(names, ["band1_blue", "band2_green", "band3_red", "band4_nir"]);
+    assert_eq!((img.width, img.height), (32, 24));
+    for ext in ["png", "hdr", "pfm"] {
+        let out = run(
+            &["render", s, "--spp", "2", "-q", "-o", &format!("bands.{ext}")],
+            dir,
+        );
+        assert!(!out.status.success());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains("specfilm") && stderr.contains(".exr"), "{stderr}");
+        assert!(!dir.join(format!("bands.{ext}")).exists());
+    }
+}

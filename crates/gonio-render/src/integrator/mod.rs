@@ -133,6 +133,7 @@ use crate::scene::{IntegratorDesc, IntegratorKind};
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::color::linear_srgb_from_sampled;
+use gonio_core::sensor_response::{MAX_BANDS, SensorResponse};
 use gonio_core::weight::{BsdfWeight, Weight};
 use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
 
@@ -255,6 +256,8 @@ pub struct PathTracer<'a> {
     stokes: bool,
     /// The sensor's up direction in world space: the Stokes vectors' x-axis is d × up.
     sensor_up: Vec3,
+    /// What the film records of a path's radiance: linear sRGB or spectral bands.
+    response: SensorResponse,
     /// The integrator is volumetric (`volpath`): media take part where the scene has them.
     volumetric: bool,
     /// The scene's participating media, when they take part ([`volpath`]).
@@ -350,6 +353,7 @@ impl<'a> PathTracer<'a> {
             polarized,
             stokes: settings.stokes,
             sensor_up: Vec3::Y,
+            response: SensorResponse::Srgb,
             volumetric: settings.volumetric,
             media: None,
         };
@@ -386,6 +390,39 @@ impl<'a> PathTracer<'a> {
     pub fn with_sensor_up(mut self, up: Vec3) -> Self {
         self.sensor_up = up;
         self
+    }
+
+    /// What the film records (default linear sRGB): its channels, and the estimate of each from
+    /// a path's radiance at its wavelengths.
+    pub fn with_response(mut self, response: SensorResponse) -> Self {
+        self.response = response;
+        self
+    }
+
+    /// Writes the film's channels for radiance `l` at the wavelengths `wl` into `out`.
+    #[inline]
+    fn record(&self, l: SampledSpectrum, wl: &SampledWavelengths, out: &mut [f32]) {
+        self.response.record(l, wl, out);
+    }
+
+    /// Splats radiance `l` at the film position `p`, in the film's channels.
+    fn splat_radiance(
+        &self,
+        splat: &mut dyn FnMut(Vec2, &[f32]),
+        p: Vec2,
+        l: SampledSpectrum,
+        wl: &SampledWavelengths,
+    ) {
+        match &self.response {
+            // Colour, the common case, without the bands' buffer to clear.
+            SensorResponse::Srgb => splat(p, &linear_srgb_from_sampled(l, wl).to_array()),
+            SensorResponse::Bands(bands) => {
+                let mut buf = [0.0f32; MAX_BANDS];
+                let n = bands.len();
+                bands.record(l, wl, &mut buf[..n]);
+                splat(p, &buf[..n]);
+            }
+        }
     }
 
     /// The scene's participating media, the media each shape separates and the sensor's
@@ -702,14 +739,14 @@ impl<'a> PathTracer<'a> {
 }
 
 /// The `path` integrator: channels `R`, `G`, `B` (linear sRGB through the wavelength estimator
-/// [`linear_srgb_from_sampled`]); with caustic light paths it splats their connections to the
-/// camera.
+/// [`linear_srgb_from_sampled`]) or a spectral film's bands
+/// ([`SensorResponse`]); with caustic light paths it splats their connections to the camera.
 impl Integrator for PathTracer<'_> {
     fn channels(&self) -> Channels {
         if self.stokes {
-            polarized::stokes_channels()
+            polarized::stokes_channels(&self.response)
         } else {
-            Channels::rgb()
+            Channels::for_response(&self.response)
         }
     }
 
@@ -729,12 +766,12 @@ impl Integrator for PathTracer<'_> {
                 bsdf_samples,
             } => {
                 let l = self.li_direct(sample, emitter_samples, bsdf_samples);
-                value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
+                self.record(l, &sample.wavelengths, value);
                 return;
             }
             IntegratorKind::Depth => {
                 let l = SampledSpectrum::splat(self.depth(&sample.ray));
-                value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
+                self.record(l, &sample.wavelengths, value);
                 return;
             }
             IntegratorKind::PTracer => {
@@ -744,7 +781,7 @@ impl Integrator for PathTracer<'_> {
         }
         if let Some(media) = &self.media {
             let l = self.li_volumetric(media, sample.ray, &mut sample.sampler, &mut sample.wavelengths);
-            value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
+            self.record(l, &sample.wavelengths, value);
             return;
         }
         let mut light = caustics::LightSubpath::new();
@@ -753,12 +790,11 @@ impl Integrator for PathTracer<'_> {
             // secondary ones). Its random numbers are an independent stream keyed by the sample.
             let key = sample.sampler.key();
             let mut rng = Pcg32::new(key ^ LIGHT_PATH_KEY, key.rotate_left(29));
-            let mut to_film = |p: Vec2, v: SampledSpectrum, wl: &SampledWavelengths| {
-                splat(p, &linear_srgb_from_sampled(v, wl).to_array())
-            };
+            let mut to_film =
+                |p: Vec2, v: SampledSpectrum, wl: &SampledWavelengths| self.splat_radiance(splat, p, v, wl);
             self.trace_light_path(&mut rng, &mut sample.wavelengths, &mut to_film, &mut light);
         }
         let l: SampledSpectrum = self.li(sample.ray, &mut sample.sampler, &mut sample.wavelengths, &light);
-        value.copy_from_slice(&linear_srgb_from_sampled(l, &sample.wavelengths).to_array());
+        self.record(l, &sample.wavelengths, value);
     }
 }

@@ -43,8 +43,8 @@ use super::{CameraSample, LIGHT_PATH_KEY, PathTracer};
 use crate::film::Channels;
 use crate::sampler::Pcg32;
 use glam::{Vec2, Vec3};
-use gonio_core::color::linear_srgb_from_sampled;
 use gonio_core::mueller::{Mueller, Stokes, StokesBasis, StokesComponents};
+use gonio_core::sensor_response::{MAX_BANDS, SensorResponse};
 use gonio_core::weight::Weight;
 use gonio_core::{SampledSpectrum, SampledWavelengths};
 
@@ -52,11 +52,14 @@ use super::caustics::LightSubpath;
 use crate::scene::IntegratorKind;
 
 /// The channels of the `stokes` integrator, with Mitsuba 3's names: `R, G, B`, then
-/// `S0.R, S0.G, S0.B, S1.R, …, S3.B`.
-pub fn stokes_channels() -> Channels {
-    let mut c = Channels::rgb();
+/// `S0.R, S0.G, S0.B, S1.R, …, S3.B` (on a spectral film, the bands' names in place of `R, G,
+/// B`).
+pub fn stokes_channels(response: &SensorResponse) -> Channels {
+    let main = Channels::for_response(response);
+    let names: Vec<&str> = main.names().iter().map(String::as_str).collect();
+    let mut c = main.clone();
     for layer in ["S0", "S1", "S2", "S3"] {
-        c = c.with_layer(layer, &["R", "G", "B"]);
+        c = c.with_layer(layer, &names);
     }
     c
 }
@@ -102,9 +105,16 @@ impl PathTracer<'_> {
                     let mut to_film = |p: Vec2, m: Mueller, wl: &SampledWavelengths| {
                         // The beam arrives at the camera along the matrix's output direction.
                         let d = m.frames().map_or(Vec3::Z, |(_, out)| -out.forward());
-                        let mut buf = [0.0f32; STOKES_CHANNELS];
-                        self.write_channels(&m, d, wl, &mut buf[..n]);
-                        splat(p, &buf[..n]);
+                        // A colour film's 15 channels without the bands' larger buffer to clear.
+                        if n <= STOKES_RGB {
+                            let mut buf = [0.0f32; STOKES_RGB];
+                            self.write_channels(&m, d, wl, &mut buf[..n]);
+                            splat(p, &buf[..n]);
+                        } else {
+                            let mut buf = [0.0f32; STOKES_CHANNELS];
+                            self.write_channels(&m, d, wl, &mut buf[..n]);
+                            splat(p, &buf[..n]);
+                        }
                     };
                     self.trace_light_path(&mut rng, &mut sample.wavelengths, &mut to_film, &mut light);
                 }
@@ -121,23 +131,26 @@ impl PathTracer<'_> {
         self.write_channels(&l, sample.ray.d, &sample.wavelengths, value);
     }
 
-    /// The channels of a path's accumulated matrix `l` seen along the camera ray `d`: S0 as
-    /// `R, G, B`, and with `stokes` S0..S3 in the sensor basis.
+    /// The channels of a path's accumulated matrix `l` seen along the camera ray `d`: S0 in the
+    /// film's channels, and with `stokes` S0..S3 in the sensor basis, each in those channels.
     fn write_channels(&self, l: &Mueller, d: Vec3, wl: &SampledWavelengths, value: &mut [f32]) {
-        value[..3].copy_from_slice(&linear_srgb_from_sampled(l.intensity(), wl).to_array());
+        let n = self.response.len();
+        self.response.record(l.intensity(), wl, &mut value[..n]);
         if self.stokes {
             let s = stokes_at_sensor(l, d, self.sensor_up);
             for (k, sk) in s.iter().enumerate() {
-                let rgb = if sk.is_finite() {
-                    linear_srgb_from_sampled(*sk, wl)
+                let layer = &mut value[n * (k + 1)..n * (k + 2)];
+                if sk.is_finite() {
+                    self.response.record(*sk, wl, layer);
                 } else {
-                    Vec3::ZERO
-                };
-                value[3 + 3 * k..6 + 3 * k].copy_from_slice(&rgb.to_array());
+                    layer.fill(0.0);
+                }
             }
         }
     }
 }
 
-/// Channels of the `stokes` integrator (`R, G, B` and four layers of three).
-const STOKES_CHANNELS: usize = 15;
+/// Most channels of the `stokes` integrator: the film's and four layers of them.
+const STOKES_CHANNELS: usize = 5 * MAX_BANDS;
+/// Channels of the `stokes` integrator on a colour film (`R, G, B` and four layers of three).
+const STOKES_RGB: usize = 15;

@@ -35,19 +35,19 @@ use crate::geometry::{Ray, SurfaceInteraction, spawn_ray_between};
 use crate::material::ShadingPoint;
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
-use gonio_core::color::linear_srgb_from_sampled;
 use gonio_core::{Bsdf, BsdfContext, SampledSpectrum, SampledWavelengths};
 
 /// Where a light path's connections go: the camera and the film.
-struct Splatter<'s> {
+struct Splatter<'s, 'p> {
     camera: &'s dyn Camera,
     splat: &'s mut dyn FnMut(Vec2, &[f32]),
+    tracer: &'s PathTracer<'p>,
 }
 
-impl Splatter<'_> {
+impl Splatter<'_, '_> {
     fn add(&mut self, film: Vec2, v: SampledSpectrum, wl: &SampledWavelengths) {
         if v.is_finite() && !v.is_black() {
-            (self.splat)(film, &linear_srgb_from_sampled(v, wl).to_array());
+            self.tracer.splat_radiance(self.splat, film, v, wl);
         }
     }
 }
@@ -61,7 +61,11 @@ impl PathTracer<'_> {
         if self.max_depth == 0 {
             return;
         }
-        let mut out = Splatter { camera, splat };
+        let mut out = Splatter {
+            camera,
+            splat,
+            tracer: self,
+        };
         let sampler = &mut sample.sampler;
         let wl = &mut sample.wavelengths;
         // A fixed count of numbers before the light path, whatever happens here.
@@ -77,7 +81,7 @@ impl PathTracer<'_> {
     /// Step 1 of the module docs: one emitter sample joined to the camera.
     fn splat_visible_emitter(
         &self,
-        out: &mut Splatter<'_>,
+        out: &mut Splatter<'_, '_>,
         u_sel: f32,
         u_pos: Vec2,
         u_lens: Vec2,
@@ -140,7 +144,7 @@ impl PathTracer<'_> {
     /// Step 2 of the module docs: a light path and its connections to the camera.
     fn trace_ptracer_path(
         &self,
-        out: &mut Splatter<'_>,
+        out: &mut Splatter<'_, '_>,
         sampler: &mut impl PathSampler,
         wl: &mut SampledWavelengths,
     ) {
@@ -215,7 +219,7 @@ impl PathTracer<'_> {
     #[allow(clippy::too_many_arguments)]
     fn ptracer_connect(
         &self,
-        out: &mut Splatter<'_>,
+        out: &mut Splatter<'_, '_>,
         bsdf: &SurfaceBsdf<'_>,
         si: &SurfaceInteraction,
         wi: Vec3,

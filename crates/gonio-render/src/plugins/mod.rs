@@ -60,7 +60,7 @@ pub static SENSOR_PLUGINS: &[&Plugin<SensorDesc>] = &[
 ];
 
 /// `<film>` plugins (nested in a sensor).
-pub static FILM_PLUGINS: &[&Plugin<FilmDesc>] = &[&film::hdrfilm::PLUGIN];
+pub static FILM_PLUGINS: &[&Plugin<FilmDesc>] = &[&film::hdrfilm::PLUGIN, &film::specfilm::PLUGIN];
 
 /// `<rfilter>` plugins (nested in a film).
 pub static RFILTER_PLUGINS: &[&Plugin<FilterDesc>] = &[

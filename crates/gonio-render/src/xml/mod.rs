@@ -22,7 +22,7 @@ mod values;
 pub(crate) use doc::Value;
 pub use error::{ErrorKind, Location, SceneError};
 pub use params::{BsdfPlugin, DefaultValue, ParamSpec, ParamType, Plugin};
-pub(crate) use params::{Params, err, to_affine};
+pub(crate) use params::{Params, err, resolve_ref, to_affine};
 pub(crate) use parse::{Obj, Tag};
 pub(crate) use plugins::{Builder, image_error, unknown_plugin};
 pub(crate) use values::{SpecValue, parse_list};

@@ -16,6 +16,7 @@ use crate::texture::Texture;
 use gonio_core::Ior;
 use gonio_core::bsdfs::surface::MAX_NODES;
 use gonio_core::named;
+use gonio_core::sensor_response::SensorResponse;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, RgbKind, Spectrum};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -171,6 +172,7 @@ impl<'d> Builder<'d> {
         let doc = self.doc;
         let root = &doc.objs[doc.root];
         let mut integrator: Option<IntegratorDesc> = None;
+        let mut integrator_loc: Option<Location> = None;
         let mut sensor: Option<SensorDesc> = None;
         let mut sensor_medium = None;
         let mut shapes = Vec::new();
@@ -213,6 +215,7 @@ impl<'d> Builder<'d> {
                         ));
                     }
                     integrator = Some(self.build_plugin(INTEGRATOR_PLUGINS, idx)?);
+                    integrator_loc = Some(obj.loc.clone());
                 }
                 Tag::Sensor => {
                     let s = self.build_plugin(SENSOR_PLUGINS, idx)?;
@@ -309,6 +312,14 @@ impl<'d> Builder<'d> {
                 crate::plugins::sensor::perspective::default_sensor()
             }
         };
+        // The `aov` and `moment` wrappers read their nested integrators' colour (`R, G, B`).
+        if let (Some(_), SensorResponse::Bands(_)) = (&integrator.layers, &sensor.film.response) {
+            return Err(err(
+                integrator_loc.as_ref().unwrap_or(&root.loc),
+                ErrorKind::BadValue,
+                "the aov and moment integrators need a colour film (hdrfilm): this sensor's specfilm records spectral bands",
+            ));
+        }
         let scene = Scene {
             integrator,
             sensor,

@@ -27,7 +27,7 @@ use gonio_render::develop::{develop, write_developed};
 use gonio_render::image::{ChannelImage, RgbImage};
 use gonio_render::render::{PreparedScene, RenderOptions, render};
 use gonio_render::sampler::Pattern;
-use gonio_render::scene::{FileFormat, FilmOutput, Scene};
+use gonio_render::scene::{FileFormat, FilmOutput, PixelFormat, Scene};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -207,6 +207,14 @@ fn render_one(args: &RenderArgs, mut scene: Scene, outputs: Vec<PathBuf>) -> Res
         if !matches!(extension(out).as_deref(), Some("exr" | "png" | "hdr" | "pfm")) {
             bail!(
                 "{}: unknown output format (use .exr, .hdr, .pfm or .png)",
+                out.display()
+            );
+        }
+        if scene.sensor.film.output.pixel_format == PixelFormat::Bands
+            && extension(out).as_deref() != Some("exr")
+        {
+            bail!(
+                "{}: a spectral film (specfilm) is written as OpenEXR only, its channels the bands (use .exr)",
                 out.display()
             );
         }

@@ -1,0 +1,183 @@
+//! `specfilm`: one channel per spectral band, cⱼ = ∫ Sⱼ(λ) L(λ) dλ, against Mitsuba 3.9.1 and
+//! against the integral itself; its errors and its combinations with other plugins.
+//!
+//! The scene (`testdata/specfilm/bands.xml`, ours): four bands (three triangles in the visible,
+//! one flat band at 780–900 nm), a diffuse sphere of reflectance rgb (0.8, 0.3, 0.1) under a
+//! uniform sky of radiance 1. Mitsuba's render, `bands.exr`, is the mean of four seeds at 4096
+//! spp (`make_reference.py`).
+
+use gonio_render::image::ChannelImage;
+use gonio_render::render::{PreparedScene, RenderOptions, render};
+use gonio_render::xml::{ErrorKind, load_scene_file, load_scene_str};
+use std::path::PathBuf;
+use std::sync::atomic::AtomicBool;
+
+fn testdata() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/specfilm")
+}
+
+const BANDS: [&str; 4] = ["band1_blue", "band2_green", "band3_red", "band4_nir"];
+
+fn render_scene(scene: gonio_render::scene::Scene, spp: u32, seed: u64) -> ChannelImage {
+    let prepared = PreparedScene::new(scene).expect("scene prepares");
+    let mut options = RenderOptions::from_scene(&prepared.scene);
+    options.spp = spp;
+    options.seed = seed;
+    render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).channels
+}
+
+fn channel(img: &ChannelImage, name: &str) -> Vec<f64> {
+    let k = img
+        .names
+        .iter()
+        .position(|n| n == name)
+        .unwrap_or_else(|| panic!("no channel {name} in {:?}", img.names));
+    let n = img.names.len();
+    img.data.chunks_exact(n).map(|p| p[k] as f64).collect()
+}
+
+/// The mean over the pixels (x, y) with `x0 ≤ x < x1`, `y0 ≤ y < y1` of a 32-pixel-wide image.
+fn block(v: &[f64], (x0, x1): (usize, usize), (y0, y1): (usize, usize)) -> f64 {
+    let mut s = 0.0;
+    for y in y0..y1 {
+        for x in x0..x1 {
+            s += v[y * 32 + x];
+        }
+    }
+    s / ((x1 - x0) * (y1 - y0)) as f64
+}
+
+#[test]
+fn a_spectral_film_records_each_band_as_mitsuba_does() {
+    let scene = || load_scene_file(testdata().join("bands.xml"), &[]).expect("bands.xml loads");
+    let reference = ChannelImage::read(testdata().join("bands.exr")).expect("Mitsuba's render reads");
+    assert_eq!(reference.names, BANDS);
+    // Two seeds: their mean is the estimate, their difference its noise.
+    let (a, b) = (render_scene(scene(), 256, 1), render_scene(scene(), 256, 2));
+    assert_eq!(a.names, BANDS, "the channels are the bands, in the file's order");
+    // The sphere's centre (it covers about ±10 pixels around (16, 12)), the sky's corner, all.
+    let regions = [
+        ("sphere", (12, 20), (8, 16)),
+        ("sky", (0, 4), (0, 4)),
+        ("image", (0, 32), (0, 24)),
+    ];
+    for name in BANDS {
+        let (ca, cb, cr) = (channel(&a, name), channel(&b, name), channel(&reference, name));
+        for (region, xs, ys) in regions {
+            let ours = 0.5 * (block(&ca, xs, ys) + block(&cb, xs, ys));
+            let mitsuba = block(&cr, xs, ys);
+            // Standard error of the two renders' block mean from their pixels' differences:
+            // var(mean of two) ≈ (a − b)²/4 per pixel. Mitsuba's (32× the samples) adds ≲ 1/5.
+            let diff: Vec<f64> = ca.iter().zip(&cb).map(|(x, y)| (x - y) * (x - y) / 4.0).collect();
+            let n = ((xs.1 - xs.0) * (ys.1 - ys.0)) as f64;
+            let se = (block(&diff, xs, ys) / n).sqrt() * 1.2;
+            // 4σ, and 0.1 % for the reflectance's uplift (gonio refines the RGB table's
+            // coefficients, Mitsuba interpolates them).
+            let tolerance = 4.0 * se + 1e-3 * mitsuba;
+            assert!(
+                (ours - mitsuba).abs() < tolerance,
+                "{name}, {region}: gonio {ours:.5} against Mitsuba {mitsuba:.5} (± {tolerance:.5})"
+            );
+        }
+    }
+}
+
+/// A single band under a flat spectrum: the wavelengths are drawn in proportion to the band, so
+/// every sample records exactly its integral times the radiance (no spectral noise), here
+/// 2 × ∫ of a triangle of height 3 over 500–600 nm on a pedestal of 1 = 2 × 200.
+#[test]
+fn one_band_under_a_uniform_sky_records_its_integral_in_every_pixel() {
+    let xml = r#"<scene version="3.0.0">
+        <sensor type="perspective">
+            <film type="specfilm"><integer name="width" value="6"/><integer name="height" value="4"/>
+                <spectrum name="band" value="500:1, 550:3, 600:1"/></film>
+        </sensor>
+        <emitter type="constant"><spectrum name="radiance" value="2"/></emitter>
+    </scene>"#;
+    let img = render_scene(load_scene_str(xml, ".", &[]).unwrap(), 16, 3);
+    assert_eq!(img.names, ["band"]);
+    for v in channel(&img, "band") {
+        assert!((v - 400.0).abs() < 400.0 * 1e-4, "{v}");
+    }
+}
+
+/// The `stokes` integrator on a spectral film: S0..S3 in the bands' channels, S0 equal to the
+/// image (a depolarizing scene: S1..S3 are 0).
+#[test]
+fn the_stokes_layers_of_a_spectral_film_are_per_band() {
+    let xml = r#"<scene version="3.0.0">
+        <integrator type="stokes"><integrator type="path"/></integrator>
+        <sensor type="perspective">
+            <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+            <film type="specfilm"><integer name="width" value="4"/><integer name="height" value="3"/>
+                <spectrum name="a" value="400:1, 500:1"/><spectrum name="b" value="550:0, 650:2"/></film>
+        </sensor>
+        <emitter type="constant"><spectrum name="radiance" value="1"/></emitter>
+        <shape type="sphere"><bsdf type="diffuse"/></shape>
+    </scene>"#;
+    let img = render_scene(load_scene_str(xml, ".", &[]).unwrap(), 16, 1);
+    let mut expected = vec!["a".to_string(), "b".to_string()];
+    for s in ["S0", "S1", "S2", "S3"] {
+        expected.extend(["a", "b"].map(|c| format!("{s}.{c}")));
+    }
+    assert_eq!(img.names, expected);
+    for c in ["a", "b"] {
+        assert_eq!(channel(&img, c), channel(&img, &format!("S0.{c}")));
+        assert!(channel(&img, &format!("S1.{c}")).iter().all(|v| v.abs() < 1e-5));
+    }
+    assert!(
+        channel(&img, "a").iter().all(|&v| v > 0.0),
+        "{:?}",
+        channel(&img, "a")
+    );
+}
+
+fn film_error(film: &str, integrator: &str) -> gonio_render::xml::SceneError {
+    let xml = format!(
+        "<scene version=\"3.0.0\">\n{integrator}\n<sensor type=\"perspective\">\n{film}\n</sensor>\n</scene>\n"
+    );
+    match load_scene_str(&xml, ".", &[]) {
+        Ok(_) => panic!("expected an error for\n{xml}"),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn a_spectral_film_without_usable_bands_is_refused_with_its_location() {
+    // No band.
+    let e = film_error(r#"<film type="specfilm"/>"#, "");
+    assert_eq!((e.kind, e.location.line), (ErrorKind::BadValue, 4), "{e}");
+    assert!(e.to_string().contains("at least one spectral band"), "{e}");
+    // Bands that are zero everywhere.
+    let e = film_error(
+        r#"<film type="specfilm"><spectrum name="x" value="400:0, 500:0"/></film>"#,
+        "",
+    );
+    assert!(e.to_string().contains("zero everywhere"), "{e}");
+    // A negative value, named.
+    let e = film_error(
+        r#"<film type="specfilm"><spectrum name="x" value="400:1, 500:-2"/></film>"#,
+        "",
+    );
+    assert_eq!(e.kind, ErrorKind::BadValue, "{e}");
+    assert!(e.to_string().contains("-2"), "{e}");
+    // A number is not a band (Mitsuba's film takes spectrum objects only).
+    let e = film_error(
+        r#"<film type="specfilm"><spectrum name="x" value="400:1, 500:1"/><float name="y" value="1"/></film>"#,
+        "",
+    );
+    assert_eq!(e.kind, ErrorKind::UnusedParameter, "{e}");
+    // hdrfilm's own parameters are not specfilm's.
+    let e = film_error(
+        r#"<film type="specfilm"><spectrum name="x" value="400:1, 500:1"/><string name="pixel_format" value="rgb"/></film>"#,
+        "",
+    );
+    assert_eq!(e.kind, ErrorKind::UnusedParameter, "{e}");
+    // The layered integrators read colour.
+    let e = film_error(
+        r#"<film type="specfilm"><spectrum name="x" value="400:1, 500:1"/></film>"#,
+        r#"<integrator type="aov"><string name="aovs" value="d:depth"/></integrator>"#,
+    );
+    assert_eq!((e.kind, e.location.line), (ErrorKind::BadValue, 2), "{e}");
+    assert!(e.to_string().contains("specfilm"), "{e}");
+}
