@@ -23,6 +23,7 @@
 //! |---|---|---|
 //! | `Srgb` | `R`, `G`, `B` (linear sRGB, [`crate::color::linear_srgb_from_sampled`]) | the renderer's visible density |
 //! | `Bands` | one per band, in the given order | [`SpectralBands::sample`] |
+//! | `Filtered` (a sensor's `srf`) | `R`, `G`, `B` of S(λ)·L(λ) | [`SpectralBands::sample`] of S alone |
 
 use crate::sampling::Distribution1D;
 use crate::spectra::{Extrapolation, Spectrum};
@@ -40,14 +41,25 @@ pub enum SensorResponse {
     Srgb,
     /// One channel per spectral band (`specfilm`).
     Bands(Arc<SpectralBands>),
+    /// Linear sRGB of the radiance filtered by one response function S (a sensor's `srf`):
+    /// the colour of S(λ)·L(λ), the wavelengths drawn ∝ S, as Mitsuba's sensors do.
+    Filtered(Arc<SpectralBands>),
 }
 
 impl SensorResponse {
     /// Number of channels a sample's value has: 3, or the number of bands.
     pub fn len(&self) -> usize {
         match self {
-            SensorResponse::Srgb => 3,
+            SensorResponse::Srgb | SensorResponse::Filtered(_) => 3,
             SensorResponse::Bands(b) => b.len(),
+        }
+    }
+
+    /// The bands the wavelengths are drawn from, if not the renderer's visible density.
+    pub fn wavelength_bands(&self) -> Option<&SpectralBands> {
+        match self {
+            SensorResponse::Srgb => None,
+            SensorResponse::Bands(b) | SensorResponse::Filtered(b) => Some(b),
         }
     }
 
@@ -65,6 +77,10 @@ impl SensorResponse {
                 out[..3].copy_from_slice(&crate::color::linear_srgb_from_sampled(l, wl).to_array())
             }
             SensorResponse::Bands(b) => b.record(l, wl, out),
+            SensorResponse::Filtered(b) => {
+                let filtered = l * b.srfs()[0].sample(wl);
+                out[..3].copy_from_slice(&crate::color::linear_srgb_from_sampled(filtered, wl).to_array())
+            }
         }
     }
 }

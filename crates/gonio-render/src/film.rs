@@ -136,7 +136,7 @@ impl Channels {
     /// under the band's name.
     pub fn for_response(response: &SensorResponse) -> Self {
         match response {
-            SensorResponse::Srgb => Self::rgb(),
+            SensorResponse::Srgb | SensorResponse::Filtered(_) => Self::rgb(),
             SensorResponse::Bands(b) => Self::new(b.names().iter().cloned()),
         }
     }

@@ -47,7 +47,6 @@ use crate::integrator::{CameraSample, Integrator, PathTracer};
 use crate::sampler::{Pattern, Sampler};
 use crate::scene::{IntegratorDesc, Scene};
 use glam::{UVec2, Vec2};
-use gonio_core::sensor_response::SensorResponse;
 use gonio_core::spectrum::VisibleWavelengthTable;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -455,12 +454,10 @@ pub fn render_with<I: Integrator + ?Sized>(
     let inv_light_paths = 1.0 / total as f32;
     let done = AtomicU64::new(0);
     let mut complete_spp = 0;
-    // The wavelengths: the visible density for a colour film, the bands' for a spectral one.
+    // The wavelengths: the visible density for a colour film, the bands' for a spectral one
+    // (or the sensor's response function's).
     let visible = VisibleWavelengthTable::get();
-    let bands = match &prepared.scene.sensor.film.response {
-        SensorResponse::Bands(b) => Some(b.as_ref()),
-        SensorResponse::Srgb => None,
-    };
+    let bands = prepared.scene.sensor.film.response.wavelength_bands();
     let mut cancelled = false;
 
     let mut start = 0;

@@ -416,6 +416,11 @@ impl<'a> PathTracer<'a> {
         match &self.response {
             // Colour, the common case, without the bands' buffer to clear.
             SensorResponse::Srgb => splat(p, &linear_srgb_from_sampled(l, wl).to_array()),
+            SensorResponse::Filtered(_) => {
+                let mut rgb = [0.0f32; 3];
+                self.record(l, wl, &mut rgb);
+                splat(p, &rgb);
+            }
             SensorResponse::Bands(bands) => {
                 let mut buf = [0.0f32; MAX_BANDS];
                 let n = bands.len();

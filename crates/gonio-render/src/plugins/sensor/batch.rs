@@ -11,7 +11,7 @@
 //! | nested `sensor`s | at least one |
 //! | nested `film`, `sampler` | hdrfilm (width a multiple of the number of sensors), independent |
 
-use super::perspective::{FILM, MEDIUM, SAMPLER, film_and_sampler};
+use super::perspective::{FILM, MEDIUM, SAMPLER, SRF, film_and_sampler};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin, SENSOR_PLUGINS};
 use crate::scene::{Projection, SensorDesc};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
@@ -28,7 +28,7 @@ const SENSOR: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<SensorDesc> = Plugin {
     name: "batch",
     summary: "Batch sensor: its nested sensors side by side on one film, each on an equal share of the width.",
-    params: &[SENSOR, FILM, SAMPLER, MEDIUM],
+    params: &[SENSOR, FILM, SAMPLER, MEDIUM, SRF],
     build,
 };
 

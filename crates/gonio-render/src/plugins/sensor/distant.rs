@@ -14,7 +14,7 @@
 //! | `target` | none: a point, or a nested shape |
 //! | nested `film`, `sampler` | hdrfilm (1 × 1 pixels required), independent |
 
-use super::perspective::{FILM, MEDIUM, SAMPLER, film_and_sampler};
+use super::perspective::{FILM, MEDIUM, SAMPLER, SRF, film_and_sampler};
 use super::radiancemeter::{check_forward, frame_along};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin, SHAPE_PLUGINS};
 use crate::scene::{Geometry, Projection, SensorDesc, TargetShape};
@@ -43,7 +43,7 @@ const TARGET: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<SensorDesc> = Plugin {
     name: "distant",
     summary: "Distant radiancemeter: the radiance leaving the scene against `direction`, averaged over a target point, shape or the scene's cross-section; film of 1 × 1 pixels.",
-    params: &[TO_WORLD, DIRECTION, TARGET, FILM, SAMPLER, MEDIUM],
+    params: &[TO_WORLD, DIRECTION, TARGET, FILM, SAMPLER, MEDIUM, SRF],
     build,
 };
 

@@ -13,7 +13,7 @@
 //! |---|---|
 //! | nested `film`, `sampler` | hdrfilm, independent |
 
-use super::perspective::{FILM, MEDIUM, SAMPLER, film_and_sampler};
+use super::perspective::{FILM, MEDIUM, SAMPLER, SRF, film_and_sampler};
 use crate::plugins::Plugin;
 use crate::scene::{Projection, SensorDesc};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
@@ -23,7 +23,7 @@ use glam::Affine3A;
 pub static PLUGIN: Plugin<SensorDesc> = Plugin {
     name: "irradiancemeter",
     summary: "Irradiance meter: the irradiance averaged over the shape it is nested in (π × the radiance of cosine-weighted rays from uniform points); films of 1 × 1 pixels.",
-    params: &[FILM, SAMPLER, MEDIUM],
+    params: &[FILM, SAMPLER, MEDIUM, SRF],
     build,
 };
 

@@ -14,7 +14,8 @@
 //! | nested `film`, `sampler` | hdrfilm, independent |
 
 use super::perspective::{
-    FAR_CLIP, FILM, FOCUS_DISTANCE, MEDIUM, NEAR_CLIP, SAMPLER, SHUTTER_CLOSE, SHUTTER_OPEN, build_projective,
+    FAR_CLIP, FILM, FOCUS_DISTANCE, MEDIUM, NEAR_CLIP, SAMPLER, SHUTTER_CLOSE, SHUTTER_OPEN, SRF,
+    build_projective,
 };
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{Projection, SensorDesc};
@@ -41,6 +42,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
         FILM,
         SAMPLER,
         MEDIUM,
+        SRF,
     ],
     build,
 };

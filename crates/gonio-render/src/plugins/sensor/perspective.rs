@@ -5,6 +5,9 @@ use crate::plugins::{DefaultValue, FILM_PLUGINS, ParamSpec, ParamType, Plugin, S
 use crate::scene::{FilmDesc, Projection, SamplerDesc, SensorDesc};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, err};
 use glam::Affine3A;
+use gonio_core::sensor_response::{SensorResponse, SpectralBands};
+use gonio_core::spectra::RgbKind;
+use std::sync::Arc;
 
 pub(crate) const TO_WORLD: ParamSpec = ParamSpec::new(
     "to_world",
@@ -91,6 +94,13 @@ pub(crate) const SAMPLER: ParamSpec = ParamSpec::new(
     "at most one nested sampler",
 );
 
+pub(crate) const SRF: ParamSpec = ParamSpec::new(
+    "srf",
+    ParamType::Spectrum,
+    DefaultValue::None,
+    "spectral response function S(λ): the image is the colour of S·L, the wavelengths drawn ∝ S (Mitsuba's spectral variants); not with a `specfilm`, whose bands are its own",
+);
+
 /// The `perspective` plugin.
 pub static PLUGIN: Plugin<SensorDesc> = Plugin {
     name: "perspective",
@@ -110,6 +120,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
         FILM,
         SAMPLER,
         MEDIUM,
+        SRF,
     ],
     build,
 };
@@ -123,9 +134,23 @@ pub(crate) fn film_and_sampler<'d>(
     b: &mut Builder<'d>,
     p: &mut Params<'d>,
 ) -> Result<(FilmDesc, SamplerDesc), SceneError> {
-    let film = b
+    let mut film: FilmDesc = b
         .nested_one(p, Tag::Film, FILM_PLUGINS, "sensor")?
         .unwrap_or_default();
+    // A spectral response function (row [`SRF`]) filters what the film records.
+    if let Some(loc) = p.get(SRF.name).map(|prop| prop.value_loc.clone()) {
+        let srf = b.spectrum_param(p, SRF.name, RgbKind::Albedo, 0.0)?;
+        if !matches!(film.response, SensorResponse::Srgb) {
+            return Err(err(
+                &loc,
+                ErrorKind::BadValue,
+                "a spectral response function (srf) in a sensor whose film (specfilm) has its own bands (Mitsuba refuses it too)",
+            ));
+        }
+        let bands = SpectralBands::new(vec![(SRF.name.to_string(), srf)])
+            .map_err(|e| err(&loc, ErrorKind::BadValue, format!("srf: {e}")))?;
+        film.response = SensorResponse::Filtered(Arc::new(bands));
+    }
     let sampler = b
         .nested_one(p, Tag::Sampler, SAMPLER_PLUGINS, "sensor")?
         .unwrap_or_default();

@@ -10,7 +10,7 @@
 //! | `origin`, `direction` | (0, 0, 0), (0, 0, 1) |
 //! | nested `film`, `sampler` | hdrfilm (1 × 1 pixels required), independent |
 
-use super::perspective::{FILM, MEDIUM, SAMPLER, film_and_sampler};
+use super::perspective::{FILM, MEDIUM, SAMPLER, SRF, film_and_sampler};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{Projection, SensorDesc};
 use crate::xml::{Builder, ErrorKind, Params, SceneError, err};
@@ -39,7 +39,7 @@ const DIRECTION: ParamSpec = ParamSpec::new(
 pub static PLUGIN: Plugin<SensorDesc> = Plugin {
     name: "radiancemeter",
     summary: "Radiance meter: the radiance along one ray (from `origin` along `direction`) into a film of 1 × 1 pixels.",
-    params: &[TO_WORLD, ORIGIN, DIRECTION, FILM, SAMPLER, MEDIUM],
+    params: &[TO_WORLD, ORIGIN, DIRECTION, FILM, SAMPLER, MEDIUM, SRF],
     build,
 };
 

@@ -17,7 +17,7 @@
 
 use super::perspective::{
     FAR_CLIP, FILM, FOCAL_LENGTH, FOV, FOV_AXIS, MEDIUM, NEAR_CLIP, PRINCIPAL_POINT_OFFSET_X,
-    PRINCIPAL_POINT_OFFSET_Y, SAMPLER, SHUTTER_CLOSE, SHUTTER_OPEN, TO_WORLD, build_projective,
+    PRINCIPAL_POINT_OFFSET_Y, SAMPLER, SHUTTER_CLOSE, SHUTTER_OPEN, SRF, TO_WORLD, build_projective,
 };
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{Projection, SensorDesc};
@@ -56,6 +56,7 @@ pub static PLUGIN: Plugin<SensorDesc> = Plugin {
         FILM,
         SAMPLER,
         MEDIUM,
+        SRF,
     ],
     build,
 };
