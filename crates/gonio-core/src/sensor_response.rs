@@ -109,8 +109,10 @@ pub enum BandsError {
     NoBands,
     /// More than [`MAX_BANDS`].
     TooMany(usize),
-    /// The SRFs are zero everywhere (or not finite, or negative).
+    /// The SRFs' integral is zero or not finite (zero everywhere, negative, or too large).
     Empty,
+    /// A band's table reaches a wavelength that is not positive (nm).
+    Wavelength(f32),
 }
 
 impl std::fmt::Display for BandsError {
@@ -120,7 +122,11 @@ impl std::fmt::Display for BandsError {
             BandsError::TooMany(n) => write!(f, "{n} spectral bands; at most {MAX_BANDS} are supported"),
             BandsError::Empty => write!(
                 f,
-                "the spectral bands are zero everywhere (or negative, or not finite): no wavelength to sample"
+                "the spectral bands' integral is zero or not finite (the bands zero everywhere, negative, or too large): no wavelength to sample"
+            ),
+            BandsError::Wavelength(l) => write!(
+                f,
+                "a band reaches the wavelength {l} nm; wavelengths must be positive"
             ),
         }
     }
@@ -156,6 +162,9 @@ impl SpectralBands {
             .flat_map(band_knots)
             .filter(|l| l.is_finite())
             .collect();
+        if let Some(&l) = knots.iter().find(|&&l| l <= 0.0) {
+            return Err(BandsError::Wavelength(l));
+        }
         knots.sort_by(f32::total_cmp);
         knots.dedup();
         // A table's value at its own end knots may differ from its 0 just outside them; the
@@ -409,6 +418,15 @@ mod tests {
         );
         assert_eq!(
             SpectralBands::new(named(vec![Spectrum::Constant(f32::NAN)])).unwrap_err(),
+            BandsError::Empty
+        );
+        assert_eq!(
+            SpectralBands::new(named(vec![table(&[(-100.0, 1.0), (500.0, 1.0)])])).unwrap_err(),
+            BandsError::Wavelength(-100.0)
+        );
+        // An integral beyond f32's range.
+        assert_eq!(
+            SpectralBands::new(named(vec![table(&[(400.0, 2.0), (3e38, 2.0)])])).unwrap_err(),
             BandsError::Empty
         );
         assert_eq!(

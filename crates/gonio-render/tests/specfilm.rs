@@ -155,6 +155,12 @@ fn a_spectral_film_without_usable_bands_is_refused_with_its_location() {
         "",
     );
     assert!(e.to_string().contains("zero everywhere"), "{e}");
+    // A wavelength that is not positive.
+    let e = film_error(
+        r#"<film type="specfilm"><spectrum name="x" value="-100:1, 500:1"/></film>"#,
+        "",
+    );
+    assert!(e.to_string().contains("-100 nm"), "{e}");
     // A negative value, named.
     let e = film_error(
         r#"<film type="specfilm"><spectrum name="x" value="400:1, 500:-2"/></film>"#,

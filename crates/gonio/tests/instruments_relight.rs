@@ -137,4 +137,20 @@ fn bad_relight_input_is_reported() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--lights 0"));
+    // A spectral film records bands, which the RGB weights cannot relight.
+    let bands =
+        std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/specfilm/bands.xml");
+    let o = gonio()
+        .args([
+            "relight",
+            bands.to_str().unwrap(),
+            "--env",
+            "x.exr",
+            "-o",
+            "y.exr",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("specfilm"));
 }

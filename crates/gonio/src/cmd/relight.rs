@@ -165,6 +165,13 @@ pub fn run(a: Args) -> anyhow::Result<ExitCode> {
     }
     let scene = gonio_render::xml::load_scene_file(&a.scene, &[])
         .with_context(|| format!("loading {}", a.scene.display()))?;
+    // The environment's weights are RGB: the images must be the film's plain colour.
+    if scene.sensor.film.response != gonio_core::sensor_response::SensorResponse::Srgb {
+        bail!(
+            "{}: relighting weighs colour images; this sensor records spectral bands (specfilm) or filters by an srf",
+            a.scene.display()
+        );
+    }
     let env =
         RgbImage::read(&a.env).with_context(|| format!("reading the environment map {}", a.env.display()))?;
     if env.width == 0 || env.height == 0 {
