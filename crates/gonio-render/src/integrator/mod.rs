@@ -116,6 +116,7 @@ mod nee;
 mod path_state;
 pub mod polarized;
 mod ptracer;
+mod record;
 mod refracted;
 mod volpath;
 
@@ -132,8 +133,7 @@ use crate::sampler::{PaddedSampler, Pcg32};
 use crate::scene::{IntegratorDesc, IntegratorKind};
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
-use gonio_core::color::linear_srgb_from_sampled;
-use gonio_core::sensor_response::{MAX_BANDS, SensorResponse};
+use gonio_core::sensor_response::SensorResponse;
 use gonio_core::weight::{BsdfWeight, Weight};
 use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
 
@@ -390,44 +390,6 @@ impl<'a> PathTracer<'a> {
     pub fn with_sensor_up(mut self, up: Vec3) -> Self {
         self.sensor_up = up;
         self
-    }
-
-    /// What the film records (default linear sRGB): its channels, and the estimate of each from
-    /// a path's radiance at its wavelengths.
-    pub fn with_response(mut self, response: SensorResponse) -> Self {
-        self.response = response;
-        self
-    }
-
-    /// Writes the film's channels for radiance `l` at the wavelengths `wl` into `out`.
-    #[inline]
-    fn record(&self, l: SampledSpectrum, wl: &SampledWavelengths, out: &mut [f32]) {
-        self.response.record(l, wl, out);
-    }
-
-    /// Splats radiance `l` at the film position `p`, in the film's channels.
-    fn splat_radiance(
-        &self,
-        splat: &mut dyn FnMut(Vec2, &[f32]),
-        p: Vec2,
-        l: SampledSpectrum,
-        wl: &SampledWavelengths,
-    ) {
-        match &self.response {
-            // Colour, the common case, without the bands' buffer to clear.
-            SensorResponse::Srgb => splat(p, &linear_srgb_from_sampled(l, wl).to_array()),
-            SensorResponse::Filtered(_) => {
-                let mut rgb = [0.0f32; 3];
-                self.record(l, wl, &mut rgb);
-                splat(p, &rgb);
-            }
-            SensorResponse::Bands(bands) => {
-                let mut buf = [0.0f32; MAX_BANDS];
-                let n = bands.len();
-                bands.record(l, wl, &mut buf[..n]);
-                splat(p, &buf[..n]);
-            }
-        }
     }
 
     /// The scene's participating media, the media each shape separates and the sensor's
@@ -744,7 +706,7 @@ impl<'a> PathTracer<'a> {
 }
 
 /// The `path` integrator: channels `R`, `G`, `B` (linear sRGB through the wavelength estimator
-/// [`linear_srgb_from_sampled`]) or a spectral film's bands
+/// [`gonio_core::color::linear_srgb_from_sampled`]) or a spectral film's bands
 /// ([`SensorResponse`]); with caustic light paths it splats their connections to the camera.
 impl Integrator for PathTracer<'_> {
     fn channels(&self) -> Channels {

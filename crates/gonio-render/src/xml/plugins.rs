@@ -16,7 +16,6 @@ use crate::texture::Texture;
 use gonio_core::Ior;
 use gonio_core::bsdfs::surface::MAX_NODES;
 use gonio_core::named;
-use gonio_core::sensor_response::SensorResponse;
 use gonio_core::spectra::{Extrapolation, PiecewiseLinear, RgbKind, Spectrum};
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -312,14 +311,11 @@ impl<'d> Builder<'d> {
                 crate::plugins::sensor::perspective::default_sensor()
             }
         };
-        // The `aov` and `moment` wrappers read their nested integrators' colour (`R, G, B`).
-        if let (Some(_), SensorResponse::Bands(_)) = (&integrator.layers, &sensor.film.response) {
-            return Err(err(
-                integrator_loc.as_ref().unwrap_or(&root.loc),
-                ErrorKind::BadValue,
-                "the aov and moment integrators need a colour film (hdrfilm): this sensor's specfilm records spectral bands",
-            ));
-        }
+        crate::plugins::film::specfilm::check_integrator(
+            &sensor.film,
+            &integrator,
+            integrator_loc.as_ref().unwrap_or(&root.loc),
+        )?;
         let scene = Scene {
             integrator,
             sensor,

@@ -15,8 +15,8 @@ use super::{
     WIDTH, film_base,
 };
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::{FileFormat, FilmDesc, PixelFormat};
-use crate::xml::{Builder, ErrorKind, Params, SceneError, Tag, Value, err, resolve_ref};
+use crate::scene::{FileFormat, FilmDesc, IntegratorDesc, PixelFormat};
+use crate::xml::{Builder, ErrorKind, Location, Params, SceneError, Tag, Value, err, resolve_ref};
 use gonio_core::sensor_response::{SensorResponse, SpectralBands};
 use gonio_core::spectra::RgbKind;
 use std::sync::Arc;
@@ -84,4 +84,21 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<FilmDesc, SceneE
     film.output.pixel_format = PixelFormat::Bands;
     film.output.file_format = FileFormat::OpenExr;
     Ok(film)
+}
+
+/// The `aov` and `moment` wrappers read their nested integrators' colour (`R, G, B`): with a
+/// film of bands they are an error, at the integrator's location `at`.
+pub(crate) fn check_integrator(
+    film: &FilmDesc,
+    integrator: &IntegratorDesc,
+    at: &Location,
+) -> Result<(), SceneError> {
+    if integrator.layers.is_some() && matches!(film.response, SensorResponse::Bands(_)) {
+        return Err(err(
+            at,
+            ErrorKind::BadValue,
+            "the aov and moment integrators need a colour film (hdrfilm): this sensor's specfilm records spectral bands",
+        ));
+    }
+    Ok(())
 }
