@@ -52,8 +52,10 @@ use super::caustics::LightSubpath;
 use crate::scene::IntegratorKind;
 
 /// The channels of the `stokes` integrator, with Mitsuba 3's names: `R, G, B`, then
-/// `S0.R, S0.G, S0.B, S1.R, …, S3.B` (on a spectral film, the bands' names in place of `R, G,
-/// B`).
+/// `S0.R, S0.G, S0.B, S1.R, …, S3.B`. On a spectral film the bands' names take the place of
+/// `R, G, B`, in the layers too (`S0.<band>`, …): Mitsuba 3.9.1 keeps `S0.R` … there and fills
+/// them with colour estimated as if the wavelengths had been drawn for colour (its `stokes`
+/// integrator divides by `pdf_rgb_spectrum`), which a spectral film's wavelengths are not.
 pub fn stokes_channels(response: &SensorResponse) -> Channels {
     let main = Channels::for_response(response);
     let names: Vec<&str> = main.names().iter().map(String::as_str).collect();
