@@ -252,3 +252,45 @@ fn a_sensors_response_function_filters_the_radiance_before_the_colour() {
     assert_eq!((e.kind, e.location.line), (ErrorKind::BadValue, 6), "{e}");
     assert!(e.to_string().contains("srf"), "{e}");
 }
+
+/// The bands recorded by light paths: `ptracer` splats every connection to the camera through
+/// the film's bands, and must see the sphere as `path` does (the centre block's mean of each
+/// band, two seeds of each, within 4 standard errors of their difference).
+#[test]
+fn light_paths_splat_the_same_bands_as_camera_paths() {
+    use gonio_render::scene::IntegratorKind;
+    let render_with = |kind: IntegratorKind, seed: u64| {
+        let mut scene = load_scene_file(testdata().join("bands.xml"), &[]).expect("bands.xml loads");
+        scene.integrator.kind = kind;
+        render_scene(scene, 1024, seed)
+    };
+    let (xs, ys) = ((12, 20), (8, 16));
+    let mean_and_var = |a: &ChannelImage, b: &ChannelImage, name: &str| {
+        let (ca, cb) = (channel(a, name), channel(b, name));
+        let diff: Vec<f64> = ca.iter().zip(&cb).map(|(x, y)| (x - y) * (x - y) / 4.0).collect();
+        let n = ((xs.1 - xs.0) * (ys.1 - ys.0)) as f64;
+        (
+            0.5 * (block(&ca, xs, ys) + block(&cb, xs, ys)),
+            block(&diff, xs, ys) / n,
+        )
+    };
+    let (p1, p2) = (
+        render_with(IntegratorKind::Path, 1),
+        render_with(IntegratorKind::Path, 2),
+    );
+    let (t1, t2) = (
+        render_with(IntegratorKind::PTracer, 1),
+        render_with(IntegratorKind::PTracer, 2),
+    );
+    assert_eq!(t1.names, BANDS);
+    for name in BANDS {
+        let (path, var_path) = mean_and_var(&p1, &p2, name);
+        let (light, var_light) = mean_and_var(&t1, &t2, name);
+        let se = (var_path + var_light).sqrt();
+        assert!(
+            (path - light).abs() < 4.0 * se,
+            "{name}: path {path:.4}, ptracer {light:.4} (± {se:.4})"
+        );
+        assert!(light > 0.0, "{name}: no light path reached the film");
+    }
+}
