@@ -14,9 +14,10 @@
 //! under a flat spectrum), the hero at u and the others rotated by i/4 in sample space
 //! (`sample_shifted`). g is piecewise linear between the union of the bands' knots: exactly the
 //! sum where every band is a table (`<spectrum value="λ:v, ...">`, an `.spd` file), which are 0
-//! outside their knots as Mitsuba's `irregular` spectra are; a band that is no table (a number,
-//! an RGB colour, a blackbody) contributes its values at every nanometre of 360–830 nm, the range
-//! Mitsuba gives such spectra. Wherever g > 0 the estimator is unbiased; where a band is
+//! outside their knots as Mitsuba's `irregular` spectra are; a band that is no table contributes
+//! its values at every nanometre of its range: a blackbody's own (Mitsuba's `wavelength_min`,
+//! `wavelength_max`), else 360–830 nm (a number, an RGB colour), the range Mitsuba gives such
+//! spectra. Wherever g > 0 the estimator is unbiased; where a band is
 //! non-zero and g is 0 (between two knots of value 0) its radiance is missed, as in Mitsuba.
 //!
 //! | `SensorResponse` | channels | wavelengths |
@@ -134,15 +135,24 @@ impl std::fmt::Display for BandsError {
 
 impl std::error::Error for BandsError {}
 
-/// The knots a band contributes to the sampling density: a table's own, 0 outside them; any
-/// other spectrum is tabulated every nanometre over the visible range.
+/// The most knots a band that is no table contributes.
+const MAX_SPAN_KNOTS: usize = 100_000;
+
+/// The knots a band contributes to the sampling density: a table's own, 0 outside them; a
+/// blackbody with a finite range (Mitsuba's) is tabulated every nanometre over that range (at
+/// most [`MAX_SPAN_KNOTS`] knots, from 1 nm); any other spectrum every nanometre over the visible
+/// range.
 fn band_knots(s: &Spectrum) -> Vec<f32> {
+    let span = |lo: f32, hi: f32| -> Vec<f32> {
+        let n = ((hi - lo).ceil() as usize).clamp(1, MAX_SPAN_KNOTS);
+        (0..=n).map(|i| lo + (hi - lo) * i as f32 / n as f32).collect()
+    };
     match s {
         Spectrum::PiecewiseLinear(p) if p.extrapolation() == Extrapolation::Zero => p.lambdas().to_vec(),
-        _ => {
-            let n = (LAMBDA_MAX - LAMBDA_MIN) as usize;
-            (0..=n).map(|i| LAMBDA_MIN + i as f32).collect()
+        Spectrum::Blackbody(b) if b.range()[1].is_finite() => {
+            span(b.range()[0].max(1.0), b.range()[1].max(1.0))
         }
+        _ => span(LAMBDA_MIN, LAMBDA_MAX),
     }
 }
 
@@ -391,6 +401,26 @@ mod tests {
                 sum[j]
             );
         }
+    }
+
+    /// A blackbody band over 300–1000 nm (Mitsuba's `blackbody` with its range): its wavelengths
+    /// reach the whole range, and its channel estimates ∫ B(λ) dλ there.
+    #[test]
+    fn a_blackbody_band_is_sampled_over_its_own_range() {
+        let b = crate::spectra::Blackbody::radiance(3000.0, [300.0, 1000.0]).unwrap();
+        let s = Spectrum::Blackbody(b);
+        let bands = SpectralBands::new(named(vec![s.clone()])).unwrap();
+        assert_eq!(bands.range(), (300.0, 1000.0));
+        let n = 1 << 14;
+        let mut sum = 0.0f64;
+        let mut out = [0.0f32];
+        for k in 0..n {
+            let wl = bands.sample((k as f32 + 0.5) / n as f32);
+            bands.record(SampledSpectrum::splat(1.0), &wl, &mut out);
+            sum += out[0] as f64 / n as f64;
+        }
+        let exact = integral(|l| s.eval(l), 300.0, 1000.0);
+        assert!((sum - exact).abs() < 1e-3 * exact, "{sum} vs {exact}");
     }
 
     /// One band under a flat spectrum: every sample gives the band's integral (no spectral noise).

@@ -160,6 +160,12 @@ impl Blackbody {
         self.temperature
     }
 
+    /// The wavelengths (nm, ends included) outside which the spectrum is 0 (`[0, ∞]` for
+    /// pbrt's normalized form).
+    pub fn range(&self) -> [f32; 2] {
+        self.range
+    }
+
     /// The factor times B(λ, T) inside the range, 0 outside.
     #[inline]
     pub fn eval(&self, lambda: f32) -> f32 {
