@@ -276,16 +276,7 @@ impl SpectralBands {
     /// The hero wavelength for `u` and its three rotations by ¼ in sample space, with their
     /// densities.
     pub fn sample(&self, u: f32) -> SampledWavelengths {
-        let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
-        let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
-        for i in 0..N_SPECTRUM_SAMPLES {
-            let mut ui = u + i as f32 / N_SPECTRUM_SAMPLES as f32;
-            if ui >= 1.0 {
-                ui -= 1.0;
-            }
-            (lambda[i], pdf[i]) = self.sample_one(ui);
-        }
-        SampledWavelengths::from_parts(lambda, pdf)
+        SampledWavelengths::sample_shifted(u, |ui| self.sample_one(ui))
     }
 
     /// cⱼ ≈ (1/4) Σᵢ Sⱼ(λᵢ) L(λᵢ)/p(λᵢ) for each band, into `out[..self.len()]` (a wavelength of

@@ -248,6 +248,16 @@ impl SampledWavelengths {
     /// Hero wavelength from the visible pdf, the others rotated by i/4 in sample space
     /// (Mitsuba's `sample_shifted`, pbrt's `SampleVisible`).
     pub fn sample_visible(u: f32) -> Self {
+        Self::sample_shifted(u, |up| {
+            let lambda = sample_visible_wavelength(up);
+            (lambda, visible_wavelength_pdf(lambda))
+        })
+    }
+
+    /// The hero wavelength `one(u)` and the others `one(u + i/4)` (wrapped into [0, 1)), each
+    /// `one` returning a wavelength and its density (Mitsuba's `sample_shifted`).
+    #[inline]
+    pub fn sample_shifted(u: f32, one: impl Fn(f32) -> (f32, f32)) -> Self {
         let mut lambda = [0.0; N_SPECTRUM_SAMPLES];
         let mut pdf = [0.0; N_SPECTRUM_SAMPLES];
         for i in 0..N_SPECTRUM_SAMPLES {
@@ -255,8 +265,7 @@ impl SampledWavelengths {
             if up >= 1.0 {
                 up -= 1.0;
             }
-            lambda[i] = sample_visible_wavelength(up);
-            pdf[i] = visible_wavelength_pdf(lambda[i]);
+            (lambda[i], pdf[i]) = one(up);
         }
         Self::make(lambda, pdf)
     }

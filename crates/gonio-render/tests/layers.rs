@@ -23,7 +23,8 @@ fn render_xml(xml: &str, spp: u32, seed: u64) -> ChannelImage {
     render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).channels
 }
 
-fn channel(img: &ChannelImage, name: &str) -> Vec<f32> {
+/// The values of channel `name`, pixel by pixel (also the spectral film tests').
+pub(crate) fn channel(img: &ChannelImage, name: &str) -> Vec<f32> {
     let k = img
         .names
         .iter()

@@ -28,13 +28,10 @@ fn render_scene(scene: gonio_render::scene::Scene, spp: u32, seed: u64) -> Chann
 }
 
 fn channel(img: &ChannelImage, name: &str) -> Vec<f64> {
-    let k = img
-        .names
-        .iter()
-        .position(|n| n == name)
-        .unwrap_or_else(|| panic!("no channel {name} in {:?}", img.names));
-    let n = img.names.len();
-    img.data.chunks_exact(n).map(|p| p[k] as f64).collect()
+    crate::layers::channel(img, name)
+        .into_iter()
+        .map(f64::from)
+        .collect()
 }
 
 /// The mean over the pixels (x, y) with `x0 ≤ x < x1`, `y0 ≤ y < y1` of a 32-pixel-wide image.

@@ -108,15 +108,16 @@ impl PathTracer<'_> {
                         // The beam arrives at the camera along the matrix's output direction.
                         let d = m.frames().map_or(Vec3::Z, |(_, out)| -out.forward());
                         // A colour film's 15 channels without the bands' larger buffer to clear.
-                        if n <= STOKES_RGB {
-                            let mut buf = [0.0f32; STOKES_RGB];
-                            self.write_channels(&m, d, wl, &mut buf[..n]);
-                            splat(p, &buf[..n]);
+                        let (mut small, mut large);
+                        let buf: &mut [f32] = if n <= STOKES_RGB {
+                            small = [0.0f32; STOKES_RGB];
+                            &mut small[..n]
                         } else {
-                            let mut buf = [0.0f32; STOKES_CHANNELS];
-                            self.write_channels(&m, d, wl, &mut buf[..n]);
-                            splat(p, &buf[..n]);
-                        }
+                            large = [0.0f32; STOKES_CHANNELS];
+                            &mut large[..n]
+                        };
+                        self.write_channels(&m, d, wl, buf);
+                        splat(p, buf);
                     };
                     self.trace_light_path(&mut rng, &mut sample.wavelengths, &mut to_film, &mut light);
                 }
