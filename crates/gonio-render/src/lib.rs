@@ -49,5 +49,6 @@ pub mod render;
 pub mod sampler;
 pub mod scene;
 pub mod tabulated_io;
+pub mod tensor_file;
 pub mod texture;
 pub mod xml;
