@@ -28,6 +28,10 @@ use crate::battery_support::*;
 #[path = "battery_stochastic/mod.rs"]
 mod battery_stochastic;
 
+/// The measured tables: `tabulated` and `measured_polarized`.
+#[path = "battery_measured/mod.rs"]
+mod battery_measured;
+
 // ---- diffuse ----------------------------------------------------------------------------------
 
 #[test]
@@ -635,62 +639,6 @@ fn blend_thin_twosided_diffuse() {
         "blend 0.7 thindielectric + twosided(diffuse 0.6)",
         &BlendBsdf::new(0.7, &t, &d2),
     );
-}
-
-// ---- tabulated (issue 4's measured-table plugin) ----------------------------------------------
-
-/// A table on a regular (θi, θo, φd) grid at 450 and 650 nm, values from `f(θi, θo, φd, λ)`.
-fn table(n_theta: usize, n_phi: usize, f: impl Fn(f32, f32, f32, f32) -> f32) -> Tabulated {
-    let th: Vec<f32> = (0..n_theta)
-        .map(|i| 90.0 * i as f32 / (n_theta - 1) as f32)
-        .collect();
-    let ph: Vec<f32> = (0..n_phi)
-        .map(|i| 180.0 * i as f32 / (n_phi - 1) as f32)
-        .collect();
-    let wl = vec![450.0, 650.0];
-    let mut values = Vec::new();
-    for &ti in &th {
-        for &to in &th {
-            for &pd in &ph {
-                for &l in &wl {
-                    values.push(f(ti, to, pd, l));
-                }
-            }
-        }
-    }
-    Tabulated::new(TabulatedData::new(th.clone(), th, ph, wl, values, None, "battery".into()).unwrap())
-}
-
-#[test]
-fn tabulated_lambertian() {
-    let t = table(
-        10,
-        7,
-        |_, _, _, l| if l < 500.0 { 0.5 } else { 0.8 } / std::f32::consts::PI,
-    );
-    assert_passes("tabulated Lambertian ρ=0.5/0.8", &t);
-}
-
-#[test]
-fn tabulated_phong_lobe() {
-    // 0.3/π + 0.5·(n+2)/(2π)·cos^n α, α the angle to the mirror direction: albedo ≤ 0.8.
-    let n = 10.0f32;
-    let t = table(19, 19, |ti, to, pd, _| {
-        let (ti, to, pd) = (ti.to_radians(), to.to_radians(), pd.to_radians());
-        // wi = (sin ti, 0, cos ti) mirrored = (−sin ti, 0, cos ti); wo at azimuth pd.
-        let cos_a = (-ti.sin() * to.sin() * pd.cos() + ti.cos() * to.cos()).max(0.0);
-        let pi = std::f32::consts::PI;
-        0.3 / pi + 0.5 * (n + 2.0) / (2.0 * pi) * cos_a.powf(n)
-    });
-    assert_passes("tabulated Phong n=10", &t);
-}
-
-#[test]
-fn tabulated_noisy_measurement() {
-    // Random entries in [0, 0.3] (a noisy, non-reciprocal raw table: the plugin symmetrizes).
-    let rng = std::cell::RefCell::new(Pcg32::new(11, 0));
-    let t = table(7, 5, |_, _, _, _| 0.3 * rng.borrow_mut().next_f32());
-    assert_passes("tabulated noisy 7×7×5", &t);
 }
 
 // ---- lossless models: R + T = 1 to 1e-6 in importance mode (issue 2 §6) ------------------------

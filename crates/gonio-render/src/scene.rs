@@ -39,7 +39,7 @@ pub struct Scene {
 impl Scene {
     /// True when the scene asks for a polarized render without being told: a `stokes`
     /// integrator, or a material that asks for it (`polarizer`, `retarder`, `circular`,
-    /// `pplastic`, also inside `twosided`, `blendbsdf`, `mask`, `normalmap`, `bumpmap`).
+    /// `pplastic`, `measured_polarized`, also inside `twosided`, `blendbsdf`, `mask`, `normalmap`, `bumpmap`).
     pub fn asks_for_polarization(&self) -> bool {
         self.integrator.stokes
             || self

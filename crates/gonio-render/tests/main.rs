@@ -21,6 +21,7 @@ mod layers;
 mod light_splitting;
 mod lobe_split;
 mod manifold;
+mod measured_polarized;
 mod media;
 mod mis_exponent;
 mod mitsuba_bsdf_values;

@@ -24,6 +24,7 @@ pub mod diffuse;
 pub mod hair;
 pub mod lambertsphere;
 pub mod mask;
+pub mod measured_polarized;
 pub mod normalmap;
 pub mod null;
 pub mod plastic;
@@ -50,6 +51,7 @@ pub use diffuse::DiffuseMaterial;
 pub use hair::HairMaterial;
 pub use lambertsphere::LambertSphereMaterial;
 pub use mask::MaskMaterial;
+pub use measured_polarized::MeasuredPolarizedMaterial;
 pub use normalmap::NormalMapMaterial;
 pub use null::NullMaterial;
 pub use plastic::PlasticMaterial;
@@ -95,6 +97,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
+    &measured_polarized::PLUGIN,
     &polarizer::PLUGIN,
     &retarder::PLUGIN,
     &circular::PLUGIN,
@@ -124,8 +127,8 @@ pub trait SurfaceMaterial: Send + Sync + Debug + Any {
     }
 
     /// True when a scene holding this material (at any depth of its wrappers) asks to be
-    /// rendered polarized, as Mitsuba users expect of `polarizer`, `retarder`, `circular` and
-    /// `pplastic`; wrappers answer for their children.
+    /// rendered polarized, as Mitsuba users expect of `polarizer`, `retarder`, `circular`,
+    /// `pplastic` and `measured_polarized`; wrappers answer for their children.
     fn asks_for_polarization(&self) -> bool {
         false
     }

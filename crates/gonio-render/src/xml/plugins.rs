@@ -337,7 +337,7 @@ impl<'d> Builder<'d> {
         // do carry them through `ptracer`): say so rather than drop the polarization silently.
         if scene.integrator.kind == IntegratorKind::PTracer && scene.asks_for_polarization() {
             self.warnings.push(format!(
-                "{}: the ptracer integrator renders without polarization: polarizer, retarder, circular and pplastic act on the intensity only (use path for a polarized render)",
+                "{}: the ptracer integrator renders without polarization: polarizer, retarder, circular, pplastic and measured_polarized act on the intensity only (use path for a polarized render)",
                 root.loc
             ));
         }
