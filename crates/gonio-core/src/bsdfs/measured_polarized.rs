@@ -40,7 +40,6 @@
 //! | `wavelength`   | float  | −1      | −1: spectral; else every wavelength looks up this one (nm) |
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, light_directions};
-use crate::math::find_interval;
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use crate::mueller::{Mueller, MuellerMatrix, StokesBasis};
 use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
@@ -225,8 +224,8 @@ impl AxisWeight {
     }
 }
 
-/// Mitsuba's `Marginal2D` parameter lookup: the interval of `x` (clamped to the axis) and the
-/// upper weight clamped to [0, 1].
+/// Mitsuba's `Marginal2D` parameter lookup (`Distribution2D::interpolate_weights`): the
+/// interval of `x` (clamped to the axis) and the upper weight clamped to [0, 1].
 #[inline]
 fn axis_weight(axis: &[f32], x: f32) -> AxisWeight {
     let last = axis.len() - 1;
@@ -237,7 +236,9 @@ fn axis_weight(axis: &[f32], x: f32) -> AxisWeight {
             w1: 0.0,
         };
     }
-    let index = find_interval(axis, x);
+    // The last node strictly below x (Mitsuba's predicate is `<`: at a node, the interval
+    // that ends there), clamped to [0, n − 2].
+    let index = axis.partition_point(|&v| v < x).saturating_sub(1).min(last - 1);
     let (p0, p1) = (axis[index], axis[index + 1]);
     let w1 = ((x - p0) / (p1 - p0)).clamp(0.0, 1.0);
     AxisWeight {
@@ -525,16 +526,16 @@ mod tests {
             }
         });
         let b = MeasuredPolarized::new(t, 0.1, None);
-        // On the node (phi_d = 0, theta_d = theta_h = 0): the upper corners (weight 0) include
-        // (2, 1, 1)'s neighbours only through d = h = 1, which is the NaN node.
+        // On the node (φd = 0, θd = θh = 0): the lookup's intervals end at φd's node 2 and start
+        // at θ's node 0, so the corners (weights 1 × 0 × 0) include the NaN node (2, 1, 1).
         let s = b.table.stencil(0.0, 0.0, 0.0, [550.0; 4]);
         assert!(b.intensity(&s).is_none());
-        let s = b.table.stencil(
-            0.0,
-            2.0 * std::f32::consts::FRAC_PI_6,
-            2.0 * std::f32::consts::FRAC_PI_6,
-            [550.0; 4],
-        );
+        // On θd = θh = node 2 the intervals are [1, 2] (Mitsuba's strict `<`): NaN again.
+        let node = |i: f32| i * std::f32::consts::FRAC_PI_6;
+        let s = b.table.stencil(0.0, node(2.0), node(2.0), [550.0; 4]);
+        assert!(b.intensity(&s).is_none());
+        // On node 3 they are [2, 3]: no NaN corner.
+        let s = b.table.stencil(0.0, node(3.0), node(3.0), [550.0; 4]);
         assert!(b.intensity(&s).is_some());
     }
 
