@@ -6,10 +6,14 @@ Scenes (copies of Mitsuba's documentation scenes in `docs/scenes/`): `bsdf_polar
 `_middle`, `_absorbing` (over `include/shape_scene.xml`, whose film is reduced to 120 x 90) and
 `integrator_stokes_cbox` (its `res` default reduced to 48, the `spp` default to 32; the other
 defaults are Mitsuba's), `bsdf_pplastic_diffuse_stokes` and `bsdf_pplastic_specular_stokes`
-(`include/matpreview_stokes.xml`, film reduced to 120 x 90). Each is rendered at SPP samples per pixel with seed 0 into
-`reference/<scene>.exr` (all film channels: R, G, B and, for `stokes`, S0.R ... S3.B), and, with
-`--noise`, twice at NOISE_SPP with seeds 1 and 2 into `/tmp` to print the block relMSE of
-Mitsuba against itself per channel group (the level quoted in the test).
+(`include/matpreview_stokes.xml`, film reduced to 120 x 90), and
+`bsdf_measured_polarized_synthetic_stokes` (Mitsuba's `bsdf_measured_polarized_gold_stokes` with
+its filename changed to our synthetic table `../../../measured_polarized/synthetic.pbsdf`, over
+the same include; the KAIST gold table is not in the corpus). Each is rendered at SPP samples
+per pixel with seed 0 into `reference/<scene>.exr` (all film channels: R, G, B and, for
+`stokes`, S0.R ... S3.B), and, with `--noise`, twice at NOISE_SPP with seeds 1 and 2 into `/tmp`
+to print the block relMSE of Mitsuba against itself per channel group (the level quoted in the
+test).
 
 Usage (from this folder):
     nice python3 make_polarized_references.py [--noise] [SCENE ...]
@@ -26,7 +30,9 @@ NOISE_SPP = 32
 SCENES = ["bsdf_polarizer_aligned", "bsdf_polarizer_middle", "bsdf_polarizer_absorbing",
           "integrator_stokes_cbox",
           # pplastic under `stokes` (include/matpreview_stokes.xml, film reduced to 120 x 90).
-          "bsdf_pplastic_diffuse_stokes", "bsdf_pplastic_specular_stokes"]
+          "bsdf_pplastic_diffuse_stokes", "bsdf_pplastic_specular_stokes",
+          # measured_polarized on the synthetic table of testdata/measured_polarized (same include).
+          "bsdf_measured_polarized_synthetic_stokes"]
 
 mi.set_variant("scalar_spectral_polarized")
 here = os.path.dirname(os.path.abspath(__file__))
