@@ -48,6 +48,7 @@ pub mod hash;
 pub mod instruments;
 pub mod ior;
 pub mod lanes;
+pub mod marginal2d;
 pub mod math;
 pub mod medium;
 pub mod microfacet;

@@ -12,5 +12,6 @@ mod hair_mitsuba;
 mod instruments_gonio;
 mod lambertsphere;
 mod lanes;
+mod marginal2d_mitsuba;
 mod proptest_health;
 mod spectral;

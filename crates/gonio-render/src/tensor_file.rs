@@ -117,6 +117,11 @@ impl Field {
         self.bytes.is_empty()
     }
 
+    /// The raw little-endian bytes of the elements.
+    pub fn as_bytes(&self) -> &[u8] {
+        &self.bytes
+    }
+
     /// The elements as `f32` (floats rounded, integers converted), in file order.
     pub fn to_f32(&self) -> Vec<f32> {
         let n = self.dtype.size();

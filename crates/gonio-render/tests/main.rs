@@ -21,6 +21,7 @@ mod layers;
 mod light_splitting;
 mod lobe_split;
 mod manifold;
+mod measured;
 mod measured_polarized;
 mod media;
 mod mis_exponent;

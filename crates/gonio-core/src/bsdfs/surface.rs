@@ -20,8 +20,8 @@
 
 use super::roughplastic::{RoughCoat, RoughPlastic};
 use super::{
-    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, MeasuredPolarized, Plastic, Principled,
-    PrincipledThin, RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
+    BlendBsdf, Conductor, Dielectric, Diffuse, LambertSphere, Measured, MeasuredPolarized, Plastic,
+    Principled, PrincipledThin, RoughConductor, RoughDielectric, Tabulated, ThinDielectric, TwoSided,
 };
 use super::{CircularPolarizer, Polarizer, Retarder};
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, LobeSplit};
@@ -66,6 +66,8 @@ pub enum LeafBsdf<'a> {
     LambertSphere(LambertSphere<SampledSpectrum>),
     /// `tabulated` (a measured table, borrowed from the scene).
     Tabulated(&'a Tabulated),
+    /// `measured` (an RGL measured BRDF, borrowed from the scene).
+    Measured(&'a Measured),
     /// `measured_polarized` (a measured pBRDF table, borrowed from the scene).
     MeasuredPolarized(&'a MeasuredPolarized),
     /// `polarizer`.
@@ -100,6 +102,10 @@ macro_rules! with_leaf {
             LeafBsdf::LambertSphere($b) => $body,
             LeafBsdf::Tabulated($b) => {
                 let $b: &Tabulated = $b;
+                $body
+            }
+            LeafBsdf::Measured($b) => {
+                let $b: &Measured = $b;
                 $body
             }
             LeafBsdf::MeasuredPolarized($b) => {

@@ -24,6 +24,7 @@ pub mod diffuse;
 pub mod hair;
 pub mod lambertsphere;
 pub mod mask;
+pub mod measured;
 pub mod measured_polarized;
 pub mod normalmap;
 pub mod null;
@@ -51,6 +52,7 @@ pub use diffuse::DiffuseMaterial;
 pub use hair::HairMaterial;
 pub use lambertsphere::LambertSphereMaterial;
 pub use mask::MaskMaterial;
+pub use measured::MeasuredMaterial;
 pub use measured_polarized::MeasuredPolarizedMaterial;
 pub use normalmap::NormalMapMaterial;
 pub use null::NullMaterial;
@@ -97,6 +99,7 @@ pub static BSDF_PLUGINS: &[&BsdfPlugin] = &[
     &twosided::PLUGIN,
     &blendbsdf::PLUGIN,
     &tabulated::PLUGIN,
+    &measured::PLUGIN,
     &measured_polarized::PLUGIN,
     &polarizer::PLUGIN,
     &retarder::PLUGIN,
