@@ -12,9 +12,11 @@
 //!   given).
 //! * `sample(u)`: the row from the marginal CDF of the rows' integrals, continuous within the
 //!   row's interval (the integral along x varies linearly in y there, so the inversion solves a
-//!   quadratic); then the column the same way along x at that y. The map is continuous and
-//!   bijective; it returns the point and its density.
-//! * `invert(p)`: the inverse map, and the density at p.
+//!   quadratic); then the column the same way along x at that y. The map is continuous, and
+//!   bijective where the density is positive; it returns the point and its density.
+//! * `invert(p)`: the inverse map, and the density at p. Where the density vanishes on a whole
+//!   row (or slice) the inverse is not defined and Mitsuba divides by 0 (NaN); gonio returns 0
+//!   for that coordinate.
 //!
 //! Parameter lookups follow Mitsuba's `interpolate_weights`: the interval whose lower node is
 //! the last one strictly below the value, the weight clamped to [0, 1] (constant beyond the
@@ -58,7 +60,7 @@ pub enum Marginal2DError {
         /// The value.
         value: f32,
     },
-    /// A slice to be normalized integrates to 0.
+    /// A slice to be normalized integrates to 0 (or so little that 1/integral overflows).
     ZeroSlice(usize),
 }
 
@@ -78,7 +80,12 @@ impl std::fmt::Display for Marginal2DError {
             Self::BadValue { index, value } => {
                 write!(f, "value {value} at index {index} is not a finite number ≥ 0")
             }
-            Self::ZeroSlice(slice) => write!(f, "slice {slice} integrates to 0 and cannot be normalized"),
+            Self::ZeroSlice(slice) => {
+                write!(
+                    f,
+                    "slice {slice} integrates to 0 (or below 1/f32::MAX) and cannot be normalized"
+                )
+            }
         }
     }
 }
@@ -160,7 +167,7 @@ impl Marginal2D {
             strides[i] = if axis.len() > 1 { slices } else { 0 };
             slices = slices.saturating_mul(axis.len());
         }
-        let n_data = w * h;
+        let n_data = w.saturating_mul(h);
         let expected = slices.saturating_mul(n_data);
         if data.len() != expected {
             return Err(Marginal2DError::Size {
@@ -198,10 +205,10 @@ impl Marginal2D {
                     marg_cdf.push(acc as f32);
                 }
                 if normalize {
-                    if acc <= 0.0 {
+                    norm = (1.0 / acc) as f32;
+                    if !(acc > 0.0 && norm.is_finite()) {
                         return Err(Marginal2DError::ZeroSlice(slice));
                     }
-                    norm = (1.0 / acc) as f32;
                 }
                 cond_cdf[cond_start..].iter_mut().for_each(|v| *v *= norm);
                 marg_cdf[marg_start..].iter_mut().for_each(|v| *v *= norm);
@@ -215,10 +222,10 @@ impl Marginal2D {
                         sum += d[i] as f64 + d[i + 1] as f64 + d[i + w] as f64 + d[i + w + 1] as f64;
                     }
                 }
-                if sum <= 0.0 {
+                norm = (1.0 / (scale_x * scale_y * sum)) as f32;
+                if !(sum > 0.0 && norm.is_finite()) {
                     return Err(Marginal2DError::ZeroSlice(slice));
                 }
-                norm = (1.0 / (scale_x * scale_y * sum)) as f32;
             }
             out.extend(d.iter().map(|v| v * norm));
         }
@@ -239,6 +246,12 @@ impl Marginal2D {
     /// The parameters' slice offset and weights; `param` holds one value per parameter.
     #[inline]
     fn weights(&self, param: &[f32]) -> ParamWeights {
+        assert!(
+            param.len() >= self.params.len(),
+            "Marginal2D: {} parameters given, {} needed",
+            param.len(),
+            self.params.len()
+        );
         let mut pw = ParamWeights {
             slice: 0,
             w: [(1.0, 0.0); MAX_PARAMS],
@@ -247,14 +260,7 @@ impl Marginal2D {
             if axis.len() == 1 {
                 continue;
             }
-            let x = param[dim];
-            // The last node strictly below x, clamped to [0, n − 2].
-            let index = axis
-                .partition_point(|&v| v < x)
-                .saturating_sub(1)
-                .min(axis.len() - 2);
-            let (p0, p1) = (axis[index], axis[index + 1]);
-            let w1 = ((x - p0) / (p1 - p0)).clamp(0.0, 1.0);
+            let (index, w1) = param_interval(axis, param[dim]);
             pw.w[dim] = (1.0 - w1, w1);
             pw.slice += self.strides[dim] * index;
         }
@@ -372,7 +378,9 @@ impl Marginal2D {
             s.x += lerp(cond(0, x - 1), cond(w - 1, x - 1), s.y);
         }
         let (r0, r1) = (cond(w - 2, 0), cond(2 * (w - 1) - 1, 0));
-        s.x /= lerp(r0, r1, s.y);
+        // A row of zero density: Mitsuba divides by 0 (NaN); its CDF is flat, so 0.
+        let row_mass = lerp(r0, r1, s.y);
+        s.x = if row_mass != 0.0 { s.x / row_mass } else { 0.0 };
         s.y = invert_segment(s.y, self.patch_size.y, r0, r1);
         let offset_marg = pw.slice * n_marg;
         let marg = |i: usize| self.at(&self.marg_cdf, 0, offset_marg + i, n_marg, &pw);
@@ -380,10 +388,26 @@ impl Marginal2D {
             s.y += marg(y - 1);
         }
         if !self.normalized {
-            s.y /= marg(n_marg - 1);
+            let total = marg(n_marg - 1);
+            s.y = if total != 0.0 { s.y / total } else { 0.0 };
         }
         Some((s, pdf))
     }
+}
+
+/// Mitsuba's parameter lookup (`Distribution2D::interpolate_weights`) on an increasing `axis` of
+/// at least two nodes: the interval [i, i + 1] whose lower node is the last one strictly below
+/// `x` (so on a node, the interval that ends there), clamped to [0, n − 2], and the upper node's
+/// weight clamped to [0, 1] (constant beyond the ends; 0 for a NaN `x`).
+#[inline]
+pub fn param_interval(axis: &[f32], x: f32) -> (usize, f32) {
+    let index = axis
+        .partition_point(|&v| v < x)
+        .saturating_sub(1)
+        .min(axis.len() - 2);
+    let (p0, p1) = (axis[index], axis[index + 1]);
+    let w1 = ((x - p0) / (p1 - p0)).clamp(0.0, 1.0);
+    (index, if w1.is_nan() { 0.0 } else { w1 })
 }
 
 /// Mitsuba's `dr::Epsilon<float>` (2⁻²⁴) and `OneMinusEpsilon` (the largest float below 1).
@@ -505,5 +529,37 @@ mod tests {
             Marginal2D::new([2, 2], vec![vec![1.0, 2.0]], &[1.0; 4], true, true),
             Err(Marginal2DError::Size { expected: 8, got: 4 })
         );
+        assert_eq!(
+            Marginal2D::new([2, 2], vec![vec![]], &[], true, true),
+            Err(Marginal2DError::EmptyParam(0))
+        );
+        assert_eq!(
+            Marginal2D::new([2, 2], vec![vec![0.0]; 4], &[1.0; 4], true, true),
+            Err(Marginal2DError::TooManyParams(4))
+        );
+        // Positive but so small that 1/integral overflows f32.
+        assert_eq!(
+            Marginal2D::new([3, 3], vec![], &[1e-40; 9], true, true),
+            Err(Marginal2DError::ZeroSlice(0))
+        );
+        assert_eq!(
+            Marginal2D::new([3, 3], vec![], &[1e-40; 9], true, false),
+            Err(Marginal2DError::ZeroSlice(0))
+        );
+        // Hostile sizes: an error, not an overflow.
+        assert!(matches!(
+            Marginal2D::new([1 << 40, 1 << 40], vec![], &[], true, true),
+            Err(Marginal2DError::Size { .. })
+        ));
+    }
+
+    #[test]
+    fn inverting_where_a_row_has_no_density_gives_no_nan() {
+        let t = Marginal2D::new([2, 3], vec![], &[0.0, 0.0, 0.0, 0.0, 1.0, 1.0], true, true).unwrap();
+        let (u, pdf) = t.invert(Vec2::new(0.5, 0.25), &[]).unwrap();
+        assert!(u.is_finite() && pdf == 0.0, "{u} {pdf}");
+        let t = Marginal2D::new([2, 2], vec![], &[0.0; 4], false, true).unwrap();
+        let (u, _) = t.invert(Vec2::new(0.3, 0.6), &[]).unwrap();
+        assert!(u.is_finite(), "{u}");
     }
 }

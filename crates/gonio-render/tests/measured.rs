@@ -273,8 +273,9 @@ fn broken_rgl_files_are_located_errors() {
 }
 
 /// Hostile files: 800 random corruptions of each synthetic table (bytes flipped in the header
-/// or the data, truncations) either load, and then evaluate and sample without a panic and
-/// without a NaN or negative value, or are refused with an error. Seeded: deterministic.
+/// or the data, truncations) either load, and then evaluate and sample (intensity and Mueller
+/// matrix, both transport modes, four wavelengths) without a panic and without a NaN or
+/// negative value, or are refused with an error. Seeded: deterministic.
 #[test]
 fn corrupted_tables_never_panic_nor_give_nan() {
     use gonio_core::Bsdf;
@@ -324,8 +325,13 @@ fn corrupted_tables_never_panic_nor_give_nan() {
                 }
             };
             loaded += 1;
-            let mut wl = SampledWavelengths::fixed(550.0);
+            let mut wl = SampledWavelengths::sample_visible(0.37);
             for q in 0..8 {
+                let ctx = if q % 2 == 0 {
+                    ctx
+                } else {
+                    BsdfContext::importance()
+                };
                 let a = 0.3 + 0.8 * q as f32;
                 let wi = Vec3::new(a.cos() * 0.6, a.sin() * 0.6, 0.8);
                 let wo = Vec3::new(-a.sin() * 0.3, a.cos() * 0.3, 0.954);
@@ -335,10 +341,21 @@ fn corrupted_tables_never_panic_nor_give_nan() {
                     (0..4).all(|i| ok(f[i])) && ok(pdf),
                     "case {case} of {file}: f {f:?} pdf {pdf}"
                 );
-                if let Some(s) = model.sample(&ctx, wi, 0.5, Vec2::new(0.1 * q as f32 + 0.05, 0.37), &mut wl)
-                {
+                let m = model.eval_mueller(&ctx, wi, wo, &wl);
+                assert!(
+                    (0..16).all(|e| m.get(e / 4, e % 4).is_finite()),
+                    "case {case} of {file}: {m:?}"
+                );
+                let u = Vec2::new(0.1 * q as f32 + 0.05, 0.37);
+                if let Some(s) = model.sample(&ctx, wi, 0.5, u, &mut wl) {
                     assert!(
                         (0..4).all(|i| ok(s.weight[i])) && ok(s.pdf),
+                        "case {case} of {file}: {s:?}"
+                    );
+                }
+                if let Some(s) = model.sample_mueller(&ctx, wi, 0.5, u, &mut wl) {
+                    assert!(
+                        (0..16).all(|e| s.weight.get(e / 4, e % 4).is_finite()),
                         "case {case} of {file}: {s:?}"
                     );
                 }

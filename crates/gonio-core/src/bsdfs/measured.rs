@@ -17,7 +17,10 @@
 //! with S the `spectra` table, D the `ndf` and σ the projected area (`sigma`), all bilinear on
 //! their grids and linear in φi, θi and λ ([`crate::marginal2d::Marginal2D`], Mitsuba's
 //! interpolation). Anisotropic tables cover a quarter or a half turn of φi (`reduction` 4 or 2 =
-//! 2π / the span); queries are mirrored into it by sign flips of x and y, as in Mitsuba.
+//! 2π / the span, rounded); queries are mirrored into it by sign flips of x and y, as in
+//! Mitsuba, into x ≤ 0, y ≤ 0 (reduction 4: φi ∈ [−π, −π/2]) or y ≤ 0 (any other reduction ≥ 2:
+//! a half turn), and clamped to the axis's ends beyond it (a table over another quarter turn is
+//! read at its end nodes, in Mitsuba too). A span of a full turn mirrors nothing.
 //!
 //! **Sampling** (Mitsuba's): s from the `luminance` warp, u_h = V(s), h from u_h, ωo its mirror
 //! reflection of ωi; pdf = p_L(s) p_V(u_h) / J with J = max(2π² u_θ sin θh, 10⁻⁶) · 4 ωi·h (the
@@ -64,7 +67,7 @@ pub struct MeasuredData {
     pub jacobian: bool,
     /// Incidence polar angles (radians, increasing).
     pub theta_i: Vec<f32>,
-    /// Incidence azimuths (radians, increasing); at most two nodes: isotropic.
+    /// Incidence azimuths (radians, increasing); two nodes or fewer mark an isotropic table.
     pub phi_i: Vec<f32>,
     /// Wavelengths of the spectra (nm, increasing).
     pub wavelengths: Vec<f32>,
@@ -80,18 +83,34 @@ pub struct MeasuredData {
     pub spectra: Grid,
 }
 
-/// Why a table was refused: which one and what is wrong with it.
+/// Why a file's tables were refused.
 #[derive(Clone, Debug, PartialEq)]
-pub struct MeasuredError {
-    /// `ndf`, `sigma`, `vndf`, `luminance` or `spectra`.
-    pub table: &'static str,
-    /// What is wrong.
-    pub error: Marginal2DError,
+pub enum MeasuredError {
+    /// A table is malformed.
+    Table {
+        /// `ndf`, `sigma`, `vndf`, `luminance` or `spectra`.
+        table: &'static str,
+        /// What is wrong.
+        error: Marginal2DError,
+    },
+    /// With `jacobian`, a projected area σ ≤ 0 (the spectra are divided by it).
+    Sigma {
+        /// Index into `sigma`.
+        index: usize,
+        /// The value.
+        value: f32,
+    },
 }
 
 impl std::fmt::Display for MeasuredError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "table `{}`: {}", self.table, self.error)
+        match self {
+            Self::Table { table, error } => write!(f, "table `{table}`: {error}"),
+            Self::Sigma { index, value } => write!(
+                f,
+                "table `sigma`: value {value} at index {index}; with `jacobian` the spectra are divided by σ, which must be > 0"
+            ),
+        }
     }
 }
 
@@ -114,7 +133,15 @@ pub struct Measured {
 impl Measured {
     /// The BRDF of `data`'s tables (checked: sizes, finite non-negative values, increasing axes).
     pub fn new(data: MeasuredData) -> Result<Self, MeasuredError> {
-        let err = |table| move |error| MeasuredError { table, error };
+        let err = |table| move |error| MeasuredError::Table { table, error };
+        if data.jacobian
+            && let Some(index) = data.sigma.values.iter().position(|v| !(*v > 0.0))
+        {
+            return Err(MeasuredError::Sigma {
+                index,
+                value: data.sigma.values[index],
+            });
+        }
         let incidence = vec![data.phi_i.clone(), data.theta_i.clone()];
         let isotropic = data.phi_i.len() <= 2;
         let reduction = if isotropic {
@@ -329,6 +356,12 @@ impl Measured {
         let value = wl.map_or(SampledSpectrum::ZERO, |wl| {
             self.spectrum(s, incidence, u_wi, u_m, wl)
         });
+        // Finite tables can still overflow f32 in D/(4σ) · S: 0 rather than ∞ or NaN.
+        let value = if value.is_finite() {
+            value
+        } else {
+            SampledSpectrum::ZERO
+        };
         let lum = self.luminance.eval(s, &incidence);
         let wi_mirrored = match self.flips(wi) {
             Some((sx, sy)) => flip(wi, sx, sy),
@@ -379,6 +412,67 @@ impl Measured {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A tiny isotropic table: 2 × 2 grids, two incidences, two wavelengths.
+    fn data() -> MeasuredData {
+        let grid = |n: usize| Grid {
+            size: [2, 2],
+            values: vec![1.0; 4 * n],
+        };
+        MeasuredData {
+            description: "test".into(),
+            jacobian: true,
+            theta_i: vec![0.0, 1.0],
+            phi_i: vec![0.0],
+            wavelengths: vec![400.0, 700.0],
+            ndf: grid(1),
+            sigma: grid(1),
+            vndf: grid(2),
+            luminance: grid(2),
+            spectra: grid(4),
+        }
+    }
+
+    #[test]
+    fn tables_that_would_divide_by_zero_or_overflow_are_refused() {
+        assert!(Measured::new(data()).is_ok());
+        let mut d = data();
+        d.sigma.values[2] = 0.0;
+        assert_eq!(
+            Measured::new(d).unwrap_err(),
+            MeasuredError::Sigma { index: 2, value: 0.0 }
+        );
+        let mut d = data();
+        d.jacobian = false;
+        d.sigma.values[2] = 0.0;
+        assert!(Measured::new(d).is_ok(), "σ is not used without `jacobian`");
+        let mut d = data();
+        d.luminance.values = vec![1e-40; 8];
+        assert!(matches!(
+            Measured::new(d),
+            Err(MeasuredError::Table {
+                table: "luminance",
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn an_overflowing_value_is_zero_not_infinite() {
+        let mut d = data();
+        d.spectra.values = vec![3e38; 16];
+        d.ndf.values = vec![10.0; 4];
+        d.sigma.values = vec![1e-3; 4];
+        let m = Measured::new(d).unwrap();
+        let wl = SampledWavelengths::fixed(500.0);
+        let ctx = BsdfContext::radiance();
+        let (wi, wo) = (
+            Vec3::new(0.3, 0.1, 0.9).normalize(),
+            Vec3::new(-0.2, 0.0, 0.9).normalize(),
+        );
+        let (f, pdf) = m.eval_pdf(&ctx, wi, wo, &wl);
+        assert!(f.is_finite() && pdf.is_finite(), "{f:?} {pdf}");
+    }
 
     #[test]
     fn mulsign_neg_follows_the_sign_bit() {

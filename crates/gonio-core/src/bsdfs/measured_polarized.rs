@@ -22,9 +22,12 @@
 //! **Interpolation** (Mitsuba's `Marginal2D` without normalization): multilinear in the four
 //! parameters, each weight clamped to [0, 1], so beyond an axis's ends the end values hold
 //! (the dataset spans 450–650 nm; at 700 nm the 650 nm matrix is used). The dataset marks
-//! configurations it could not measure by NaN: when an interpolation touches one (with any
-//! weight, zero included, as in Mitsuba) the whole matrix is 0 at every wavelength. M00 is then
-//! clamped to ≥ 0 (the other elements are kept: the table's own noise can make M unphysical).
+//! configurations it could not measure by NaN (the whole matrix): when an interpolation touches
+//! such a node (with any weight, zero included, as in Mitsuba) the whole matrix is 0 at every
+//! wavelength. M00 is then clamped to ≥ 0 (the other elements are kept: the table's own noise
+//! can make M unphysical). A node with only some elements NaN counts as unmeasured too; Mitsuba
+//! zeroes the matrix only when the NaN is in M00, M01, M10 or M11 (the corners of its bilinear
+//! lookup of M00) and otherwise returns NaN in that element: gonio never returns NaN.
 //!
 //! **Sampling** (Mitsuba's): with probability 0.1 a cosine-weighted direction, else the mirror
 //! reflection of ωi about a GGX visible normal of roughness `alpha_sample`;
@@ -40,6 +43,7 @@
 //! | `wavelength`   | float  | −1      | −1: spectral; else every wavelength looks up this one (nm) |
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, light_directions};
+use crate::marginal2d::param_interval;
 use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
 use crate::mueller::{Mueller, MuellerMatrix, StokesBasis};
 use crate::spectrum::{N_SPECTRUM_SAMPLES, SampledSpectrum, SampledWavelengths};
@@ -107,6 +111,8 @@ pub struct PbrdfTable {
     theta_h: Vec<f32>,
     wavelengths: Vec<f32>,
     m: Vec<f32>,
+    /// Per node (φd, θd, θh, λ): some element of its matrix is NaN.
+    nan_nodes: Vec<bool>,
 }
 
 impl PbrdfTable {
@@ -148,12 +154,26 @@ impl PbrdfTable {
         if let Some(index) = m.iter().position(|x| x.is_infinite()) {
             return Err(PbrdfError::Infinite { index });
         }
+        let nan_nodes = m.chunks_exact(16).map(|n| n.iter().any(|x| x.is_nan())).collect();
         Ok(Self {
             phi_d,
             theta_d,
             theta_h,
             wavelengths,
             m,
+            nan_nodes,
+        })
+    }
+
+    /// Whether the stencil touches a node with a NaN element, at any weight.
+    #[inline]
+    fn touches_nan(&self, s: &Stencil) -> bool {
+        s.lambda.iter().any(|lambda| {
+            s.corners.iter().any(|&(base, _)| {
+                lambda
+                    .iter()
+                    .any(|&(offset, _)| self.nan_nodes[(base + offset) / 16])
+            })
         })
     }
 
@@ -193,7 +213,6 @@ impl PbrdfTable {
         for (k, lambda) in s.lambda.iter().enumerate() {
             let mut v = 0.0;
             for &(base, w) in &s.corners {
-                // Zero weights are not skipped: a NaN neighbour must poison the sum (Mitsuba).
                 v += w
                     * (lambda[0].1 * self.m[base + lambda[0].0 + e]
                         + lambda[1].1 * self.m[base + lambda[1].0 + e]);
@@ -224,8 +243,7 @@ impl AxisWeight {
     }
 }
 
-/// Mitsuba's `Marginal2D` parameter lookup (`Distribution2D::interpolate_weights`): the
-/// interval of `x` (clamped to the axis) and the upper weight clamped to [0, 1].
+/// Mitsuba's `Marginal2D` parameter lookup ([`param_interval`]), a one-node axis included.
 #[inline]
 fn axis_weight(axis: &[f32], x: f32) -> AxisWeight {
     let last = axis.len() - 1;
@@ -236,16 +254,8 @@ fn axis_weight(axis: &[f32], x: f32) -> AxisWeight {
             w1: 0.0,
         };
     }
-    // The last node strictly below x (Mitsuba's predicate is `<`: at a node, the interval
-    // that ends there), clamped to [0, n − 2].
-    let index = axis.partition_point(|&v| v < x).saturating_sub(1).min(last - 1);
-    let (p0, p1) = (axis[index], axis[index + 1]);
-    let w1 = ((x - p0) / (p1 - p0)).clamp(0.0, 1.0);
-    AxisWeight {
-        index,
-        last,
-        w1: if w1.is_nan() { 0.0 } else { w1 },
-    }
+    let (index, w1) = param_interval(axis, x);
+    AxisWeight { index, last, w1 }
 }
 
 /// The 8 spatial corners (offset into the matrices, weight) and, per wavelength, the two
@@ -336,13 +346,13 @@ impl MeasuredPolarized {
         )
     }
 
-    /// f = M00 with the NaN and sign rules, or `None` for an unmeasured configuration.
+    /// f = M00 with the NaN and sign rules, or `None` for an unmeasured configuration (then
+    /// every element is 0).
     fn intensity(&self, s: &Stencil) -> Option<SampledSpectrum> {
-        let m00 = self.table.element(s, 0, 0);
-        if (0..N_SPECTRUM_SAMPLES).any(|k| m00[k].is_nan()) {
+        if self.table.touches_nan(s) {
             return None;
         }
-        Some(m00.map(|v| v.max(0.0)))
+        Some(self.table.element(s, 0, 0).map(|v| v.max(0.0)))
     }
 
     fn mueller(&self, ctx: &BsdfContext, wi: Vec3, wo: Vec3, wl: &SampledWavelengths) -> Mueller {
@@ -360,7 +370,9 @@ impl MeasuredPolarized {
                 };
             }
         }
-        // The data's frames: x perpendicular to the plane of reflection in both beams.
+        // The data's frames: x perpendicular to the plane of reflection in both beams. Where
+        // ω̂i ∥ ω̂o (retro-reflection, or the degenerate in-out pair) the plane is undefined:
+        // Mitsuba's cross products give NaN there; gonio takes the implicit bases.
         let x = light_out.cross(-light_in).try_normalize().map(|n| -n);
         let (input, output) = match x {
             Some(x) => (StokesBasis::new(light_in, x), StokesBasis::new(light_out, x)),
@@ -537,6 +549,27 @@ mod tests {
         // On node 3 they are [2, 3]: no NaN corner.
         let s = b.table.stencil(0.0, node(3.0), node(3.0), [550.0; 4]);
         assert!(b.intensity(&s).is_some());
+    }
+
+    #[test]
+    fn a_nan_in_any_element_zeroes_the_matrix() {
+        let t = table(|p, d, h, _, r, c| {
+            if (p, d, h, r, c) == (2, 1, 1, 2, 3) {
+                f32::NAN
+            } else {
+                0.1 + 0.01 * (r + c) as f32
+            }
+        });
+        let b = MeasuredPolarized::new(t, 0.1, None);
+        let node = |i: f32| i * std::f32::consts::FRAC_PI_6;
+        assert!(
+            b.intensity(&b.table.stencil(0.1, node(1.5), node(1.5), [550.0; 4]))
+                .is_none()
+        );
+        let m = b
+            .intensity(&b.table.stencil(0.1, node(2.5), node(2.5), [550.0; 4]))
+            .unwrap();
+        assert!((m[0] - 0.1).abs() < 1e-6);
     }
 
     #[test]

@@ -2,15 +2,16 @@
 //! `.bsdf` file, Mitsuba's tensor format (core model [`gonio_core::bsdfs::Measured`]; Mitsuba 3
 //! `src/bsdfs/measured.cpp`).
 //!
-//! The file's fields, as Mitsuba checks them: `description` (text), `jacobian` (one byte),
-//! `theta_i`, `phi_i`, `wavelengths` (1-D), `ndf`, `sigma` (2-D), `vndf`, `luminance`
-//! (φi × θi × 2-D) and `spectra` (φi × θi × λ × 2-D, the grid of `luminance`). An RGB file (an
-//! `rgb` field instead of `spectra` and `wavelengths`) is refused, as by Mitsuba's spectral
-//! variants: gonio renders spectrally.
+//! The file's fields and shapes, as Mitsuba checks them: `description` (text), `jacobian` (one
+//! value), `theta_i`, `phi_i`, `wavelengths` (1-D), `ndf`, `sigma` (2-D), `vndf`, `luminance`
+//! (φi × θi × 2-D, the latter square) and `spectra` (φi × θi × λ × 2-D, the grid of
+//! `luminance`); Mitsuba also insists on float32 (uint8 for the text and the flag), gonio reads
+//! any numeric type. An RGB file (an `rgb` field instead of `spectra` and `wavelengths`) is
+//! refused, as by Mitsuba's spectral variants: gonio renders spectrally.
 
 use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};
 use crate::tensor_file::{Field, TensorFile};
-use crate::xml::{Builder, ErrorKind, Params, SceneError};
+use crate::xml::{Builder, Params, SceneError};
 use glam::Vec2;
 use gonio_core::bsdfs::measured::{Grid, MeasuredData};
 use gonio_core::bsdfs::surface::TooManyNodes;
@@ -35,21 +36,7 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
-    let Some((name, floc)) = p.string_opt(FILENAME.name)? else {
-        return Err(SceneError::new(
-            b.object(p).loc.clone(),
-            ErrorKind::Grammar,
-            "<bsdf type=\"measured\"> needs a filename",
-        ));
-    };
-    let path = b.resolve_file(p, name);
-    let model = read_rgl(&path).map_err(|e| {
-        SceneError::new(
-            floc.clone(),
-            ErrorKind::BadValue,
-            format!("filename \"{name}\" ({}): {e}", path.display()),
-        )
-    })?;
+    let model = super::read_filename(b, p, PLUGIN.name, read_rgl)?;
     Ok(Material::new(MeasuredMaterial {
         model: Arc::new(model),
     }))
@@ -97,9 +84,9 @@ pub fn read_rgl(path: &Path) -> Result<Measured, String> {
     };
     let luminance = grid("luminance", &[n_phi, n_theta])?;
     let spectra = grid("spectra", &[n_phi, n_theta, wavelengths.len()])?;
-    if luminance.size != spectra.size {
+    if luminance.size[0] != luminance.size[1] || luminance.size != spectra.size {
         return Err(format!(
-            "field \"spectra\" is over a {:?} grid, \"luminance\" over {:?}; they must agree",
+            "field \"spectra\" is over a {:?} grid, \"luminance\" over {:?}; they must agree and be square",
             spectra.size, luminance.size
         ));
     }

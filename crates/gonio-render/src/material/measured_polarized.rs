@@ -4,13 +4,14 @@
 //!
 //! The file holds the fields Mitsuba reads: `phi_d`, `theta_d`, `theta_h` (radians, increasing;
 //! Mitsuba's files store them as 1 × n arrays), `wvls` (nm) and `M`, the Mueller matrices of shape
-//! n_φd × n_θd × n_θh × n_λ × 4 × 4. Mitsuba insists on float32 axes and matrices and on five
-//! uint16 wavelengths; gonio reads any numeric element type and any number of wavelengths.
+//! n_φd × n_θd × n_θh × n_λ × 4 × 4. Mitsuba insists on float32 axes and matrices and uint16
+//! wavelengths, and reads five of them whatever the axis holds; gonio reads any numeric element
+//! type and uses every wavelength of the axis.
 //! A scene with this material renders polarized, as one with `pplastic` does.
 
 use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};
 use crate::tensor_file::TensorFile;
-use crate::xml::{Builder, ErrorKind, Params, SceneError};
+use crate::xml::{Builder, Params, SceneError};
 use glam::Vec2;
 use gonio_core::bsdfs::measured_polarized::PbrdfTable;
 use gonio_core::bsdfs::surface::TooManyNodes;
@@ -47,13 +48,6 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
-    let Some((name, floc)) = p.string_opt(FILENAME.name)? else {
-        return Err(SceneError::new(
-            b.object(p).loc.clone(),
-            ErrorKind::Grammar,
-            "<bsdf type=\"measured_polarized\"> needs a filename",
-        ));
-    };
     let alpha = p.float_checked(ALPHA_SAMPLE.name, 0.1, |a| a > 0.0, "must be a finite number > 0")? as f32;
     let wavelength = p.float_checked(
         WAVELENGTH.name,
@@ -61,14 +55,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
         |l| l == -1.0 || l > 0.0,
         "must be −1 (spectral) or a wavelength > 0 nm",
     )?;
-    let path = b.resolve_file(p, name);
-    let table = read_pbsdf(&path).map_err(|e| {
-        SceneError::new(
-            floc.clone(),
-            ErrorKind::BadValue,
-            format!("filename \"{name}\" ({}): {e}", path.display()),
-        )
-    })?;
+    let table = super::read_filename(b, p, PLUGIN.name, read_pbsdf)?;
     let wavelength = (wavelength != -1.0).then_some(wavelength as f32);
     Ok(Material::new(MeasuredPolarizedMaterial {
         model: Arc::new(MeasuredPolarized::new(table, alpha, wavelength)),
@@ -77,14 +64,14 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
 
 /// Reads a `.pbsdf` file into a checked table.
 pub fn read_pbsdf(path: &Path) -> Result<PbrdfTable, String> {
+    read_pbsdf_fields(path).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn read_pbsdf_fields(path: &Path) -> Result<PbrdfTable, String> {
     let file = TensorFile::read(path).map_err(|e| e.to_string())?;
     let field = |name: &str| {
-        file.field(name).ok_or_else(|| {
-            format!(
-                "no field \"{name}\" (a .pbsdf file has phi_d, theta_d, theta_h, wvls and M; this one has {})",
-                file.names().join(", ")
-            )
-        })
+        file.require(name)
+            .map_err(|e| format!("{e}; a .pbsdf file has phi_d, theta_d, theta_h, wvls and M"))
     };
     let (phi_d, theta_d, theta_h, wvls, m) = (
         field("phi_d")?,

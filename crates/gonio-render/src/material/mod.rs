@@ -320,6 +320,33 @@ impl Material {
 }
 
 /// The constant value of a texture for a prebuilt model (the mean when textured).
+/// The required `filename` of a plugin that reads a table (`tabulated`, `measured`,
+/// `measured_polarized`), resolved against the scene's folders and read by `read`: a missing
+/// parameter is an error at the element, a failed read one at the value, naming the file.
+pub(crate) fn read_filename<'d, T, E: std::fmt::Display>(
+    b: &mut crate::xml::Builder<'d>,
+    p: &mut crate::xml::Params<'d>,
+    plugin: &str,
+    read: impl FnOnce(&std::path::Path) -> Result<T, E>,
+) -> Result<T, crate::xml::SceneError> {
+    use crate::xml::{ErrorKind, SceneError};
+    let Some((name, floc)) = p.string_opt("filename")? else {
+        return Err(SceneError::new(
+            b.object(p).loc.clone(),
+            ErrorKind::Grammar,
+            format!("<bsdf type=\"{plugin}\"> needs a filename"),
+        ));
+    };
+    let path = b.resolve_file(p, name);
+    read(&path).map_err(|e| {
+        SceneError::new(
+            floc.clone(),
+            ErrorKind::BadValue,
+            format!("filename \"{name}\": {e}"),
+        )
+    })
+}
+
 pub(crate) fn model_value(t: &Texture) -> Spectrum {
     match t {
         Texture::Spectrum(s) => s.clone(),

@@ -2,7 +2,7 @@
 //! `gonio measure` (core model [`gonio_core::bsdfs::Tabulated`]; format in `docs/instruments.md`).
 
 use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};
-use crate::xml::{Builder, ErrorKind, Params, SceneError};
+use crate::xml::{Builder, Params, SceneError};
 use glam::Vec2;
 use gonio_core::bsdfs::surface::TooManyNodes;
 use gonio_core::bsdfs::{LeafBsdf, SurfaceBsdf, Tabulated};
@@ -25,21 +25,7 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
-    let Some((name, floc)) = p.string_opt(FILENAME.name)? else {
-        return Err(SceneError::new(
-            b.object(p).loc.clone(),
-            ErrorKind::Grammar,
-            "<bsdf type=\"tabulated\"> needs a filename",
-        ));
-    };
-    let path = b.resolve_file(p, name);
-    let data = crate::tabulated_io::read_tabulated(&path).map_err(|e| {
-        SceneError::new(
-            floc.clone(),
-            ErrorKind::BadValue,
-            format!("filename \"{name}\": {e}"),
-        )
-    })?;
+    let data = super::read_filename(b, p, PLUGIN.name, crate::tabulated_io::read_tabulated)?;
     Ok(Material::new(TabulatedMaterial {
         model: Arc::new(Tabulated::new(data)),
     }))
