@@ -18,6 +18,12 @@ and `shape_sphere_light_analytic` have their films reduced to 120 x 90 (the dire
 `medium_homogeneous_sss` (over `include/shape_scene.xml`; its bunny is `common/meshes/bunny.ply`); they
 are rendered when named on the command line. Scenes that use `$spp` get SPP as that parameter.
 
+`bsdf_measured_synthetic` and `bsdf_measured_synthetic_aniso` are ours: the material preview
+(`include/matpreview.xml`, 120 x 90) with a `measured` object reading the synthetic RGL tables of
+`testdata/measured` (`iso.bsdf`, `aniso.bsdf`, by the relative path `../../../measured/`), since
+Mitsuba's `bsdf_measured_*` documentation scenes read real RGL files the corpus does not ship;
+they are rendered with the other `bsdf_*.xml` (SPP as they, the default 256).
+
 Usage (from this folder; takes minutes per scene):
     nice python3 make_references.py [SCENE ...]      # default: every bsdf_*.xml here
 """
