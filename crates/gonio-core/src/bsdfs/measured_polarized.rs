@@ -382,7 +382,25 @@ impl MeasuredPolarized {
             .in_bases(StokesBasis::implicit(light_in), StokesBasis::implicit(light_out))
     }
 
-    /// The direction `sample` draws, before evaluation.
+    /// The direction `sample` and `sample_mueller` draw and its pdf, `None` where nothing is
+    /// drawn (below the surface, lobes disabled, a zero or non-finite density).
+    fn sampled(
+        &self,
+        ctx: &BsdfContext,
+        wi: Vec3,
+        u1: f32,
+        u2: Vec2,
+        wl: &SampledWavelengths,
+    ) -> Option<(Vec3, f32)> {
+        if !Self::enabled(ctx) || wi.z <= 0.0 {
+            return None;
+        }
+        let wo = self.sample_direction(wi, u1, u2)?;
+        let pdf = self.pdf(ctx, wi, wo, wl);
+        (pdf > 0.0 && pdf.is_finite()).then_some((wo, pdf))
+    }
+
+    /// The direction drawn, before evaluation.
     fn sample_direction(&self, wi: Vec3, u1: f32, u2: Vec2) -> Option<Vec3> {
         let wo = if u1 < COSINE_LOBE_PROBABILITY {
             square_to_cosine_hemisphere(u2)
@@ -428,14 +446,7 @@ impl Bsdf for MeasuredPolarized {
         u2: Vec2,
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample> {
-        if !Self::enabled(ctx) || wi.z <= 0.0 {
-            return None;
-        }
-        let wo = self.sample_direction(wi, u1, u2)?;
-        let pdf = self.pdf(ctx, wi, wo, wl);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
+        let (wo, pdf) = self.sampled(ctx, wi, u1, u2, wl)?;
         Some(BsdfSample {
             wo,
             weight: self.eval(ctx, wi, wo, wl) * (wo.z / pdf),
@@ -460,14 +471,7 @@ impl Bsdf for MeasuredPolarized {
         u2: Vec2,
         wl: &mut SampledWavelengths,
     ) -> Option<BsdfSample<Mueller>> {
-        if !Self::enabled(ctx) || wi.z <= 0.0 {
-            return None;
-        }
-        let wo = self.sample_direction(wi, u1, u2)?;
-        let pdf = self.pdf(ctx, wi, wo, wl);
-        if !(pdf > 0.0 && pdf.is_finite()) {
-            return None;
-        }
+        let (wo, pdf) = self.sampled(ctx, wi, u1, u2, wl)?;
         Some(BsdfSample {
             wo,
             weight: self.mueller(ctx, wi, wo, wl) * (wo.z / pdf),
