@@ -15,6 +15,7 @@
 //! back-facing normals) is returned by Mitsuba with weight 0 or a negative pdf, by gonio as
 //! `None`.
 
+use crate::mitsuba_json::{context, vec3};
 use glam::{Vec2, Vec3};
 use gonio_core::{BsdfContext, SampledWavelengths};
 use gonio_render::material::Material;
@@ -22,16 +23,6 @@ use gonio_render::xml::load_bsdf_str;
 use serde_json::Value;
 
 const DIR: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../testdata/measured");
-
-fn vec3(v: &Value) -> Vec3 {
-    let a: Vec<f32> = v
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect();
-    Vec3::new(a[0], a[1], a[2])
-}
 
 fn load(xml: &str) -> Material {
     let xml = xml.replace("value=\"", &format!("value=\"{DIR}/"));
@@ -51,11 +42,7 @@ fn measured_agrees_with_mitsuba() {
         let name = config["name"].as_str().unwrap();
         let material = load(config["xml"].as_str().unwrap());
         for q in config["rows"].as_array().unwrap() {
-            let ctx = if q["mode"] == "importance" {
-                BsdfContext::importance()
-            } else {
-                BsdfContext::radiance()
-            };
+            let ctx = context(q);
             let wi = vec3(&q["wi"]);
             let wl = SampledWavelengths::fixed(q["lambda_nm"].as_f64().unwrap() as f32);
             let (want, want_pdf) = (q["value"].as_f64().unwrap(), q["pdf"].as_f64().unwrap());

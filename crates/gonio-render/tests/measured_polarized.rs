@@ -16,10 +16,12 @@
 //!   `mitsuba_polarized`), so the glossy sample rows compare the pdf and weight at Mitsuba's
 //!   direction; the cosine-lobe rows compare the direction too.
 
+use crate::mitsuba_json::{
+    assert_implicit_bases, context as ctx_of, mueller_matrix as matrix, mueller_rel_diff, vec3,
+};
 use glam::{Vec2, Vec3};
+use gonio_core::SampledWavelengths;
 use gonio_core::bsdf::light_directions;
-use gonio_core::mueller::{Mueller, StokesBasis};
-use gonio_core::{BsdfContext, SampledWavelengths};
 use gonio_render::material::Material;
 use gonio_render::xml::load_bsdf_str;
 use serde_json::Value;
@@ -31,62 +33,12 @@ fn reference() -> Value {
     serde_json::from_str(text).expect("reference JSON parses")
 }
 
-fn vec3(v: &Value) -> Vec3 {
-    let a: Vec<f32> = v
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect();
-    Vec3::new(a[0], a[1], a[2])
-}
-
-fn matrix(v: &Value) -> [[f64; 4]; 4] {
-    let mut m = [[0.0; 4]; 4];
-    for (r, row) in v.as_array().unwrap().iter().enumerate() {
-        for (c, x) in row.as_array().unwrap().iter().enumerate() {
-            m[r][c] = x.as_f64().unwrap();
-        }
-    }
-    m
-}
-
-/// Largest |Δ| over the 16 elements relative to the largest |element| of `want`.
-fn rel_diff(got: &Mueller, want: &[[f64; 4]; 4]) -> f64 {
-    let big = want.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
-    let mut d = 0.0f64;
-    for (r, row) in want.iter().enumerate() {
-        for (c, w) in row.iter().enumerate() {
-            d = d.max((got.get(r, c)[0] as f64 - w).abs());
-        }
-    }
-    if big > 0.0 { d / big } else { d }
-}
-
 fn load(xml: &str) -> Material {
     let xml = xml.replace(
         "value=\"synthetic.pbsdf\"",
         &format!("value=\"{DIR}/synthetic.pbsdf\""),
     );
     load_bsdf_str(&xml).unwrap_or_else(|e| panic!("{xml}: {e}"))
-}
-
-fn ctx_of(q: &Value) -> BsdfContext {
-    if q["mode"] == "importance" {
-        BsdfContext::importance()
-    } else {
-        BsdfContext::radiance()
-    }
-}
-
-fn assert_implicit_bases(m: &Mueller, ctx: &BsdfContext, wi: Vec3, wo: Vec3, what: &str) {
-    let (light_in, light_out) = light_directions(ctx, wi, wo);
-    if let Some((i, o)) = m.frames() {
-        assert!(
-            i.same_as(&StokesBasis::implicit(light_in)) && o.same_as(&StokesBasis::implicit(light_out)),
-            "{what}: bases {i:?} → {o:?} are not the implicit bases"
-        );
-    }
 }
 
 #[test]
@@ -114,7 +66,8 @@ fn measured_polarized_agrees_with_mitsuba() {
                     b.eval(&ctx, wi, wo, &wl),
                 )
             });
-            assert_implicit_bases(&m, &ctx, wi, wo, &what);
+            let (light_in, light_out) = light_directions(&ctx, wi, wo);
+            assert_implicit_bases(&m, light_in, light_out, &what);
             assert_eq!(m.get(0, 0)[0], f[0], "{what}: M00 is not eval's value");
             let want_pdf = q["pdf"].as_f64().unwrap();
             assert!(
@@ -172,7 +125,7 @@ fn measured_polarized_agrees_with_mitsuba() {
                     m * (wo.z / pdf)
                 }
             };
-            let d = rel_diff(&got, &want);
+            let d = mueller_rel_diff(&got, &want, false);
             assert!(
                 d <= 1e-4,
                 "{what}: relative difference {d:.2e}\n gonio {:?}\n Mitsuba {want:?}",

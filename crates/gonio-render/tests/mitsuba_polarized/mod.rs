@@ -33,9 +33,10 @@
 //! records that Mitsuba's other elements vanish; the polarization itself is checked against the
 //! smooth dielectric in the limit α → 0 (`gonio_core::mueller` tests).
 
-use glam::Vec3;
+use crate::mitsuba_json::{
+    assert_implicit_bases, mueller_matrix as matrix, mueller_rel_diff as rel_diff, vec3,
+};
 use gonio_core::bsdf::light_directions;
-use gonio_core::mueller::{Mueller, StokesBasis};
 use gonio_core::{BsdfContext, SampledWavelengths};
 use gonio_render::xml::load_bsdf_str;
 use serde_json::Value;
@@ -43,59 +44,6 @@ use serde_json::Value;
 fn reference() -> Value {
     let text = include_str!("../../../../testdata/mitsuba/reference/mitsuba-polarized-values.json");
     serde_json::from_str(text).expect("reference JSON parses")
-}
-
-fn vec3(v: &Value) -> Vec3 {
-    let a: Vec<f32> = v
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|x| x.as_f64().unwrap() as f32)
-        .collect();
-    Vec3::new(a[0], a[1], a[2])
-}
-
-fn matrix(v: &Value) -> [[f64; 4]; 4] {
-    let mut m = [[0.0; 4]; 4];
-    for (r, row) in v.as_array().unwrap().iter().enumerate() {
-        for (c, x) in row.as_array().unwrap().iter().enumerate() {
-            m[r][c] = x.as_f64().unwrap();
-        }
-    }
-    m
-}
-
-/// Largest |Δ| over the elements relative to the largest |element| of `want`; `shape` divides
-/// both by their M00 first.
-fn rel_diff(got: &Mueller, want: &[[f64; 4]; 4], shape: bool) -> f64 {
-    let g00 = got.get(0, 0)[0] as f64;
-    let scale_g = if shape && g00 != 0.0 { 1.0 / g00 } else { 1.0 };
-    let scale_w = if shape && want[0][0] != 0.0 {
-        1.0 / want[0][0]
-    } else {
-        1.0
-    };
-    let big = want
-        .iter()
-        .flatten()
-        .fold(0.0f64, |a, x| a.max((x * scale_w).abs()));
-    let mut d = 0.0f64;
-    for (r, row) in want.iter().enumerate() {
-        for (c, w) in row.iter().enumerate() {
-            let g = got.get(r, c)[0] as f64 * scale_g;
-            d = d.max((g - w * scale_w).abs());
-        }
-    }
-    if big > 0.0 { d / big } else { d }
-}
-
-fn check_bases(m: &Mueller, light_in: Vec3, light_out: Vec3, what: &str) {
-    if let Some((i, o)) = m.frames() {
-        assert!(
-            i.same_as(&StokesBasis::implicit(light_in)) && o.same_as(&StokesBasis::implicit(light_out)),
-            "{what}: bases {i:?} → {o:?} are not the implicit bases of {light_in} → {light_out}"
-        );
-    }
 }
 
 #[test]
@@ -147,7 +95,7 @@ fn polarized_bsdfs_agree_with_mitsuba() {
                 (s.weight, wo)
             };
             let (light_in, light_out) = light_directions(&ctx, wi, wo);
-            check_bases(&got, light_in, light_out, name);
+            assert_implicit_bases(&got, light_in, light_out, name);
             if depolarized_in_mitsuba {
                 let off = (0..16).filter(|k| k % 5 != 0 || *k == 5 || *k == 10 || *k == 15);
                 assert!(
