@@ -9,14 +9,11 @@
 //! any numeric type. An RGB file (an `rgb` field instead of `spectra` and `wavelengths`) is
 //! refused, as by Mitsuba's spectral variants: gonio renders spectrally.
 
-use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};
+use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, TableMaterial, TableModel};
 use crate::tensor_file::{Field, TensorFile};
 use crate::xml::{Builder, Params, SceneError};
-use glam::Vec2;
 use gonio_core::bsdfs::measured::{Grid, MeasuredData};
-use gonio_core::bsdfs::surface::TooManyNodes;
-use gonio_core::bsdfs::{LeafBsdf, Measured, SurfaceBsdf};
-use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths};
+use gonio_core::bsdfs::{LeafBsdf, Measured};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -37,7 +34,7 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
     let model = super::read_filename(b, p, PLUGIN.name, read_rgl)?;
-    Ok(Material::new(MeasuredMaterial {
+    Ok(Material::new(TableMaterial {
         model: Arc::new(model),
     }))
 }
@@ -113,28 +110,10 @@ pub fn read_rgl(path: &Path) -> Result<Measured, String> {
 }
 
 /// `measured` in a scene.
-#[derive(Clone, Debug)]
-pub struct MeasuredMaterial {
-    /// The tables and their warps.
-    pub model: Arc<Measured>,
-}
+pub type MeasuredMaterial = TableMaterial<Measured>;
 
-impl SurfaceMaterial for MeasuredMaterial {
-    fn flags(&self) -> BsdfFlags {
-        self.model.flags()
-    }
-    fn is_textured(&self) -> bool {
-        false
-    }
-    fn push<'a>(
-        &'a self,
-        _uv: Vec2,
-        _wl: &SampledWavelengths,
-        tree: &mut SurfaceBsdf<'a>,
-    ) -> Result<u8, TooManyNodes> {
-        tree.push_leaf(LeafBsdf::Measured(&self.model))
-    }
-    fn visit(&self, _uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
-        f(self.model.as_ref())
+impl TableModel for Measured {
+    fn leaf(&self) -> LeafBsdf<'_> {
+        LeafBsdf::Measured(self)
     }
 }

@@ -9,14 +9,11 @@
 //! type and uses every wavelength of the axis.
 //! A scene with this material renders polarized, as one with `pplastic` does.
 
-use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};
+use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, TableMaterial, TableModel};
 use crate::tensor_file::TensorFile;
 use crate::xml::{Builder, Params, SceneError};
-use glam::Vec2;
 use gonio_core::bsdfs::measured_polarized::PbrdfTable;
-use gonio_core::bsdfs::surface::TooManyNodes;
-use gonio_core::bsdfs::{LeafBsdf, MeasuredPolarized, SurfaceBsdf};
-use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths};
+use gonio_core::bsdfs::{LeafBsdf, MeasuredPolarized};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -57,7 +54,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneE
     )?;
     let table = super::read_filename(b, p, PLUGIN.name, read_pbsdf)?;
     let wavelength = (wavelength != -1.0).then_some(wavelength as f32);
-    Ok(Material::new(MeasuredPolarizedMaterial {
+    Ok(Material::new(TableMaterial {
         model: Arc::new(MeasuredPolarized::new(table, alpha, wavelength)),
     }))
 }
@@ -98,31 +95,11 @@ fn read_pbsdf_fields(path: &Path) -> Result<PbrdfTable, String> {
 }
 
 /// `measured_polarized` in a scene.
-#[derive(Clone, Debug)]
-pub struct MeasuredPolarizedMaterial {
-    /// The table and its sampling lobe.
-    pub model: Arc<MeasuredPolarized>,
-}
+pub type MeasuredPolarizedMaterial = TableMaterial<MeasuredPolarized>;
 
-impl SurfaceMaterial for MeasuredPolarizedMaterial {
-    fn asks_for_polarization(&self) -> bool {
-        true
-    }
-    fn flags(&self) -> BsdfFlags {
-        self.model.flags()
-    }
-    fn is_textured(&self) -> bool {
-        false
-    }
-    fn push<'a>(
-        &'a self,
-        _uv: Vec2,
-        _wl: &SampledWavelengths,
-        tree: &mut SurfaceBsdf<'a>,
-    ) -> Result<u8, TooManyNodes> {
-        tree.push_leaf(LeafBsdf::MeasuredPolarized(&self.model))
-    }
-    fn visit(&self, _uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
-        f(self.model.as_ref())
+impl TableModel for MeasuredPolarized {
+    const POLARIZED: bool = true;
+    fn leaf(&self) -> LeafBsdf<'_> {
+        LeafBsdf::MeasuredPolarized(self)
     }
 }

@@ -320,6 +320,46 @@ impl Material {
 }
 
 /// The constant value of a texture for a prebuilt model (the mean when textured).
+/// A material that is one measured table, untextured (`tabulated`, `measured`,
+/// `measured_polarized`): the model, shared by every hit, is borrowed into the per-hit BSDF.
+#[derive(Clone, Debug)]
+pub struct TableMaterial<M> {
+    /// The table and what was built from it.
+    pub model: Arc<M>,
+}
+
+/// A table model's place in [`LeafBsdf`](gonio_core::bsdfs::LeafBsdf), and whether a scene
+/// holding it renders polarized.
+pub trait TableModel: Bsdf + Debug + 'static {
+    /// Asks for a polarized render (a polarimetric table).
+    const POLARIZED: bool = false;
+    /// The model as a leaf of a [`SurfaceBsdf`].
+    fn leaf(&self) -> gonio_core::bsdfs::LeafBsdf<'_>;
+}
+
+impl<M: TableModel> SurfaceMaterial for TableMaterial<M> {
+    fn asks_for_polarization(&self) -> bool {
+        M::POLARIZED
+    }
+    fn flags(&self) -> BsdfFlags {
+        self.model.flags()
+    }
+    fn is_textured(&self) -> bool {
+        false
+    }
+    fn push<'a>(
+        &'a self,
+        _uv: Vec2,
+        _wl: &SampledWavelengths,
+        tree: &mut SurfaceBsdf<'a>,
+    ) -> Result<u8, TooManyNodes> {
+        tree.push_leaf(self.model.leaf())
+    }
+    fn visit(&self, _uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
+        f(self.model.as_ref())
+    }
+}
+
 /// The required `filename` of a plugin that reads a table (`tabulated`, `measured`,
 /// `measured_polarized`), resolved against the scene's folders and read by `read`: a missing
 /// parameter is an error at the element, a failed read one at the value, naming the file.

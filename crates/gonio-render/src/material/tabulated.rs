@@ -1,12 +1,9 @@
 //! `tabulated` (ours): a measured isotropic BRDF table played back, as written by
 //! `gonio measure` (core model [`gonio_core::bsdfs::Tabulated`]; format in `docs/instruments.md`).
 
-use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, SurfaceMaterial};
+use super::{BsdfPlugin, DefaultValue, Material, ParamSpec, ParamType, TableMaterial, TableModel};
 use crate::xml::{Builder, Params, SceneError};
-use glam::Vec2;
-use gonio_core::bsdfs::surface::TooManyNodes;
-use gonio_core::bsdfs::{LeafBsdf, SurfaceBsdf, Tabulated};
-use gonio_core::{Bsdf, BsdfFlags, SampledWavelengths};
+use gonio_core::bsdfs::{LeafBsdf, Tabulated};
 use std::sync::Arc;
 
 const FILENAME: ParamSpec = ParamSpec::new(
@@ -26,34 +23,16 @@ pub static PLUGIN: BsdfPlugin = BsdfPlugin {
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Material, SceneError> {
     let data = super::read_filename(b, p, PLUGIN.name, crate::tabulated_io::read_tabulated)?;
-    Ok(Material::new(TabulatedMaterial {
+    Ok(Material::new(TableMaterial {
         model: Arc::new(Tabulated::new(data)),
     }))
 }
 
 /// `tabulated` in a scene.
-#[derive(Clone, Debug)]
-pub struct TabulatedMaterial {
-    /// The interpolated, reciprocity-enforced, importance-sampled table.
-    pub model: Arc<Tabulated>,
-}
+pub type TabulatedMaterial = TableMaterial<Tabulated>;
 
-impl SurfaceMaterial for TabulatedMaterial {
-    fn flags(&self) -> BsdfFlags {
-        self.model.flags()
-    }
-    fn is_textured(&self) -> bool {
-        false
-    }
-    fn push<'a>(
-        &'a self,
-        _uv: Vec2,
-        _wl: &SampledWavelengths,
-        tree: &mut SurfaceBsdf<'a>,
-    ) -> Result<u8, TooManyNodes> {
-        tree.push_leaf(LeafBsdf::Tabulated(&self.model))
-    }
-    fn visit(&self, _uv: Vec2, f: &mut dyn FnMut(&dyn Bsdf)) {
-        f(self.model.as_ref())
+impl TableModel for Tabulated {
+    fn leaf(&self) -> LeafBsdf<'_> {
+        LeafBsdf::Tabulated(self)
     }
 }
