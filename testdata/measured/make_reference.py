@@ -137,34 +137,10 @@ DEG = PI / 180.0
 
 
 # ---------------------------------------------------------------------------------------------
-# TensorFile writer (copied from testdata/measured_polarized/make_reference.py)
+# TensorFile writer: the one of testdata/measured_polarized/make_reference.py
 # ---------------------------------------------------------------------------------------------
-DTYPE_CODE = {np.dtype(np.uint8): 1, np.dtype(np.int8): 2, np.dtype(np.uint16): 3,
-              np.dtype(np.int16): 4, np.dtype(np.uint32): 5, np.dtype(np.int32): 6,
-              np.dtype(np.uint64): 7, np.dtype(np.int64): 8, np.dtype(np.float16): 9,
-              np.dtype(np.float32): 10, np.dtype(np.float64): 11}
-ALIGN = 8
-
-
-def tensor_file_bytes(fields):
-    fields = {k: np.ascontiguousarray(v) for k, v in fields.items()}
-    header = bytearray(b"tensor_file\0")
-    header += struct.pack("<BBI", 1, 0, len(fields))
-    offset_pos = {}
-    for name, v in fields.items():
-        label = name.encode("utf8")
-        header += struct.pack("<H", len(label)) + label
-        header += struct.pack("<HB", v.ndim, DTYPE_CODE[v.dtype])
-        offset_pos[name] = len(header)
-        header += struct.pack("<Q", 0)
-        header += struct.pack("<" + "Q" * v.ndim, *v.shape)
-    out = header
-    for name, v in fields.items():
-        pos = (len(out) + ALIGN - 1) // ALIGN * ALIGN
-        out += b"\0" * (pos - len(out))
-        struct.pack_into("<Q", out, offset_pos[name], pos)
-        out += v.astype(v.dtype.newbyteorder("<")).tobytes(order="C")
-    return bytes(out)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "measured_polarized"))
+from make_reference import ALIGN, DTYPE_CODE, tensor_file_bytes  # noqa: E402
 
 
 # ---------------------------------------------------------------------------------------------
