@@ -628,7 +628,8 @@ pub struct TriangleMesh {
     pub indices: Vec<[u32; 3]>,
 }
 
-/// Description of an `area` emitter: one-sided, on the side the (possibly flipped) normal points to.
+/// Description of an emitter a shape carries (`area`, `directionalarea`): one-sided, on the side
+/// the (possibly flipped) normal points to.
 #[derive(Clone, Debug)]
 pub struct AreaEmitterDesc {
     /// Emitted radiance (`radiance`, default 1 × D65 in spectral mode).
@@ -636,6 +637,24 @@ pub struct AreaEmitterDesc {
     /// The shape's mesh attributes, when `radiance` reads the hit (`mesh_attribute`, `volume`):
     /// set by the reader once the shape is known.
     pub hit: Option<Arc<crate::texture::hit::HitBinding>>,
+    /// How the light leaves the surface.
+    pub emission: SurfaceEmission,
+}
+
+/// The directions in which a shape's emitter sends its light.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum SurfaceEmission {
+    /// `area`: radiance `radiance` into the whole front hemisphere.
+    #[default]
+    Diffuse,
+    /// `directionalarea`: only along the normal (a delta in direction; `radiance` is then the
+    /// power per unit area that leaves along it).
+    Directional {
+        /// Next-event estimation along the beam through the shading point, on rectangles,
+        /// disks and spheres (ours); false leaves the light to light paths, as Mitsuba 3.9.1
+        /// does.
+        next_event: bool,
+    },
 }
 
 /// Description of an `<emitter>` not attached to a shape.

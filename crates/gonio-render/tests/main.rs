@@ -10,6 +10,7 @@ mod camera;
 mod caustics;
 mod compare;
 mod corpus_scenes;
+mod directional_area;
 mod dispersion;
 mod emitter;
 mod film;

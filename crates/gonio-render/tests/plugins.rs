@@ -25,7 +25,9 @@ fn scene_with(kind: &str, name: &str, params: &str) -> String {
             format!("<shape type=\"sphere\">{}</shape>", object("sensor"))
         }
         "integrator" | "sensor" | "shape" => object(kind),
-        "emitter" if name == "area" => format!("<shape type=\"sphere\">{}</shape>", object("emitter")),
+        "emitter" if name == "area" || name == "directionalarea" => {
+            format!("<shape type=\"sphere\">{}</shape>", object("emitter"))
+        }
         "emitter" => object("emitter"),
         "film" | "sampler" => format!("<sensor type=\"perspective\">{}</sensor>", object(kind)),
         "rfilter" => format!(

@@ -73,6 +73,7 @@ impl Light {
                 let le = a.le(&(&s).into(), d, wl);
                 (Ray::new(offset_ray_origin(s.p, s.n, d), d), le * (PI / s.pdf))
             }
+            Light::DirectionalArea(l) => l.sample_ray(shapes.get(l.surface.shape)?, u_pos, wl)?,
             Light::Point(l) => {
                 let d = warp::square_to_uniform_sphere(u_dir);
                 (Ray::new(l.position, d), l.intensity.sample(wl) * (4.0 * PI))

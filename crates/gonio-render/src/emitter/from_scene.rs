@@ -1,12 +1,13 @@
-//! The lights of a scene: area lights on emitting shapes (in shape order), then the scene's other
+//! The lights of a scene: area and directional-area lights on emitting shapes (in shape order), then the scene's other
 //! emitters (in file order), checked and converted once when a scene is prepared.
 
+use super::directional_area::Footprint;
 use super::{
-    AreaLight, BoundingSphere, ConstantLight, DirectionalLight, EnvMapLight, Light, Lights, PointLight,
-    SpotLight,
+    AreaLight, BoundingSphere, ConstantLight, DirectionalAreaLight, DirectionalLight, EnvMapLight, Light,
+    Lights, PointLight, SpotLight,
 };
 use crate::geometry::WorldShape;
-use crate::scene::{EmitterDesc, Scene};
+use crate::scene::{EmitterDesc, Scene, SurfaceEmission};
 use glam::Vec3;
 
 /// An emitter whose parameters cannot be used.
@@ -154,7 +155,7 @@ impl Lights {
         for (index, (shape, w)) in scene.shapes.iter().zip(world).enumerate() {
             if let Some(em) = &shape.emitter {
                 let sphere = BoundingSphere::of_shapes([w]);
-                lights.push(Light::Area(AreaLight {
+                let surface = AreaLight {
                     shape: index,
                     radiance: em.radiance.clone(),
                     area: w.area(),
@@ -166,7 +167,16 @@ impl Lights {
                     center: sphere.center,
                     radius: sphere.radius,
                     hit: em.hit.clone(),
-                }));
+                };
+                lights.push(match em.emission {
+                    SurfaceEmission::Diffuse => Light::Area(surface),
+                    SurfaceEmission::Directional { next_event } => {
+                        Light::DirectionalArea(DirectionalAreaLight {
+                            surface,
+                            footprint: next_event.then(|| Footprint::of(w)).flatten(),
+                        })
+                    }
+                });
             }
         }
         for (index, e) in scene.emitters.iter().enumerate() {

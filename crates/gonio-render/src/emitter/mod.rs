@@ -1,4 +1,5 @@
-//! Emitters: area lights on shapes, point, spot, directional, constant and envmap, and the
+//! Emitters: area and directional-area lights on shapes, point, spot, directional, constant and
+//! envmap, and the
 //! choice of one light per next-event estimate, with probability proportional to power.
 //!
 //! Every light answers the same questions (see [`Light`]): draw a direction towards it from a
@@ -15,7 +16,7 @@
 //! # Light selection
 //!
 //! Lights are chosen with probability ∝ an estimate of the power they deliver to the scene:
-//! area π·A·mean(L), point 4π·mean(I), spot mean(I)·∫falloff dω, directional π r²·mean(E) and
+//! area π·A·mean(L), directional area A·mean(L), point 4π·mean(I), spot mean(I)·∫falloff dω, directional π r²·mean(E) and
 //! infinite lights π·mean(L)·(half the total surface area of the scene) (the irradiance πL of an
 //! unoccluded surface over the area that can face it), with r the bounding-sphere radius used
 //! when the scene has no surfaces. Lights of zero power are never chosen; if every light has
@@ -24,13 +25,15 @@
 //! With a few lights ([`MAX_LOCAL_LIGHTS`] or fewer) the choice also looks at the shading point
 //! ([`Lights::select_at`]): each light gets a cheap bound of the irradiance it can deliver there
 //! (area: mean radiance × min(A/d², 2π) × the cosine towards its bounding sphere, widened by the
-//! sphere's angular radius; point and spot: I/d² × cosine; directional: E × cosine; constant and
+//! sphere's angular radius; point and spot: I/d² × cosine; directional: E × cosine; directional
+//! area: mean L where its beam reaches the point, else 0; constant and
 //! envmap: π × mean radiance), and the probability is 90 % ∝ that bound plus 10 % ∝ power, so a
 //! light the bound undervalues (it ignores occlusion) keeps a share. The integrator recomputes the
 //! same probability at the previous vertex for MIS when a BSDF sample hits a light.
 
 pub mod area;
 pub mod delta;
+pub mod directional_area;
 mod emission;
 pub mod envmap_product;
 mod from_scene;
@@ -39,6 +42,7 @@ pub mod projector;
 
 pub use area::{AreaLight, LightPoint, SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE};
 pub use delta::{DirectionalLight, PointLight, SpotLight};
+pub use directional_area::DirectionalAreaLight;
 pub use emission::EmittedRay;
 pub use from_scene::EmitterError;
 pub use gonio_core::sampling::{Distribution1D, Distribution2D};
@@ -118,6 +122,8 @@ pub struct LightSample {
 pub enum Light {
     /// `area`, attached to a shape.
     Area(AreaLight),
+    /// `directionalarea`, attached to a shape.
+    DirectionalArea(DirectionalAreaLight),
     /// `point`.
     Point(PointLight),
     /// `spot`.
@@ -133,11 +139,16 @@ pub enum Light {
 }
 
 impl Light {
-    /// True for lights that rays never hit (point, spot, directional).
+    /// True for lights that rays never hit (point, spot, directional, projector) or never hit
+    /// in the one direction they emit (directional area).
     pub fn is_delta(&self) -> bool {
         matches!(
             self,
-            Light::Point(_) | Light::Spot(_) | Light::Directional(_) | Light::Projector(_)
+            Light::Point(_)
+                | Light::Spot(_)
+                | Light::Directional(_)
+                | Light::Projector(_)
+                | Light::DirectionalArea(_)
         )
     }
 
@@ -168,6 +179,7 @@ impl Light {
     ) -> Option<LightSample> {
         match self {
             Light::Area(area) => area.sample_li(shapes.get(area.shape)?, r, u, wl),
+            Light::DirectionalArea(l) => l.sample_li(shapes.get(l.surface.shape)?, r, wl),
             light => light.sample_li_nonarea(r, u, wl),
         }
     }
@@ -176,7 +188,7 @@ impl Light {
     /// [`AreaLight::sample_li`], which needs the shape's geometry.
     pub fn sample_li_nonarea(&self, r: &LightRef, u: Vec2, wl: &SampledWavelengths) -> Option<LightSample> {
         let s = match self {
-            Light::Area(_) => return None,
+            Light::Area(_) | Light::DirectionalArea(_) => return None,
             Light::Point(l) => {
                 let d = l.position - r.p;
                 let d2 = d.length_squared();
@@ -303,6 +315,7 @@ impl Light {
     pub fn mean_emission(&self) -> f32 {
         match self {
             Light::Area(a) => a.mean_radiance,
+            Light::DirectionalArea(l) => l.surface.mean_radiance,
             Light::Point(l) => l.intensity.mean(),
             Light::Spot(l) => l.intensity.mean(),
             Light::Projector(l) => l.mean_emission(),
@@ -357,6 +370,7 @@ impl Light {
                 mean / d.length_squared().max(1e-12) * cos_towards(d, 0.0)
             }
             Light::Directional(l) => mean * cos_towards(-l.direction, 0.0),
+            Light::DirectionalArea(l) => l.local_importance(r, mean),
             Light::Constant(_) | Light::EnvMap(_) => std::f32::consts::PI * mean,
         };
         if v.is_finite() { v.max(0.0) } else { 0.0 }
@@ -372,6 +386,7 @@ impl Light {
         };
         let p = match self {
             Light::Area(a) => a.power(),
+            Light::DirectionalArea(l) => l.power(),
             Light::Point(l) => l.power(),
             Light::Spot(l) => l.power(),
             Light::Projector(l) => l.power(),

@@ -100,7 +100,8 @@ pub static SHAPE_PLUGINS: &[&Plugin<ShapeDesc>] = &[
 ];
 
 /// `<emitter>` plugins attached to a shape (nested in a `<shape>`).
-pub static AREA_EMITTER_PLUGINS: &[&Plugin<AreaEmitterDesc>] = &[&emitter::area::PLUGIN];
+pub static AREA_EMITTER_PLUGINS: &[&Plugin<AreaEmitterDesc>] =
+    &[&emitter::area::PLUGIN, &emitter::directionalarea::PLUGIN];
 
 /// `<emitter>` plugins standing on their own in the scene.
 pub static EMITTER_PLUGINS: &[&Plugin<EmitterDesc>] = &[

@@ -8,18 +8,19 @@
 //! `area_texture_emits_its_own_colour_unless_whitepoint_mitsuba`).
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
-use crate::scene::AreaEmitterDesc;
+use crate::scene::{AreaEmitterDesc, SurfaceEmission};
+use crate::texture::Texture;
 use crate::xml::{Builder, Params, SceneError, Tag};
 use gonio_core::spectra::RgbKind;
 
-const RADIANCE: ParamSpec = ParamSpec::new(
+pub(super) const RADIANCE: ParamSpec = ParamSpec::new(
     "radiance",
     ParamType::Texture,
     DefaultValue::Float(1.0),
     "emitted radiance (numbers and colours × D65); may be a texture",
 );
 
-const WHITEPOINT: ParamSpec = ParamSpec::ours_or_mitsuba(
+pub(super) const WHITEPOINT: ParamSpec = ParamSpec::ours_or_mitsuba(
     "whitepoint",
     "d65",
     "(ours) `d65` (a texture's colours × D65, as a colour given in place: a texel emits its colour) or `mitsuba` (Mitsuba 3.9.1: no D65 for a texture object)",
@@ -34,6 +35,15 @@ pub static PLUGIN: Plugin<AreaEmitterDesc> = Plugin {
 };
 
 fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<AreaEmitterDesc, SceneError> {
+    Ok(AreaEmitterDesc {
+        radiance: radiance(b, p)?,
+        hit: None,
+        emission: SurfaceEmission::Diffuse,
+    })
+}
+
+/// The rows [`RADIANCE`] and [`WHITEPOINT`], which `directionalarea` shares.
+pub(super) fn radiance<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneError> {
     let mitsuba_whitepoint = p.mitsuba_way(&WHITEPOINT)?;
     let texture_object = p
         .objects(Tag::Texture)?
@@ -44,6 +54,5 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<AreaEmitterDesc,
     } else {
         RgbKind::Illuminant
     };
-    let radiance = b.texture(p, &RADIANCE, kind)?;
-    Ok(AreaEmitterDesc { radiance, hit: None })
+    b.texture(p, &RADIANCE, kind)
 }

@@ -1,10 +1,11 @@
 //! `<emitter>` plugins (Mitsuba 3 `src/emitters/`). The runtime lights are in
-//! [`crate::emitter`]. An `area` emitter is nested in a shape, or declared in the scene with an
+//! [`crate::emitter`]. An `area` or `directionalarea` emitter is nested in a shape, or declared in the scene with an
 //! `id` and referenced by one shape ([`area`]); the others stand in the scene (`build`). Colours and numbers are × D65, as in spectral Mitsuba.
 
 pub mod area;
 pub mod constant;
 pub mod directional;
+pub mod directionalarea;
 pub mod envmap;
 pub mod point;
 pub mod projector;
@@ -43,7 +44,7 @@ fn run_emitter<T>(b: &mut Builder<'_>, plugin: &'static Plugin<T>, idx: usize) -
     Ok(v)
 }
 
-/// Whether the `<emitter>` object is one a shape carries (`area`).
+/// Whether the `<emitter>` object is one a shape carries (`area`, `directionalarea`).
 pub(crate) fn is_area(obj: &crate::xml::Obj) -> bool {
     Plugin::find(AREA_EMITTER_PLUGINS, &obj.ty).is_some()
 }
@@ -76,7 +77,10 @@ pub(crate) fn area(b: &mut Builder<'_>, idx: usize, loc: &Location) -> Result<Ar
         return Err(err(
             &obj.ty_loc,
             ErrorKind::UnknownPlugin,
-            format!("a shape can only carry an \"area\" emitter, found \"{}\"", obj.ty),
+            format!(
+                "a shape can only carry an \"area\" or \"directionalarea\" emitter, found \"{}\"",
+                obj.ty
+            ),
         ));
     };
     // Mitsuba's `AreaLight::set_shape`: one emitter, one shape.

@@ -1,0 +1,242 @@
+//! `directionalarea` emitter: a shape whose surface emits only along its normal.
+//!
+//! # Radiometry
+//!
+//! The emitted radiance is `L(y)·δ(ω − n(y))`: a point y sends the power `L(y)·dA` along its
+//! normal n and nothing elsewhere (Mitsuba 3 `src/emitters/directionalarea.cpp`, whose
+//! `sample_ray` weight is `A·L` for a uniformly drawn point). The light's flux is `A·mean(L)`.
+//!
+//! # Next-event estimation (beyond Mitsuba)
+//!
+//! A point x receives this light only from the emitter points whose normal passes through it.
+//! On a plane (a `rectangle` or a `disk`, normal n, on the emitting side at height
+//! h = (x − o)·n > 0) that is the one point y = x − h·n, if y lies on the shape: the incident
+//! light is a delta from −n with irradiance `L(y)` on a surface facing it (the beam neither
+//! spreads nor narrows), exactly a `directional` light limited to the emitter's footprint. On a
+//! sphere (centre c, radius R) the beam through x at distance r from c leaves the point
+//! c + R·(x − c)/r, radially (outwards, or inwards with `flip_normals`), and the power of an
+//! emitter patch spreads over the patch scaled by r/R: irradiance `L·(R/r)²`. Meshes, cylinders
+//! and other shapes are left to light paths (`ptracer`), as Mitsuba leaves every shape.
+
+use super::area::{AreaLight, LightPoint};
+use super::{LightRef, LightSample};
+use crate::geometry::sampling::sample_area;
+use crate::geometry::{Ray, ShapeKind, WorldShape, offset_ray_origin};
+use glam::{Affine3A, Vec2, Vec3};
+use gonio_core::{SampledSpectrum, SampledWavelengths};
+
+/// A `directionalarea` light on shape `surface.shape`.
+#[derive(Clone, Debug)]
+pub struct DirectionalAreaLight {
+    /// The surface and its radiance, as an `area` light's (`le` is read along the normal).
+    pub surface: AreaLight,
+    /// The plane next-event estimation projects onto (`None`: a shape that is not planar, or
+    /// `next_event` off).
+    pub footprint: Option<Footprint>,
+}
+
+/// The geometry next-event estimation follows the beam back through: a plane and its outline,
+/// or a sphere.
+#[derive(Clone, Copy, Debug)]
+pub enum Footprint {
+    /// A `rectangle` or `disk`.
+    Plane {
+        /// A point of the plane (the object-space origin).
+        origin: Vec3,
+        /// Unit normal on the emitting side (after `flip_normals`).
+        n: Vec3,
+        /// World → object space, where the shape is [−1, 1]² or the unit disk in z = 0.
+        to_object: Affine3A,
+        /// The unit disk (else the square).
+        disk: bool,
+    },
+    /// A `sphere`, emitting outwards (or inwards, with `flip_normals`).
+    Sphere {
+        /// Centre.
+        center: Vec3,
+        /// Radius.
+        radius: f32,
+        /// Normals point outwards (no `flip_normals`).
+        outward: bool,
+    },
+}
+
+/// Where the beam reaching a point comes from: the emitting point, its emission direction (the
+/// normal there), the distance to it and the beam's concentration there (irradiance / `L`).
+#[derive(Clone, Copy, Debug)]
+pub struct BeamOrigin {
+    /// The emitting point (object coordinates (x, y) on a plane; the world point on a sphere).
+    at: Vec3,
+    /// Unit emission direction at `at`.
+    pub n: Vec3,
+    /// Distance from `at` to the receiving point.
+    pub dist: f32,
+    /// Irradiance on a surface facing the beam per unit `L`: 1 on a plane, (R/r)² on a sphere.
+    pub gain: f32,
+}
+
+impl Footprint {
+    /// The footprint of a `rectangle`, `disk` or `sphere` (`None` for other shapes).
+    pub fn of(shape: &WorldShape) -> Option<Self> {
+        let flip = shape.flip_normals;
+        let (to_world, to_object, n, disk) = match &shape.kind {
+            ShapeKind::Rectangle {
+                to_world,
+                to_object,
+                n,
+                ..
+            } => (to_world, to_object, *n, false),
+            ShapeKind::Disk {
+                to_world,
+                to_object,
+                n,
+                ..
+            } => (to_world, to_object, *n, true),
+            ShapeKind::Sphere { center, radius, .. } => {
+                return Some(Self::Sphere {
+                    center: *center,
+                    radius: *radius,
+                    outward: !flip,
+                });
+            }
+            _ => return None,
+        };
+        Some(Self::Plane {
+            origin: to_world.translation.into(),
+            n: if flip { -n } else { n },
+            to_object: *to_object,
+            disk,
+        })
+    }
+
+    /// The emitter point whose beam passes through `p`, if any: on a plane its orthogonal
+    /// projection (when `p` lies on the emitting side and the projection on the shape), on a
+    /// sphere the point on the line through the centre (outside an outward sphere, inside an
+    /// inward one).
+    #[inline]
+    pub fn beam_through(&self, p: Vec3) -> Option<BeamOrigin> {
+        match *self {
+            Self::Plane {
+                origin,
+                n,
+                to_object,
+                disk,
+            } => {
+                let h = (p - origin).dot(n);
+                if !(h > 0.0) {
+                    return None;
+                }
+                let local = to_object.transform_point3(p - h * n);
+                let inside = if disk {
+                    local.x * local.x + local.y * local.y <= 1.0
+                } else {
+                    local.x.abs() <= 1.0 && local.y.abs() <= 1.0
+                };
+                inside.then_some(BeamOrigin {
+                    at: local.with_z(0.0),
+                    n,
+                    dist: h,
+                    gain: 1.0,
+                })
+            }
+            Self::Sphere {
+                center,
+                radius,
+                outward,
+            } => {
+                let d = p - center;
+                let r = d.length();
+                let u = d / r;
+                let (n, dist) = if outward {
+                    (u, r - radius)
+                } else {
+                    (-u, radius - r)
+                };
+                let gain = (radius / r) * (radius / r);
+                (dist > 0.0 && gain.is_finite()).then_some(BeamOrigin {
+                    at: center + radius * u,
+                    n,
+                    dist,
+                    gain,
+                })
+            }
+        }
+    }
+
+    /// The light point of `beam` (found by [`Self::beam_through`]) on `shape`, this footprint's.
+    fn light_point(&self, shape: &WorldShape, beam: &BeamOrigin) -> LightPoint {
+        let si = match self {
+            Self::Plane { .. } => shape.planar_point(beam.at.x, beam.at.y),
+            Self::Sphere { .. } => shape.sphere_point(beam.at),
+        };
+        LightPoint {
+            n: beam.n,
+            ..LightPoint::from(&si)
+        }
+    }
+}
+
+impl DirectionalAreaLight {
+    /// Flux A·mean(L): the power estimate light selection weighs.
+    pub fn power(&self) -> f32 {
+        self.surface.area * self.surface.mean_radiance
+    }
+
+    /// The emitted `L(y)` at a point of the surface (along its normal).
+    #[inline]
+    fn le(&self, at: &LightPoint, wl: &SampledWavelengths) -> SampledSpectrum {
+        self.surface.le(at, at.n, wl)
+    }
+
+    /// The light arriving at `r` (see the module docs): a delta from the emitting point whose
+    /// normal passes through `r.p`, irradiance `L` there times the beam's concentration; `None`
+    /// where no such point exists (and always without a footprint). `shape` is this light's
+    /// shape.
+    pub fn sample_li(
+        &self,
+        shape: &WorldShape,
+        r: &LightRef,
+        wl: &SampledWavelengths,
+    ) -> Option<LightSample> {
+        let footprint = self.footprint.as_ref()?;
+        let beam = footprint.beam_through(r.p)?;
+        let li = self.le(&footprint.light_point(shape, &beam), wl) * beam.gain;
+        (!li.is_black()).then_some(LightSample {
+            wi: -beam.n,
+            dist: beam.dist,
+            li,
+            pdf: 1.0,
+            delta: true,
+            normal: Some(beam.n),
+        })
+    }
+
+    /// A bound of the irradiance at `r` for light selection: `mean` times the beam's
+    /// concentration where the emitter's light reaches `r.p` (from above the surface, when `r`
+    /// is one-sided), else 0.
+    pub fn local_importance(&self, r: &LightRef, mean: f32) -> f32 {
+        let Some(beam) = self.footprint.as_ref().and_then(|f| f.beam_through(r.p)) else {
+            return 0.0;
+        };
+        if r.hemisphere && r.n.dot(beam.n) >= 0.0 {
+            return 0.0;
+        }
+        mean * beam.gain
+    }
+
+    /// A ray leaving the light: a uniform point of `shape` (this light's), along its normal,
+    /// weight `L/p_A`.
+    pub fn sample_ray(
+        &self,
+        shape: &WorldShape,
+        u_pos: Vec2,
+        wl: &SampledWavelengths,
+    ) -> Option<(Ray, SampledSpectrum)> {
+        let s = sample_area(shape, u_pos);
+        if !(s.pdf > 0.0) {
+            return None;
+        }
+        let le = self.le(&(&s).into(), wl);
+        Some((Ray::new(offset_ray_origin(s.p, s.n, s.n), s.n), le / s.pdf))
+    }
+}
