@@ -61,6 +61,7 @@ pub mod rgb2spec;
 pub mod rng;
 pub mod sampling;
 pub mod sensor_response;
+pub mod sggx;
 pub mod spectra;
 pub mod spectrum;
 pub mod warp;

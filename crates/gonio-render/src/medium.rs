@@ -4,7 +4,8 @@
 //! A homogeneous medium has one extinction σt(λ) = `scale`·`sigma_t`(λ) everywhere (a number or
 //! a spectrum), a single-scattering albedo α(λ) (a reflectance-like spectrum, or a `gridvolume`
 //! read at the scattering point: Mitsuba's albedo is a volume), so σs = α·σt, and a phase
-//! function ([`Phase`]: a model of [`gonio_core::phase`], or a `blendphase` of two); its free flights are drawn exactly
+//! function ([`Phase`]: a model of [`gonio_core::phase`], a `blendphase` of two, or `sggx`
+//! microflakes, whose projected area σ(ω) multiplies σt along ω); its free flights are drawn exactly
 //! ([`gonio_core::medium::sample_free_flight`]). A heterogeneous medium (Mitsuba 3
 //! `src/media/heterogeneous.cpp`) reads σt from a `gridvolume` too: it is tracked under the
 //! majorant σ̄ = `scale`·max σt, by delta tracking along paths and ratio tracking along shadow
@@ -19,6 +20,7 @@
 //! rays in it.
 
 use crate::plugins::phase::blendphase::BlendPhase;
+use crate::plugins::phase::sggx::SggxPhase;
 use crate::texture::volume::GridVolume;
 use glam::{Vec2, Vec3};
 use gonio_core::phase::{PhaseFunction, PhaseSample};
@@ -63,14 +65,16 @@ impl MediumInterface {
     }
 }
 
-/// A medium's phase function: one of the models, or a blend of two whose weight may vary in space
-/// (so both take the scattering point).
+/// A medium's phase function: one of the models, a blend of two whose weight may vary in space,
+/// or SGGX microflakes whose matrix may (so all take the scattering point).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Phase {
     /// `isotropic`, `hg`, `rayleigh`, `tabphase`.
     Model(PhaseFunction),
     /// `blendphase`.
     Blend(Box<BlendPhase>),
+    /// `sggx`: microflakes, whose projected area also scales the medium's extinction.
+    Sggx(Box<SggxPhase>),
 }
 
 impl Phase {
@@ -80,6 +84,7 @@ impl Phase {
         match self {
             Phase::Model(m) => m.eval(wi, wo),
             Phase::Blend(b) => b.eval(p, wi, wo),
+            Phase::Sggx(s) => s.eval(p, wi, wo),
         }
     }
 
@@ -90,6 +95,34 @@ impl Phase {
         match self {
             Phase::Model(m) => m.sample(wi, u),
             Phase::Blend(b) => b.sample(p, wi, u),
+            Phase::Sggx(s) => s.sample(p, wi, u),
+        }
+    }
+
+    /// The factor of the extinction at `p` along ±`d`: microflakes' projected area σ(d), 1 for
+    /// the other phase functions.
+    #[inline]
+    pub fn projected_area(&self, p: Vec3, d: Vec3) -> f32 {
+        match self {
+            Phase::Sggx(s) => s.projected_area(p, d),
+            _ => 1.0,
+        }
+    }
+
+    /// [`Phase::projected_area`] where it is the same at every point (`None` where it varies).
+    #[inline]
+    fn uniform_projected_area(&self, d: Vec3) -> Option<f32> {
+        match self {
+            Phase::Sggx(s) => s.uniform_projected_area(d),
+            _ => Some(1.0),
+        }
+    }
+
+    /// A bound of [`Phase::projected_area`] over every point and direction.
+    fn max_projected_area(&self) -> f32 {
+        match self {
+            Phase::Sggx(s) => s.max_projected_area(),
+            _ => 1.0,
         }
     }
 }
@@ -141,6 +174,7 @@ impl Medium {
     /// The medium of these parts.
     pub fn new(sigma_t: Extinction, albedo: Albedo, scale: f32, phase: Phase, sample_emitters: bool) -> Self {
         let majorant = scale
+            * phase.max_projected_area()
             * match &sigma_t {
                 Extinction::Spectrum(s) => s.max_value(),
                 Extinction::Volume(g) if g.channels == 1 => g.max(),
@@ -156,17 +190,29 @@ impl Medium {
         }
     }
 
-    /// The constant extinction σt at the sample's wavelengths; `None` where it is a grid.
+    /// The extinction σt along direction `d` at the sample's wavelengths where it is the same
+    /// at every point; `None` where it varies (a grid of σt, or of a microflake phase
+    /// function's matrix).
     #[inline]
-    pub fn uniform_sigma_t(&self, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
+    pub fn uniform_sigma_t(&self, d: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
         match &self.sigma_t {
-            Extinction::Spectrum(s) => Some(s.sample(wl) * self.scale),
+            Extinction::Spectrum(s) => {
+                let area = self.phase.uniform_projected_area(d)?;
+                Some(s.sample(wl) * (self.scale * area))
+            }
             Extinction::Volume(_) => None,
         }
     }
 
-    /// σt at world point `p` (0 outside a grid's box).
-    pub fn sigma_t_at(&self, p: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+    /// σt at world point `p` along direction `d` (0 outside a grid's box): the density times
+    /// the phase function's projected area ([`Phase::projected_area`]).
+    pub fn sigma_t_at(&self, p: Vec3, d: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let area = self.phase.projected_area(p, d);
+        self.density_at(p, wl) * area
+    }
+
+    /// σt at world point `p` before the projected area.
+    fn density_at(&self, p: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         match &self.sigma_t {
             Extinction::Spectrum(s) => s.sample(wl) * self.scale,
             Extinction::Volume(g) => {
@@ -182,8 +228,8 @@ impl Medium {
         }
     }
 
-    /// A grey bound σ̄ ≥ σt(λ, p) everywhere (an uplifted RGB colour stays below twice its largest
-    /// component).
+    /// A grey bound σ̄ ≥ σt(λ, p, ω) everywhere (an uplifted RGB colour stays below twice its
+    /// largest component; microflakes' projected area below its bound).
     #[inline]
     pub fn majorant(&self) -> f32 {
         self.majorant

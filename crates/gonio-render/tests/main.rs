@@ -43,6 +43,7 @@ mod render;
 mod render_stats;
 mod russian_roulette;
 mod sampler;
+mod sggx;
 mod specfilm;
 mod spectrum_plugins;
 mod xml_errors;

@@ -386,8 +386,11 @@ fn media_are_read_with_mitsubas_parameters_and_refused_where_they_are_wrong() {
         &["\"g\"", "1"],
     );
     bad(
-        "<medium type=\"homogeneous\"><phase type=\"sggx\"/></medium>",
-        &["sggx", "isotropic, hg, rayleigh, tabphase, blendphase"],
+        "<medium type=\"homogeneous\"><phase type=\"microflakes\"/></medium>",
+        &[
+            "microflakes",
+            "isotropic, hg, rayleigh, tabphase, blendphase, sggx",
+        ],
     );
     bad("<medium type=\"fog\"/>", &["fog", "homogeneous, heterogeneous"]);
     bad(

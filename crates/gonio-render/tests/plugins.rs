@@ -71,6 +71,9 @@ fn required(name: &str) -> &'static str {
         }
         "instance" => "<shape type=\"shapegroup\"><shape type=\"sphere\"/></shape>",
         "sdfgrid" => "<string name=\"filename\" value=\"sphere_sdf.vol\"/>",
+        "sggx" => {
+            "<volume name=\"S\" type=\"gridvolume\"><string name=\"filename\" value=\"../../../../testdata/sggx/flakes.vol\"/></volume>"
+        }
         "linearcurve" | "bsplinecurve" => "<string name=\"filename\" value=\"curve.txt\"/>",
         "projector" => "<float name=\"irradiance\" value=\"1\"/>",
         "stokes" => "<integrator type=\"path\"/>",

@@ -239,7 +239,7 @@ impl PathTracer<'_> {
         sampler: &mut impl PathSampler,
         wl: &SampledWavelengths,
     ) -> (Option<LazyHit>, Option<Vec3>, SampledSpectrum) {
-        match m.uniform_sigma_t(wl) {
+        match m.uniform_sigma_t(ray.d, wl) {
             // Only absorption: the transmittance, nothing drawn.
             Some(sigma_t) if m.absorbs_only() => {
                 let hit = self.accel.intersect_lazy(ray);
@@ -299,7 +299,7 @@ impl PathTracer<'_> {
                 return (None, w);
             }
             let p = ray.at(t);
-            let sigma_t = m.sigma_t_at(p, wl);
+            let sigma_t = m.sigma_t_at(p, ray.d, wl);
             match null_collision_event(sigma_t, bar, sampler.next_1d(), wl) {
                 Tracking::Real(f) => return (Some(p), w * f * m.albedo(p, wl) * sigma_t),
                 Tracking::Null(f) => {
@@ -323,7 +323,7 @@ impl PathTracer<'_> {
         sampler: &mut impl PathSampler,
         wl: &SampledWavelengths,
     ) -> SampledSpectrum {
-        if let Some(sigma_t) = m.uniform_sigma_t(wl) {
+        if let Some(sigma_t) = m.uniform_sigma_t(ray.d, wl) {
             return transmittance(sigma_t, t_max);
         }
         let bar = m.majorant();
@@ -337,7 +337,7 @@ impl PathTracer<'_> {
             if t >= t1 {
                 return tr;
             }
-            tr *= (1.0 - m.sigma_t_at(ray.at(t), wl) * (1.0 / bar)).clamp_zero();
+            tr *= (1.0 - m.sigma_t_at(ray.at(t), ray.d, wl) * (1.0 / bar)).clamp_zero();
             if tr.is_black() {
                 return tr;
             }

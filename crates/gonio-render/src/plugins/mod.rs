@@ -137,6 +137,7 @@ pub static PHASE_PLUGINS: &[&Plugin<crate::medium::Phase>] = &[
     &phase::rayleigh::PLUGIN,
     &phase::tabphase::PLUGIN,
     &phase::blendphase::PLUGIN,
+    &phase::sggx::PLUGIN,
 ];
 
 /// `<spectrum type="...">` plugins.

@@ -53,7 +53,7 @@ pub enum Volume {
 pub struct GridVolume {
     /// Samples along x, y, z.
     pub res: [usize; 3],
-    /// Channels per sample (1 or 3).
+    /// Channels per sample (1 or 3; 6 for an `sggx` phase function's matrix).
     pub channels: usize,
     /// Samples, x fastest, channels interleaved.
     pub data: Vec<f32>,
@@ -164,6 +164,20 @@ impl GridVolume {
             let w: f32 = (0..3).map(|a| if pick(a) { t[a] } else { 1.0 - t[a] }).product();
             f(idx, w);
         }
+    }
+
+    /// The six channels at a point `x` in the grid's space (a six-channel grid: an `sggx`
+    /// phase function's matrix, interpolated entry by entry as Mitsuba's `eval_6` does).
+    pub fn eval6_local(&self, x: Vec3) -> [f32; 6] {
+        debug_assert_eq!(self.channels, 6);
+        let mut v = [0f32; 6];
+        self.for_each_weight(x, |i, w| {
+            let idx = ((i[2] * self.res[1] + i[1]) * self.res[0] + i[0]) * 6;
+            for (c, s) in v.iter_mut().zip(&self.data[idx..idx + 6]) {
+                *c += w * s;
+            }
+        });
+        v
     }
 
     /// The largest value (for bounds).

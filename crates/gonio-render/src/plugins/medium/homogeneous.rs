@@ -107,6 +107,18 @@ pub(crate) fn build_medium<'d>(
             return Err(refused(grids_here));
         }
         let volume = b.build_plugin(crate::plugins::VOLUME_PLUGINS, i)?;
+        if let Volume::Grid(g) = &volume
+            && g.channels == 6
+        {
+            return Err(err(
+                &prop.loc,
+                ErrorKind::BadValue,
+                format!(
+                    "the \"{}\" volume of {what} has 6 channels (the matrix of an sggx phase function; give 1 or 3)",
+                    prop.name
+                ),
+            ));
+        }
         match (prop.name.as_str(), volume) {
             ("albedo", Volume::Grid(g)) => {
                 albedo = Some(Albedo::Volume {

@@ -183,7 +183,17 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Phase, SceneErro
         b.enter(i, loc)?;
         let phase = b.build_plugin(crate::plugins::PHASE_PLUGINS, i);
         b.leave();
-        phase
+        match phase? {
+            // A blend has no projected area to scale the medium's extinction by.
+            Phase::Sggx(_) => Err(err(
+                loc,
+                ErrorKind::BadValue,
+                format!(
+                    "{what} blends an sggx phase function (microflakes scale the extinction of their medium; a blend cannot)"
+                ),
+            )),
+            phase => Ok(phase),
+        }
     };
     let phases = [child(first.0, &first.1.loc)?, child(second.0, &second.1.loc)?];
     Ok(Phase::Blend(Box::new(BlendPhase { weight, phases })))

@@ -41,6 +41,11 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneEr
         }
     };
     match b.build_plugin(crate::plugins::VOLUME_PLUGINS, idx)? {
+        Volume::Grid(grid) if grid.channels == 6 => Err(err(
+            &prop.loc,
+            ErrorKind::BadValue,
+            "the volume of a <texture type=\"volume\"> has 6 channels (the matrix of an sggx phase function; a texture reads 1 or 3)",
+        )),
         Volume::Grid(grid) => {
             b.note_hit_texture(None, &prop.value_loc);
             Ok(Texture::Volume(grid))

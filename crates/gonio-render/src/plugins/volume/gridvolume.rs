@@ -12,7 +12,7 @@ const FILENAME: ParamSpec = ParamSpec::new(
     "filename",
     ParamType::String,
     DefaultValue::None,
-    "the `.vol` grid (1 or 3 channels), relative to the scene file (required)",
+    "the `.vol` grid (1 or 3 channels; 6 for `sggx`), relative to the scene file (required)",
 );
 const FILTER_TYPE: ParamSpec = ParamSpec::new(
     "filter_type",
@@ -95,12 +95,12 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Volume, SceneErr
     })?;
     let v = read_vol(&bytes)
         .map_err(|e| err(loc, ErrorKind::BadValue, format!("grid volume \"{name}\": {e}")))?;
-    if v.channels != 1 && v.channels != 3 {
+    if ![1, 3, 6].contains(&v.channels) {
         return Err(err(
             loc,
             ErrorKind::BadValue,
             format!(
-                "grid volume \"{name}\" has {} channels; a volume texture reads 1 or 3",
+                "grid volume \"{name}\" has {} channels; a volume holds 1 or 3 (6: the matrix of an sggx phase function)",
                 v.channels
             ),
         ));
