@@ -10,7 +10,8 @@
 //! `src/media/heterogeneous.cpp`) reads σt from a `gridvolume` too: it is tracked under the
 //! majorant σ̄ = `scale`·max σt, by delta tracking along paths and ratio tracking along shadow
 //! rays ([`gonio_core::medium::null_collision_event`]), and only inside the grid's box (outside
-//! it the medium is empty, as in Mitsuba). The integrator is `volpath`
+//! it the medium is empty, as in Mitsuba; a constant extinction's box is the unit cube of its
+//! `constvolume`'s `to_world`). The integrator is `volpath`
 //! (`crate::integrator::volpath`).
 //!
 //! A shape takes media with `<ref name="interior" id="..."/>` and `name="exterior"`: the side its
@@ -22,7 +23,7 @@
 use crate::plugins::phase::blendphase::BlendPhase;
 use crate::plugins::phase::sggx::SggxPhase;
 use crate::texture::volume::GridVolume;
-use glam::{Vec2, Vec3};
+use glam::{Affine3A, Vec2, Vec3};
 use gonio_core::phase::{PhaseFunction, PhaseSample};
 use gonio_core::{SampledSpectrum, SampledWavelengths, Spectrum};
 use std::sync::Arc;
@@ -146,8 +147,12 @@ pub enum Albedo {
 /// A medium's extinction before `scale` (1/length).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Extinction {
-    /// The same everywhere (the homogeneous medium; a heterogeneous one given a number).
+    /// The same everywhere (the homogeneous medium).
     Spectrum(Spectrum),
+    /// The same inside a box, zero outside: a heterogeneous medium given a number or a
+    /// `constvolume` (Mitsuba's: the medium is where its extinction volume is, for a constant
+    /// the unit cube of the volume's `to_world`, given as world → box space).
+    Box(Spectrum, Affine3A),
     /// A grid (one channel, or linear RGB as Mitsuba's spectral `gridvolume` reads it), zero
     /// outside its box.
     Volume(Arc<GridVolume>),
@@ -176,7 +181,7 @@ impl Medium {
         let majorant = scale
             * phase.max_projected_area()
             * match &sigma_t {
-                Extinction::Spectrum(s) => s.max_value(),
+                Extinction::Spectrum(s) | Extinction::Box(s, _) => s.max_value(),
                 Extinction::Volume(g) if g.channels == 1 => g.max(),
                 Extinction::Volume(g) => 2.0 * g.max(),
             };
@@ -200,7 +205,7 @@ impl Medium {
                 let area = self.phase.uniform_projected_area(d)?;
                 Some(s.sample(wl) * (self.scale * area))
             }
-            Extinction::Volume(_) => None,
+            Extinction::Box(..) | Extinction::Volume(_) => None,
         }
     }
 
@@ -213,8 +218,14 @@ impl Medium {
 
     /// σt at world point `p` before the projected area.
     fn density_at(&self, p: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
+        let inside = |to_local: &Affine3A| {
+            let x = to_local.transform_point3(p);
+            x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all()
+        };
         match &self.sigma_t {
             Extinction::Spectrum(s) => s.sample(wl) * self.scale,
+            Extinction::Box(s, to_local) if inside(to_local) => s.sample(wl) * self.scale,
+            Extinction::Box(..) => SampledSpectrum::splat(0.0),
             Extinction::Volume(g) => {
                 let x = g.to_local.transform_point3(p);
                 if !(x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all()) {
@@ -236,13 +247,16 @@ impl Medium {
     }
 
     /// The part [t0, t1] of the ray `o + t·d`, t in [0, `t_max`], where the medium may have
-    /// extinction: all of it, or the part inside a grid's box (`None`: it misses the box).
+    /// extinction: all of it, or the part inside a grid's or a box's box (`None`: it misses
+    /// the box).
     pub fn extent(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
-        let Extinction::Volume(g) = &self.sigma_t else {
-            return Some((0.0, t_max));
+        let to_local = match &self.sigma_t {
+            Extinction::Spectrum(_) => return Some((0.0, t_max)),
+            Extinction::Box(_, to_local) => to_local,
+            Extinction::Volume(g) => &g.to_local,
         };
         // The box [0, 1]³ in the grid's space, where the ray keeps its parameter t.
-        let (o, d) = (g.to_local.transform_point3(o), g.to_local.transform_vector3(d));
+        let (o, d) = (to_local.transform_point3(o), to_local.transform_vector3(d));
         let (mut t0, mut t1) = (0.0f32, t_max);
         for a in 0..3 {
             let inv = 1.0 / d[a];

@@ -44,8 +44,9 @@ use std::sync::Arc;
 pub enum Volume {
     /// `gridvolume`.
     Grid(Arc<GridVolume>),
-    /// `constvolume`.
-    Constant(Spectrum),
+    /// `constvolume`: the value, and its box's world → local transform (the unit cube of its
+    /// `to_world`, where a heterogeneous medium reads it, as Mitsuba's does).
+    Constant(Spectrum, Affine3A),
 }
 
 /// A grid of samples over the unit cube of its local space.

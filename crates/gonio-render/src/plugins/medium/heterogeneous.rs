@@ -4,8 +4,10 @@
 //! σt(p, λ) = `scale`·`sigma_t`(p, λ), read from a `<volume>` (`gridvolume`: one channel, or
 //! linear RGB read as Mitsuba's spectral variants read it, `texture/volume.rs`) and zero outside
 //! the grid's box, as in Mitsuba
-//! (whose medium samples only inside it); `sigma_t` may also be a number or spectrum (then the
-//! medium is homogeneous). The albedo is a spectrum or a volume, the phase function the nested
+//! (whose medium samples only inside it); `sigma_t` may also be a number or spectrum, or a
+//! `constvolume`: that extinction inside the box of the volume, the unit cube of its `to_world`
+//! (identity for a number), and none outside, as Mitsuba's medium is where its extinction
+//! volume is (test `a_heterogeneous_constant_extinction_fills_its_volumes_box`). The albedo is a spectrum or a volume, the phase function the nested
 //! `<phase>`. gonio tracks it under the majorant σ̄ = `scale`·max σt: delta tracking along paths,
 //! ratio tracking along shadow rays (Mitsuba's shadow rays use delta tracking: 0 or 1, the same
 //! mean).

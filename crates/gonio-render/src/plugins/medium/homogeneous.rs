@@ -126,7 +126,7 @@ pub(crate) fn build_medium<'d>(
                     unclamped: p.doc.mitsuba_estimators,
                 })
             }
-            ("albedo", Volume::Constant(a)) => {
+            ("albedo", Volume::Constant(a, _)) => {
                 if a.max_value() > 1.0 {
                     return Err(err(
                         &prop.loc,
@@ -139,7 +139,10 @@ pub(crate) fn build_medium<'d>(
                 }
                 albedo = Some(Albedo::Spectrum(a));
             }
-            (_, Volume::Constant(s)) => sigma_t = Some(Extinction::Spectrum(s)),
+            // A heterogeneous medium exists inside its extinction's box (Mitsuba's
+            // `intersect_aabb`), for a constant the unit cube of its `to_world`.
+            (_, Volume::Constant(s, to_local)) if grids => sigma_t = Some(Extinction::Box(s, to_local)),
+            (_, Volume::Constant(s, _)) => sigma_t = Some(Extinction::Spectrum(s)),
             (_, Volume::Grid(g)) if grids => sigma_t = Some(Extinction::Volume(g)),
             (_, Volume::Grid(_)) => return Err(refused(grids_here)),
         }
@@ -160,7 +163,13 @@ pub(crate) fn build_medium<'d>(
                 Some(Value::Rgb(c)) if c.iter().all(|&v| v <= 1.0) => RgbKind::Albedo,
                 _ => RgbKind::Unbounded,
             };
-            Extinction::Spectrum(b.spectrum_param(p, SIGMA_T.name, kind, SIGMA_T.default.float() as f32)?)
+            let value = b.spectrum_param(p, SIGMA_T.name, kind, SIGMA_T.default.float() as f32)?;
+            if grids {
+                // Mitsuba's number is a `constvolume` over the unit cube.
+                Extinction::Box(value, glam::Affine3A::IDENTITY)
+            } else {
+                Extinction::Spectrum(value)
+            }
         }
     };
     let albedo = match albedo {

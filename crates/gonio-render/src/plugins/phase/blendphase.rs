@@ -145,7 +145,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Phase, SceneErro
         }
         weight = Some(match b.build_plugin(crate::plugins::VOLUME_PLUGINS, i)? {
             // Mitsuba's `eval_1` of a constant: its mean over the wavelengths.
-            Volume::Constant(w) => BlendWeight::Constant(w.mean().clamp(0.0, 1.0)),
+            Volume::Constant(w, _) => BlendWeight::Constant(w.mean().clamp(0.0, 1.0)),
             Volume::Grid(g) if g.channels == 1 => BlendWeight::Volume(g),
             Volume::Grid(g) => {
                 return Err(err(

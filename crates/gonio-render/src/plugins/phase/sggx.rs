@@ -139,7 +139,7 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Phase, SceneErro
                     ),
                 ));
             }
-            Volume::Constant(_) => {
+            Volume::Constant(..) => {
                 return Err(err(
                     &prop.loc,
                     ErrorKind::BadValue,

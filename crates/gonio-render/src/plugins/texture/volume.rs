@@ -51,6 +51,6 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Texture, SceneEr
             Ok(Texture::Volume(grid))
         }
         // The same value at every point.
-        Volume::Constant(s) => Ok(Texture::Spectrum(s)),
+        Volume::Constant(s, _) => Ok(Texture::Spectrum(s)),
     }
 }

@@ -10,11 +10,11 @@
 //! | parameter | default | meaning |
 //! |---|---|---|
 //! | `value` | 1 | the value: a number, `<rgb>` or `<spectrum>` |
-//! | `to_world` | identity | accepted (a constant has no place) |
+//! | `to_world` | identity | places its box, the unit cube: a `heterogeneous` medium's extinction is 0 outside it (Mitsuba's); other users ignore it |
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::texture::volume::Volume;
-use crate::xml::{Builder, Params, SceneError, Value};
+use crate::xml::{Builder, ErrorKind, Params, SceneError, Value, err};
 use gonio_core::spectra::RgbKind;
 
 const VALUE: ParamSpec = ParamSpec::new(
@@ -27,7 +27,7 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
     "to_world",
     ParamType::Transform,
     DefaultValue::None,
-    "accepted (a constant has no place)",
+    "places the unit cube outside which a heterogeneous medium given this extinction is empty (Mitsuba's); other users ignore it",
 );
 
 /// The `constvolume` plugin.
@@ -50,6 +50,13 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Volume, SceneErr
         _ => RgbKind::Albedo,
     };
     let value = b.spectrum_param(p, VALUE.name, kind, VALUE.default.float() as f32)?;
-    p.affine(TO_WORLD.name)?;
-    Ok(Volume::Constant(value))
+    let to_world = p.affine(TO_WORLD.name)?;
+    if to_world.matrix3.determinant() == 0.0 || !to_world.is_finite() {
+        return Err(err(
+            &p.obj.loc,
+            ErrorKind::BadValue,
+            "<volume type=\"constvolume\"> has a singular or non-finite to_world",
+        ));
+    }
+    Ok(Volume::Constant(value, to_world.inverse()))
 }
