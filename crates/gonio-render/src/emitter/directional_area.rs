@@ -15,7 +15,10 @@
 //! spreads nor narrows), exactly a `directional` light limited to the emitter's footprint. On a
 //! sphere (centre c, radius R) the beam through x at distance r from c leaves the point
 //! c + R·(x − c)/r, radially (outwards, or inwards with `flip_normals`), and the power of an
-//! emitter patch spreads over the patch scaled by r/R: irradiance `L·(R/r)²`. Meshes, cylinders
+//! emitter patch spreads over the patch scaled by r/R: irradiance `L·(R/r)²`. An inward sphere
+//! (`flip_normals`) focuses every beam at its centre: a point inside it at distance r receives
+//! two, from the near point (distance R − r) and from the antipode through the centre (R + r),
+//! each with `L·(R/r)²`, and a point outside only the latter; one is chosen with probability ½. Meshes, cylinders
 //! and other shapes are left to light paths (`ptracer`), as Mitsuba leaves every shape.
 
 use super::area::{AreaLight, LightPoint};
@@ -61,8 +64,9 @@ pub enum Footprint {
     },
 }
 
-/// Where the beam reaching a point comes from: the emitting point, its emission direction (the
-/// normal there), the distance to it and the beam's concentration there (irradiance / `L`).
+/// Where a beam reaching a point comes from: the emitting point, its emission direction (the
+/// normal there), the distance to it, the beam's concentration there (irradiance / `L`) and
+/// how many beams reach the point (one of them chosen uniformly).
 #[derive(Clone, Copy, Debug)]
 pub struct BeamOrigin {
     /// The emitting point (object coordinates (x, y) on a plane; the world point on a sphere).
@@ -73,6 +77,8 @@ pub struct BeamOrigin {
     pub dist: f32,
     /// Irradiance on a surface facing the beam per unit `L`: 1 on a plane, (R/r)² on a sphere.
     pub gain: f32,
+    /// Beams through the point: 1, or 2 inside an inward sphere (each with the same gain).
+    pub count: u32,
 }
 
 impl Footprint {
@@ -109,12 +115,14 @@ impl Footprint {
         })
     }
 
-    /// The emitter point whose beam passes through `p`, if any: on a plane its orthogonal
-    /// projection (when `p` lies on the emitting side and the projection on the shape), on a
-    /// sphere the point on the line through the centre (outside an outward sphere, inside an
-    /// inward one).
+    /// An emitter point whose beam passes through `p`, if any: on a plane the orthogonal
+    /// projection (when `p` lies on the emitting side and the projection on the shape); on a
+    /// sphere the points on the line through the centre whose beam reaches `p`: outside an
+    /// outward sphere the near one, inside an inward sphere the near one and the far one (its
+    /// beam crosses the centre first), outside an inward sphere the far one. Where there are
+    /// two, `u` ∈ [0, 1) chooses.
     #[inline]
-    pub fn beam_through(&self, p: Vec3) -> Option<BeamOrigin> {
+    pub fn beam_through(&self, p: Vec3, u: f32) -> Option<BeamOrigin> {
         match *self {
             Self::Plane {
                 origin,
@@ -137,6 +145,7 @@ impl Footprint {
                     n,
                     dist: h,
                     gain: 1.0,
+                    count: 1,
                 })
             }
             Self::Sphere {
@@ -146,19 +155,31 @@ impl Footprint {
             } => {
                 let d = p - center;
                 let r = d.length();
-                let u = d / r;
-                let (n, dist) = if outward {
-                    (u, r - radius)
-                } else {
-                    (-u, radius - r)
-                };
                 let gain = (radius / r) * (radius / r);
-                (dist > 0.0 && gain.is_finite()).then_some(BeamOrigin {
-                    at: center + radius * u,
+                if !(r > 0.0 && gain.is_finite()) {
+                    return None;
+                }
+                let w = d / r;
+                // The beam of the point on p's side (c + R·w, along ±w) and of the antipode
+                // (c − R·w, which an inward sphere sends through the centre towards p).
+                let near = if outward { r > radius } else { r < radius };
+                let far = !outward;
+                let count = near as u32 + far as u32;
+                let beam = |at: Vec3, n: Vec3, dist: f32| BeamOrigin {
+                    at,
                     n,
                     dist,
                     gain,
-                })
+                    count,
+                };
+                match (near, far) {
+                    (true, far) if !far || u < 0.5 => {
+                        let n = if outward { w } else { -w };
+                        Some(beam(center + radius * w, n, (r - radius).abs()))
+                    }
+                    (_, true) => Some(beam(center - radius * w, w, radius + r)),
+                    _ => None,
+                }
             }
         }
     }
@@ -188,40 +209,42 @@ impl DirectionalAreaLight {
         self.surface.le(at, at.n, wl)
     }
 
-    /// The light arriving at `r` (see the module docs): a delta from the emitting point whose
-    /// normal passes through `r.p`, irradiance `L` there times the beam's concentration; `None`
-    /// where no such point exists (and always without a footprint). `shape` is this light's
-    /// shape.
+    /// The light arriving at `r` (see the module docs): a delta from an emitting point whose
+    /// normal passes through `r.p`, irradiance `L` there times the beam's concentration, with
+    /// probability 1 or ½ where two beams cross `r.p` (`u` chooses); `None` where no such
+    /// point exists (and always without a footprint). `shape` is this light's shape.
     pub fn sample_li(
         &self,
         shape: &WorldShape,
         r: &LightRef,
+        u: f32,
         wl: &SampledWavelengths,
     ) -> Option<LightSample> {
         let footprint = self.footprint.as_ref()?;
-        let beam = footprint.beam_through(r.p)?;
+        let beam = footprint.beam_through(r.p, u)?;
         let li = self.le(&footprint.light_point(shape, &beam), wl) * beam.gain;
         (!li.is_black()).then_some(LightSample {
             wi: -beam.n,
             dist: beam.dist,
             li,
-            pdf: 1.0,
+            pdf: 1.0 / beam.count as f32,
             delta: true,
             normal: Some(beam.n),
         })
     }
 
-    /// A bound of the irradiance at `r` for light selection: `mean` times the beam's
+    /// A bound of the irradiance at `r` for light selection: `mean` times the beams'
     /// concentration where the emitter's light reaches `r.p` (from above the surface, when `r`
-    /// is one-sided), else 0.
+    /// is one-sided and one beam does), else 0.
     pub fn local_importance(&self, r: &LightRef, mean: f32) -> f32 {
-        let Some(beam) = self.footprint.as_ref().and_then(|f| f.beam_through(r.p)) else {
+        let Some(beam) = self.footprint.as_ref().and_then(|f| f.beam_through(r.p, 0.0)) else {
             return 0.0;
         };
-        if r.hemisphere && r.n.dot(beam.n) >= 0.0 {
+        // Two beams come from opposite sides: one of them lights any one-sided point.
+        if beam.count == 1 && r.hemisphere && r.n.dot(beam.n) >= 0.0 {
             return 0.0;
         }
-        mean * beam.gain
+        mean * beam.gain * beam.count as f32
     }
 
     /// A ray leaving the light: a uniform point of `shape` (this light's), along its normal,

@@ -8,6 +8,7 @@
 //! | light | position | direction | weight |
 //! |---|---|---|---|
 //! | `area` | uniform on the shape (p = 1/A) | cosine about the front normal | π·A·Lₑ(uv, ω) |
+//! | `directionalarea` | uniform on the shape (p = 1/A) | the normal there | A·L(uv) |
 //! | `point` | the point | uniform sphere | 4π·I |
 //! | `spot` | the apex | uniform in the cutoff cone | 2π(1 − cos γ)·I·falloff·texture |
 //! | `projector` | the pinhole | uniform on the image rectangle at z = 1 | π·scale·D65·E(uv)·A_img |

@@ -1,5 +1,6 @@
-//! The lights of a scene: area and directional-area lights on emitting shapes (in shape order), then the scene's other
-//! emitters (in file order), checked and converted once when a scene is prepared.
+//! The lights of a scene: area and directional-area lights on emitting shapes (in shape order),
+//! then the scene's other emitters (in file order), checked and converted once when a scene is
+//! prepared.
 
 use super::directional_area::Footprint;
 use super::{

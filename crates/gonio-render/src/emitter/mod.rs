@@ -1,6 +1,6 @@
 //! Emitters: area and directional-area lights on shapes, point, spot, directional, constant and
-//! envmap, and the
-//! choice of one light per next-event estimate, with probability proportional to power.
+//! envmap, and the choice of one light per next-event estimate, with probability proportional
+//! to power.
 //!
 //! Every light answers the same questions (see [`Light`]): draw a direction towards it from a
 //! reference point ([`LightSample`]: unit direction, distance, arriving radiance, solid-angle
@@ -26,7 +26,7 @@
 //! ([`Lights::select_at`]): each light gets a cheap bound of the irradiance it can deliver there
 //! (area: mean radiance × min(A/d², 2π) × the cosine towards its bounding sphere, widened by the
 //! sphere's angular radius; point and spot: I/d² × cosine; directional: E × cosine; directional
-//! area: mean L where its beam reaches the point, else 0; constant and
+//! area: mean L times the beams' concentration where they reach the point, else 0; constant and
 //! envmap: π × mean radiance), and the probability is 90 % ∝ that bound plus 10 % ∝ power, so a
 //! light the bound undervalues (it ignores occlusion) keeps a share. The integrator recomputes the
 //! same probability at the previous vertex for MIS when a BSDF sample hits a light.
@@ -179,7 +179,7 @@ impl Light {
     ) -> Option<LightSample> {
         match self {
             Light::Area(area) => area.sample_li(shapes.get(area.shape)?, r, u, wl),
-            Light::DirectionalArea(l) => l.sample_li(shapes.get(l.surface.shape)?, r, wl),
+            Light::DirectionalArea(l) => l.sample_li(shapes.get(l.surface.shape)?, r, u.x, wl),
             light => light.sample_li_nonarea(r, u, wl),
         }
     }

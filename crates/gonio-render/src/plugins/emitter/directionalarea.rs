@@ -3,8 +3,9 @@
 //!
 //! `radiance` is read as `area`'s (numbers and colours × D65, textures with the same
 //! `whitepoint` rule: checked against Mitsuba 3.9.1's `sample_ray` weights); here it is the
-//! power per unit area leaving along the normal, L·δ(ω − n), so a surface facing the emitter
-//! across any gap receives the irradiance `radiance`. Mitsuba's path tracers cannot see such a
+//! power per unit area leaving along the normal, L·δ(ω − n), so a surface facing a planar
+//! emitter across any gap receives the irradiance `radiance` (a sphere's beams spread or
+//! focus: L·(R/r)² at distance r from its centre). Mitsuba's path tracers cannot see such a
 //! light (a camera or a surface point meets its one direction with probability zero) and render
 //! it black; only `ptracer` shows it. gonio's next-event estimation finds, for a point in front
 //! of a planar emitter (`rectangle`, `disk`), the one emitter point whose normal passes through

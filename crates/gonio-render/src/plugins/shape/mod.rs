@@ -63,7 +63,7 @@ pub const EMITTER: ParamSpec = ParamSpec::new(
     "(nested emitter)",
     ParamType::Emitter,
     DefaultValue::None,
-    "at most one nested `area` emitter",
+    "at most one nested `area` or `directionalarea` emitter",
 );
 /// `face_normals`, shared by the meshes.
 pub const FACE_NORMALS: ParamSpec = ParamSpec::new(
