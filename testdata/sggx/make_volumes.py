@@ -6,7 +6,8 @@ x from fibres along y, S = I − 0.95·y yᵀ, to flakes facing x, S = diag(1, 0
 linear blending of the matrices (positive definite throughout). `density.vol`: 2 × 2 × 2
 samples of 4, the heterogeneous medium's extinction (a number would do for gonio, but Mitsuba's
 heterogeneous medium exists only inside the box of its `sigma_t` volume, for a number the unit
-cube). Every eigenvalue is at most 1,
+cube). `indefinite.vol`: one sample of diag(2, -1, -1) (determinant 2 > 0, but no SGGX
+matrix), which gonio refuses. Every other eigenvalue is at most 1,
 where Mitsuba 3.9.1's media and gonio's agree (see `plugins/phase/sggx.rs`).
 """
 import math
@@ -54,3 +55,4 @@ for k in range(4):
 write_vol(here / "fibres.vol", (4, 4, 4), samples)
 
 write_vol(here / "density.vol", (2, 2, 2), [[4.0]] * 8)
+write_vol(here / "indefinite.vol", (1, 1, 1), [[2.0, -1.0, -1.0, 0.0, 0.0, 0.0]])

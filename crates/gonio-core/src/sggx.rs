@@ -127,13 +127,47 @@ impl Sggx {
         }
     }
 
-    /// An upper bound of σ(ω) over all directions: √ of a bound of S's largest eigenvalue (the
-    /// smaller of its trace and Gershgorin's row bound; S is positive semi-definite).
+    /// True when S is positive semi-definite up to rounding (every principal minor at least
+    /// −10⁻⁴ times the largest entry to its power): the matrices SGGX describes (Mitsuba
+    /// leaves the check to the user and renders others as they come).
+    pub fn is_semi_definite(&self) -> bool {
+        let (c0, c1, c2) = (self.s.x_axis, self.s.y_axis, self.s.z_axis);
+        let scale = c0.abs().max(c1.abs()).max(c2.abs()).max_element();
+        let eps = 1e-4;
+        let tol = |k: i32| -eps * scale.powi(k);
+        c0.x >= tol(1)
+            && c1.y >= tol(1)
+            && c2.z >= tol(1)
+            && c0.x * c1.y - c0.y * c0.y >= tol(2)
+            && c0.x * c2.z - c0.z * c0.z >= tol(2)
+            && c1.y * c2.z - c1.z * c1.z >= tol(2)
+            && self.s.determinant() >= tol(3)
+    }
+
+    /// An upper bound of σ(ω) over all directions: √ of a bound of S's largest eigenvalue,
+    /// Gershgorin's row bound, or the trace where it is smaller and S is positive
+    /// semi-definite (every principal minor ≥ 0; the user's promise, not checked by Mitsuba: a
+    /// matrix that breaks it keeps the row bound, which holds for any symmetric matrix).
     pub fn max_projected_area(&self) -> f32 {
-        let cols = [self.s.x_axis, self.s.y_axis, self.s.z_axis];
-        let trace = self.s.x_axis.x + self.s.y_axis.y + self.s.z_axis.z;
-        let gershgorin = cols.iter().map(|c| c.abs().element_sum()).fold(0.0, f32::max);
-        trace.min(gershgorin).max(0.0).sqrt()
+        let (c0, c1, c2) = (self.s.x_axis, self.s.y_axis, self.s.z_axis);
+        let gershgorin = [c0, c1, c2]
+            .iter()
+            .map(|c| c.abs().element_sum())
+            .fold(0.0, f32::max);
+        let trace = c0.x + c1.y + c2.z;
+        let semi_definite = c0.x >= 0.0
+            && c1.y >= 0.0
+            && c2.z >= 0.0
+            && c0.x * c1.y >= c0.y * c0.y
+            && c0.x * c2.z >= c0.z * c0.z
+            && c1.y * c2.z >= c1.z * c1.z
+            && self.s.determinant() >= 0.0;
+        let bound = if semi_definite {
+            trace.min(gershgorin)
+        } else {
+            gershgorin
+        };
+        bound.max(0.0).sqrt()
     }
 }
 
@@ -187,6 +221,30 @@ mod tests {
                     "σ({w}) {proj} against {sigma}"
                 );
                 assert!(d.projected_area(w) <= d.max_projected_area() * (1.0 + 1e-6));
+            }
+        }
+    }
+
+    /// A matrix that is not positive semi-definite (the user's promise, unchecked, as in
+    /// Mitsuba) still gets a bound of σ over every direction: its extinction stays under the
+    /// medium's majorant.
+    #[test]
+    fn sggx_projected_area_bound_holds_for_indefinite_matrices() {
+        for s in [
+            [1.0, -0.5, 0.2, 0.0, 0.0, 0.0],
+            [0.1, 0.1, 0.1, 0.9, 0.0, 0.0],
+            [-1.0, -1.0, -1.0, 0.0, 0.0, 0.0],
+        ] {
+            let d = Sggx::new(s);
+            let bound = d.max_projected_area();
+            let mut rng = crate::rng::Pcg32::new(3, 5);
+            for _ in 0..10_000 {
+                let w = crate::warp::square_to_uniform_sphere(Vec2::new(rng.next_f32(), rng.next_f32()));
+                assert!(
+                    d.projected_area(w) <= bound * (1.0 + 1e-6),
+                    "{s:?} at {w}: {} > {bound}",
+                    d.projected_area(w)
+                );
             }
         }
     }

@@ -6,12 +6,13 @@
 //! read at the scattering point: Mitsuba's albedo is a volume), so σs = α·σt, and a phase
 //! function ([`Phase`]: a model of [`gonio_core::phase`], a `blendphase` of two, or `sggx`
 //! microflakes, whose projected area σ(ω) multiplies σt along ω); its free flights are drawn exactly
-//! ([`gonio_core::medium::sample_free_flight`]). A heterogeneous medium (Mitsuba 3
-//! `src/media/heterogeneous.cpp`) reads σt from a `gridvolume` too: it is tracked under the
-//! majorant σ̄ = `scale`·max σt, by delta tracking along paths and ratio tracking along shadow
+//! ([`gonio_core::medium::sample_free_flight`]) unless the microflakes' matrix varies in space.
+//! A heterogeneous medium (Mitsuba 3 `src/media/heterogeneous.cpp`) reads σt from a
+//! `gridvolume` too: it is tracked under the majorant σ̄ = `scale`·max σt (times a bound of the
+//! projected area for `sggx`), by delta tracking along paths and ratio tracking along shadow
 //! rays ([`gonio_core::medium::null_collision_event`]), and only inside the grid's box (outside
-//! it the medium is empty, as in Mitsuba; a constant extinction's box is the unit cube of its
-//! `constvolume`'s `to_world`). The integrator is `volpath`
+//! it the medium is empty, as in Mitsuba; a constant extinction's box is the axis-aligned bounds
+//! of its `constvolume`'s unit cube under `to_world`). The integrator is `volpath`
 //! (`crate::integrator::volpath`).
 //!
 //! A shape takes media with `<ref name="interior" id="..."/>` and `name="exterior"`: the side its
@@ -151,7 +152,8 @@ pub enum Extinction {
     Spectrum(Spectrum),
     /// The same inside a box, zero outside: a heterogeneous medium given a number or a
     /// `constvolume` (Mitsuba's: the medium is where its extinction volume is, for a constant
-    /// the unit cube of the volume's `to_world`, given as world → box space).
+    /// the axis-aligned bounds of the unit cube under the volume's `to_world`), given as the
+    /// world → [0, 1]³ transform of the box.
     Box(Spectrum, Affine3A),
     /// A grid (one channel, or linear RGB as Mitsuba's spectral `gridvolume` reads it), zero
     /// outside its box.

@@ -75,14 +75,16 @@ fn a_grey_absorbing_medium_transmits_exp_of_minus_sigma_t_times_length() {
 /// A heterogeneous medium given a number is that extinction inside the unit cube and empty
 /// outside (Mitsuba 3.9.1: the medium is where its `sigma_t` volume's box is; probed on a cube
 /// [−2, 2]³ holding it, seen along −z: 0.31 through the unit cube, 1 elsewhere), a
-/// `constvolume` the same inside the unit cube of its `to_world`.
+/// `constvolume` the same inside the axis-aligned bounds of its `to_world`'s unit cube (probed
+/// with a 45° turn about z: Mitsuba's transmittance is the same inside and outside the turned
+/// cube within its bounds).
 #[test]
 fn a_heterogeneous_constant_extinction_fills_its_volumes_box() {
-    let scene = |sigma_t: &str, x: f32| {
+    let scene = |sigma_t: &str, (x, y): (f32, f32)| {
         format!(
             r#"<scene version="3.0.0"><integrator type="volpath"/>
             <sensor type="radiancemeter">
-                <point name="origin" x="{x}" y="{x}" z="5"/><vector name="direction" x="0" y="0" z="-1"/>
+                <point name="origin" x="{x}" y="{y}" z="5"/><vector name="direction" x="0" y="0" z="-1"/>
                 <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/><rfilter type="box"/></film>
             </sensor>
             <emitter type="constant"><float name="radiance" value="1"/></emitter>
@@ -95,19 +97,24 @@ fn a_heterogeneous_constant_extinction_fills_its_volumes_box() {
     let number = r#"<float name="sigma_t" value="1"/>"#;
     let placed = r#"<volume name="sigma_t" type="constvolume"><float name="value" value="0.5"/>
         <transform name="to_world"><scale value="4"/><translate x="-2" y="-2" z="-2"/></transform></volume>"#;
+    let turned = r#"<volume name="sigma_t" type="constvolume"><float name="value" value="1"/>
+        <transform name="to_world"><rotate z="1" angle="45"/></transform></volume>"#;
     // Through the unit cube: T = exp(−1); beside it, inside the cube: 1; the placed volume
-    // fills the cube: exp(−0.5 · 4).
-    for (sigma_t, x, t) in [
-        (number, 0.5, (-1.0f64).exp()),
-        (number, -1.0, 1.0),
-        (placed, -1.0, (-2.0f64).exp()),
-    ] {
-        let v = meter(&scene(sigma_t, x), 1 << 16, 1);
+    // fills the cube: exp(−0.5 · 4); the turned cube's bounds, outside the turned cube: exp(−1).
+    let cases = [
+        (number, (0.5, 0.5), (-1.0f64).exp()),
+        (number, (-1.0, -1.0), 1.0),
+        (placed, (-1.0, -1.0), (-2.0f64).exp()),
+        (turned, (0.5, 0.2), (-1.0f64).exp()),
+        (turned, (0.8, 0.2), 1.0),
+    ];
+    for (sigma_t, at, t) in cases {
+        let v = meter(&scene(sigma_t, at), 1 << 16, 1);
         for c in 0..3 {
             // The sky's spectral estimate is the only noise.
             assert!(
                 (v[c] as f64 / t - 1.0).abs() < 3e-3,
-                "{sigma_t} at x = {x}: {v:?} against {t}"
+                "{sigma_t} at {at:?}: {v:?} against {t}"
             );
         }
     }

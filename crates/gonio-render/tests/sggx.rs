@@ -131,6 +131,11 @@ fn sggx_parameters_are_refused_where_they_are_wrong() {
     };
     refused(&medium(""), &["six-channel", "\"S\""]);
     refused(&medium(&grid("density.vol")), &["1 channels", "needs 6"]);
+    // diag(2, −1, −1): a positive determinant, but no SGGX matrix.
+    refused(
+        &medium(&grid("indefinite.vol")),
+        &["sample 0", "2.0, -1.0, -1.0", "positive semi-definite"],
+    );
     refused(
         &medium("<volume name=\"S\" type=\"constvolume\"><float name=\"value\" value=\"1\"/></volume>"),
         &["constvolume", "gridvolume"],

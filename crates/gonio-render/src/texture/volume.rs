@@ -25,7 +25,7 @@
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
-//! | `filename` | string | (required) | the `.vol` grid (1 or 3 channels) |
+//! | `filename` | string | (required) | the `.vol` grid (1 or 3 channels; 6 for an `sggx` phase function's matrix) |
 //! | `filter_type` | string | `trilinear` | `trilinear` or `nearest` |
 //! | `wrap_mode` | string | `clamp` | `clamp`, `repeat` or `mirror` outside [0, 1]³ |
 //! | `raw` | boolean | false | no colour conversion of 3-channel data |
@@ -44,9 +44,10 @@ use std::sync::Arc;
 pub enum Volume {
     /// `gridvolume`.
     Grid(Arc<GridVolume>),
-    /// `constvolume`: the value, and its box's world → local transform (the unit cube of its
-    /// `to_world`, where a heterogeneous medium reads it, as Mitsuba's does).
-    Constant(Spectrum, Affine3A),
+    /// `constvolume`: the value, and its box (world-space lower and upper corners: the
+    /// axis-aligned bounds of the unit cube under its `to_world`, where a heterogeneous medium
+    /// reads it, as Mitsuba's does).
+    Constant(Spectrum, (Vec3, Vec3)),
 }
 
 /// A grid of samples over the unit cube of its local space.

@@ -140,8 +140,25 @@ pub(crate) fn build_medium<'d>(
                 albedo = Some(Albedo::Spectrum(a));
             }
             // A heterogeneous medium exists inside its extinction's box (Mitsuba's
-            // `intersect_aabb`), for a constant the unit cube of its `to_world`.
-            (_, Volume::Constant(s, to_local)) if grids => sigma_t = Some(Extinction::Box(s, to_local)),
+            // `intersect_aabb`), for a constant the bounds of its `to_world`'s unit cube.
+            (_, Volume::Constant(s, (lo, hi))) if grids => {
+                let size = hi - lo;
+                if !(size.min_element() > 0.0 && size.is_finite()) {
+                    return Err(err(
+                        &prop.loc,
+                        ErrorKind::BadValue,
+                        format!(
+                            "the \"sigma_t\" constvolume of {what} has a flat or non-finite box (its to_world)"
+                        ),
+                    ));
+                }
+                let to_local = glam::Affine3A::from_scale_rotation_translation(
+                    size.recip(),
+                    glam::Quat::IDENTITY,
+                    -lo / size,
+                );
+                sigma_t = Some(Extinction::Box(s, to_local));
+            }
             (_, Volume::Constant(s, _)) => sigma_t = Some(Extinction::Spectrum(s)),
             (_, Volume::Grid(g)) if grids => sigma_t = Some(Extinction::Volume(g)),
             (_, Volume::Grid(_)) => return Err(refused(grids_here)),

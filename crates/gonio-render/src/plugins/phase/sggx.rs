@@ -11,7 +11,10 @@
 //! grid's samples): Mitsuba's heterogeneous medium keeps σ̄ (its `max_projected_area` is 1), so
 //! matrices with an eigenvalue above 1 make its null collisions negative, and its homogeneous
 //! medium reads S once at the ray's origin for the whole flight; both agree with ours where S
-//! has eigenvalues at most 1 and is the same everywhere. Nested in a `blendphase` it is refused
+//! has eigenvalues at most 1 and is the same everywhere. A sample that is not a positive
+//! semi-definite matrix (Mitsuba leaves that to the user) is refused with its index and values;
+//! a singular one (ideal flakes, S = diag(0, 0, 1)) has no density to sample (D = 0), so its
+//! flakes only absorb, as in Mitsuba, whose phase samples there have pdf 0. Nested in a `blendphase` it is refused
 //! (a blend has no projected area to scale the extinction by). Mitsuba 3.9.1's directions do not
 //! follow its own density except for ωi along z (its renders then depend on the estimator); the
 //! values and densities are the same as gonio's, whose samples follow them (`tests/sggx.rs`).
@@ -51,28 +54,32 @@ pub struct SggxPhase {
 }
 
 impl SggxPhase {
-    /// The phase function of a six-channel `grid`.
-    pub fn new(grid: Arc<GridVolume>) -> Self {
+    /// The phase function of a six-channel `grid`; the index and entries of the first sample
+    /// that is not a positive semi-definite matrix, if any.
+    pub fn new(grid: Arc<GridVolume>) -> Result<Self, (usize, [f32; 6])> {
         let samples: Vec<[f32; 6]> = grid
             .data
             .chunks_exact(6)
             .map(|c| std::array::from_fn(|i| c[i]))
             .collect();
+        if let Some(i) = samples.iter().position(|s| !Sggx::new(*s).is_semi_definite()) {
+            return Err((i, samples[i]));
+        }
         let uniform = samples
             .first()
             .filter(|first| samples.iter().all(|s| s == *first))
             .map(|s| Sggx::new(*s));
-        // σ is convex in S (the largest eigenvalue is), and a lookup is a convex combination of
-        // samples: the samples' bound holds everywhere.
+        // σ² = ωᵀSω is linear in S and a lookup is a convex combination of samples (trilinear
+        // or nearest, every wrap mode): σ² at any point is at most the samples' largest.
         let max_projected_area = samples
             .iter()
             .map(|s| Sggx::new(*s).max_projected_area())
             .fold(0.0, f32::max);
-        Self {
+        Ok(Self {
             grid,
             uniform,
             max_projected_area,
-        }
+        })
     }
 
     /// The distribution at world point `p`.
@@ -157,12 +164,27 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Phase, SceneErro
             format!("{what} needs a six-channel <volume name=\"S\">"),
         ));
     };
-    let phase = SggxPhase::new(grid);
-    if !phase.max_projected_area.is_finite() || phase.grid.data.iter().any(|v| !v.is_finite()) {
+    if grid.data.iter().any(|v| !v.is_finite()) {
         return Err(err(
             &p.obj.loc,
             ErrorKind::BadValue,
-            format!("the \"S\" volume of {what} holds non-finite or overflowing values"),
+            format!("the \"S\" volume of {what} holds non-finite values"),
+        ));
+    }
+    let phase = SggxPhase::new(grid).map_err(|(i, s)| {
+        err(
+            &p.obj.loc,
+            ErrorKind::BadValue,
+            format!(
+                "the \"S\" volume of {what}: sample {i} ({s:?} as S_xx, S_yy, S_zz, S_xy, S_xz, S_yz) is not a positive semi-definite matrix"
+            ),
+        )
+    })?;
+    if !phase.max_projected_area.is_finite() {
+        return Err(err(
+            &p.obj.loc,
+            ErrorKind::BadValue,
+            format!("the \"S\" volume of {what} holds values whose projected area overflows"),
         ));
     }
     Ok(Phase::Sggx(Box::new(phase)))

@@ -10,11 +10,12 @@
 //! | parameter | default | meaning |
 //! |---|---|---|
 //! | `value` | 1 | the value: a number, `<rgb>` or `<spectrum>` |
-//! | `to_world` | identity | places its box, the unit cube: a `heterogeneous` medium's extinction is 0 outside it (Mitsuba's); other users ignore it |
+//! | `to_world` | identity | places its box, the world-axis-aligned bounds of the transformed unit cube: a `heterogeneous` medium's extinction is 0 outside it (Mitsuba's); other users ignore it |
 
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::texture::volume::Volume;
-use crate::xml::{Builder, ErrorKind, Params, SceneError, Value, err};
+use crate::xml::{Builder, Params, SceneError, Value};
+use glam::Vec3;
 use gonio_core::spectra::RgbKind;
 
 const VALUE: ParamSpec = ParamSpec::new(
@@ -27,7 +28,7 @@ const TO_WORLD: ParamSpec = ParamSpec::new(
     "to_world",
     ParamType::Transform,
     DefaultValue::None,
-    "places the unit cube outside which a heterogeneous medium given this extinction is empty (Mitsuba's); other users ignore it",
+    "places its box (the axis-aligned bounds of the transformed unit cube) outside which a heterogeneous medium given this extinction is empty (Mitsuba's); other users ignore it",
 );
 
 /// The `constvolume` plugin.
@@ -51,12 +52,17 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Volume, SceneErr
     };
     let value = b.spectrum_param(p, VALUE.name, kind, VALUE.default.float() as f32)?;
     let to_world = p.affine(TO_WORLD.name)?;
-    if to_world.matrix3.determinant() == 0.0 || !to_world.is_finite() {
-        return Err(err(
-            &p.obj.loc,
-            ErrorKind::BadValue,
-            "<volume type=\"constvolume\"> has a singular or non-finite to_world",
-        ));
-    }
-    Ok(Volume::Constant(value, to_world.inverse()))
+    // The box: the world-axis-aligned bounds of the transformed unit cube (Mitsuba's
+    // `Volume::bbox`).
+    let corners = (0..8).map(|i| {
+        to_world.transform_point3(Vec3::new(
+            (i & 1) as f32,
+            (i >> 1 & 1) as f32,
+            (i >> 2 & 1) as f32,
+        ))
+    });
+    let (lo, hi) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), c| {
+        (lo.min(c), hi.max(c))
+    });
+    Ok(Volume::Constant(value, (lo, hi)))
 }
