@@ -651,8 +651,8 @@ pub enum SurfaceEmission {
     /// power per unit area that leaves along it).
     Directional {
         /// Next-event estimation along the beam through the shading point, on rectangles,
-        /// disks and spheres (ours); false leaves the light to light paths, as Mitsuba 3.9.1
-        /// does.
+        /// disks, spheres and planar meshes (ours); false leaves the light to light paths, as
+        /// Mitsuba 3.9.1 does.
         next_event: bool,
     },
 }

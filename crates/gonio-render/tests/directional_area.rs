@@ -304,3 +304,65 @@ fn directionalarea_inward_sphere_matches_mitsuba_ptracer() {
     let e = block_relmse(&ptracer, &inward_reference(), 8).expect("same size");
     assert!(e < 1.1e-5, "ptracer against Mitsuba's ptracer: {e:e}");
 }
+
+/// A planar mesh (`tests/data/quad.obj`, two triangles) lights next-event estimation as the
+/// same quad given as a `rectangle` does: the same beams, at the same points, from the same
+/// distance; a mesh that is not flat (a tetrahedron) is left to light paths.
+#[test]
+fn directionalarea_planar_mesh_projects_as_its_rectangle() {
+    let placement =
+        r#"<rotate x="1" angle="180"/><rotate y="1" angle="20"/><translate x="0.3" y="-0.2" z="2"/>"#;
+    let text = format!(
+        r#"<scene version="3.0.0">
+        <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><translate x="0.5" y="0.5"/>{placement}</transform>
+            <emitter type="directionalarea"><rgb name="radiance" value="0.3, 0.6, 0.9"/></emitter></shape>
+        <shape type="obj"><string name="filename" value="quad.obj"/><transform name="to_world">{placement}</transform>
+            <emitter type="directionalarea"><rgb name="radiance" value="0.3, 0.6, 0.9"/></emitter></shape>
+        </scene>"#
+    );
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let scene = gonio_render::xml::load_scene_str(&text, &data, &[]).expect("scene loads");
+    let p = PreparedScene::new(scene).expect("scene prepares");
+    let [rect, quad] = p.lights().lights() else {
+        panic!("two lights")
+    };
+    let wl = SampledWavelengths::sample_visible(0.61);
+    let u = Vec2::splat(0.5);
+    let mut lit = 0;
+    for i in 0..15 {
+        for j in 0..15 {
+            // Off the edges by a few percent of a step (an edge point can fall either side).
+            let at = floor_point(Vec3::new(
+                -1.0123 + 0.15 * i as f32,
+                -1.2077 + 0.15 * j as f32,
+                0.1,
+            ));
+            let (a, b) = (
+                rect.sample_li(p.accel().shapes(), &at, u, &wl),
+                quad.sample_li(p.accel().shapes(), &at, u, &wl),
+            );
+            match (a, b) {
+                (None, None) => {}
+                (Some(a), Some(b)) => {
+                    lit += 1;
+                    assert!(
+                        (a.wi - b.wi).length() < 1e-5 && (a.dist - b.dist).abs() < 1e-4,
+                        "{at:?}"
+                    );
+                    for k in 0..4 {
+                        assert_close(a.li[k], b.li[k], 1e-5, "the same irradiance");
+                    }
+                }
+                (a, b) => panic!("at {:?}: rectangle {a:?}, mesh {b:?}", at.p),
+            }
+        }
+    }
+    // Some of the grid lies under the quad, some beside it.
+    assert!(lit > 10 && lit < 200, "{lit} points lit");
+    // A closed mesh (a tetrahedron) has no plane to project onto.
+    let text = r#"<scene version="3.0.0"><shape type="ply"><string name="filename" value="tetra_le.ply"/>
+        <emitter type="directionalarea"/></shape></scene>"#;
+    let scene = gonio_render::xml::load_scene_str(text, &data, &[]).expect("scene loads");
+    let p = PreparedScene::new(scene).expect("scene prepares");
+    assert!(matches!(&p.lights().lights()[0], Light::DirectionalArea(d) if d.footprint.is_none()));
+}

@@ -18,15 +18,19 @@
 //! emitter patch spreads over the patch scaled by r/R: irradiance `L·(R/r)²`. An inward sphere
 //! (`flip_normals`) focuses every beam at its centre: a point inside it at distance r receives
 //! two, from the near point (distance R − r) and from the antipode through the centre (R + r),
-//! each with `L·(R/r)²`, and a point outside only the latter; one is chosen with probability ½. Meshes, cylinders
-//! and other shapes are left to light paths (`ptracer`), as Mitsuba leaves every shape.
+//! each with `L·(R/r)²`, and a point outside only the latter; one is chosen with probability ½.
+//! A planar mesh of at most [`MAX_FOOTPRINT_TRIANGLES`] triangles facing one way (an `obj`
+//! quad) is a plane whose outline is its triangles. Other meshes, cylinders and other shapes are
+//! left to light paths (`ptracer`), as Mitsuba leaves every shape.
 
 use super::area::{AreaLight, LightPoint};
 use super::{LightRef, LightSample};
 use crate::geometry::sampling::sample_area;
+use crate::geometry::shape::WorldMesh;
 use crate::geometry::{Ray, ShapeKind, WorldShape, offset_ray_origin};
 use glam::{Affine3A, Vec2, Vec3};
 use gonio_core::{SampledSpectrum, SampledWavelengths};
+use std::sync::Arc;
 
 /// A `directionalarea` light on shape `surface.shape`.
 #[derive(Clone, Debug)]
@@ -40,7 +44,7 @@ pub struct DirectionalAreaLight {
 
 /// The geometry next-event estimation follows the beam back through: a plane and its outline,
 /// or a sphere.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub enum Footprint {
     /// A `rectangle` or `disk`.
     Plane {
@@ -53,6 +57,18 @@ pub enum Footprint {
         /// The unit disk (else the square).
         disk: bool,
     },
+    /// A planar triangle mesh of at most [`MAX_FOOTPRINT_TRIANGLES`] triangles, all facing
+    /// one way (an `obj` or `ply` quad, the usual form of an area light).
+    Mesh {
+        /// The mesh (world space).
+        mesh: Arc<WorldMesh>,
+        /// A point of its plane.
+        origin: Vec3,
+        /// Unit normal on the emitting side (after `flip_normals`).
+        n: Vec3,
+        /// Shade with face normals (the shape's `face_normals`).
+        face_normals: bool,
+    },
     /// A `sphere`, emitting outwards (or inwards, with `flip_normals`).
     Sphere {
         /// Centre.
@@ -64,13 +80,20 @@ pub enum Footprint {
     },
 }
 
+/// Most triangles of a planar mesh next-event estimation projects onto (each light sample
+/// looks for the triangle under the point among all of them).
+pub const MAX_FOOTPRINT_TRIANGLES: usize = 64;
+
 /// Where a beam reaching a point comes from: the emitting point, its emission direction (the
 /// normal there), the distance to it, the beam's concentration there (irradiance / `L`) and
 /// how many beams reach the point (one of them chosen uniformly).
 #[derive(Clone, Copy, Debug)]
 pub struct BeamOrigin {
-    /// The emitting point (object coordinates (x, y) on a plane; the world point on a sphere).
+    /// The emitting point (object coordinates (x, y) on a plane; barycentrics (b₁, b₂) of
+    /// triangle `prim` on a mesh; the world point on a sphere).
     at: Vec3,
+    /// The mesh triangle (0 elsewhere).
+    prim: u32,
     /// Unit emission direction at `at`.
     pub n: Vec3,
     /// Distance from `at` to the receiving point.
@@ -82,9 +105,13 @@ pub struct BeamOrigin {
 }
 
 impl Footprint {
-    /// The footprint of a `rectangle`, `disk` or `sphere` (`None` for other shapes).
+    /// The footprint of a `rectangle`, `disk`, `sphere` or planar mesh (`None` for other
+    /// shapes).
     pub fn of(shape: &WorldShape) -> Option<Self> {
         let flip = shape.flip_normals;
+        if let ShapeKind::Mesh(mesh) = &shape.kind {
+            return Self::of_mesh(mesh, flip, shape.face_normals);
+        }
         let (to_world, to_object, n, disk) = match &shape.kind {
             ShapeKind::Rectangle {
                 to_world,
@@ -115,6 +142,40 @@ impl Footprint {
         })
     }
 
+    /// A mesh's footprint, when it has at most [`MAX_FOOTPRINT_TRIANGLES`] triangles lying in
+    /// one plane (within 10⁻⁵ of its size) and facing one way.
+    fn of_mesh(mesh: &Arc<WorldMesh>, flip: bool, face_normals: bool) -> Option<Self> {
+        if mesh.indices.is_empty() || mesh.indices.len() > MAX_FOOTPRINT_TRIANGLES {
+            return None;
+        }
+        let normal = |i: usize| {
+            let [a, b, c] = mesh.tri(i);
+            (b - a).cross(c - a).normalize_or_zero()
+        };
+        let first = (0..mesh.indices.len()).find(|&i| normal(i) != Vec3::ZERO)?;
+        let n = normal(first);
+        let origin = mesh.tri(first)[0];
+        let size = mesh
+            .positions
+            .iter()
+            .map(|&p| (p - origin).abs().max_element())
+            .fold(0.0, f32::max);
+        let planar = (0..mesh.indices.len()).all(|i| {
+            let m = normal(i);
+            let flat = mesh
+                .tri(i)
+                .iter()
+                .all(|&v| (v - origin).dot(n).abs() <= 1e-5 * size);
+            flat && (m == Vec3::ZERO || m.dot(n) > 1.0 - 1e-5)
+        });
+        planar.then(|| Self::Mesh {
+            mesh: mesh.clone(),
+            origin,
+            n: if flip { -n } else { n },
+            face_normals,
+        })
+    }
+
     /// An emitter point whose beam passes through `p`, if any: on a plane the orthogonal
     /// projection (when `p` lies on the emitting side and the projection on the shape); on a
     /// sphere the points on the line through the centre whose beam reaches `p`: outside an
@@ -142,10 +203,40 @@ impl Footprint {
                 };
                 inside.then_some(BeamOrigin {
                     at: local.with_z(0.0),
+                    prim: 0,
                     n,
                     dist: h,
                     gain: 1.0,
                     count: 1,
+                })
+            }
+            Self::Mesh {
+                ref mesh, origin, n, ..
+            } => {
+                let h = (p - origin).dot(n);
+                if !(h > 0.0) {
+                    return None;
+                }
+                let y = p - h * n;
+                (0..mesh.indices.len()).find_map(|i| {
+                    let [a, b, c] = mesh.tri(i);
+                    let (e1, e2, v) = (b - a, c - a, y - a);
+                    let (d11, d12, d22) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+                    let (v1, v2) = (v.dot(e1), v.dot(e2));
+                    let det = d11 * d22 - d12 * d12;
+                    if !(det > 0.0) {
+                        return None;
+                    }
+                    let b1 = (d22 * v1 - d12 * v2) / det;
+                    let b2 = (d11 * v2 - d12 * v1) / det;
+                    (b1 >= 0.0 && b2 >= 0.0 && b1 + b2 <= 1.0).then_some(BeamOrigin {
+                        at: Vec3::new(b1, b2, 0.0),
+                        prim: i as u32,
+                        n,
+                        dist: h,
+                        gain: 1.0,
+                        count: 1,
+                    })
                 })
             }
             Self::Sphere {
@@ -167,6 +258,7 @@ impl Footprint {
                 let count = near as u32 + far as u32;
                 let beam = |at: Vec3, n: Vec3, dist: f32| BeamOrigin {
                     at,
+                    prim: 0,
                     n,
                     dist,
                     gain,
@@ -188,6 +280,14 @@ impl Footprint {
     fn light_point(&self, shape: &WorldShape, beam: &BeamOrigin) -> LightPoint {
         let si = match self {
             Self::Plane { .. } => shape.planar_point(beam.at.x, beam.at.y),
+            Self::Mesh {
+                mesh, face_normals, ..
+            } => {
+                let mut si = mesh.point(beam.prim as usize, beam.at.x, beam.at.y, *face_normals);
+                si.prim = beam.prim;
+                si.bary = beam.at.truncate();
+                si
+            }
             Self::Sphere { .. } => shape.sphere_point(beam.at),
         };
         LightPoint {

@@ -10,8 +10,9 @@
 //! it black; only `ptracer` shows it. gonio's next-event estimation finds, for a point in front
 //! of a planar emitter (`rectangle`, `disk`), the one emitter point whose normal passes through
 //! it (its orthogonal projection), as for a `directional` light limited to the emitter's
-//! footprint, and for a point outside a `sphere` (inside, with `flip_normals`) the point on the
-//! line through the centre: `path`, `direct` and `volpath` then render the direct light too (the
+//! footprint (a planar mesh of at most 64 triangles, an `obj` quad, counts as a plane), and for
+//! a point outside a `sphere` (inside, with `flip_normals`) the points on the line through the
+//! centre: `path`, `direct` and `volpath` then render the direct light too (the
 //! image `ptracer` converges to, test `directionalarea_path_matches_mitsuba_ptracer`;
 //! `next_event` = false, the default under `--mitsuba-estimators`, restores Mitsuba's black).
 //! Other shapes, and light reflected by a mirror or refracted by glass on its way, stay
@@ -25,14 +26,14 @@ const NEXT_EVENT: ParamSpec = ParamSpec::new(
     "next_event",
     ParamType::Boolean,
     DefaultValue::Bool(true),
-    "(ours) next-event estimation along the beam through the shading point, on a `rectangle`, `disk` or `sphere`: `path`, `direct` and `volpath` render its direct light (Mitsuba 3.9.1: only `ptracer` does)",
+    "(ours) next-event estimation along the beam through the shading point, on a `rectangle`, `disk`, `sphere` or planar mesh of at most 64 triangles: `path`, `direct` and `volpath` render its direct light (Mitsuba 3.9.1: only `ptracer` does)",
 )
 .mitsuba(DefaultValue::Bool(false));
 
 /// The `directionalarea` plugin.
 pub static PLUGIN: Plugin<AreaEmitterDesc> = Plugin {
     name: "directionalarea",
-    summary: "Directional area light: the shape it is nested in emits `radiance` only along its normal (seen by `ptracer`; by next-event estimation on rectangles, disks and spheres).",
+    summary: "Directional area light: the shape it is nested in emits `radiance` only along its normal (seen by `ptracer`; by next-event estimation on rectangles, disks, spheres and planar meshes).",
     params: &[
         super::area::RADIANCE,
         super::area::WHITEPOINT,
