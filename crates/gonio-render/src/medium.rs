@@ -211,6 +211,21 @@ impl Medium {
         }
     }
 
+    /// The extinction along direction `d` of a medium that is the same everywhere inside its box
+    /// and empty outside (a heterogeneous medium given a constant, [`Extinction::Box`]); `None`
+    /// for others (and where a microflake matrix varies in space). Its free flights are drawn
+    /// exactly inside [`Medium::extent`].
+    #[inline]
+    pub fn box_sigma_t(&self, d: Vec3, wl: &SampledWavelengths) -> Option<SampledSpectrum> {
+        match &self.sigma_t {
+            Extinction::Box(s, _) => {
+                let area = self.phase.uniform_projected_area(d)?;
+                Some(s.sample(wl) * (self.scale * area))
+            }
+            _ => None,
+        }
+    }
+
     /// σt at world point `p` along direction `d` (0 outside a grid's box): the density times
     /// the phase function's projected area ([`Phase::projected_area`]).
     pub fn sigma_t_at(&self, p: Vec3, d: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {

@@ -120,6 +120,49 @@ fn a_heterogeneous_constant_extinction_fills_its_volumes_box() {
     }
 }
 
+/// A scattering heterogeneous medium given a (chromatic) constant in a large cube is the
+/// homogeneous medium of its box, the unit cube: its free flights are drawn exactly inside the
+/// box, so the two meters agree within four standard errors of their difference.
+#[test]
+fn a_constant_heterogeneous_medium_scatters_as_the_homogeneous_one_of_its_box() {
+    let scene = |medium: &str, scale: f32, shift: f32| {
+        format!(
+            r#"<scene version="3.0.0"><integrator type="volpath"/>
+            <sensor type="radiancemeter">
+                <point name="origin" x="0.4" y="0.55" z="5"/><vector name="direction" x="0" y="0.05" z="-1"/>
+                <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/><rfilter type="box"/></film>
+            </sensor>
+            <emitter type="constant"><float name="radiance" value="1"/></emitter>
+            <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="-30"/><translate z="3"/></transform>
+                <emitter type="area"><rgb name="radiance" value="4, 3, 2"/></emitter></shape>
+            {medium}
+            <shape type="cube"><transform name="to_world"><scale value="{scale}"/><translate x="{shift}" y="{shift}" z="{shift}"/></transform>
+                <bsdf type="null"/><ref name="interior" id="m"/></shape>
+            </scene>"#
+        )
+    };
+    let parts = r#"<rgb name="sigma_t" value="0.5, 1, 2"/><float name="albedo" value="0.8"/><phase type="hg"><float name="g" value="0.3"/></phase>"#;
+    let boxed = scene(
+        &format!(r#"<medium type="heterogeneous" id="m">{parts}</medium>"#),
+        2.0,
+        0.0,
+    );
+    let plain = scene(
+        &format!(r#"<medium type="homogeneous" id="m">{parts}</medium>"#),
+        0.5,
+        0.5,
+    );
+    let (a, se_a) = meter_mean(&boxed, 1 << 12, 8);
+    let (b, se_b) = meter_mean(&plain, 1 << 12, 8);
+    for c in 0..3 {
+        let tol = 4.0 * (se_a[c].powi(2) + se_b[c].powi(2)).sqrt();
+        assert!(
+            (a[c] - b[c]).abs() < tol,
+            "channel {c}: {a:?} ± {se_a:?} against {b:?} ± {se_b:?}"
+        );
+    }
+}
+
 #[test]
 fn a_chromatic_absorbing_medium_transmits_as_mitsubas() {
     // σt = 4.8 × the uplifted (0.375, 0.625, 1): from 2.1 to 4.8 across the spectrum, optical

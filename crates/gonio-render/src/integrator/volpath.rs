@@ -267,6 +267,23 @@ impl PathTracer<'_> {
             None => {
                 let hit = self.accel.intersect_lazy(ray);
                 let t_max = hit.as_ref().map_or(f32::INFINITY, LazyHit::t);
+                if let Some(sigma_t) = m.box_sigma_t(ray.d, wl) {
+                    // A constant inside a box: drawn exactly over the part inside.
+                    let Some((t0, t1)) = m.extent(ray.o, ray.d, t_max) else {
+                        return (hit, None, SampledSpectrum::splat(1.0));
+                    };
+                    let len = t1 - t0;
+                    if m.absorbs_only() {
+                        return (hit, None, transmittance(sigma_t, len));
+                    }
+                    let t = sample_distance(sigma_t, sampler.next_1d(), wl);
+                    if t < len {
+                        let p = ray.at(t0 + t);
+                        let w = flight_weight(sigma_t, t, true, wl) * m.albedo(p, wl) * sigma_t;
+                        return (None, Some(p), w);
+                    }
+                    return (hit, None, flight_weight(sigma_t, len, false, wl));
+                }
                 let (collision, w) = self.track(m, ray, t_max, sampler, wl);
                 (if collision.is_some() { None } else { hit }, collision, w)
             }
@@ -325,6 +342,12 @@ impl PathTracer<'_> {
     ) -> SampledSpectrum {
         if let Some(sigma_t) = m.uniform_sigma_t(ray.d, wl) {
             return transmittance(sigma_t, t_max);
+        }
+        if let Some(sigma_t) = m.box_sigma_t(ray.d, wl) {
+            return match m.extent(ray.o, ray.d, t_max) {
+                Some((t0, t1)) => transmittance(sigma_t, t1 - t0),
+                None => SampledSpectrum::splat(1.0),
+            };
         }
         let bar = m.majorant();
         let one = SampledSpectrum::splat(1.0);
