@@ -127,21 +127,28 @@ impl Sggx {
         }
     }
 
-    /// True when S is positive semi-definite up to rounding (every principal minor at least
-    /// −10⁻⁴ times the largest entry to its power): the matrices SGGX describes (Mitsuba
-    /// leaves the check to the user and renders others as they come).
+    /// True when S is positive semi-definite up to rounding (every principal minor of S over its
+    /// largest entry at least −10⁻⁴): the matrices SGGX describes (Mitsuba leaves the check to
+    /// the user and renders others as they come).
     pub fn is_semi_definite(&self) -> bool {
-        let (c0, c1, c2) = (self.s.x_axis, self.s.y_axis, self.s.z_axis);
-        let scale = c0.abs().max(c1.abs()).max(c2.abs()).max_element();
-        let eps = 1e-4;
-        let tol = |k: i32| -eps * scale.powi(k);
-        c0.x >= tol(1)
-            && c1.y >= tol(1)
-            && c2.z >= tol(1)
-            && c0.x * c1.y - c0.y * c0.y >= tol(2)
-            && c0.x * c2.z - c0.z * c0.z >= tol(2)
-            && c1.y * c2.z - c1.z * c1.z >= tol(2)
-            && self.s.determinant() >= tol(3)
+        // On S over its largest entry, so that the minors neither overflow nor underflow.
+        let scale = [self.s.x_axis, self.s.y_axis, self.s.z_axis]
+            .iter()
+            .map(|c| c.abs().max_element())
+            .fold(0.0, f32::max);
+        if !(scale > 0.0) {
+            return scale == 0.0;
+        }
+        let t = self.s * (1.0 / scale);
+        let (c0, c1, c2) = (t.x_axis, t.y_axis, t.z_axis);
+        let tol = -1e-4;
+        c0.x >= tol
+            && c1.y >= tol
+            && c2.z >= tol
+            && c0.x * c1.y - c0.y * c0.y >= tol
+            && c0.x * c2.z - c0.z * c0.z >= tol
+            && c1.y * c2.z - c1.z * c1.z >= tol
+            && t.determinant() >= tol
     }
 
     /// An upper bound of σ(ω) over all directions: √ of a bound of S's largest eigenvalue,

@@ -11,8 +11,9 @@
 //! `gridvolume` too: it is tracked under the majorant σ̄ = `scale`·max σt (times a bound of the
 //! projected area for `sggx`), by delta tracking along paths and ratio tracking along shadow
 //! rays ([`gonio_core::medium::null_collision_event`]), and only inside the grid's box (outside
-//! it the medium is empty, as in Mitsuba; a constant extinction's box is the axis-aligned bounds
-//! of its `constvolume`'s unit cube under `to_world`). The integrator is `volpath`
+//! it the medium is empty, as in Mitsuba). Given a constant instead, it is that constant inside
+//! the axis-aligned bounds of its `constvolume`'s unit cube under `to_world`, whose free
+//! flights are drawn exactly there ([`Medium::box_sigma_t`]). The integrator is `volpath`
 //! (`crate::integrator::volpath`).
 //!
 //! A shape takes media with `<ref name="interior" id="..."/>` and `name="exterior"`: the side its

@@ -305,64 +305,118 @@ fn directionalarea_inward_sphere_matches_mitsuba_ptracer() {
     assert!(e < 1.1e-5, "ptracer against Mitsuba's ptracer: {e:e}");
 }
 
-/// A planar mesh (`tests/data/quad.obj`, two triangles) lights next-event estimation as the
-/// same quad given as a `rectangle` does: the same beams, at the same points, from the same
-/// distance; a mesh that is not flat (a tetrahedron) is left to light paths.
+/// A planar mesh (`tests/data/quad.obj`, two triangles, its texture coordinates its
+/// positions when read without `flip_tex_coords`) lights next-event estimation as the same quad given as a `rectangle` does: the
+/// same beams, at the same points, from the same distance, with the same texel of a checkered
+/// radiance (its triangle and barycentrics right), facing down and, flipped, up; a mesh that
+/// is not flat (a tetrahedron) is left to light paths.
 #[test]
 fn directionalarea_planar_mesh_projects_as_its_rectangle() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
     let placement =
         r#"<rotate x="1" angle="180"/><rotate y="1" angle="20"/><translate x="0.3" y="-0.2" z="2"/>"#;
-    let text = format!(
-        r#"<scene version="3.0.0">
-        <shape type="rectangle"><transform name="to_world"><scale value="0.5"/><translate x="0.5" y="0.5"/>{placement}</transform>
-            <emitter type="directionalarea"><rgb name="radiance" value="0.3, 0.6, 0.9"/></emitter></shape>
-        <shape type="obj"><string name="filename" value="quad.obj"/><transform name="to_world">{placement}</transform>
-            <emitter type="directionalarea"><rgb name="radiance" value="0.3, 0.6, 0.9"/></emitter></shape>
-        </scene>"#
-    );
-    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-    let scene = gonio_render::xml::load_scene_str(&text, &data, &[]).expect("scene loads");
-    let p = PreparedScene::new(scene).expect("scene prepares");
-    let [rect, quad] = p.lights().lights() else {
-        panic!("two lights")
-    };
-    let wl = SampledWavelengths::sample_visible(0.61);
-    let u = Vec2::splat(0.5);
-    let mut lit = 0;
-    for i in 0..15 {
-        for j in 0..15 {
-            // Off the edges by a few percent of a step (an edge point can fall either side).
-            let at = floor_point(Vec3::new(
-                -1.0123 + 0.15 * i as f32,
-                -1.2077 + 0.15 * j as f32,
-                0.1,
-            ));
-            let (a, b) = (
-                rect.sample_li(p.accel().shapes(), &at, u, &wl),
-                quad.sample_li(p.accel().shapes(), &at, u, &wl),
-            );
-            match (a, b) {
-                (None, None) => {}
-                (Some(a), Some(b)) => {
-                    lit += 1;
-                    assert!(
-                        (a.wi - b.wi).length() < 1e-5 && (a.dist - b.dist).abs() < 1e-4,
-                        "{at:?}"
-                    );
-                    for k in 0..4 {
-                        assert_close(a.li[k], b.li[k], 1e-5, "the same irradiance");
+    let emitter = r#"<emitter type="directionalarea"><texture type="checkerboard" name="radiance">
+        <rgb name="color0" value="0.2, 0.4, 0.9"/><rgb name="color1" value="1, 0.5, 0.1"/>
+        <transform name="to_uv"><scale x="3" y="2"/></transform></texture></emitter>"#;
+    for (flip, height) in [(false, 0.1f32), (true, 2.6)] {
+        let text = format!(
+            r#"<scene version="3.0.0">
+            <shape type="rectangle"><boolean name="flip_normals" value="{flip}"/>
+                <transform name="to_world"><scale value="0.5"/><translate x="0.5" y="0.5"/>{placement}</transform>{emitter}</shape>
+            <shape type="obj"><string name="filename" value="quad.obj"/><boolean name="flip_normals" value="{flip}"/>
+                <boolean name="flip_tex_coords" value="false"/>
+                <transform name="to_world">{placement}</transform>{emitter}</shape>
+            </scene>"#
+        );
+        let scene = gonio_render::xml::load_scene_str(&text, &data, &[]).expect("scene loads");
+        let p = PreparedScene::new(scene).expect("scene prepares");
+        let [rect, quad] = p.lights().lights() else {
+            panic!("two lights")
+        };
+        let wl = SampledWavelengths::sample_visible(0.61);
+        let u = Vec2::splat(0.5);
+        let (mut lit, mut texels) = (0, Vec::new());
+        for i in 0..15 {
+            for j in 0..15 {
+                // Off the edges by a few percent of a step (an edge point can fall either side).
+                let p3 = Vec3::new(-1.0123 + 0.15 * i as f32, -1.2077 + 0.15 * j as f32, height);
+                let at = LightRef {
+                    n: if flip { -Vec3::Z } else { Vec3::Z },
+                    ..floor_point(p3)
+                };
+                let (a, b) = (
+                    rect.sample_li(p.accel().shapes(), &at, u, &wl),
+                    quad.sample_li(p.accel().shapes(), &at, u, &wl),
+                );
+                match (a, b) {
+                    (None, None) => {}
+                    (Some(a), Some(b)) => {
+                        lit += 1;
+                        assert!(
+                            (a.wi - b.wi).length() < 1e-5 && (a.dist - b.dist).abs() < 1e-4,
+                            "{p3}"
+                        );
+                        for k in 0..4 {
+                            assert_close(a.li[k], b.li[k], 1e-5, "the same texel");
+                        }
+                        texels.push(a.li[0]);
                     }
+                    (a, b) => panic!("at {p3}: rectangle {a:?}, mesh {b:?}"),
                 }
-                (a, b) => panic!("at {:?}: rectangle {a:?}, mesh {b:?}", at.p),
             }
         }
+        // Some of the grid lies under the quad, some beside it, under both colours.
+        assert!(lit > 10 && lit < 200, "flip {flip}: {lit} points lit");
+        texels.dedup_by(|x, y| (*x - *y).abs() < 1e-6);
+        assert!(texels.len() > 2, "flip {flip}: one texel only");
     }
-    // Some of the grid lies under the quad, some beside it.
-    assert!(lit > 10 && lit < 200, "{lit} points lit");
     // A closed mesh (a tetrahedron) has no plane to project onto.
     let text = r#"<scene version="3.0.0"><shape type="ply"><string name="filename" value="tetra_le.ply"/>
         <emitter type="directionalarea"/></shape></scene>"#;
     let scene = gonio_render::xml::load_scene_str(text, &data, &[]).expect("scene loads");
     let p = PreparedScene::new(scene).expect("scene prepares");
     assert!(matches!(&p.lights().lights()[0], Light::DirectionalArea(d) if d.footprint.is_none()));
+}
+
+/// A mesh's beams leave along its vertex normals, as Mitsuba's `sample_ray` sends them along the
+/// interpolated normal of its position samples: `quad_vn_down.obj` is wound to face +z with
+/// vertex normals to −z, so it lights below itself, and light rays leave downwards; with
+/// `face_normals` the winding decides.
+#[test]
+fn directionalarea_mesh_beams_follow_its_vertex_normals() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let wl = SampledWavelengths::sample_visible(0.4);
+    for (face_normals, down) in [(false, true), (true, false)] {
+        let text = format!(
+            r#"<scene version="3.0.0"><shape type="obj"><string name="filename" value="quad_vn_down.obj"/>
+            <boolean name="face_normals" value="{face_normals}"/><emitter type="directionalarea"/></shape></scene>"#
+        );
+        let scene = gonio_render::xml::load_scene_str(&text, &data, &[]).expect("scene loads");
+        let p = PreparedScene::new(scene).expect("scene prepares");
+        let light = &p.lights().lights()[0];
+        let shapes = p.accel().shapes();
+        let at = |z: f32| floor_point(Vec3::new(0.4, 0.6, z));
+        let below = light.sample_li(shapes, &at(-1.0), Vec2::splat(0.5), &wl);
+        let above = light.sample_li(shapes, &at(1.0), Vec2::splat(0.5), &wl);
+        assert_eq!(
+            (below.is_some(), above.is_some()),
+            (down, !down),
+            "face_normals {face_normals}"
+        );
+        let e = light
+            .sample_ray(
+                shapes,
+                &p.lights().bounds(),
+                Vec2::new(0.3, 0.7),
+                Vec2::splat(0.5),
+                &wl,
+            )
+            .expect("a ray");
+        let z = if down { -1.0 } else { 1.0 };
+        assert!(
+            (e.ray.d - Vec3::new(0.0, 0.0, z)).length() < 1e-6,
+            "face_normals {face_normals}: {:?}",
+            e.ray.d
+        );
+    }
 }

@@ -122,18 +122,20 @@ fn a_heterogeneous_constant_extinction_fills_its_volumes_box() {
 
 /// A scattering heterogeneous medium given a (chromatic) constant in a large cube is the
 /// homogeneous medium of its box, the unit cube: its free flights are drawn exactly inside the
-/// box, so the two meters agree within four standard errors of their difference.
+/// box (the meter's ray enters the large cube at t = 3, the box at 4, leaves it at 5, then sees
+/// the lamp below through it), so the two meters agree within four standard errors of their
+/// difference, and both differ from the meter without a medium by far more.
 #[test]
 fn a_constant_heterogeneous_medium_scatters_as_the_homogeneous_one_of_its_box() {
     let scene = |medium: &str, scale: f32, shift: f32| {
         format!(
             r#"<scene version="3.0.0"><integrator type="volpath"/>
             <sensor type="radiancemeter">
-                <point name="origin" x="0.4" y="0.55" z="5"/><vector name="direction" x="0" y="0.05" z="-1"/>
+                <point name="origin" x="0.5" y="0.5" z="5"/><vector name="direction" x="0" y="0" z="-1"/>
                 <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/><rfilter type="box"/></film>
             </sensor>
             <emitter type="constant"><float name="radiance" value="1"/></emitter>
-            <shape type="rectangle"><transform name="to_world"><rotate x="1" angle="-30"/><translate z="3"/></transform>
+            <shape type="rectangle"><transform name="to_world"><scale value="0.3"/><translate x="0.5" y="0.5" z="-3"/></transform>
                 <emitter type="area"><rgb name="radiance" value="4, 3, 2"/></emitter></shape>
             {medium}
             <shape type="cube"><transform name="to_world"><scale value="{scale}"/><translate x="{shift}" y="{shift}" z="{shift}"/></transform>
@@ -152,13 +154,23 @@ fn a_constant_heterogeneous_medium_scatters_as_the_homogeneous_one_of_its_box() 
         0.5,
         0.5,
     );
+    let empty = scene(
+        r#"<medium type="homogeneous" id="m"><float name="sigma_t" value="0"/></medium>"#,
+        0.5,
+        0.5,
+    );
     let (a, se_a) = meter_mean(&boxed, 1 << 12, 8);
     let (b, se_b) = meter_mean(&plain, 1 << 12, 8);
+    let (e, _) = meter_mean(&empty, 1 << 10, 2);
     for c in 0..3 {
-        let tol = 4.0 * (se_a[c].powi(2) + se_b[c].powi(2)).sqrt();
+        let se = (se_a[c].powi(2) + se_b[c].powi(2)).sqrt();
         assert!(
-            (a[c] - b[c]).abs() < tol,
+            (a[c] - b[c]).abs() < 4.0 * se,
             "channel {c}: {a:?} ± {se_a:?} against {b:?} ± {se_b:?}"
+        );
+        assert!(
+            (a[c] - e[c]).abs() > 50.0 * se,
+            "channel {c}: the medium changes {e:?} to {a:?} only"
         );
     }
 }

@@ -37,13 +37,13 @@ use std::sync::Arc;
 pub struct DirectionalAreaLight {
     /// The surface and its radiance, as an `area` light's (`le` is read along the normal).
     pub surface: AreaLight,
-    /// The plane next-event estimation projects onto (`None`: a shape that is not planar, or
-    /// `next_event` off).
+    /// The geometry next-event estimation follows beams back through (`None`: a shape without
+    /// one, see [`Footprint`], or `next_event` off).
     pub footprint: Option<Footprint>,
 }
 
-/// The geometry next-event estimation follows the beam back through: a plane and its outline,
-/// or a sphere.
+/// The geometry next-event estimation follows the beam back through: a plane and its outline
+/// (a rectangle, a disk, a planar mesh), or a sphere.
 #[derive(Clone, Debug)]
 pub enum Footprint {
     /// A `rectangle` or `disk`.
@@ -143,7 +143,10 @@ impl Footprint {
     }
 
     /// A mesh's footprint, when it has at most [`MAX_FOOTPRINT_TRIANGLES`] triangles lying in
-    /// one plane (within 10⁻⁵ of its size) and facing one way.
+    /// one plane (within 10⁻⁵ of its size or of its distance from the origin, whichever is
+    /// larger: the rounding of its coordinates) and facing one way, and its vertex normals, if
+    /// it has them and shades with them, are all that plane's normal or all its opposite (the
+    /// beams leave along them, as Mitsuba's `sample_ray` sends them).
     fn of_mesh(mesh: &Arc<WorldMesh>, flip: bool, face_normals: bool) -> Option<Self> {
         if mesh.indices.is_empty() || mesh.indices.len() > MAX_FOOTPRINT_TRIANGLES {
             return None;
@@ -155,23 +158,34 @@ impl Footprint {
         let first = (0..mesh.indices.len()).find(|&i| normal(i) != Vec3::ZERO)?;
         let n = normal(first);
         let origin = mesh.tri(first)[0];
-        let size = mesh
+        let scale = mesh
             .positions
             .iter()
-            .map(|&p| (p - origin).abs().max_element())
+            .map(|&p| (p - origin).abs().max_element().max(p.abs().max_element()))
             .fold(0.0, f32::max);
         let planar = (0..mesh.indices.len()).all(|i| {
-            let m = normal(i);
             let flat = mesh
                 .tri(i)
                 .iter()
-                .all(|&v| (v - origin).dot(n).abs() <= 1e-5 * size);
-            flat && (m == Vec3::ZERO || m.dot(n) > 1.0 - 1e-5)
+                .all(|&v| (v - origin).dot(n).abs() <= 1e-5 * scale);
+            flat && normal(i).dot(n) >= 0.0
         });
+        // The side the vertex normals give (all of them along ±n, one sign), else the winding's.
+        let side = if mesh.normals.is_empty() || face_normals {
+            1.0
+        } else {
+            let first = mesh.normals[0].dot(n);
+            let parallel = mesh.normals.iter().all(|m| (m.dot(n) - first).abs() < 1e-4);
+            if !(parallel && first.abs() > 1.0 - 1e-4) {
+                return None;
+            }
+            first.signum()
+        };
+        let n = (if flip { -n } else { n }) * side;
         planar.then(|| Self::Mesh {
             mesh: mesh.clone(),
             origin,
-            n: if flip { -n } else { n },
+            n,
             face_normals,
         })
     }
@@ -282,12 +296,7 @@ impl Footprint {
             Self::Plane { .. } => shape.planar_point(beam.at.x, beam.at.y),
             Self::Mesh {
                 mesh, face_normals, ..
-            } => {
-                let mut si = mesh.point(beam.prim as usize, beam.at.x, beam.at.y, *face_normals);
-                si.prim = beam.prim;
-                si.bary = beam.at.truncate();
-                si
-            }
+            } => mesh.point(beam.prim as usize, beam.at.x, beam.at.y, *face_normals),
             Self::Sphere { .. } => shape.sphere_point(beam.at),
         };
         LightPoint {
@@ -347,7 +356,8 @@ impl DirectionalAreaLight {
         mean * beam.gain * beam.count as f32
     }
 
-    /// A ray leaving the light: a uniform point of `shape` (this light's), along its normal,
+    /// A ray leaving the light: a uniform point of `shape` (this light's), along its shading
+    /// normal (a mesh's interpolated vertex normal, as Mitsuba's position samples carry),
     /// weight `L/p_A`.
     pub fn sample_ray(
         &self,
@@ -359,7 +369,11 @@ impl DirectionalAreaLight {
         if !(s.pdf > 0.0) {
             return None;
         }
-        let le = self.le(&(&s).into(), wl);
-        Some((Ray::new(offset_ray_origin(s.p, s.n, s.n), s.n), le / s.pdf))
+        let at = LightPoint {
+            n: s.ns,
+            ..LightPoint::from(&s)
+        };
+        let le = self.le(&at, wl);
+        Some((Ray::new(offset_ray_origin(s.p, s.n, s.ns), s.ns), le / s.pdf))
     }
 }

@@ -243,7 +243,7 @@ impl PathTracer<'_> {
             // Only absorption: the transmittance, nothing drawn.
             Some(sigma_t) if m.absorbs_only() => {
                 let hit = self.accel.intersect_lazy(ray);
-                let t_max = hit.as_ref().map_or(f32::INFINITY, LazyHit::t);
+                let t_max = hit.as_ref().map_or(ray.tmax, LazyHit::t);
                 (hit, None, transmittance(sigma_t, t_max))
             }
             Some(sigma_t) => {
@@ -266,7 +266,7 @@ impl PathTracer<'_> {
             }
             None => {
                 let hit = self.accel.intersect_lazy(ray);
-                let t_max = hit.as_ref().map_or(f32::INFINITY, LazyHit::t);
+                let t_max = hit.as_ref().map_or(ray.tmax, LazyHit::t);
                 if let Some(sigma_t) = m.box_sigma_t(ray.d, wl) {
                     // A constant inside a box: drawn exactly over the part inside.
                     let Some((t0, t1)) = m.extent(ray.o, ray.d, t_max) else {

@@ -10,9 +10,10 @@
 //! it black; only `ptracer` shows it. gonio's next-event estimation finds, for a point in front
 //! of a planar emitter (`rectangle`, `disk`), the one emitter point whose normal passes through
 //! it (its orthogonal projection), as for a `directional` light limited to the emitter's
-//! footprint (a planar mesh of at most 64 triangles, an `obj` quad, counts as a plane), and for
-//! a point outside a `sphere` (inside, with `flip_normals`) the points on the line through the
-//! centre: `path`, `direct` and `volpath` then render the direct light too (the
+//! footprint (a planar mesh of at most 64 triangles, an `obj` quad, counts as a plane), and on
+//! a `sphere` the points on the line through the centre whose beams reach the point (outside an
+//! outward sphere one; inside one with `flip_normals` two, one drawn; outside it one, through
+//! the centre): `path`, `direct` and `volpath` then render the direct light too (the
 //! image `ptracer` converges to, test `directionalarea_path_matches_mitsuba_ptracer`;
 //! `next_event` = false, the default under `--mitsuba-estimators`, restores Mitsuba's black).
 //! Other shapes, and light reflected by a mirror or refracted by glass on its way, stay

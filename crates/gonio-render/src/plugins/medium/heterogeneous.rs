@@ -6,7 +6,8 @@
 //! the grid's box, as in Mitsuba
 //! (whose medium samples only inside it); `sigma_t` may also be a number or spectrum, or a
 //! `constvolume`: that extinction inside the box of the volume, the axis-aligned bounds of the
-//! unit cube under its `to_world` (the unit cube for a number), and none outside, as Mitsuba's medium is where its extinction
+//! unit cube under its `to_world` (the unit cube for a number), and none outside (free flights
+//! there drawn exactly, as in a homogeneous medium), as Mitsuba's medium is where its extinction
 //! volume is (test `a_heterogeneous_constant_extinction_fills_its_volumes_box`). The albedo is a spectrum or a volume, the phase function the nested
 //! `<phase>`. gonio tracks it under the majorant σ̄ = `scale`·max σt (times a bound of the
 //! flakes' projected area with an `sggx` phase function): delta tracking along paths,
