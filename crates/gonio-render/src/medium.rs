@@ -10,8 +10,9 @@
 //! A heterogeneous medium (Mitsuba 3 `src/media/heterogeneous.cpp`) reads σt from a
 //! `gridvolume` too: it is tracked under the majorant σ̄ = `scale`·max σt (times a bound of the
 //! projected area for `sggx`), by delta tracking along paths and ratio tracking along shadow
-//! rays ([`gonio_core::medium::null_collision_event`]), and only inside the grid's box (outside
-//! it the medium is empty, as in Mitsuba). Given a constant instead, it is that constant inside
+//! rays ([`gonio_core::medium::null_collision_event`]), and only inside the grid's box, the
+//! world-axis-aligned bounds of its unit cube under `to_world` (outside it the medium is empty;
+//! inside, a turned grid is read through its wrap mode, as in Mitsuba). Given a constant instead, it is that constant inside
 //! the axis-aligned bounds of its `constvolume`'s unit cube under `to_world`, whose free
 //! flights are drawn exactly there ([`Medium::box_sigma_t`]). The integrator is `volpath`
 //! (`crate::integrator::volpath`).
@@ -176,6 +177,28 @@ pub struct Medium {
     pub sample_emitters: bool,
     /// [`Medium::majorant`], computed once (a grid's maximum is a scan of the grid).
     majorant: f32,
+    /// World → [0, 1]³ of the box the medium fills (a grid's or a constant's), `None` when it
+    /// fills everything (the homogeneous medium).
+    bounds: Option<Affine3A>,
+}
+
+/// The world → [0, 1]³ transform of the world-axis-aligned bounds of the unit cube under
+/// `to_world` (Mitsuba's `Volume::bbox`, where its heterogeneous medium exists); `None` for a
+/// flat or non-finite box.
+pub fn unit_cube_bounds(to_world: &Affine3A) -> Option<Affine3A> {
+    let corners = (0..8).map(|i| {
+        to_world.transform_point3(Vec3::new(
+            (i & 1) as f32,
+            (i >> 1 & 1) as f32,
+            (i >> 2 & 1) as f32,
+        ))
+    });
+    let (lo, hi) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), c| {
+        (lo.min(c), hi.max(c))
+    });
+    let size = hi - lo;
+    (size.min_element() > 0.0 && size.is_finite())
+        .then(|| Affine3A::from_scale_rotation_translation(size.recip(), glam::Quat::IDENTITY, -lo / size))
 }
 
 impl Medium {
@@ -188,6 +211,12 @@ impl Medium {
                 Extinction::Volume(g) if g.channels == 1 => g.max(),
                 Extinction::Volume(g) => 2.0 * g.max(),
             };
+        let bounds = match &sigma_t {
+            Extinction::Spectrum(_) => None,
+            Extinction::Box(_, to_local) => Some(*to_local),
+            // A grid's `to_world` was checked invertible when it was read.
+            Extinction::Volume(g) => unit_cube_bounds(&g.to_local.inverse()),
+        };
         Self {
             sigma_t,
             albedo,
@@ -195,6 +224,7 @@ impl Medium {
             phase,
             sample_emitters,
             majorant,
+            bounds,
         }
     }
 
@@ -236,19 +266,18 @@ impl Medium {
 
     /// σt at world point `p` before the projected area.
     fn density_at(&self, p: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        let inside = |to_local: &Affine3A| {
+        // Outside its box the medium is empty; inside, a grid is read through its wrap mode
+        // (a turned grid's box holds more than the grid: Mitsuba's clamped lookups there).
+        if let Some(to_local) = &self.bounds {
             let x = to_local.transform_point3(p);
-            x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all()
-        };
+            if !(x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all()) {
+                return SampledSpectrum::splat(0.0);
+            }
+        }
         match &self.sigma_t {
-            Extinction::Spectrum(s) => s.sample(wl) * self.scale,
-            Extinction::Box(s, to_local) if inside(to_local) => s.sample(wl) * self.scale,
-            Extinction::Box(..) => SampledSpectrum::splat(0.0),
+            Extinction::Spectrum(s) | Extinction::Box(s, _) => s.sample(wl) * self.scale,
             Extinction::Volume(g) => {
                 let x = g.to_local.transform_point3(p);
-                if !(x.cmpge(Vec3::ZERO).all() && x.cmple(Vec3::ONE).all()) {
-                    return SampledSpectrum::splat(0.0);
-                }
                 // Negative extinction reads as 0 (one channel; colour samples are uplifted
                 // from non-negative values).
                 let s = g.spectrum_local(x, wl);
@@ -268,10 +297,8 @@ impl Medium {
     /// extinction: all of it, or the part inside a grid's or a box's box (`None`: it misses
     /// the box).
     pub fn extent(&self, o: Vec3, d: Vec3, t_max: f32) -> Option<(f32, f32)> {
-        let to_local = match &self.sigma_t {
-            Extinction::Spectrum(_) => return Some((0.0, t_max)),
-            Extinction::Box(_, to_local) => to_local,
-            Extinction::Volume(g) => &g.to_local,
+        let Some(to_local) = &self.bounds else {
+            return Some((0.0, t_max));
         };
         // The box [0, 1]³ in the grid's space, where the ray keeps its parameter t.
         let (o, d) = (to_local.transform_point3(o), to_local.transform_vector3(d));

@@ -44,10 +44,9 @@ use std::sync::Arc;
 pub enum Volume {
     /// `gridvolume`.
     Grid(Arc<GridVolume>),
-    /// `constvolume`: the value, and its box (world-space lower and upper corners: the
-    /// axis-aligned bounds of the unit cube under its `to_world`, where a heterogeneous medium
-    /// reads it, as Mitsuba's does).
-    Constant(Spectrum, (Vec3, Vec3)),
+    /// `constvolume`: the value, and its `to_world` (whose unit cube's axis-aligned bounds are
+    /// where a heterogeneous medium given it exists, as in Mitsuba).
+    Constant(Spectrum, Affine3A),
 }
 
 /// A grid of samples over the unit cube of its local space.

@@ -141,9 +141,8 @@ pub(crate) fn build_medium<'d>(
             }
             // A heterogeneous medium exists inside its extinction's box (Mitsuba's
             // `intersect_aabb`), for a constant the bounds of its `to_world`'s unit cube.
-            (_, Volume::Constant(s, (lo, hi))) if grids => {
-                let size = hi - lo;
-                if !(size.min_element() > 0.0 && size.is_finite()) {
+            (_, Volume::Constant(s, to_world)) if grids => {
+                let Some(to_local) = crate::medium::unit_cube_bounds(&to_world) else {
                     return Err(err(
                         &prop.loc,
                         ErrorKind::BadValue,
@@ -151,12 +150,7 @@ pub(crate) fn build_medium<'d>(
                             "the \"sigma_t\" constvolume of {what} has a flat or non-finite box (its to_world)"
                         ),
                     ));
-                }
-                let to_local = glam::Affine3A::from_scale_rotation_translation(
-                    size.recip(),
-                    glam::Quat::IDENTITY,
-                    -lo / size,
-                );
+                };
                 sigma_t = Some(Extinction::Box(s, to_local));
             }
             (_, Volume::Constant(s, _)) => sigma_t = Some(Extinction::Spectrum(s)),

@@ -15,7 +15,6 @@
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::texture::volume::Volume;
 use crate::xml::{Builder, Params, SceneError, Value};
-use glam::Vec3;
 use gonio_core::spectra::RgbKind;
 
 const VALUE: ParamSpec = ParamSpec::new(
@@ -52,17 +51,5 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<Volume, SceneErr
     };
     let value = b.spectrum_param(p, VALUE.name, kind, VALUE.default.float() as f32)?;
     let to_world = p.affine(TO_WORLD.name)?;
-    // The box: the world-axis-aligned bounds of the transformed unit cube (Mitsuba's
-    // `Volume::bbox`).
-    let corners = (0..8).map(|i| {
-        to_world.transform_point3(Vec3::new(
-            (i & 1) as f32,
-            (i >> 1 & 1) as f32,
-            (i >> 2 & 1) as f32,
-        ))
-    });
-    let (lo, hi) = corners.fold((Vec3::INFINITY, Vec3::NEG_INFINITY), |(lo, hi), c| {
-        (lo.min(c), hi.max(c))
-    });
-    Ok(Volume::Constant(value, (lo, hi)))
+    Ok(Volume::Constant(value, to_world))
 }
