@@ -25,6 +25,7 @@ mod manifold;
 mod measured;
 mod measured_polarized;
 mod media;
+mod media_bounds;
 mod mis_exponent;
 mod mitsuba_bsdf_values;
 mod mitsuba_json;
