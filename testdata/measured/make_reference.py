@@ -137,10 +137,11 @@ DEG = PI / 180.0
 
 
 # ---------------------------------------------------------------------------------------------
-# TensorFile writer: the one of testdata/measured_polarized/make_reference.py
+# TensorFile writer and the query helpers (interaction, context): the ones of
+# testdata/measured_polarized/make_reference.py
 # ---------------------------------------------------------------------------------------------
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "measured_polarized"))
-from make_reference import ALIGN, DTYPE_CODE, tensor_file_bytes  # noqa: E402
+from make_reference import ALIGN, DTYPE_CODE, ctx_for, interaction, tensor_file_bytes  # noqa: E402
 
 
 # ---------------------------------------------------------------------------------------------
@@ -632,23 +633,6 @@ def check_tensor_file(mi, path, fields):
 LOADS = 200      # at most this many plugin instances per config
 LOADS_MIN = 12   # at least this many
 EVAL_WAVELENGTHS = [400.0, 455.5, 550.0, 700.0, 830.0, 350.0, 1100.0]
-
-
-def interaction(mi, wi, lam):
-    si = mi.SurfaceInteraction3f()
-    si.wi = mi.Vector3f(wi)
-    si.n = mi.Normal3f(0, 0, 1)
-    si.sh_frame = mi.Frame3f(si.n)
-    si.uv = mi.Point2f(0.5, 0.5)
-    si.wavelengths = mi.UnpolarizedSpectrum(lam)
-    return si
-
-
-def ctx_for(mi, mode):
-    ctx = mi.BSDFContext()
-    if mode == "importance":
-        ctx.mode = mi.TransportMode.Importance
-    return ctx
 
 
 def reflect_about(wi, m):
