@@ -337,8 +337,13 @@ fn a_sensor_inside_a_medium_sees_through_it() {
 /// The scene of `body` (on its own line 2) is refused with an error naming line 2 and quoting
 /// each of `quotes`.
 fn refused(body: &str, quotes: &[&str]) {
+    refused_in(&data(), body, quotes)
+}
+
+/// [`refused`] with files read from `dir`.
+pub(crate) fn refused_in(dir: &std::path::Path, body: &str, quotes: &[&str]) {
     let text = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
-    let e = load_scene_str(&text, data(), &[]).unwrap_err().to_string();
+    let e = load_scene_str(&text, dir, &[]).unwrap_err().to_string();
     assert!(e.contains(":2:"), "{e}");
     for q in quotes {
         assert!(e.contains(q), "{e} lacks {q}");

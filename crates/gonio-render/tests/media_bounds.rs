@@ -6,6 +6,21 @@
 use crate::media::{meter, meter_mean};
 use std::path::PathBuf;
 
+/// A `volpath` scene of a radiance meter at (x, y, 5) looking down −z under a unit sky, with
+/// `body` (the media and shapes).
+fn meter_scene((x, y): (f32, f32), body: &str) -> String {
+    format!(
+        r#"<scene version="3.0.0"><integrator type="volpath"/>
+        <sensor type="radiancemeter">
+            <point name="origin" x="{x}" y="{y}" z="5"/><vector name="direction" x="0" y="0" z="-1"/>
+            <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/><rfilter type="box"/></film>
+        </sensor>
+        <emitter type="constant"><float name="radiance" value="1"/></emitter>
+        {body}
+        </scene>"#
+    )
+}
+
 /// A heterogeneous medium given a number is that extinction inside the unit cube and empty
 /// outside (Mitsuba 3.9.1: the medium is where its `sigma_t` volume's box is; probed on a cube
 /// [−2, 2]³ holding it, seen along −z: 0.31 through the unit cube, 1 elsewhere), a
@@ -14,18 +29,14 @@ use std::path::PathBuf;
 /// cube within its bounds), and a grid too.
 #[test]
 fn a_heterogeneous_constant_extinction_fills_its_volumes_box() {
-    let scene = |sigma_t: &str, (x, y): (f32, f32)| {
-        format!(
-            r#"<scene version="3.0.0"><integrator type="volpath"/>
-            <sensor type="radiancemeter">
-                <point name="origin" x="{x}" y="{y}" z="5"/><vector name="direction" x="0" y="0" z="-1"/>
-                <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/><rfilter type="box"/></film>
-            </sensor>
-            <emitter type="constant"><float name="radiance" value="1"/></emitter>
-            <medium type="heterogeneous" id="m">{sigma_t}<float name="albedo" value="0"/></medium>
-            <shape type="cube"><transform name="to_world"><scale value="2"/></transform>
-                <bsdf type="null"/><ref name="interior" id="m"/></shape>
-            </scene>"#
+    let scene = |sigma_t: &str, at: (f32, f32)| {
+        meter_scene(
+            at,
+            &format!(
+                r#"<medium type="heterogeneous" id="m">{sigma_t}<float name="albedo" value="0"/></medium>
+                <shape type="cube"><transform name="to_world"><scale value="2"/></transform>
+                    <bsdf type="null"/><ref name="interior" id="m"/></shape>"#
+            ),
         )
     };
     let number = r#"<float name="sigma_t" value="1"/>"#;
@@ -79,19 +90,15 @@ fn a_heterogeneous_constant_extinction_fills_its_volumes_box() {
 #[test]
 fn a_constant_heterogeneous_medium_scatters_as_the_homogeneous_one_of_its_box() {
     let scene = |medium: &str, scale: f32, shift: f32| {
-        format!(
-            r#"<scene version="3.0.0"><integrator type="volpath"/>
-            <sensor type="radiancemeter">
-                <point name="origin" x="0.5" y="0.5" z="5"/><vector name="direction" x="0" y="0" z="-1"/>
-                <film type="hdrfilm"><integer name="width" value="1"/><integer name="height" value="1"/><rfilter type="box"/></film>
-            </sensor>
-            <emitter type="constant"><float name="radiance" value="1"/></emitter>
-            <shape type="rectangle"><transform name="to_world"><scale value="0.3"/><translate x="0.5" y="0.5" z="-3"/></transform>
-                <emitter type="area"><rgb name="radiance" value="4, 3, 2"/></emitter></shape>
-            {medium}
-            <shape type="cube"><transform name="to_world"><scale value="{scale}"/><translate x="{shift}" y="{shift}" z="{shift}"/></transform>
-                <bsdf type="null"/><ref name="interior" id="m"/></shape>
-            </scene>"#
+        meter_scene(
+            (0.5, 0.5),
+            &format!(
+                r#"<shape type="rectangle"><transform name="to_world"><scale value="0.3"/><translate x="0.5" y="0.5" z="-3"/></transform>
+                    <emitter type="area"><rgb name="radiance" value="4, 3, 2"/></emitter></shape>
+                {medium}
+                <shape type="cube"><transform name="to_world"><scale value="{scale}"/><translate x="{shift}" y="{shift}" z="{shift}"/></transform>
+                    <bsdf type="null"/><ref name="interior" id="m"/></shape>"#
+            ),
         )
     };
     let parts = r#"<rgb name="sigma_t" value="0.5, 1, 2"/><float name="albedo" value="0.8"/><phase type="hg"><float name="g" value="0.3"/></phase>"#;

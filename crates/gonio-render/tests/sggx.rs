@@ -19,7 +19,7 @@ use gonio_render::compare::block_relmse;
 use gonio_render::image::RgbImage;
 use gonio_render::medium::Phase;
 use gonio_render::render::{PreparedScene, RenderOptions, render};
-use gonio_render::xml::{load_scene_file, load_scene_str};
+use gonio_render::xml::load_scene_file;
 use std::path::PathBuf;
 use std::sync::atomic::AtomicBool;
 
@@ -108,15 +108,10 @@ fn sggx_media_vanish_in_a_white_furnace() {
     assert!(worst < 8.0 * sd, "a pixel {worst} away from 1 (sd {sd})");
 }
 
-/// The scene of `body` (on its own line 2) is refused with an error naming line 2 and quoting
-/// each of `quotes`.
+/// The scene of `body` (on its own line 2, files from `testdata/sggx`) is refused with an error
+/// naming line 2 and quoting each of `quotes`.
 fn refused(body: &str, quotes: &[&str]) {
-    let text = format!("<scene version=\"3.0.0\">\n{body}\n</scene>");
-    let e = load_scene_str(&text, dir(), &[]).unwrap_err().to_string();
-    assert!(e.contains(":2:"), "{e}");
-    for q in quotes {
-        assert!(e.contains(q), "{e} lacks {q}");
-    }
+    crate::media::refused_in(&dir(), body, quotes)
 }
 
 #[test]
