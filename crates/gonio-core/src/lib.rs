@@ -64,6 +64,7 @@ pub mod sensor_response;
 pub mod sggx;
 pub mod spectra;
 pub mod spectrum;
+pub mod sunsky;
 pub mod warp;
 pub mod weight;
 

@@ -707,6 +707,13 @@ pub enum EmitterDesc {
         /// Radiance.
         radiance: Spectrum,
     },
+    /// `sunsky`: the Hosek–Wilkie sky and sun.
+    SunSky {
+        /// The model's parameters (the sun's direction in the sky's local frame).
+        params: gonio_core::sunsky::SunSkyParams,
+        /// Sky to world (the local +z is the zenith).
+        to_world: Affine3A,
+    },
     /// `envmap`: lat-long environment image.
     EnvMap {
         /// The image (linear RGB).

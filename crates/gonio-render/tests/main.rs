@@ -47,6 +47,7 @@ mod sampler;
 mod sggx;
 mod specfilm;
 mod spectrum_plugins;
+mod sunsky;
 mod xml_errors;
 mod xml_grammar;
 mod xml_mesh;

@@ -95,12 +95,12 @@ fn unknown_plugin() {
         at(&t, "bdpt"),
         &["\"bdpt\""],
     );
-    let t = scene("    <emitter type=\"sunsky\"/>");
+    let t = scene("    <emitter type=\"timed_sunsky\"/>");
     check(
         &load_err(&t),
         ErrorKind::UnknownPlugin,
-        at(&t, "sunsky"),
-        &["\"sunsky\""],
+        at(&t, "timed_sunsky"),
+        &["\"timed_sunsky\""],
     );
 }
 

@@ -110,6 +110,13 @@ impl Light {
             EmitterDesc::Constant { radiance } => Light::Constant(ConstantLight {
                 radiance: radiance.clone(),
             }),
+            EmitterDesc::SunSky { params, to_world } => {
+                let model = super::sunsky::model(params)?;
+                Light::SunSky(Box::new(
+                    super::SunSkyLight::new(model, *to_world)
+                        .ok_or_else(|| "singular to_world".to_string())?,
+                ))
+            }
             EmitterDesc::EnvMap {
                 image,
                 scale,

@@ -39,6 +39,7 @@ pub mod envmap_product;
 mod from_scene;
 pub mod infinite;
 pub mod projector;
+pub mod sunsky;
 
 pub use area::{AreaLight, LightPoint, SPHERICAL_RECTANGLE_MIN_SOLID_ANGLE};
 pub use delta::{DirectionalLight, PointLight, SpotLight};
@@ -48,6 +49,7 @@ pub use from_scene::EmitterError;
 pub use gonio_core::sampling::{Distribution1D, Distribution2D};
 pub use infinite::{ConstantLight, EnvMapLight};
 pub use projector::ProjectorLight;
+pub use sunsky::SunSkyLight;
 
 use crate::geometry::{SurfaceInteraction, WorldShape};
 use glam::{Vec2, Vec3};
@@ -136,6 +138,8 @@ pub enum Light {
     EnvMap(EnvMapLight),
     /// `projector`.
     Projector(ProjectorLight),
+    /// `sunsky`.
+    SunSky(Box<SunSkyLight>),
 }
 
 impl Light {
@@ -152,9 +156,9 @@ impl Light {
         )
     }
 
-    /// True for lights at infinity (constant, envmap), seen by rays that escape the scene.
+    /// True for lights at infinity (constant, envmap, sunsky), seen by rays that escape the scene.
     pub fn is_infinite(&self) -> bool {
-        matches!(self, Light::Constant(_) | Light::EnvMap(_))
+        matches!(self, Light::Constant(_) | Light::EnvMap(_) | Light::SunSky(_))
     }
 
     /// Radiance from an infinite light arriving along −`dir` (`dir` points away from the scene);
@@ -163,6 +167,7 @@ impl Light {
         match self {
             Light::Constant(c) => c.le(wl),
             Light::EnvMap(e) => e.le(dir, wl),
+            Light::SunSky(s) => s.le(dir, wl),
             _ => SampledSpectrum::ZERO,
         }
     }
@@ -268,6 +273,17 @@ impl Light {
                     normal: None,
                 }
             }
+            Light::SunSky(s) => {
+                let (wi, pdf, li) = s.sample_dir_le(u, wl)?;
+                LightSample {
+                    wi,
+                    dist: f32::INFINITY,
+                    li,
+                    pdf,
+                    delta: false,
+                    normal: None,
+                }
+            }
         };
         (s.pdf > 0.0 && !s.li.is_black()).then_some(s)
     }
@@ -283,6 +299,7 @@ impl Light {
     ) -> (SampledSpectrum, f32) {
         match self {
             Light::EnvMap(e) => e.le_pdf(dir, wl, r),
+            Light::SunSky(s) => s.le_pdf(dir, wl),
             _ => (self.le_infinite(dir, wl), self.pdf_li_infinite(r, dir)),
         }
     }
@@ -293,6 +310,7 @@ impl Light {
         match self {
             Light::Constant(c) => c.pdf_dir(r, dir),
             Light::EnvMap(e) => e.pdf_dir(dir, r),
+            Light::SunSky(s) => s.pdf_dir(dir),
             _ => 0.0,
         }
     }
@@ -306,6 +324,7 @@ impl Light {
         match self {
             Light::Constant(_) => 0.25 * std::f32::consts::FRAC_1_PI,
             Light::EnvMap(e) => e.feature_density(),
+            Light::SunSky(s) => s.feature_density(),
             _ => f32::INFINITY,
         }
     }
@@ -322,6 +341,7 @@ impl Light {
             Light::Directional(l) => l.irradiance.mean(),
             Light::Constant(c) => c.mean_radiance(),
             Light::EnvMap(e) => e.mean_radiance(),
+            Light::SunSky(s) => s.mean_radiance(),
         }
     }
 
@@ -371,7 +391,7 @@ impl Light {
             }
             Light::Directional(l) => mean * cos_towards(-l.direction, 0.0),
             Light::DirectionalArea(l) => l.local_importance(r, mean),
-            Light::Constant(_) | Light::EnvMap(_) => std::f32::consts::PI * mean,
+            Light::Constant(_) | Light::EnvMap(_) | Light::SunSky(_) => std::f32::consts::PI * mean,
         };
         if v.is_finite() { v.max(0.0) } else { 0.0 }
     }
@@ -393,6 +413,7 @@ impl Light {
             Light::Directional(l) => l.power(bounds.radius),
             Light::Constant(c) => std::f32::consts::PI * c.mean_radiance() * infinite_area,
             Light::EnvMap(e) => std::f32::consts::PI * e.mean_radiance() * infinite_area,
+            Light::SunSky(s) => std::f32::consts::PI * s.mean_radiance() * infinite_area,
         };
         if p.is_finite() { p.max(0.0) } else { 0.0 }
     }

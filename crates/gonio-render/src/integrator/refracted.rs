@@ -169,7 +169,7 @@ impl PathTracer<'_> {
                     });
                     simple && !self.is_refractor(a.shape as u32)
                 }
-                Light::Constant(_) | Light::EnvMap(_) => true,
+                Light::Constant(_) | Light::EnvMap(_) | Light::SunSky(_) => true,
                 _ => false,
             })
             .collect()

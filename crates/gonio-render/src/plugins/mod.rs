@@ -111,6 +111,7 @@ pub static EMITTER_PLUGINS: &[&Plugin<EmitterDesc>] = &[
     &emitter::directional::PLUGIN,
     &emitter::constant::PLUGIN,
     &emitter::envmap::PLUGIN,
+    &emitter::sunsky::PLUGIN,
 ];
 
 /// `<texture>` plugins.

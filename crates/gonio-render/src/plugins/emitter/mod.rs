@@ -10,6 +10,7 @@ pub mod envmap;
 pub mod point;
 pub mod projector;
 pub mod spot;
+pub mod sunsky;
 
 use crate::plugins::{AREA_EMITTER_PLUGINS, DefaultValue, EMITTER_PLUGINS, ParamSpec, ParamType, Plugin};
 use crate::scene::{AreaEmitterDesc, EmitterDesc};
