@@ -468,7 +468,8 @@ impl SunSky {
         sun: f32,
     ) -> SampledSpectrum {
         let cos_theta = local.z;
-        if !(cos_theta >= 0.0) || !self.sun_up {
+        // A zero direction (a NaN one normalized) lights nothing.
+        if !(cos_theta >= 0.0) || !self.sun_up || !(local.length_squared() > 0.5) {
             return SampledSpectrum::ZERO;
         }
         let view = ViewAngles::new(self.sun_dir, local);

@@ -15,7 +15,7 @@
 //! | `directional` | uniform on the disk of the scene's bounding sphere, facing the light | the light's | π r²·E |
 //! | `constant` | the same disk, facing the direction | uniform sphere | 4π·π r²·L |
 //! | `envmap` | the same disk | ∝ luminance·sin θ ([`EnvMapLight::sample_dir`]) | π r²·L(ω)/p(ω) |
-//! | `sunsky` | the same disk | sky table or sun cone ([`super::SunSkyLight::sample_dir`]) | π r²·L(ω)/p(ω) |
+//! | `sunsky` | the same disk | sky table or sun cone ([`super::SunSkyLight::sample_dir_le`]) | π r²·L(ω)/p(ω) |
 //!
 //! Lights at infinity enter the scene through the disk of its bounding sphere perpendicular to
 //! the direction, a radius `r` in front of the centre, as Mitsuba's `constant`, `envmap` and
@@ -106,9 +106,9 @@ impl Light {
             Light::EnvMap(e) => Self::envmap_ray(e, bounds, u_pos, u_dir, wl)?,
             Light::SunSky(s) => {
                 // `wi` points towards the light; the ray travels the other way.
-                let (wi, pdf) = s.sample_dir(u_dir)?;
+                let (wi, pdf, le) = s.sample_dir_le(u_dir, wl)?;
                 let (o, area) = disk_origin(bounds, -wi, u_pos);
-                (Ray::new(o, -wi), s.le(wi, wl) * (area / pdf))
+                (Ray::new(o, -wi), le * (area / pdf))
             }
         };
         (ray.d.is_normalized() && weight.is_finite() && !weight.is_black())

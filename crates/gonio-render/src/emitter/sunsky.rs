@@ -211,28 +211,35 @@ impl SunSkyLight {
         (l, len * len * len / self.abs_det)
     }
 
+    /// The unit direction in the sky's local frame (+z the zenith) of the world direction
+    /// `dir` (zero for a zero or NaN one).
+    pub fn local_direction(&self, dir: Vec3) -> Vec3 {
+        self.local(dir).0
+    }
+
     /// Radiance arriving from the world direction `dir` (pointing away from the scene).
     pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
         self.model.radiance(self.local(dir).0, wl)
     }
 
-    /// Local solid-angle density of [`Self::sample_local`] at the unit local direction `l`.
-    fn pdf_local(&self, l: Vec3) -> f32 {
+    /// Local solid-angle density of [`Self::sample_local`] at the unit local direction `l`,
+    /// the sun's share counted when `in_sun`.
+    fn pdf_local(&self, l: Vec3, in_sun: bool) -> f32 {
         let mut pdf = 0.0;
         if self.sky_weight > 0.0 && l.z >= 0.0 {
             let phi = l.y.atan2(l.x);
             let u = Vec2::new((if phi < 0.0 { phi + TAU } else { phi }) / TAU, l.z);
             pdf += self.sky_weight * self.sky.pdf(u) / TAU;
         }
-        if self.sky_weight < 1.0 && self.model.hits_sun(l) {
+        if self.sky_weight < 1.0 && in_sun {
             pdf += (1.0 - self.sky_weight) / (TAU * self.one_minus_cos_alpha);
         }
         pdf
     }
 
-    /// A unit local direction: the sky's table or the sun's cone, by `u.x` against the sky's
-    /// weight (rescaled).
-    fn sample_local(&self, u: Vec2) -> Option<Vec3> {
+    /// A unit local direction, the sky's table or the sun's cone by `u.x` against the sky's
+    /// weight (rescaled), and whether it was drawn from the sun.
+    fn sample_local(&self, u: Vec2) -> Option<(Vec3, bool)> {
         if self.sky_weight <= 0.0 && self.model.sun_channels().iter().all(|&v| v <= 0.0) {
             return None;
         }
@@ -244,7 +251,7 @@ impl SunSkyLight {
             let phi = TAU * uv.x;
             let cos = uv.y;
             let sin = (1.0 - cos * cos).max(0.0).sqrt();
-            Some(Vec3::new(sin * phi.cos(), sin * phi.sin(), cos))
+            Some((Vec3::new(sin * phi.cos(), sin * phi.sin(), cos), false))
         } else {
             let v = ((u.x - self.sky_weight) / (1.0 - self.sky_weight)).min(1.0 - f32::EPSILON / 2.0);
             // Uniform in the cone (pbrt's `SampleUniformCone`) from 1 − cos θ, which keeps the
@@ -253,34 +260,37 @@ impl SunSkyLight {
             let sin = (one_minus * (2.0 - one_minus)).max(0.0).sqrt();
             let (sp, cp) = (TAU * u.y).sin_cos();
             let local = Vec3::new(sin * cp, sin * sp, 1.0 - one_minus);
-            Some(self.sun_frame.to_world(local).normalize())
+            Some((self.sun_frame.to_world(local).normalize(), true))
         }
     }
 
-    /// A world direction towards the light (away from the scene) and its solid-angle density.
-    pub fn sample_dir(&self, u: Vec2) -> Option<(Vec3, f32)> {
-        let l = self.sample_local(u)?;
-        let d = Vec3::from(self.to_world * Vec3A::from(l)).normalize_or_zero();
-        let pdf = self.pdf_dir(d);
-        (pdf > 0.0).then_some((d, pdf))
-    }
-
-    /// A next-event direction with the radiance arriving from it.
+    /// A world direction towards the light (away from the scene), its solid-angle density and
+    /// the radiance arriving from it. A direction drawn from the sun's cone counts as in the
+    /// disk whatever rounding does to it on the way to the world and back (as Mitsuba carries
+    /// its `hit_sun`); one drawn from the sky is in it if the disk's test says so.
     pub fn sample_dir_le(&self, u: Vec2, wl: &SampledWavelengths) -> Option<(Vec3, f32, SampledSpectrum)> {
-        let (d, pdf) = self.sample_dir(u)?;
-        Some((d, pdf, self.le(d, wl)))
+        let (l, from_sun) = self.sample_local(u)?;
+        let d = Vec3::from(self.to_world * Vec3A::from(l)).normalize_or_zero();
+        let (l, jacobian) = self.local(d);
+        let in_sun = from_sun || self.model.hits_sun(l);
+        let pdf = self.pdf_local(l, in_sun) * jacobian;
+        (pdf > 0.0 && pdf.is_finite()).then(|| (d, pdf, self.model.eval(l, wl, in_sun)))
     }
 
-    /// Density of [`Self::sample_dir`] for the world direction `dir`.
+    /// Density of [`Self::sample_dir_le`] for the world direction `dir`.
     pub fn pdf_dir(&self, dir: Vec3) -> f32 {
         let (l, jacobian) = self.local(dir);
-        self.pdf_local(l) * jacobian
+        self.pdf_local(l, self.model.hits_sun(l)) * jacobian
     }
 
     /// [`Self::le`] and [`Self::pdf_dir`] together.
     pub fn le_pdf(&self, dir: Vec3, wl: &SampledWavelengths) -> (SampledSpectrum, f32) {
         let (l, jacobian) = self.local(dir);
-        (self.model.radiance(l, wl), self.pdf_local(l) * jacobian)
+        let in_sun = self.model.hits_sun(l);
+        (
+            self.model.eval(l, wl, in_sun),
+            self.pdf_local(l, in_sun) * jacobian,
+        )
     }
 
     /// Mean radiance over the sphere and 360–830 nm.

@@ -33,14 +33,20 @@ fn checker(a: f32, b: f32) -> Texture {
     }
 }
 
-/// Mean weight of `N` rays and its standard error, per wavelength; also checks every ray.
-fn estimate(light: &Light, shapes: &[WorldShape], seed: u64) -> ([f64; 4], [f64; 4]) {
-    let (wl, b) = (wl(), bounds());
+/// Mean weight of `N` rays and its standard error, per wavelength of `wl`; also checks every
+/// ray.
+fn estimate(
+    light: &Light,
+    shapes: &[WorldShape],
+    seed: u64,
+    wl: &SampledWavelengths,
+) -> ([f64; 4], [f64; 4]) {
+    let b = bounds();
     let mut rng = Rng(seed);
     let (mut s, mut s2) = ([0.0f64; 4], [0.0f64; 4]);
     for _ in 0..N {
         let (u_pos, u_dir) = (rng.next_2d(), rng.next_2d());
-        if let Some(e) = light.sample_ray(shapes, &b, u_pos, u_dir, &wl) {
+        if let Some(e) = light.sample_ray(shapes, &b, u_pos, u_dir, wl) {
             assert!((e.ray.d.length() - 1.0).abs() < 1e-4, "unit direction");
             if light.is_infinite() || matches!(light, Light::Directional(_)) {
                 // Rays enter through the bounding sphere's disk, from outside it, inwards.
@@ -61,7 +67,18 @@ fn estimate(light: &Light, shapes: &[WorldShape], seed: u64) -> ([f64; 4], [f64;
 }
 
 fn check(name: &str, light: &Light, shapes: &[WorldShape], exact: SampledSpectrum) {
-    let (mean, se) = estimate(light, shapes, 11);
+    check_at(name, light, shapes, exact, &wl());
+}
+
+/// [`check`] at the wavelengths `wl`.
+fn check_at(
+    name: &str,
+    light: &Light,
+    shapes: &[WorldShape],
+    exact: SampledSpectrum,
+    wl: &SampledWavelengths,
+) {
+    let (mean, se) = estimate(light, shapes, 11, wl);
     for k in 0..4 {
         let e = exact[k] as f64;
         let tol = 4.0 * se[k] + 1e-4 * e.abs();
@@ -235,4 +252,23 @@ fn infinite_power_is_the_flux_through_the_bounding_disk() {
     let env = super::envmap::test_envmap(Affine3A::from_rotation_y(0.8));
     let exact = integrate_sphere(|d| env.le(d, &wl()), 1000) * (PI * r * r);
     check("envmap", &Light::EnvMap(env), &[], exact);
+}
+
+/// `sunsky` (the limb-darkened sun and the sky of 11:00 in Tokyo): the flux through the
+/// bounding disk, π r² ∫ L dω, at wavelengths the model covers (it is black beyond 720 nm).
+#[test]
+fn sunsky_power_is_the_flux_through_the_bounding_disk() {
+    let light = crate::sunsky::light_of(
+        "<float name=\"hour\" value=\"11\"/><boolean name=\"complex_sun\" value=\"true\"/>\
+         <float name=\"sun_aperture\" value=\"2\"/>",
+    );
+    let Light::SunSky(s) = &light else {
+        panic!("not a sunsky light")
+    };
+    let wl = SampledWavelengths::from_parts([410.0, 480.0, 560.0, 650.0], [1.0; 4]);
+    assert!(wl.lambdas().iter().all(|&l| l < 720.0));
+    let r = bounds().radius;
+    let i = crate::sunsky::sphere_integral(s, |d| light.le_infinite(d, &wl).to_array());
+    let exact = SampledSpectrum::new(i.map(|v| v as f32)) * (PI * r * r);
+    check_at("sunsky", &light, &[], exact, &wl);
 }

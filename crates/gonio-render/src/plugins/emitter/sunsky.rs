@@ -46,7 +46,7 @@ const DAY: ParamSpec = ParamSpec::new(
     "day",
     ParamType::Integer,
     DefaultValue::Int(10),
-    "day of the month, 1–31",
+    "day of the month (any integer: the date runs on, as in Mitsuba)",
 );
 const HOUR: ParamSpec = ParamSpec::new("hour", ParamType::Float, DefaultValue::Float(15.0), "local hour");
 const MINUTE: ParamSpec = ParamSpec::new("minute", ParamType::Float, DefaultValue::Float(0.0), "minute");
@@ -130,11 +130,13 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
     let non_negative = |v: f64| v >= 0.0;
     let sun_scale = p.float_checked(SUN_SCALE.name, 1.0, non_negative, "must be non-negative")? as f32;
     let sky_scale = p.float_checked(SKY_SCALE.name, 1.0, non_negative, "must be non-negative")? as f32;
+    // Above 1e-6°, so that 1 − cos of the half-angle (≈ 10⁻¹⁶) is a normal float and the sun's
+    // radiance E/(2π(1 − cos α)) finite.
     let aperture = p.float_checked(
         SUN_APERTURE.name,
         SUN_APERTURE.default.float(),
-        |v| v > 0.0 && v < 180.0,
-        "must be in (0, 180) degrees",
+        |v| (1e-6..180.0).contains(&v),
+        "must be in [1e-6, 180) degrees",
     )? as f32;
     let complex_sun = p.bool(COMPLEX_SUN.name, false)?;
     let to_world = p.affine(TO_WORLD.name)?;
@@ -158,10 +160,11 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
         err(
             &obj.loc,
             ErrorKind::BadValue,
-            "singular to_world in <emitter type=\"sunsky\">",
+            "singular (or overflowing) to_world in <emitter type=\"sunsky\">",
         )
     };
-    if !(to_world.matrix3.determinant().abs() > 0.0) {
+    let det = to_world.matrix3.determinant();
+    if !(det.abs() > 0.0) || !det.is_finite() {
         return Err(singular());
     }
     let to_local = to_world.matrix3.inverse();
@@ -204,12 +207,24 @@ fn build<'d>(b: &mut Builder<'d>, p: &mut Params<'d>) -> Result<EmitterDesc, Sce
         let time = DateTime {
             year: p.int_in(YEAR.name, 2010, -100_000, 100_000)? as i32,
             month: p.int_in(MONTH.name, 7, 1, 12)? as i32,
-            day: p.int_in(DAY.name, 10, 1, 31)? as i32,
+            // Any day: the Julian date is linear in it (day 200 of January is in July), as in
+            // Mitsuba.
+            day: p.int_in(DAY.name, 10, -1_000_000, 1_000_000)? as i32,
             hour: f(p, &HOUR)?,
             minute: f(p, &MINUTE)?,
             second: f(p, &SECOND)?,
         };
         let (theta, phi) = sun_coordinates(&time, &location);
+        if !theta.is_finite() || !phi.is_finite() {
+            return Err(err(
+                &obj.loc,
+                ErrorKind::BadValue,
+                format!(
+                    "the sun's position at {}-{}-{} {}:{}:{} (timezone {}) is not a number: the date and time are out of range",
+                    time.year, time.month, time.day, time.hour, time.minute, time.second, location.timezone
+                ),
+            ));
+        }
         // Mitsuba places the sun in the world by to_world and reads it back through the inverse.
         let world = Vec3::from(to_world.matrix3 * Vec3A::from(sph_to_dir(theta, phi)));
         Vec3::from(to_local * Vec3A::from(world)).normalize()
