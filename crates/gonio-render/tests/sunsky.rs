@@ -380,3 +380,35 @@ fn bad_parameters_are_refused_with_their_line() {
         assert!(msg.contains(quote), "{body}: {msg:?} should mention {quote:?}");
     }
 }
+
+/// Light selection's bound at a shading point: a surface facing the sun gets the sky's π·mean
+/// plus the sun's irradiance, one turned away (the sun below its horizon) the sky's alone, and
+/// a surface that transmits (no hemisphere) both.
+#[test]
+fn selection_bound_follows_the_sun() {
+    let light = light_of("<vector name=\"sun_direction\" x=\"0\" y=\"0\" z=\"1\"/>");
+    let sky = light_of(
+        "<vector name=\"sun_direction\" x=\"0\" y=\"0\" z=\"1\"/><float name=\"sun_scale\" value=\"0\"/>",
+    );
+    let at = |n: Vec3, hemisphere: bool| {
+        let r = LightRef {
+            p: Vec3::ZERO,
+            n,
+            hemisphere,
+            mis: true,
+            resolved_density: 0.0,
+        };
+        light.local_importance(&r, light.mean_emission())
+    };
+    let sky_bound = std::f32::consts::PI * sky.mean_emission();
+    let (facing, away, both) = (at(Vec3::Z, true), at(-Vec3::Z, true), at(-Vec3::Z, false));
+    assert!(
+        (away - sky_bound).abs() <= 1e-5 * sky_bound,
+        "{away} vs the sky's {sky_bound}"
+    );
+    assert!((facing - both).abs() <= 1e-5 * both, "{facing} vs {both}");
+    assert!(
+        facing > 5.0 * away,
+        "a clear noon sun outshines the sky: {facing} vs {away}"
+    );
+}

@@ -99,6 +99,12 @@ pub struct SunSkyLight {
     one_minus_cos_alpha: f32,
     /// Mean radiance over the sphere and 360–830 nm (for light selection).
     mean: f32,
+    /// The sky's part of `mean`, and the sun's irradiance on a surface facing it (mean over
+    /// 360–830 nm): the bound of [`Self::local_importance`].
+    sky_mean: f32,
+    sun_irradiance: f32,
+    /// Sine of the sun disk's half-angle.
+    sin_alpha: f32,
     /// max L / ∫L dω in luminance (see [`super::Light::feature_density`]).
     feature_density: f32,
 }
@@ -188,6 +194,11 @@ impl SunSkyLight {
             sky_weight,
             one_minus_cos_alpha,
             mean: visible_mean(&all) / (4.0 * PI),
+            sky_mean: visible_mean(&sky_channels) / (4.0 * PI),
+            sun_irradiance: visible_mean(&sun_channels),
+            sin_alpha: (one_minus_cos_alpha * (2.0 - one_minus_cos_alpha))
+                .max(0.0)
+                .sqrt(),
             feature_density: if total_y > 0.0 { max_y / total_y } else { 0.0 },
         })
     }
@@ -296,6 +307,20 @@ impl SunSkyLight {
     /// Mean radiance over the sphere and 360–830 nm.
     pub fn mean_radiance(&self) -> f32 {
         self.mean
+    }
+
+    /// A bound of the irradiance at a surface whose normal makes the cosine `cos_to_sun` (the
+    /// caller's, widened by the disk's angular radius, see [`Self::sin_alpha`]) with the sun:
+    /// π × the sky's mean radiance plus the sun's irradiance × that cosine. Light selection's
+    /// `π × mean` would give a quarter of the sun to a surface facing it and as much to one
+    /// turned away.
+    pub fn local_importance(&self, cos_to_sun: f32) -> f32 {
+        PI * self.sky_mean + self.sun_irradiance * cos_to_sun
+    }
+
+    /// Sine of the sun disk's half-angle.
+    pub fn sin_alpha(&self) -> f32 {
+        self.sin_alpha
     }
 
     /// max L/∫L dω in luminance: the sun's disk, or the sky's brightest cell.
