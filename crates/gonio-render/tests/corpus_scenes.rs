@@ -296,11 +296,7 @@ fn render_channels(name: &str, spp: u32, seed: u64) -> ChannelImage {
     let scene = gonio_render::xml::load_scene_file_with(&path, &options)
         .expect("scene loads")
         .scene;
-    let prepared = PreparedScene::new(scene).expect("scene prepares");
-    let mut options = RenderOptions::from_scene(&prepared.scene);
-    options.spp = spp;
-    options.seed = seed;
-    render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).channels
+    crate::integrator::render_scene(scene, spp, seed).channels
 }
 
 /// Mitsuba's render of `name`; a `_delta_pdf_mitsuba`, `_whitepoint_mitsuba` or

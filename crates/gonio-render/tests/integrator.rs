@@ -43,11 +43,20 @@ fn scene_xml(integrator: &str, lights: &str, extra: &str) -> String {
 
 pub(crate) fn render_xml(xml: &str, spp: u32, seed: u64) -> RgbImage {
     let scene = gonio_render::xml::load_scene_str(xml, ".", &[]).expect("test scene loads");
+    render_scene(scene, spp, seed).image
+}
+
+/// Renders `scene` at `spp` samples per pixel from `seed`, its other options its own.
+pub(crate) fn render_scene(
+    scene: gonio_render::scene::Scene,
+    spp: u32,
+    seed: u64,
+) -> gonio_render::render::RenderOutput {
     let prepared = PreparedScene::new(scene).expect("test scene prepares");
     let mut options = RenderOptions::from_scene(&prepared.scene);
     options.spp = spp;
     options.seed = seed;
-    render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image
+    render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false))
 }
 
 /// Mean of each channel over the whole image.

@@ -18,10 +18,8 @@ use gonio_core::sggx::Sggx;
 use gonio_render::compare::block_relmse;
 use gonio_render::image::RgbImage;
 use gonio_render::medium::Phase;
-use gonio_render::render::{PreparedScene, RenderOptions, render};
 use gonio_render::xml::load_scene_file;
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
 
 fn dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../testdata/sggx")
@@ -33,11 +31,7 @@ fn render_file(name: &str, defines: &[(&str, &str)], spp: u32, seed: u64) -> Rgb
         .map(|(a, b)| (a.to_string(), b.to_string()))
         .collect();
     let scene = load_scene_file(dir().join(name), &defines).expect("scene loads");
-    let prepared = PreparedScene::new(scene).expect("scene prepares");
-    let mut options = RenderOptions::from_scene(&prepared.scene);
-    options.spp = spp;
-    options.seed = seed;
-    render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image
+    crate::integrator::render_scene(scene, spp, seed).image
 }
 
 /// The two media's extinction along a direction is σt times σ(ω) of the matrix there: the

@@ -12,10 +12,9 @@ use gonio_core::rng::Pcg32;
 use gonio_render::compare::block_relmse;
 use gonio_render::emitter::{Light, LightRef, SunSkyLight};
 use gonio_render::image::RgbImage;
-use gonio_render::render::{PreparedScene, RenderOptions, render};
+use gonio_render::render::PreparedScene;
 use gonio_render::xml::{LoadOptions, load_scene_file_with, load_scene_str};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 const VALUES: &str = include_str!("../../../testdata/sunsky/mitsuba-values.json");
 
@@ -294,11 +293,7 @@ fn render_scene(spp: u32, seed: u64, mitsuba_estimators: bool) -> RgbImage {
     let scene = load_scene_file_with(dir.join("scene.xml"), &options)
         .expect("scene loads")
         .scene;
-    let prepared = PreparedScene::new(scene).expect("scene prepares");
-    let mut options = RenderOptions::from_scene(&prepared.scene);
-    options.spp = spp;
-    options.seed = seed;
-    render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image
+    crate::integrator::render_scene(scene, spp, seed).image
 }
 
 /// `testdata/sunsky/scene.xml` (a y-up world, the sun at 10:30 in Tokyo, a floor, a white and a

@@ -112,10 +112,10 @@ impl Light {
             }),
             EmitterDesc::SunSky { params, to_world } => {
                 let model = super::sunsky::model(params)?;
-                Light::SunSky(Box::new(
+                Light::SunSky(
                     super::SunSkyLight::new(model, *to_world)
                         .ok_or_else(|| "singular to_world".to_string())?,
-                ))
+                )
             }
             EmitterDesc::EnvMap {
                 image,

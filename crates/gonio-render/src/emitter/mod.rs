@@ -116,6 +116,20 @@ pub struct LightSample {
     pub normal: Option<Vec3>,
 }
 
+impl LightSample {
+    /// A light at infinity's sample: (direction towards it, density, radiance arriving).
+    pub fn at_infinity((wi, pdf, li): (Vec3, f32, SampledSpectrum)) -> Self {
+        Self {
+            wi,
+            dist: f32::INFINITY,
+            li,
+            pdf,
+            delta: false,
+            normal: None,
+        }
+    }
+}
+
 /// One emitter.
 ///
 /// Unboxed although the variants differ in size: the list holds a few lights, read on every
@@ -140,7 +154,7 @@ pub enum Light {
     /// `projector`.
     Projector(ProjectorLight),
     /// `sunsky`.
-    SunSky(Box<SunSkyLight>),
+    SunSky(SunSkyLight),
 }
 
 impl Light {
@@ -254,37 +268,10 @@ impl Light {
             },
             Light::Constant(c) => {
                 let (wi, pdf) = c.sample_dir(r, u);
-                LightSample {
-                    wi,
-                    dist: f32::INFINITY,
-                    li: c.le(wl),
-                    pdf,
-                    delta: false,
-                    normal: None,
-                }
+                LightSample::at_infinity((wi, pdf, c.le(wl)))
             }
-            Light::EnvMap(e) => {
-                let (wi, pdf, li) = e.sample_dir_le(u, wl, r)?;
-                LightSample {
-                    wi,
-                    dist: f32::INFINITY,
-                    li,
-                    pdf,
-                    delta: false,
-                    normal: None,
-                }
-            }
-            Light::SunSky(s) => {
-                let (wi, pdf, li) = s.sample_dir_le(u, wl)?;
-                LightSample {
-                    wi,
-                    dist: f32::INFINITY,
-                    li,
-                    pdf,
-                    delta: false,
-                    normal: None,
-                }
-            }
+            Light::EnvMap(e) => LightSample::at_infinity(e.sample_dir_le(u, wl, r)?),
+            Light::SunSky(s) => LightSample::at_infinity(s.sample_dir_le(u, wl)?),
         };
         (s.pdf > 0.0 && !s.li.is_black()).then_some(s)
     }
