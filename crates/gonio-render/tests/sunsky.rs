@@ -376,11 +376,13 @@ fn bad_parameters_are_refused_with_their_line() {
     }
 }
 
-/// Light selection's bound at a shading point: a surface facing the sun gets the sky's π·mean
-/// plus the sun's irradiance, one turned away (the sun below its horizon) the sky's alone, and
-/// a surface that transmits (no hemisphere) both.
+/// Light selection's estimate at a shading point, the sun at the zenith: a surface facing up
+/// gets π × the sky's hemisphere mean plus the sun's irradiance (4π × the difference of the
+/// lights' mean radiances over the sphere), one facing down nothing, an upright one half the
+/// sky and the sun × the sine of the disk's radius (the cosine widened by it), and a surface
+/// that transmits the whole of both.
 #[test]
-fn selection_bound_follows_the_sun() {
+fn selection_estimate_follows_the_sun_and_the_sky() {
     let light = light_of("<vector name=\"sun_direction\" x=\"0\" y=\"0\" z=\"1\"/>");
     let sky = light_of(
         "<vector name=\"sun_direction\" x=\"0\" y=\"0\" z=\"1\"/><float name=\"sun_scale\" value=\"0\"/>",
@@ -395,15 +397,28 @@ fn selection_bound_follows_the_sun() {
         };
         light.local_importance(&r, light.mean_emission())
     };
-    let sky_bound = std::f32::consts::PI * sky.mean_emission();
-    let (facing, away, both) = (at(Vec3::Z, true), at(-Vec3::Z, true), at(-Vec3::Z, false));
-    assert!(
-        (away - sky_bound).abs() <= 1e-5 * sky_bound,
-        "{away} vs the sky's {sky_bound}"
+    let pi = std::f32::consts::PI;
+    // Means over the sphere: the sky's is half its hemisphere's.
+    let sky_part = pi * 2.0 * sky.mean_emission();
+    let sun = 4.0 * pi * (light.mean_emission() - sky.mean_emission());
+    let sin_alpha = sunsky(&light).sin_alpha();
+    let close = |a: f32, b: f32| (a - b).abs() <= 1e-4 * b.abs().max(1e-6);
+    let (up, down, upright, through) = (
+        at(Vec3::Z, true),
+        at(-Vec3::Z, true),
+        at(Vec3::X, true),
+        at(-Vec3::Z, false),
     );
-    assert!((facing - both).abs() <= 1e-5 * both, "{facing} vs {both}");
+    assert!(close(up, sky_part + sun), "facing up: {up} vs {}", sky_part + sun);
+    assert_eq!(down, 0.0, "facing down");
     assert!(
-        facing > 5.0 * away,
-        "a clear noon sun outshines the sky: {facing} vs {away}"
+        close(upright, 0.5 * sky_part + sun * sin_alpha),
+        "upright: {upright}"
+    );
+    assert!(close(through, sky_part + sun), "transmitting: {through}");
+    // Turbidity 3 at noon: the sun's irradiance 3.0 × the sky's (0.82 and 0.28 W m⁻² nm⁻¹).
+    assert!(
+        sun > 2.0 * sky_part,
+        "the noon sun outshines the sky: {sun} vs {sky_part}"
     );
 }

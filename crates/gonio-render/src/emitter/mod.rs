@@ -1,5 +1,5 @@
-//! Emitters: area and directional-area lights on shapes, point, spot, directional, constant and
-//! envmap, and the choice of one light per next-event estimate, with probability proportional
+//! Emitters: area and directional-area lights on shapes, point, spot, directional, constant,
+//! envmap and sunsky, and the choice of one light per next-event estimate, with probability proportional
 //! to power.
 //!
 //! Every light answers the same questions (see [`Light`]): draw a direction towards it from a
@@ -27,8 +27,8 @@
 //! (area: mean radiance × min(A/d², 2π) × the cosine towards its bounding sphere, widened by the
 //! sphere's angular radius; point and spot: I/d² × cosine; directional: E × cosine; directional
 //! area: mean L times the beams' concentration where they reach the point, else 0; constant and
-//! envmap: π × mean radiance; sunsky: π × the sky's mean radiance plus the sun's irradiance ×
-//! the cosine towards its disk), and the probability is 90 % ∝ that bound plus 10 % ∝ power, so a
+//! envmap: π × mean radiance; sunsky: the sun's irradiance × the cosine towards its disk plus
+//! π × the sky's mean radiance × the share of the sky the surface sees), and the probability is 90 % ∝ that bound plus 10 % ∝ power, so a
 //! light the bound undervalues (it ignores occlusion) keeps a share. The integrator recomputes the
 //! same probability at the previous vertex for MIS when a BSDF sample hits a light.
 
@@ -380,7 +380,14 @@ impl Light {
             Light::Directional(l) => mean * cos_towards(-l.direction, 0.0),
             Light::DirectionalArea(l) => l.local_importance(r, mean),
             Light::Constant(_) | Light::EnvMap(_) => std::f32::consts::PI * mean,
-            Light::SunSky(s) => s.local_importance(cos_towards(s.sun_direction(), s.sin_alpha())),
+            Light::SunSky(s) => {
+                let sky_view = if r.hemisphere {
+                    0.5 * (1.0 + r.n.dot(s.zenith()))
+                } else {
+                    1.0
+                };
+                s.local_importance(cos_towards(s.sun_direction(), s.sin_alpha()), sky_view)
+            }
         };
         if v.is_finite() { v.max(0.0) } else { 0.0 }
     }

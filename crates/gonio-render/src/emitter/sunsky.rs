@@ -18,7 +18,9 @@
 //! hemisphere (equal solid angles, so the density is the cell's probability × cells/2π), each
 //! cell the largest of its centre's and corners' values so that no lit cell is left out. The sun
 //! is sampled uniformly in its cone. The two are mixed in proportion to their luminous
-//! irradiance (∫Y dω), so a clear noon sky draws most next-event samples from the sun.
+//! irradiance (∫Y dω; the sun's taken as its centre's radiance over the whole disk, a little
+//! more than a limb-darkened or horizon-cut disk has), so a clear noon sky draws most
+//! next-event samples from the sun.
 //!
 //! `to_world` may scale or shear: directions are mapped by its linear part and normalized (as in
 //! Mitsuba), and densities carry the Jacobian |det M| / |M ω|³ of that map.
@@ -99,12 +101,15 @@ pub struct SunSkyLight {
     one_minus_cos_alpha: f32,
     /// Mean radiance over the sphere and 360–830 nm (for light selection).
     mean: f32,
-    /// The sky's part of `mean`, and the sun's irradiance on a surface facing it (mean over
-    /// 360–830 nm): the bound of [`Self::local_importance`].
-    sky_mean: f32,
+    /// The sky's mean radiance over the upper hemisphere and the sun's irradiance on a surface
+    /// facing it (means over 360–830 nm), for [`Self::local_importance`].
+    sky_hemisphere_mean: f32,
     sun_irradiance: f32,
     /// Sine of the sun disk's half-angle.
     sin_alpha: f32,
+    /// Unit world directions towards the sun and the zenith.
+    sun_world: Vec3,
+    zenith_world: Vec3,
     /// max L / ∫L dω in luminance (see [`super::Light::feature_density`]).
     feature_density: f32,
 }
@@ -184,6 +189,7 @@ impl SunSkyLight {
             0.0
         });
         let all: [f32; CHANNELS] = std::array::from_fn(|k| sky_channels[k] + sun_channels[k]);
+        let sun_world = Vec3::from(m * Vec3A::from(model.sun_dir())).normalize_or_zero();
         Some(Self {
             sun_frame: Frame::from_normal(model.sun_dir()),
             model,
@@ -194,18 +200,25 @@ impl SunSkyLight {
             sky_weight,
             one_minus_cos_alpha,
             mean: visible_mean(&all) / (4.0 * PI),
-            sky_mean: visible_mean(&sky_channels) / (4.0 * PI),
+            sky_hemisphere_mean: visible_mean(&sky_channels) / TAU,
             sun_irradiance: visible_mean(&sun_channels),
             sin_alpha: (one_minus_cos_alpha * (2.0 - one_minus_cos_alpha))
                 .max(0.0)
                 .sqrt(),
+            sun_world,
+            zenith_world: Vec3::from(m * Vec3A::Z).normalize_or_zero(),
             feature_density: if total_y > 0.0 { max_y / total_y } else { 0.0 },
         })
     }
 
     /// Unit world direction towards the sun's centre.
     pub fn sun_direction(&self) -> Vec3 {
-        Vec3::from(self.to_world * Vec3A::from(self.model.sun_dir())).normalize()
+        self.sun_world
+    }
+
+    /// Unit world direction of the sky's zenith (the local +z).
+    pub fn zenith(&self) -> Vec3 {
+        self.zenith_world
     }
 
     /// The model (local frame).
@@ -309,13 +322,15 @@ impl SunSkyLight {
         self.mean
     }
 
-    /// A bound of the irradiance at a surface whose normal makes the cosine `cos_to_sun` (the
-    /// caller's, widened by the disk's angular radius, see [`Self::sin_alpha`]) with the sun:
-    /// π × the sky's mean radiance plus the sun's irradiance × that cosine. Light selection's
-    /// `π × mean` would give a quarter of the sun to a surface facing it and as much to one
-    /// turned away.
-    pub fn local_importance(&self, cos_to_sun: f32) -> f32 {
-        PI * self.sky_mean + self.sun_irradiance * cos_to_sun
+    /// An estimate of the irradiance at a surface (light selection's, see
+    /// [`super::Light::local_importance`]): the sun's irradiance × `cos_to_sun` (the caller's
+    /// cosine towards the disk, widened by its angular radius, [`Self::sin_alpha`]) plus
+    /// π × the sky's mean radiance over its hemisphere × `sky_view`, the share of the sky the
+    /// surface sees ((1 + cos β)/2 for a normal at β from the zenith: exact for a uniform sky; 1
+    /// for a surface that lets light through). Light selection's `π × mean` would give a
+    /// quarter of the sun to a surface facing it and as much to one turned away.
+    pub fn local_importance(&self, cos_to_sun: f32, sky_view: f32) -> f32 {
+        PI * self.sky_hemisphere_mean * sky_view + self.sun_irradiance * cos_to_sun
     }
 
     /// Sine of the sun disk's half-angle.

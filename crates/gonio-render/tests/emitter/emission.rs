@@ -266,7 +266,6 @@ fn sunsky_power_is_the_flux_through_the_bounding_disk() {
         panic!("not a sunsky light")
     };
     let wl = SampledWavelengths::from_parts([410.0, 480.0, 560.0, 650.0], [1.0; 4]);
-    assert!(wl.lambdas().iter().all(|&l| l < 720.0));
     let r = bounds().radius;
     let i = crate::sunsky::sphere_integral(s, |d| light.le_infinite(d, &wl).to_array());
     let exact = SampledSpectrum::new(i.map(|v| v as f32)) * (PI * r * r);

@@ -73,7 +73,7 @@ const SUN_APERTURE: ParamSpec = ParamSpec::new(
     "sun_aperture",
     ParamType::Float,
     DefaultValue::Float(0.5358),
-    "the sun disk's full angle in degrees, in (0, 180); the sun's irradiance is kept (Mitsuba's documentation says 0.5338, its code uses 0.5358)",
+    "the sun disk's full angle in degrees, in [1e-6, 180); the sun's irradiance is kept (Mitsuba's documentation says 0.5338, its code uses 0.5358)",
 );
 const COMPLEX_SUN: ParamSpec = ParamSpec::new(
     "complex_sun",
