@@ -84,15 +84,15 @@ pub const SUN_HALF_APERTURE: f32 = (std::f64::consts::PI * (0.5 * 0.5358) / 180.
 /// `sampling_data.bin`, spectral fields), row-major, rounded to `f32` as Mitsuba loads them.
 #[derive(Clone, Copy, Debug)]
 pub struct SkyTables<'a> {
-    /// `sky_params_spec`: [turbidity][albedo][control point][channel][coefficient].
+    /// `sky_params_spec`: (turbidity, albedo, control point, channel, coefficient).
     pub sky_params: &'a [f32],
-    /// `sky_rad_spec`: [turbidity][albedo][control point][channel].
+    /// `sky_rad_spec`: (turbidity, albedo, control point, channel).
     pub sky_radiance: &'a [f32],
-    /// `sun_irradiance`: [turbidity][elevation (2° + 3°·i)][channel].
+    /// `sun_irradiance`: (turbidity, elevation (2° + 3°·i), channel).
     pub sun_irradiance: &'a [f32],
-    /// `sun_rad_spec`: [turbidity][segment][channel][power of x].
+    /// `sun_rad_spec`: (turbidity, segment, channel, power of x).
     pub sun_radiance: &'a [f32],
-    /// `sun_ld_spec`: [channel][power of cos ψ].
+    /// `sun_ld_spec`: (channel, power of cos ψ).
     pub sun_limb_darkening: &'a [f32],
 }
 
@@ -278,9 +278,9 @@ impl ViewAngles {
 /// The 2013 sun at a turbidity.
 #[derive(Clone, Debug)]
 struct ComplexSun {
-    /// [segment][channel][power of x].
+    /// (segment, channel, power of x).
     cubic: [[[f32; SUN_CONTROL_POINTS]; CHANNELS]; SUN_SEGMENTS],
-    /// Limb darkening: [channel][power of cos ψ].
+    /// Limb darkening: (channel, power of cos ψ).
     limb: [[f32; SUN_LD_PARAMS]; CHANNELS],
 }
 
@@ -289,8 +289,7 @@ struct ComplexSun {
 enum SunModel {
     /// Uniform over the disk, per channel.
     Uniform([f32; CHANNELS]),
-    /// The 2013 piecewise cubic at the turbidity ([segment][channel][power]) and the limb
-    /// darkening coefficients ([channel][power]).
+    /// The 2013 piecewise cubic at the turbidity and the limb darkening coefficients.
     Complex(Box<ComplexSun>),
 }
 
