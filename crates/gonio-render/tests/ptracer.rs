@@ -265,3 +265,61 @@ fn ptracer_warns_that_it_renders_without_polarization() {
     );
     assert!(!warnings("path").iter().any(|w| w.contains("polarization")));
 }
+
+/// Behind a null surface and a `thindielectric` pane: the light tracer's connections to the
+/// camera cross them (`thin_shadows`, its default), so its image of a floor seen through them
+/// has the path tracer's mean within 4 standard errors; with `thin_shadows = false` (Mitsuba's
+/// connections, which stop at them) the floor behind them is black, and the mean falls well
+/// below.
+#[test]
+fn connections_cross_null_surfaces_and_thin_panes() {
+    let scene = |integrator: &str| {
+        format!(
+            r#"<scene version="3.0.0">
+                {integrator}
+                <sensor type="perspective"><float name="fov" value="50"/>
+                    <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+                    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="16"/>
+                        <rfilter type="box"/></film>
+                </sensor>
+                <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="6"/></emitter>
+                    <transform name="to_world"><scale value="0.5"/><rotate x="1" angle="180"/><translate y="0.5" z="2.5"/></transform></shape>
+                <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="0.7"/></bsdf>
+                    <transform name="to_world"><scale value="3"/></transform></shape>
+                <shape type="rectangle"><bsdf type="null"/>
+                    <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="-1" z="1.5"/></transform></shape>
+                <shape type="rectangle"><bsdf type="thindielectric"/>
+                    <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="1" z="1.5"/></transform></shape>
+            </scene>"#
+        )
+    };
+    let render_with = |integrator: &str, spp: u32, seed: u64| {
+        let scene = gonio_render::xml::load_scene_str(&scene(integrator), ".", &[]).expect("scene loads");
+        let prepared = PreparedScene::new(scene).expect("scene prepares");
+        let mut options = RenderOptions::from_scene(&prepared.scene);
+        options.spp = spp;
+        options.seed = seed;
+        render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image
+    };
+    let path = r#"<integrator type="path"><integer name="max_depth" value="3"/></integrator>"#;
+    let ptracer = r#"<integrator type="ptracer"><integer name="max_depth" value="3"/></integrator>"#;
+    let blocked = r#"<integrator type="ptracer"><integer name="max_depth" value="3"/>
+        <boolean name="thin_shadows" value="false"/></integrator>"#;
+    let (camera, se_path) = mean_of_two(&render_with(path, 256, 1), &render_with(path, 256, 2));
+    let (light, se_light) = mean_of_two(&render_with(ptracer, 1024, 1), &render_with(ptracer, 1024, 2));
+    let (dark, _) = mean_of_two(&render_with(blocked, 1024, 1), &render_with(blocked, 1024, 2));
+    let se = se_path.hypot(se_light);
+    println!("behind sheets: path {camera:.5}, ptracer {light:.5} ± {se:.5}, blocked {dark:.5}");
+    assert!(
+        camera > 0.01 && se < 0.02 * camera,
+        "the floor is lit ({camera} ± {se})"
+    );
+    assert!(
+        (light - camera).abs() < 4.0 * se,
+        "ptracer {light} ± {se} vs path {camera}"
+    );
+    assert!(
+        dark < camera - 20.0 * se,
+        "blocked connections: {dark} vs {camera}"
+    );
+}

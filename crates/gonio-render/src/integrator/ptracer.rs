@@ -23,8 +23,13 @@
 //! `rr_survival`; Mitsuba uses β including the emission, which makes q = 0.95 almost always:
 //! the same expectation). A dispersive refraction leaves the
 //! hero wavelength alone for the rest of the path (connections before it used all four).
-//! Paths are spectral (a polarizing material is rendered without polarization) and thin sheets
-//! are ordinary delta vertices (`thin_shadows` off), as in Mitsuba.
+//! Paths are spectral (a polarizing material is rendered without polarization). Null surfaces
+//! and thin sheets are delta vertices of the light paths; a connection to the camera crosses
+//! them, attenuated by their transmittance (`thin_shadows`, ours, as the path tracer's shadow
+//! rays: no other strategy of the light tracer makes a path whose last segment passes through
+//! one, so without it whatever lies behind a null surface or a pane renders black). Mitsuba's
+//! connections stop at them; `thin_shadows = false` (the default under
+//! `--mitsuba-estimators`) does the same.
 
 use super::{CameraSample, PathSampler, PathTracer};
 use crate::accel::Intersect;
@@ -105,11 +110,10 @@ impl PathTracer<'_> {
                     return;
                 }
                 let v = le * (cos / c.dist2 * c.importance / (p_sel * s.pdf));
-                if !self
-                    .accel
-                    .occluded(&spawn_ray_between(s.p, s.n, c.near_point, None))
-                {
-                    out.add(c.film, v, wl);
+                let seen: SampledSpectrum =
+                    self.visibility(spawn_ray_between(s.p, s.n, c.near_point, None), wl, true);
+                if !seen.is_black() {
+                    out.add(c.film, v * seen, wl);
                 }
             }
             light if light.is_infinite() => {
@@ -133,8 +137,9 @@ impl PathTracer<'_> {
                 };
                 // Area density p(ω)/d² of a point facing the camera: L·(d²/p(ω))·W/d².
                 let v = ls.li * (c.importance / (p_sel * ls.pdf));
-                if !self.accel.occluded(&Ray::new(c.near_point, -c.dir)) {
-                    out.add(c.film, v, wl);
+                let seen: SampledSpectrum = self.visibility(Ray::new(c.near_point, -c.dir), wl, false);
+                if !seen.is_black() {
+                    out.add(c.film, v * seen, wl);
                 }
             }
             _ => {}
@@ -245,11 +250,10 @@ impl PathTracer<'_> {
         if v.is_black() || !v.is_finite() {
             return;
         }
-        if !self
-            .accel
-            .occluded(&spawn_ray_between(si.p, si.n, c.near_point, None))
-        {
-            out.add(c.film, v, wl);
+        let seen: SampledSpectrum =
+            self.visibility(spawn_ray_between(si.p, si.n, c.near_point, None), wl, true);
+        if !seen.is_black() {
+            out.add(c.film, v * seen, wl);
         }
     }
 }
