@@ -151,7 +151,7 @@ fn orthographic_scene_matches_path() {
 
 /// The mean pixel value (channel mean) of two independent renders, and its standard error:
 /// the mean of (a + b)/2 over n pixels has variance var(a − b)/(4n).
-fn mean_of_two(a: &RgbImage, b: &RgbImage) -> (f64, f64) {
+pub(crate) fn mean_of_two(a: &RgbImage, b: &RgbImage) -> (f64, f64) {
     let value = |p: &[f32; 3]| (p[0] + p[1] + p[2]) as f64 / 3.0;
     let n = a.data.len() as f64;
     let mean = a.data.iter().chain(&b.data).map(value).sum::<f64>() / (2.0 * n);
@@ -266,14 +266,18 @@ fn ptracer_warns_that_it_renders_without_polarization() {
     assert!(!warnings("path").iter().any(|w| w.contains("polarization")));
 }
 
-/// Behind a null surface and a `thindielectric` pane: the light tracer's connections to the
-/// camera cross them (`thin_shadows`, its default), so its image of a floor seen through them
-/// has the path tracer's mean within 4 standard errors; with `thin_shadows = false` (Mitsuba's
-/// connections, which stop at them) the floor behind them is black, and the mean falls well
-/// below.
+/// Behind null surfaces and `thindielectric` panes: the light tracer's joins to the camera
+/// cross them (`thin_shadows`, its default), so its image has the path tracer's mean within 4
+/// standard errors, at `max_depth` 2 and 3 (a straight pass counts no segment in either). The
+/// scene: a floor lit from above and two small lights facing the camera, seen through two
+/// sheets. Two cases: both sheets null under a constant environment (seen past the floor's
+/// edge, through a sheet); the right one a pane and no environment (a light tracer cannot make
+/// the pane's reflections the camera sees, and with the environment off there are none). With
+/// `thin_shadows = false` (Mitsuba's joins, which stop at sheets) what lies behind them is
+/// black, and the mean falls well below.
 #[test]
 fn connections_cross_null_surfaces_and_thin_panes() {
-    let scene = |integrator: &str| {
+    let scene = |integrator: &str, right: &str, env: f32| {
         format!(
             r#"<scene version="3.0.0">
                 {integrator}
@@ -282,44 +286,60 @@ fn connections_cross_null_surfaces_and_thin_panes() {
                     <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="16"/>
                         <rfilter type="box"/></film>
                 </sensor>
+                <emitter type="constant"><spectrum name="radiance" value="{env}"/></emitter>
                 <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="6"/></emitter>
                     <transform name="to_world"><scale value="0.5"/><rotate x="1" angle="180"/><translate y="0.5" z="2.5"/></transform></shape>
+                <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="0.5"/></emitter>
+                    <transform name="to_world"><scale value="0.2"/><translate x="-1" y="0.3" z="0.5"/></transform></shape>
+                <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="0.5"/></emitter>
+                    <transform name="to_world"><scale value="0.2"/><translate x="1" y="-0.3" z="0.5"/></transform></shape>
                 <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="0.7"/></bsdf>
-                    <transform name="to_world"><scale value="3"/></transform></shape>
+                    <transform name="to_world"><scale value="1.2"/></transform></shape>
                 <shape type="rectangle"><bsdf type="null"/>
                     <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="-1" z="1.5"/></transform></shape>
-                <shape type="rectangle"><bsdf type="thindielectric"/>
+                <shape type="rectangle"><bsdf type="{right}"/>
                     <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="1" z="1.5"/></transform></shape>
             </scene>"#
         )
     };
-    let render_with = |integrator: &str, spp: u32, seed: u64| {
-        let scene = gonio_render::xml::load_scene_str(&scene(integrator), ".", &[]).expect("scene loads");
-        let prepared = PreparedScene::new(scene).expect("scene prepares");
-        let mut options = RenderOptions::from_scene(&prepared.scene);
-        options.spp = spp;
-        options.seed = seed;
-        render(&prepared, &options, &|_, _| {}, &AtomicBool::new(false)).image
-    };
-    let path = r#"<integrator type="path"><integer name="max_depth" value="3"/></integrator>"#;
-    let ptracer = r#"<integrator type="ptracer"><integer name="max_depth" value="3"/></integrator>"#;
-    let blocked = r#"<integrator type="ptracer"><integer name="max_depth" value="3"/>
-        <boolean name="thin_shadows" value="false"/></integrator>"#;
-    let (camera, se_path) = mean_of_two(&render_with(path, 256, 1), &render_with(path, 256, 2));
-    let (light, se_light) = mean_of_two(&render_with(ptracer, 1024, 1), &render_with(ptracer, 1024, 2));
-    let (dark, _) = mean_of_two(&render_with(blocked, 1024, 1), &render_with(blocked, 1024, 2));
-    let se = se_path.hypot(se_light);
-    println!("behind sheets: path {camera:.5}, ptracer {light:.5} ± {se:.5}, blocked {dark:.5}");
-    assert!(
-        camera > 0.01 && se < 0.02 * camera,
-        "the floor is lit ({camera} ± {se})"
-    );
-    assert!(
-        (light - camera).abs() < 4.0 * se,
-        "ptracer {light} ± {se} vs path {camera}"
-    );
-    assert!(
-        dark < camera - 20.0 * se,
-        "blocked connections: {dark} vs {camera}"
-    );
+    for (right, env) in [("null", 0.05), ("thindielectric", 0.0)] {
+        for max_depth in [2, 3] {
+            let render_with = |integrator: &str, spp: u32, seed: u64| {
+                let text = scene(integrator, right, env);
+                let scene = gonio_render::xml::load_scene_str(&text, ".", &[]).expect("scene loads");
+                crate::integrator::render_scene(scene, spp, seed).image
+            };
+            let path = format!(
+                r#"<integrator type="path"><integer name="max_depth" value="{max_depth}"/></integrator>"#
+            );
+            let ptracer = format!(
+                r#"<integrator type="ptracer"><integer name="max_depth" value="{max_depth}"/></integrator>"#
+            );
+            let blocked = format!(
+                r#"<integrator type="ptracer"><integer name="max_depth" value="{max_depth}"/>
+                <boolean name="thin_shadows" value="false"/></integrator>"#
+            );
+            let (camera, se_path) = mean_of_two(&render_with(&path, 256, 1), &render_with(&path, 256, 2));
+            let (light, se_light) =
+                mean_of_two(&render_with(&ptracer, 1024, 1), &render_with(&ptracer, 1024, 2));
+            let (dark, _) = mean_of_two(&render_with(&blocked, 1024, 1), &render_with(&blocked, 1024, 2));
+            let se = se_path.hypot(se_light);
+            let case = format!("{right}, env {env}, max_depth {max_depth}");
+            println!(
+                "behind sheets ({case}): path {camera:.5}, ptracer {light:.5} ± {se:.5}, blocked {dark:.5}"
+            );
+            assert!(
+                camera > 0.01 && se < 0.02 * camera,
+                "{case}: the scene is lit ({camera} ± {se})"
+            );
+            assert!(
+                (light - camera).abs() < 4.0 * se,
+                "{case}: ptracer {light} ± {se} vs path {camera}"
+            );
+            assert!(
+                dark < camera - 20.0 * se,
+                "{case}: blocked joins {dark} vs {camera}"
+            );
+        }
+    }
 }

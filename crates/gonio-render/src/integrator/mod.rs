@@ -68,7 +68,10 @@
 //! `NULL` transmission) is transparent to the bookkeeping: the depth, the MIS state (previous
 //! vertex and BSDF density) and Russian roulette are those of the last real scattering event.
 //! Shadow rays cross the same sheets attenuated by the same transmittance, so the two strategies
-//! estimate the same integral and MIS stays unbiased. With `thin_shadows = false` a null
+//! estimate the same integral and MIS stays unbiased; so a sheet met by the last segment
+//! `max_depth` allows is crossed too (its straight transmittance taken whole), or the light
+//! beyond it, which next-event estimation from the vertex before counted on this strategy
+//! for, would be lost. With `thin_shadows = false` a null
 //! transmission is an ordinary delta event and sheets block shadow rays: Mitsuba's exact
 //! behaviour (the light behind a window then arrives only through BSDF sampling).
 //!
@@ -527,6 +530,17 @@ impl<'a> PathTracer<'a> {
                 self.add_emitted(l, &state, &si, ray.d, wl);
             }
             if state.depth.saturating_add(1) >= self.max_depth {
+                // At the last segment, a sheet (`thin_shadows`) is still crossed straight, its
+                // transmittance taken whole: the pass is no segment, and next-event estimation
+                // from the previous vertex counted on this strategy for the light beyond it.
+                if self.thin_shadows
+                    && self.is_thin(si.shape)
+                    && let Some((t, Some(next))) = self.pass_sheet::<W>(&si, &ray, wl, false)
+                    && state.cross_sheet(t)
+                {
+                    ray = next;
+                    continue;
+                }
                 break;
             }
 

@@ -27,11 +27,13 @@
 //! and thin sheets are delta vertices of the light paths; a connection to the camera crosses
 //! them, attenuated by their transmittance (`thin_shadows`, ours, as the path tracer's shadow
 //! rays: no other strategy of the light tracer makes a path whose last segment passes through
-//! one, so without it whatever lies behind a null surface or a pane renders black). Mitsuba's
-//! connections stop at them; `thin_shadows = false` (the default under
-//! `--mitsuba-estimators`) does the same.
+//! one, so without it whatever lies behind a null surface or a pane renders black), and a
+//! light path's straight pass through one is not a segment of `max_depth` nor a step of the
+//! roulette, as in the path tracer. Mitsuba's connections stop at them; `thin_shadows = false`
+//! (the default under `--mitsuba-estimators`) does the same, and counts every pass. The light
+//! tracer renders no participating media (a scene's media are left out, with a warning).
 
-use super::{CameraSample, PathSampler, PathTracer};
+use super::{CameraSample, MAX_NULL_CROSSINGS, PathSampler, PathTracer};
 use crate::accel::Intersect;
 use crate::camera::Camera;
 use crate::emitter::{Light, LightRef};
@@ -40,7 +42,7 @@ use crate::geometry::{Ray, SurfaceInteraction, spawn_ray_between};
 use crate::material::ShadingPoint;
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
-use gonio_core::{Bsdf, BsdfContext, SampledSpectrum, SampledWavelengths};
+use gonio_core::{Bsdf, BsdfContext, BsdfFlags, SampledSpectrum, SampledWavelengths};
 
 /// Where a light path's connections go: the camera and the film.
 struct Splatter<'s, 'p> {
@@ -167,8 +169,10 @@ impl PathTracer<'_> {
         let mut beta = e.weight / p_sel;
         let mut throughput = SampledSpectrum::ONE;
         let mut ray = e.ray;
-        // Segments so far (the emitted one).
+        // Segments so far (the emitted one), and straight passes through sheets, which count
+        // as none when the joins cross sheets (as the path tracer counts them).
         let mut depth = 1u32;
+        let mut crossings = 0u32;
         while depth < self.max_depth {
             let Some(si) = self.accel.intersect(&ray) else {
                 break;
@@ -207,6 +211,13 @@ impl PathTracer<'_> {
                 break;
             }
             ray = si.spawn_ray(wo_world);
+            if self.thin_shadows && bs.flags.contains(BsdfFlags::NULL) {
+                crossings += 1;
+                if crossings > MAX_NULL_CROSSINGS {
+                    break;
+                }
+                continue;
+            }
             depth += 1;
             if depth > self.rr_depth {
                 let q = throughput.max_component().min(self.rr_survival);

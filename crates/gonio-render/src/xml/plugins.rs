@@ -333,6 +333,14 @@ impl<'d> Builder<'d> {
                 root.loc
             ));
         }
+        // gonio's light tracer renders no participating media: say so rather than drop them
+        // silently.
+        if scene.integrator.kind == IntegratorKind::PTracer && has_media {
+            self.warnings.push(format!(
+                "{}: the ptracer integrator renders no participating media: the scene's media are left out (use volpath)",
+                root.loc
+            ));
+        }
         // gonio's light tracer carries spectra, not Stokes vectors (Mitsuba's polarized variants
         // do carry them through `ptracer`): say so rather than drop the polarization silently.
         if scene.integrator.kind == IntegratorKind::PTracer && scene.asks_for_polarization() {

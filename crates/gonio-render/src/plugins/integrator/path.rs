@@ -38,7 +38,7 @@ pub(super) const HIDE_EMITTERS: ParamSpec = ParamSpec::new(
     DefaultValue::Bool(false),
     "hide directly visible emitters",
 );
-pub(super) const THIN_SHADOWS: ParamSpec = ParamSpec::new(
+const THIN_SHADOWS: ParamSpec = ParamSpec::new(
     "thin_shadows",
     ParamType::Boolean,
     DefaultValue::Bool(true),

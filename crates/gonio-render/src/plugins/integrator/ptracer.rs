@@ -10,11 +10,18 @@
 //! | `samples_per_pass` | −1 | accepted and ignored (gonio renders in passes of its own) |
 //! | `thin_shadows` | true (Mitsuba: false) | (ours) connections to the camera cross null surfaces and `thindielectric` sheets, attenuated by their transmittance |
 
-use super::path::{HIDE_EMITTERS, RR_DEPTH, SAMPLES_PER_PASS, THIN_SHADOWS};
+use super::path::{HIDE_EMITTERS, RR_DEPTH, SAMPLES_PER_PASS};
 use crate::plugins::{DefaultValue, ParamSpec, ParamType, Plugin};
 use crate::scene::{IntegratorDesc, IntegratorKind};
 use crate::xml::{Builder, Params, SceneError};
 
+const THIN_SHADOWS: ParamSpec = ParamSpec::new(
+    "thin_shadows",
+    ParamType::Boolean,
+    DefaultValue::Bool(true),
+    "(ours) joins to the camera cross null surfaces and `thindielectric` sheets, attenuated by their transmittance, and a light path's straight pass through one counts no segment (Mitsuba's joins stop at them)",
+)
+.mitsuba(DefaultValue::Bool(false));
 const MAX_DEPTH: ParamSpec = ParamSpec::new(
     "max_depth",
     ParamType::Integer,
