@@ -590,42 +590,17 @@ fn depth_is_the_distance_to_the_first_hit() {
 #[path = "integrator/polarized.rs"]
 mod polarized;
 
-/// Null sheets are invisible at every `max_depth` (`thin_shadows`): a floor lit by an area
-/// light and a constant environment, seen and lit through two null rectangles, has the image
-/// mean of the same scene without them within 4 standard errors at `max_depth` 2, where the
-/// path's last segment crosses a sheet. (Before, the path ended at the sheet while next-event
-/// estimation from the floor had counted on it for the light beyond: 3.4 % darker here.)
+/// Null sheets are invisible at every `max_depth` (`thin_shadows`): the scene of
+/// `ptracer::sheets_scene` (a floor lit by an area light, two small lights and a constant
+/// environment, seen and lit through two null rectangles) has the image mean of the same scene
+/// without them within 4 standard errors at `max_depth` 2, where the path's last segment
+/// crosses a sheet. (Before, the path ended at the sheet while next-event estimation from the
+/// floor had counted on it for the light beyond: 3.4 % darker in the scene without the small
+/// lights.)
 #[test]
 fn null_sheets_are_invisible_at_the_last_segment() {
-    let scene = |sheets: bool| {
-        let sheet = |x: f32| {
-            format!(
-                r#"<shape type="rectangle"><bsdf type="null"/>
-                    <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="{x}" z="1.5"/></transform></shape>"#
-            )
-        };
-        let sheets = if sheets {
-            sheet(-1.0) + &sheet(1.0)
-        } else {
-            String::new()
-        };
-        format!(
-            r#"<scene version="3.0.0">
-                <integrator type="path"><integer name="max_depth" value="2"/></integrator>
-                <sensor type="perspective"><float name="fov" value="50"/>
-                    <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
-                    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="16"/>
-                        <rfilter type="box"/></film>
-                </sensor>
-                <emitter type="constant"><spectrum name="radiance" value="0.05"/></emitter>
-                <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="6"/></emitter>
-                    <transform name="to_world"><scale value="0.5"/><rotate x="1" angle="180"/><translate y="0.5" z="2.5"/></transform></shape>
-                <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="0.7"/></bsdf>
-                    <transform name="to_world"><scale value="1.2"/></transform></shape>
-                {sheets}
-            </scene>"#
-        )
-    };
+    let path = r#"<integrator type="path"><integer name="max_depth" value="2"/></integrator>"#;
+    let scene = |sheets: bool| crate::ptracer::sheets_scene(path, sheets.then_some("null"), 0.05);
     let (with, se_with) = crate::ptracer::mean_of_two(
         &render_xml(&scene(true), 256, 1),
         &render_xml(&scene(true), 256, 2),

@@ -266,6 +266,41 @@ fn ptracer_warns_that_it_renders_without_polarization() {
     assert!(!warnings("path").iter().any(|w| w.contains("polarization")));
 }
 
+/// The scene of [`connections_cross_null_surfaces_and_thin_panes`] (24 × 16): a floor lit from
+/// above, two small lights facing the camera and a constant environment of radiance `env`,
+/// seen through a null rectangle on the left and a rectangle of material `right` on the right
+/// (`None`: neither), rendered by the `<integrator>` element `integrator`.
+pub(crate) fn sheets_scene(integrator: &str, right: Option<&str>, env: f32) -> String {
+    let sheets = right.map_or(String::new(), |right| {
+        format!(
+            r#"<shape type="rectangle"><bsdf type="null"/>
+                <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="-1" z="1.5"/></transform></shape>
+            <shape type="rectangle"><bsdf type="{right}"/>
+                <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="1" z="1.5"/></transform></shape>"#
+        )
+    });
+    format!(
+        r#"<scene version="3.0.0">
+            {integrator}
+            <sensor type="perspective"><float name="fov" value="50"/>
+                <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
+                <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="16"/>
+                    <rfilter type="box"/></film>
+            </sensor>
+            <emitter type="constant"><spectrum name="radiance" value="{env}"/></emitter>
+            <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="6"/></emitter>
+                <transform name="to_world"><scale value="0.5"/><rotate x="1" angle="180"/><translate y="0.5" z="2.5"/></transform></shape>
+            <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="0.5"/></emitter>
+                <transform name="to_world"><scale value="0.2"/><translate x="-1" y="0.3" z="0.5"/></transform></shape>
+            <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="0.5"/></emitter>
+                <transform name="to_world"><scale value="0.2"/><translate x="1" y="-0.3" z="0.5"/></transform></shape>
+            <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="0.7"/></bsdf>
+                <transform name="to_world"><scale value="1.2"/></transform></shape>
+            {sheets}
+        </scene>"#
+    )
+}
+
 /// Behind null surfaces and `thindielectric` panes: the light tracer's joins to the camera
 /// cross them (`thin_shadows`, its default), so its image has the path tracer's mean within 4
 /// standard errors, at `max_depth` 2 and 3 (a straight pass counts no segment in either). The
@@ -277,35 +312,10 @@ fn ptracer_warns_that_it_renders_without_polarization() {
 /// black, and the mean falls well below.
 #[test]
 fn connections_cross_null_surfaces_and_thin_panes() {
-    let scene = |integrator: &str, right: &str, env: f32| {
-        format!(
-            r#"<scene version="3.0.0">
-                {integrator}
-                <sensor type="perspective"><float name="fov" value="50"/>
-                    <transform name="to_world"><lookat origin="0, 0, 4" target="0, 0, 0" up="0, 1, 0"/></transform>
-                    <film type="hdrfilm"><integer name="width" value="24"/><integer name="height" value="16"/>
-                        <rfilter type="box"/></film>
-                </sensor>
-                <emitter type="constant"><spectrum name="radiance" value="{env}"/></emitter>
-                <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="6"/></emitter>
-                    <transform name="to_world"><scale value="0.5"/><rotate x="1" angle="180"/><translate y="0.5" z="2.5"/></transform></shape>
-                <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="0.5"/></emitter>
-                    <transform name="to_world"><scale value="0.2"/><translate x="-1" y="0.3" z="0.5"/></transform></shape>
-                <shape type="rectangle"><emitter type="area"><spectrum name="radiance" value="0.5"/></emitter>
-                    <transform name="to_world"><scale value="0.2"/><translate x="1" y="-0.3" z="0.5"/></transform></shape>
-                <shape type="rectangle"><bsdf type="diffuse"><spectrum name="reflectance" value="0.7"/></bsdf>
-                    <transform name="to_world"><scale value="1.2"/></transform></shape>
-                <shape type="rectangle"><bsdf type="null"/>
-                    <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="-1" z="1.5"/></transform></shape>
-                <shape type="rectangle"><bsdf type="{right}"/>
-                    <transform name="to_world"><scale x="0.8" y="1.2"/><translate x="1" z="1.5"/></transform></shape>
-            </scene>"#
-        )
-    };
     for (right, env) in [("null", 0.05), ("thindielectric", 0.0)] {
         for max_depth in [2, 3] {
             let render_with = |integrator: &str, spp: u32, seed: u64| {
-                let text = scene(integrator, right, env);
+                let text = sheets_scene(integrator, Some(right), env);
                 let scene = gonio_render::xml::load_scene_str(&text, ".", &[]).expect("scene loads");
                 crate::integrator::render_scene(scene, spp, seed).image
             };
