@@ -325,30 +325,8 @@ impl<'d> Builder<'d> {
             media: self.media,
             sensor_medium,
         };
-        // The volumetric path tracer carries spectra: a polarized render leaves media out.
-        let has_media = scene.sensor_medium.is_some() || scene.shapes.iter().any(|s| s.media.is_transition());
-        if scene.integrator.volumetric && has_media && scene.asks_for_polarization() {
-            self.warnings.push(format!(
-                "{}: participating media are rendered unpolarized only: this polarized render leaves them out",
-                root.loc
-            ));
-        }
-        // gonio's light tracer renders no participating media: say so rather than drop them
-        // silently.
-        if scene.integrator.kind == IntegratorKind::PTracer && has_media {
-            self.warnings.push(format!(
-                "{}: the ptracer integrator renders no participating media: the scene's media are left out (use volpath)",
-                root.loc
-            ));
-        }
-        // gonio's light tracer carries spectra, not Stokes vectors (Mitsuba's polarized variants
-        // do carry them through `ptracer`): say so rather than drop the polarization silently.
-        if scene.integrator.kind == IntegratorKind::PTracer && scene.asks_for_polarization() {
-            self.warnings.push(format!(
-                "{}: the ptracer integrator renders without polarization: polarizer, retarder, circular, pplastic and measured_polarized act on the intensity only (use path for a polarized render)",
-                root.loc
-            ));
-        }
+        self.warnings
+            .extend(crate::plugins::integrator::what_is_left_out(&scene, &root.loc));
         Ok((scene, self.warnings))
     }
 
