@@ -37,6 +37,12 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// True when the scene holds participating media: the sensor's, or a shape that is the
+    /// boundary between two media.
+    pub fn has_media(&self) -> bool {
+        self.sensor_medium.is_some() || self.shapes.iter().any(|s| s.media.is_transition())
+    }
+
     /// True when the scene asks for a polarized render without being told: a `stokes`
     /// integrator, or a material that asks for it (`polarizer`, `retarder`, `circular`,
     /// `pplastic`, `measured_polarized`, also inside `twosided`, `blendbsdf`, `mask`, `normalmap`, `bumpmap`).

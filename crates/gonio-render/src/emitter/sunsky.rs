@@ -93,9 +93,11 @@ pub struct SunSkyLight {
     to_local: Mat3A,
     abs_det: f32,
     sky: Distribution2D,
-    /// Probability of sampling the sky rather than the sun (0 when the sky is black, and the
-    /// light samples nothing when both are).
+    /// Probability of sampling the sky rather than the sun (0 when the sky is black).
     sky_weight: f32,
+    /// Sky and sun are both black (the sun below the horizon, or both scales 0): the light
+    /// samples nothing.
+    dark: bool,
     /// The sun's frame (local) and its cone's 1 − cos α.
     sun_frame: Frame,
     one_minus_cos_alpha: f32,
@@ -198,6 +200,7 @@ impl SunSkyLight {
             abs_det: det.abs(),
             sky,
             sky_weight,
+            dark: sky_weight <= 0.0 && sun_radiance.iter().all(|&v| v <= 0.0),
             one_minus_cos_alpha,
             mean: visible_mean(&all) / (4.0 * PI),
             sky_hemisphere_mean: visible_mean(&sky_channels) / TAU,
@@ -264,7 +267,7 @@ impl SunSkyLight {
     /// A unit local direction, the sky's table or the sun's cone by `u.x` against the sky's
     /// weight (rescaled), and whether it was drawn from the sun.
     fn sample_local(&self, u: Vec2) -> Option<(Vec3, bool)> {
-        if self.sky_weight <= 0.0 && self.model.sun_channels().iter().all(|&v| v <= 0.0) {
+        if self.dark {
             return None;
         }
         if u.x < self.sky_weight {

@@ -17,7 +17,7 @@ pub mod volpath;
 /// through it). Said rather than dropped silently.
 pub(crate) fn what_is_left_out(scene: &crate::scene::Scene, loc: &crate::xml::Location) -> Vec<String> {
     let mut out = Vec::new();
-    let has_media = scene.sensor_medium.is_some() || scene.shapes.iter().any(|s| s.media.is_transition());
+    let has_media = scene.has_media();
     let ptracer = scene.integrator.kind == crate::scene::IntegratorKind::PTracer;
     if scene.integrator.volumetric && has_media && scene.asks_for_polarization() {
         out.push(format!(
