@@ -229,24 +229,25 @@ impl SunSkyLight {
         &self.model
     }
 
-    /// The unit local direction of the world direction `dir`, and |M ω|³/|det M|: the factor
-    /// taking a local solid-angle density to the world's.
+    /// The unit direction in the sky's local frame (+z the zenith) of the world direction
+    /// `dir` (zero for a zero or NaN one).
+    #[inline]
+    pub fn local_direction(&self, dir: Vec3) -> Vec3 {
+        Vec3::from(self.to_local * Vec3A::from(dir)).normalize_or_zero()
+    }
+
+    /// [`Self::local_direction`] of `dir` and |M ω|³/|det M|: the factor taking a local
+    /// solid-angle density to the world's.
     #[inline]
     fn local(&self, dir: Vec3) -> (Vec3, f32) {
-        let l = Vec3::from(self.to_local * Vec3A::from(dir)).normalize_or_zero();
+        let l = self.local_direction(dir);
         let len = Vec3::from(self.to_world * Vec3A::from(l)).length();
         (l, len * len * len / self.abs_det)
     }
 
-    /// The unit direction in the sky's local frame (+z the zenith) of the world direction
-    /// `dir` (zero for a zero or NaN one).
-    pub fn local_direction(&self, dir: Vec3) -> Vec3 {
-        self.local(dir).0
-    }
-
     /// Radiance arriving from the world direction `dir` (pointing away from the scene).
     pub fn le(&self, dir: Vec3, wl: &SampledWavelengths) -> SampledSpectrum {
-        self.model.radiance(self.local(dir).0, wl)
+        self.model.radiance(self.local_direction(dir), wl)
     }
 
     /// Local solid-angle density of [`Self::sample_local`] at the unit local direction `l`,
