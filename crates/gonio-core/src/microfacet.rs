@@ -54,6 +54,7 @@
 //! `roughplastic`). [`MicrofacetDistribution::vndf_expectation`] is the general form.
 
 use crate::fresnel::{fresnel_dielectric, refract_about};
+use crate::math::exp_or_zero;
 use crate::quadrature::gauss_legendre;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -154,7 +155,7 @@ impl MicrofacetDistribution {
         let (xu, yv) = (m.x / self.alpha_u, m.y / self.alpha_v);
         let result = match self.kind {
             MicrofacetKind::Beckmann => {
-                (-(xu * xu + yv * yv) / cos_theta_2).exp() / (PI * alpha_uv * cos_theta_2 * cos_theta_2)
+                exp_or_zero(-(xu * xu + yv * yv) / cos_theta_2) / (PI * alpha_uv * cos_theta_2 * cos_theta_2)
             }
             MicrofacetKind::Ggx => {
                 let t = xu * xu + yv * yv + cos_theta_2;

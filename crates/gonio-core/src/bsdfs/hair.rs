@@ -58,7 +58,7 @@
 //! Mitsuba uplifts those colours as reflectances (clamped to [0, 1]), and so does this model.
 
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, TransportMode};
-use crate::bsdfs::principled_common::tint_luminance;
+use crate::bsdfs::principled_common::tint_luminances;
 use crate::fresnel::fresnel_dielectric;
 use crate::spectra::{SpectralValue, Spectrum};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -77,13 +77,21 @@ pub const PHEOMELANIN_SIGMA_A: [f32; 3] = [0.187, 0.4, 1.05];
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HairLobes {
     /// Longitudinal variances v_0..v_3.
-    pub v: [f32; P_MAX + 1],
+    v: [f32; P_MAX + 1],
     /// Logistic scale s of the azimuthal lobes.
-    pub s: f32,
+    s: f32,
     /// sin 2ᵏα, k = 0, 1, 2.
     sin_2k_alpha: [f32; 3],
     /// cos 2ᵏα, k = 0, 1, 2.
     cos_2k_alpha: [f32; 3],
+    /// What the lobes' densities share at every query, made once: d'Eon's normalization
+    /// 2 sinh(1/v_p), the e^(−2/v_p) of his inversion, and the trimmed logistic's cdf at −π and its
+    /// mass on [−π, π]. (Per query they were most of a query's exponentials; `sinh` alone, through
+    /// the platform's `expm1f`, was 15 % of the hair battery's time.)
+    two_sinh_kappa: [f32; P_MAX + 1],
+    exp_m2_over_v: [f32; P_MAX + 1],
+    logistic_lo: f32,
+    logistic_mass: f32,
 }
 
 impl HairLobes {
@@ -100,12 +108,28 @@ impl HairLobes {
             sin_2k_alpha[k] = 2.0 * cos_2k_alpha[k - 1] * sin_2k_alpha[k - 1];
             cos_2k_alpha[k] = cos_2k_alpha[k - 1].powi(2) - sin_2k_alpha[k - 1].powi(2);
         }
+        let v = [v0, 0.25 * v0, 4.0 * v0, 4.0 * v0];
+        let logistic_lo = logistic_cdf(-PI, s);
         Self {
-            v: [v0, 0.25 * v0, 4.0 * v0, 4.0 * v0],
+            v,
             s,
             sin_2k_alpha,
             cos_2k_alpha,
+            two_sinh_kappa: v.map(|v| 2.0 * (1.0 / v).sinh()),
+            exp_m2_over_v: v.map(|v| (-2.0 / v).exp()),
+            logistic_lo,
+            logistic_mass: logistic_cdf(PI, s) - logistic_lo,
         }
+    }
+
+    /// The longitudinal variances v_0..v_3.
+    pub fn v(&self) -> [f32; P_MAX + 1] {
+        self.v
+    }
+
+    /// The azimuthal lobes' logistic scale s.
+    pub fn s(&self) -> f32 {
+        self.s
     }
 
     /// (sin θi′, |cos θi′|) of lobe p: the incidence tilted by the scales (−2α for R, +α for TT,
@@ -160,13 +184,26 @@ pub fn log_bessel_i0(x: f32) -> f32 {
 /// exp(−sin θi sin θo/v) I₀(cos θi cos θo/v) / (2v sinh(1/v)) / 2π, in log form for v ≤ 0.1.
 #[inline]
 pub fn longitudinal(sin_i: f32, cos_i: f32, sin_o: f32, cos_o: f32, v: f32) -> f32 {
+    longitudinal_with(sin_i, cos_i, sin_o, cos_o, v, || 2.0 * (1.0 / v).sinh())
+}
+
+/// [`longitudinal`] with its normalization 2 sinh(1/v) (needed where 1/v ≤ 10) from `two_sinh_kappa`.
+#[inline]
+fn longitudinal_with(
+    sin_i: f32,
+    cos_i: f32,
+    sin_o: f32,
+    cos_o: f32,
+    v: f32,
+    two_sinh_kappa: impl FnOnce() -> f32,
+) -> f32 {
     let kappa = 1.0 / v;
     let a = cos_i * cos_o * kappa;
     let b = sin_i * sin_o * kappa;
     let m = if kappa > 10.0 {
         (log_bessel_i0(a) - b - kappa + std::f32::consts::LN_2 + (0.5 * kappa).ln()).exp()
     } else {
-        (-b).exp() * bessel_i0(a) * kappa / (2.0 * kappa.sinh())
+        (-b).exp() * bessel_i0(a) * kappa / two_sinh_kappa()
     };
     m * (0.5 * FRAC_1_PI)
 }
@@ -194,7 +231,12 @@ pub fn trimmed_logistic(x: f32, s: f32) -> f32 {
 #[inline]
 pub fn sample_trimmed_logistic(u: f32, s: f32) -> f32 {
     let lo = logistic_cdf(-PI, s);
-    let k = logistic_cdf(PI, s) - lo;
+    sample_trimmed_logistic_with(u, s, lo, logistic_cdf(PI, s) - lo)
+}
+
+/// [`sample_trimmed_logistic`] given the cdf at −π, `lo`, and the mass on [−π, π], `k`.
+#[inline]
+fn sample_trimmed_logistic_with(u: f32, s: f32, lo: f32, k: f32) -> f32 {
     (-s * (1.0 / (u * k + lo) - 1.0).ln()).clamp(-PI, PI)
 }
 
@@ -214,8 +256,21 @@ fn wrap_pi(phi: f32) -> f32 {
 /// Φ_p = 2p γt − 2γi + pπ.
 #[inline]
 pub fn azimuthal(delta_phi: f32, p: usize, s: f32, gamma_i: f32, gamma_t: f32) -> f32 {
+    azimuthal_with(
+        delta_phi,
+        p,
+        s,
+        logistic_cdf(PI, s) - logistic_cdf(-PI, s),
+        gamma_i,
+        gamma_t,
+    )
+}
+
+/// [`azimuthal`] given the logistic's mass on [−π, π], `mass`.
+#[inline]
+fn azimuthal_with(delta_phi: f32, p: usize, s: f32, mass: f32, gamma_i: f32, gamma_t: f32) -> f32 {
     let perfect = 2.0 * p as f32 * gamma_t - 2.0 * gamma_i + p as f32 * PI;
-    trimmed_logistic(wrap_pi(delta_phi - perfect), s)
+    logistic(wrap_pi(delta_phi - perfect), s) / mass
 }
 
 /// Everything the lobes need from the incident direction.
@@ -359,7 +414,7 @@ impl<S: SpectralValue> Hair<S> {
     /// The lobes' selection probabilities: A_p's luminance over their sum (Mitsuba's).
     #[inline]
     fn lobe_pmf(a: &[SampledSpectrum; P_MAX + 1], wl: &SampledWavelengths) -> [f32; P_MAX + 1] {
-        let lum = a.map(|ap| tint_luminance(ap, wl));
+        let lum = tint_luminances(*a, wl);
         let sum: f32 = lum.iter().sum();
         if sum > 0.0 && sum.is_finite() {
             lum.map(|l| l / sum)
@@ -384,11 +439,14 @@ impl<S: SpectralValue> Hair<S> {
         let mut sum = zero;
         for (p, w) in weights.iter().enumerate().take(P_MAX) {
             let (sin_ip, cos_ip) = self.lobes.tilted(inc.sin_theta, inc.cos_theta, p);
-            let m = longitudinal(sin_ip, cos_ip, sin_o, cos_o, self.lobes.v[p]);
-            let n = azimuthal(delta_phi, p, self.lobes.s, inc.gamma_i, inc.gamma_t);
+            let l = &self.lobes;
+            let m = longitudinal_with(sin_ip, cos_ip, sin_o, cos_o, l.v[p], || l.two_sinh_kappa[p]);
+            let n = azimuthal_with(delta_phi, p, l.s, l.logistic_mass, inc.gamma_i, inc.gamma_t);
             sum = sum + *w * (m * TAU * n);
         }
-        let m = longitudinal(inc.sin_theta, inc.cos_theta, sin_o, cos_o, self.lobes.v[P_MAX]);
+        let l = &self.lobes;
+        let (sin_i, cos_i) = (inc.sin_theta, inc.cos_theta);
+        let m = longitudinal_with(sin_i, cos_i, sin_o, cos_o, l.v[P_MAX], || l.two_sinh_kappa[P_MAX]);
         sum + weights[P_MAX] * m
     }
 
@@ -532,9 +590,10 @@ impl<S: SpectralValue> Bsdf for Hair<S> {
         let u_phi = (u / pmf[p]).clamp(0.0, 1.0);
         // θo about −θi′ (d'Eon et al. 2011, §4.2).
         let (sin_ip, cos_ip) = self.lobes.tilted(inc.sin_theta, inc.cos_theta, p);
-        let v = self.lobes.v[p];
+        let l = &self.lobes;
+        let v = l.v[p];
         let u0 = u2.x.max(1e-7);
-        let cos_theta = (1.0 + v * (u0 + (1.0 - u0) * (-2.0 / v).exp()).ln()).clamp(-1.0, 1.0);
+        let cos_theta = (1.0 + v * (u0 + (1.0 - u0) * self.lobes.exp_m2_over_v[p]).ln()).clamp(-1.0, 1.0);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
         let cos_phi = (TAU * u2.y).cos();
         let sin_o = (-cos_theta * sin_ip + sin_theta * cos_phi * cos_ip).clamp(-1.0, 1.0);
@@ -542,7 +601,7 @@ impl<S: SpectralValue> Bsdf for Hair<S> {
         let delta_phi = if p < P_MAX {
             2.0 * p as f32 * inc.gamma_t - 2.0 * inc.gamma_i
                 + p as f32 * PI
-                + sample_trimmed_logistic(u_phi, self.lobes.s)
+                + sample_trimmed_logistic_with(u_phi, l.s, l.logistic_lo, l.logistic_mass)
         } else {
             TAU * u_phi
         };

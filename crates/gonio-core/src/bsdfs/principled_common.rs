@@ -109,6 +109,20 @@ pub fn tint_luminance(c: SampledSpectrum, wl: &SampledWavelengths) -> f32 {
     sum / N_SPECTRUM_SAMPLES as f32
 }
 
+/// [`tint_luminance`] of several values at the same wavelengths, reading ȳ once per wavelength
+/// (the same sums, bit for bit).
+#[inline]
+pub fn tint_luminances<const M: usize>(cs: [SampledSpectrum; M], wl: &SampledWavelengths) -> [f32; M] {
+    let y: [f32; N_SPECTRUM_SAMPLES] = std::array::from_fn(|k| cie_y_5nm(wl.lambda(k)));
+    cs.map(|c| {
+        let mut sum = 0.0;
+        for k in 0..N_SPECTRUM_SAMPLES {
+            sum += y[k] * c[k];
+        }
+        sum / N_SPECTRUM_SAMPLES as f32
+    })
+}
+
 /// The colour of a tint: c / lum (hue and saturation without brightness), 1 where lum ≤ 0.
 #[inline]
 pub fn tint_color(c: SampledSpectrum, lum: f32) -> SampledSpectrum {
