@@ -75,7 +75,7 @@ impl WrapMode {
     #[inline]
     fn wrap(self, i: i64, n: i64) -> usize {
         let r = match self {
-            WrapMode::Repeat => i.rem_euclid(n),
+            WrapMode::Repeat => gonio_core::math::wrap_repeat(i, n),
             WrapMode::Clamp => i.clamp(0, n - 1),
             WrapMode::Mirror => {
                 let m = i.rem_euclid(2 * n);

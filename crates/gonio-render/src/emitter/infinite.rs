@@ -297,17 +297,17 @@ impl EnvMapLight {
         };
         let x0 = floor(x);
         let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as isize, y0 as isize);
-        let at = |i: isize, j: isize| {
-            let i = i.rem_euclid(w) as usize;
-            let j = j.clamp(0, h - 1) as usize;
-            j * self.width + i
-        };
+        // Columns wrap around (once, then its neighbour), rows clamp.
+        let i0 = gonio_core::math::wrap_repeat(x0 as i64, w as i64) as usize;
+        let i1 = if i0 + 1 == self.width { 0 } else { i0 + 1 };
+        let y0 = y0 as isize;
+        let row = |j: isize| j.clamp(0, h - 1) as usize * self.width;
+        let (r0, r1) = (row(y0), row(y0 + 1));
         [
-            (at(x0, y0), (1.0 - fx) * (1.0 - fy)),
-            (at(x0 + 1, y0), fx * (1.0 - fy)),
-            (at(x0, y0 + 1), (1.0 - fx) * fy),
-            (at(x0 + 1, y0 + 1), fx * fy),
+            (r0 + i0, (1.0 - fx) * (1.0 - fy)),
+            (r0 + i1, fx * (1.0 - fy)),
+            (r1 + i0, (1.0 - fx) * fy),
+            (r1 + i1, fx * fy),
         ]
     }
 
