@@ -45,6 +45,7 @@ pub fn ceil(x: f32) -> f32 {
 /// four to eight of them per bilinear lookup).
 #[inline]
 pub fn wrap_repeat(i: i64, n: i64) -> i64 {
+    debug_assert!(n > 0, "wrap_repeat needs a positive period, not {n}");
     if i >= 0 {
         if i < n {
             i
@@ -60,8 +61,9 @@ pub fn wrap_repeat(i: i64, n: i64) -> i64 {
     }
 }
 
-/// The largest `x` whose `eˣ` rounds to 0 in `f32`: ln 2⁻¹⁵⁰ ≈ −103.972 08 (glibc's `expf`
-/// underflow bound, −0x1.9fe368p6).
+/// Below this `x`, `eˣ` rounds to 0 in `f32` (it is below 2⁻¹⁵⁰, the half of the smallest
+/// subnormal): −0x1.9fe368p6 ≈ −103.972 076, the first `f32` above ln 2⁻¹⁵⁰ and glibc's `expf`
+/// underflow bound.
 const EXP_ZERO_BELOW: f32 = f32::from_bits(0xC2CF_F1B4);
 
 /// `eˣ`, bit for bit `f32::exp`, that returns 0 for exponents below ln 2⁻¹⁵⁰ without calling the
@@ -155,7 +157,18 @@ mod tests {
             assert_eq!(exp_or_zero(x).to_bits(), x.exp().to_bits(), "{x}");
             x += 0.003_7;
         }
-        for x in [EXP_ZERO_BELOW, f32::NEG_INFINITY, -0.0, 0.0, f32::MIN, -1e30] {
+        // Either side of the bound: the largest f32 whose exponential is 0, and the bound.
+        let below = f32::from_bits(EXP_ZERO_BELOW.to_bits() + 1);
+        assert_eq!(exp_or_zero(below), 0.0);
+        for x in [
+            below,
+            EXP_ZERO_BELOW,
+            f32::NEG_INFINITY,
+            -0.0,
+            0.0,
+            f32::MIN,
+            -1e30,
+        ] {
             assert_eq!(exp_or_zero(x).to_bits(), x.exp().to_bits(), "{x}");
         }
         assert!(exp_or_zero(f32::NAN).is_nan());

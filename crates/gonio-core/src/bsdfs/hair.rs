@@ -85,9 +85,10 @@ pub struct HairLobes {
     /// cos 2ᵏα, k = 0, 1, 2.
     cos_2k_alpha: [f32; 3],
     /// What the lobes' densities share at every query, made once: d'Eon's normalization
-    /// 2 sinh(1/v_p), the e^(−2/v_p) of his inversion, and the trimmed logistic's cdf at −π and its
-    /// mass on [−π, π]. (Per query they were most of a query's exponentials; `sinh` alone, through
-    /// the platform's `expm1f`, was 15 % of the hair battery's time.)
+    /// 2 sinh(1/v_p), the e^(−2/v_p) of his inversion, and the (untrimmed) logistic's cdf at −π
+    /// and its mass on [−π, π], which trimming divides by. (Per query they were most of a
+    /// query's exponentials; `sinh` alone, through the platform's `expm1f`, was 15 % of the
+    /// hair battery's time.)
     two_sinh_kappa: [f32; P_MAX + 1],
     exp_m2_over_v: [f32; P_MAX + 1],
     logistic_lo: f32,
