@@ -262,6 +262,8 @@ def main():
         have_mi, can_read = False, False
 
     tmp = tempfile.mkdtemp(prefix="gonio-bench-")
+    # Read before the first render: the load average is what "idle" is judged by.
+    cpu = cpu_description()
     rows = []
     for name in scenes:
         scene, ref_path = scene_files(name)
@@ -305,7 +307,7 @@ def main():
         rows.append(result)
         print(f"# {name}: {result}", file=sys.stderr, flush=True)
 
-    print(f"CPU: {cpu_description()}.")
+    print(f"CPU: {cpu}.")
     print(f"spp = {a.spp}, median of {a.runs} runs, render time only (scene loading excluded), "
           f"{os.cpu_count()} cores. Throughput: camera samples per second per core; gonio's first figure "
           f"with its caustic light subpaths off (issue #13's raw throughput), in brackets as rendered "
