@@ -83,7 +83,7 @@ pub fn read_vol(bytes: &[u8]) -> Result<VolGrid, String> {
     let channels = int(20);
     if dims.iter().any(|&d| d <= 0) || channels <= 0 {
         return Err(format!(
-            "resolution {} x {} x {} with {channels} channels",
+            "resolution {} x {} x {} with {channels} channels (each must be at least 1)",
             dims[0], dims[1], dims[2]
         ));
     }

@@ -54,8 +54,24 @@ pub fn decode_jpeg(bytes: &[u8]) -> Result<Decoded, String> {
         .output_colorspace()
         .ok_or("no colour space in the headers")?
         .num_components();
+    if !jpeg_has_end(bytes) {
+        return Err("truncated: the image data ends before the end-of-image marker (FF D9)".into());
+    }
     let buf = decoder.decode().map_err(|e| e.to_string())?;
     Ok((width, height, bytes_to_rgb(&buf, width * height, channels)?))
+}
+
+/// Whether the end-of-image marker FF D9 follows the first start-of-scan marker FF DA (an EXIF
+/// thumbnail's own FF D9 comes before it; inside the entropy-coded data FF is always followed
+/// by 00 or a restart marker). Without it the file was cut short: the lenient decoder would
+/// fill the missing part of the image and render it without a word (libjpeg warns "Premature
+/// end of JPEG file" and does the same).
+fn jpeg_has_end(bytes: &[u8]) -> bool {
+    let marker = |m: u8| move |w: &[u8]| w == [0xFF, m];
+    match bytes.windows(2).position(marker(0xDA)) {
+        Some(sos) => bytes[sos..].windows(2).any(marker(0xD9)),
+        None => true, // no scan at all: the decoder says so
+    }
 }
 
 /// Decodes a BMP (1 to 32 bits per pixel, palettes, run-length and bit-field forms).
@@ -222,5 +238,20 @@ mod tests {
         assert!(decode_bmp(b"BM\0\0").is_err());
         assert!(check_size(0, 5).unwrap_err().contains("empty"));
         assert!(check_size(1 << 15, 1 << 15).unwrap_err().contains("at most"));
+    }
+
+    /// regression: a JPEG cut short rendered with the missing part of its image filled in.
+    #[test]
+    fn a_truncated_jpeg_is_refused() {
+        let whole: &[u8] =
+            include_bytes!("../../../../testdata/mitsuba-corpus/common/textures/floor_tiles.jpg");
+        assert!(decode_jpeg(whole).is_ok());
+        for keep in [whole.len() - 2, whole.len() / 2, 2000] {
+            let err = decode_jpeg(&whole[..keep]).unwrap_err();
+            assert!(
+                err.contains("truncated") || err.contains("end"),
+                "{keep} bytes: {err}"
+            );
+        }
     }
 }
