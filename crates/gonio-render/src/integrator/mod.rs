@@ -200,8 +200,9 @@ pub fn mis_power(a: f32, b: f32, beta: f32) -> f32 {
     if tb.is_nan() { 0.0 } else { 1.0 / (1.0 + tb) }
 }
 
-/// Largest number of sheets a path or a shadow ray crosses before giving up (a bound against
-/// stacks of coincident sheets; never reached in sensible scenes).
+/// Largest number of sheets one segment of a path, or a shadow ray, crosses before giving up (a
+/// bound against stacks of coincident sheets). Per segment, not per path: a path through
+/// foliage of masked leaves may cross many over its bounces.
 const MAX_NULL_CROSSINGS: u32 = 64;
 
 /// Mixed into a sample's key to seed its light path's random numbers.
@@ -649,7 +650,6 @@ impl<'a> PathTracer<'a> {
             // What the walk through glass needs of the path, only where it can take place.
             let path = self.refracted_nee.then_some(refracted::PathContext {
                 depth: state.depth,
-                null_crossings: state.null_crossings,
                 arrival,
                 chain: state.chain,
             });

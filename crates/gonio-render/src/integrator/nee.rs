@@ -152,7 +152,8 @@ impl PathTracer<'_> {
         }
         let mut ray = ray;
         let mut tr = W::ONE;
-        for _ in 0..MAX_NULL_CROSSINGS {
+        // As many sheets as a path's segment crosses ([`MAX_NULL_CROSSINGS`]), then the light.
+        for _ in 0..=MAX_NULL_CROSSINGS {
             let Some(h) = self.accel.intersect(&ray) else {
                 return tr;
             };

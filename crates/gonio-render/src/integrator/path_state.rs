@@ -40,7 +40,8 @@ pub(super) struct PathState<W: Weight = SampledSpectrum> {
     pub(super) eta: f32,
     /// Real scattering events so far (straight passes through sheets do not count).
     pub(super) depth: u32,
-    /// Straight passes through sheets so far.
+    /// Straight passes through sheets since the last real scattering event (each segment may
+    /// cross [`super::MAX_NULL_CROSSINGS`], as each shadow ray may).
     pub(super) null_crossings: u32,
     /// The last real scattering vertex; `None` at the camera.
     pub(super) prev: Option<PrevVertex>,
@@ -82,7 +83,8 @@ impl<W: Weight> PathState<W> {
 
     /// A straight pass through a sheet (`thin_shadows`): the throughput times the sheet's
     /// transmission `w`, the depth and the previous vertex's MIS state kept. False when the path
-    /// ends there (more than [`super::MAX_NULL_CROSSINGS`] sheets, or no throughput left).
+    /// ends there (more than [`super::MAX_NULL_CROSSINGS`] sheets on this segment, or no
+    /// throughput left).
     #[inline]
     pub(super) fn cross_sheet(&mut self, w: W) -> bool {
         self.beta *= w;
@@ -247,5 +249,6 @@ impl PathTracer<'_> {
             delta: bs.flags.is_delta(),
         });
         state.depth += 1;
+        state.null_crossings = 0;
     }
 }

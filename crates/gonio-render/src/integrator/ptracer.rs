@@ -219,6 +219,7 @@ impl PathTracer<'_> {
                 continue;
             }
             depth += 1;
+            crossings = 0;
             if depth > self.rr_depth {
                 let q = throughput.max_component().min(self.rr_survival);
                 if !(sampler.next_1d() < q) {

@@ -125,8 +125,6 @@ impl RefractedStart {
 pub(super) struct PathContext {
     /// Real scattering events before the vertex.
     pub depth: u32,
-    /// Straight passes through sheets so far.
-    pub null_crossings: u32,
     /// How the vertex was reached (for the caustic ratio).
     pub arrival: Arrival,
     /// The path's caustic record before the vertex.
@@ -343,9 +341,7 @@ impl PathTracer<'_> {
                 }
                 // Left the scene: a light at infinity, seen along the refracted direction. No
                 // light subpath starts there, so two strategies share the path.
-                if !self.lights.infinite().contains(&(li as u32))
-                    || c.null_crossings + crossed > MAX_NULL_CROSSINGS
-                {
+                if !self.lights.infinite().contains(&(li as u32)) {
                     return LightPath::Blocked;
                 }
                 let le = self.lights.le_escaped(None, li, ray.d, wl).0;
@@ -356,7 +352,7 @@ impl PathTracer<'_> {
                 // Straight through a sheet, as a shadow ray crosses it (at most as many as
                 // `visibility` crosses).
                 crossed += 1;
-                if crossed >= MAX_NULL_CROSSINGS {
+                if crossed > MAX_NULL_CROSSINGS {
                     return LightPath::Blocked;
                 }
                 let Some((t, next)) = self.pass_sheet::<W>(&h, &ray, wl, false) else {
@@ -375,6 +371,8 @@ impl PathTracer<'_> {
                 break h;
             }
             deltas += 1;
+            // Each refraction starts a segment: its own count of sheets, as the path's.
+            crossed = 0;
             if deltas > MAX_CHAIN || c.depth as u64 + deltas as u64 + 2 > self.max_depth as u64 {
                 return LightPath::Blocked;
             }
@@ -395,10 +393,7 @@ impl PathTracer<'_> {
             // Refracted: the light point drawn is no longer the target.
             ray = h.spawn_ray(h.shading.to_world(bs.wo));
         };
-        if deltas == 0
-            || c.null_crossings + crossed > MAX_NULL_CROSSINGS
-            || self.lights.shape_light(hit.shape as usize) != Some(li)
-        {
+        if deltas == 0 || self.lights.shape_light(hit.shape as usize) != Some(li) {
             return LightPath::Blocked;
         }
         let Light::Area(area) = &self.lights.lights()[li] else {

@@ -43,7 +43,7 @@ struct LightWalk<L> {
     segments: u32,
     /// True when the last vertex (or the light itself) was smooth: the next must be a delta.
     after_smooth: bool,
-    /// Straight passes through sheets so far.
+    /// Straight passes through sheets since the last real scattering event.
     null_crossings: u32,
     /// True while refracted next-event estimation could produce the path so far in reverse: the
     /// light is one it ends on and every delta vertex was a refraction at a refractor.
@@ -300,6 +300,7 @@ impl PathTracer<'_> {
             return walk.null_crossings <= MAX_NULL_CROSSINGS;
         }
         walk.segments += 1;
+        walk.null_crossings = 0;
         if smooth {
             let d = eye_pdf * cos_out_g;
             if !(d > 0.0) {

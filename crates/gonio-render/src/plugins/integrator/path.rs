@@ -42,7 +42,7 @@ const THIN_SHADOWS: ParamSpec = ParamSpec::new(
     "thin_shadows",
     ParamType::Boolean,
     DefaultValue::Bool(true),
-    "(ours) shadow rays cross `thindielectric` sheets, attenuated by their transmittance",
+    "(ours) shadow rays cross null surfaces and `thindielectric` sheets, attenuated by their transmittance, and a path's straight pass through one counts no segment (at most 64 per segment)",
 )
 .mitsuba(DefaultValue::Bool(false));
 const CAUSTIC_PATHS: ParamSpec = ParamSpec::new(
