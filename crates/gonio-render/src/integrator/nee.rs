@@ -197,18 +197,35 @@ impl PathTracer<'_> {
                     .map(|t| t.local_to_world(&h.shading))
             })
             .flatten()?;
-        // On from the sheet towards the same end point (already offset off the light).
+        // On from the sheet towards the same end point (already offset off the light), aimed at
+        // it: the origin's offset off the sheet is along the sheet's normal, and a ray kept
+        // parallel would end that much beside the point; past a few oblique sheets its end
+        // reached the light's own surface, which then blocked the shadow ray (a floor under an
+        // area light, lit through ten null sheets, came out 0.71 of its brightness).
         let o = crate::geometry::offset_ray_origin(h.p, h.n, ray.d);
-        let remaining = if ray.tmax.is_finite() {
-            (ray.o + ray.d * ray.tmax - o).dot(ray.d)
+        let next = if ray.tmax.is_finite() {
+            let to_end = ray.o + ray.d * ray.tmax - o;
+            let (along, length) = (to_end.dot(ray.d), to_end.length());
+            (along > 0.0).then(|| match length.is_finite() && length > 0.0 {
+                true => Ray {
+                    o,
+                    d: to_end / length,
+                    tmax: length,
+                },
+                // A segment too long to square (a far clip of 1e20): kept parallel.
+                false => Ray {
+                    o,
+                    d: ray.d,
+                    tmax: along,
+                },
+            })
         } else {
-            f32::INFINITY
+            Some(Ray {
+                o,
+                d: ray.d,
+                tmax: f32::INFINITY,
+            })
         };
-        let next = (remaining > 0.0).then_some(Ray {
-            o,
-            d: ray.d,
-            tmax: remaining,
-        });
         Some((t, next))
     }
 }
