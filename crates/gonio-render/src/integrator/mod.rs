@@ -536,7 +536,7 @@ impl<'a> PathTracer<'a> {
                 // from the previous vertex counted on this strategy for the light beyond it.
                 if self.thin_shadows
                     && self.is_thin(si.shape)
-                    && let Some((t, Some(next))) = self.pass_sheet::<W>(&si, &ray, wl, false)
+                    && let Some((t, Some(next))) = self.pass_sheet::<W>(&si, &ray, ray.d, wl, false)
                     && state.cross_sheet(t)
                 {
                     ray = next;

@@ -9,7 +9,7 @@ use crate::accel::Intersect;
 use crate::emitter::{LightRef, LightSample};
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::material::ShadingPoint;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::weight::{BsdfWeight, Weight};
 use gonio_core::{Bsdf, BsdfContext, BsdfFlags, SampledWavelengths};
@@ -150,17 +150,18 @@ impl PathTracer<'_> {
                 W::ONE
             };
         }
+        let dir = ray.d;
         let mut ray = ray;
         let mut tr = W::ONE;
         // As many sheets as a path's segment crosses ([`MAX_NULL_CROSSINGS`]), then the light.
-        for _ in 0..=MAX_NULL_CROSSINGS {
+        for crossed in 0..=MAX_NULL_CROSSINGS {
             let Some(h) = self.accel.intersect(&ray) else {
                 return tr;
             };
-            if !self.is_thin(h.shape) {
+            if !self.is_thin(h.shape) || crossed == MAX_NULL_CROSSINGS {
                 return W::ZERO;
             }
-            let Some((t, next)) = self.pass_sheet::<W>(&h, &ray, wl, light_along_ray) else {
+            let Some((t, next)) = self.pass_sheet::<W>(&h, &ray, dir, wl, light_along_ray) else {
                 return W::ZERO;
             };
             // Light order: a sheet nearer the light first.
@@ -184,13 +185,17 @@ impl PathTracer<'_> {
         &self,
         h: &SurfaceInteraction,
         ray: &Ray,
+        dir: Vec3,
         wl: &SampledWavelengths,
         light_along_ray: bool,
     ) -> Option<(W, Option<Ray>)>
     where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
-        let wi = h.shading.to_local(if light_along_ray { ray.d } else { -ray.d });
+        // The transmittance along the segment's own direction `dir`, the same at every sheet of
+        // it (the ray's, below, is re-aimed at each: a polarized path's Stokes bases follow
+        // `dir`).
+        let wi = h.shading.to_local(if light_along_ray { dir } else { -dir });
         let t = self
             .bsdf_at(h.shape, &ShadingPoint::from(h), wl, |bsdf: &SurfaceBsdf<'_>| {
                 bsdf.null_transmission_weight(wi, wl)

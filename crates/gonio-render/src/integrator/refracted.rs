@@ -334,6 +334,8 @@ impl PathTracer<'_> {
         let mut eta = 1.0f32;
         let mut crossed = 0u32;
         let mut wl_chain = *wl;
+        // The direction of the chain's current segment (its sheets' transmittances use it).
+        let mut dir = ray.d;
         let hit = loop {
             let Some(h) = self.accel.intersect(&ray) else {
                 if deltas == 0 {
@@ -355,7 +357,7 @@ impl PathTracer<'_> {
                 if crossed > MAX_NULL_CROSSINGS {
                     return LightPath::Blocked;
                 }
-                let Some((t, next)) = self.pass_sheet::<W>(&h, &ray, wl, false) else {
+                let Some((t, next)) = self.pass_sheet::<W>(&h, &ray, dir, wl, false) else {
                     return LightPath::Blocked;
                 };
                 tr *= t;
@@ -392,6 +394,7 @@ impl PathTracer<'_> {
             eta *= bs.eta;
             // Refracted: the light point drawn is no longer the target.
             ray = h.spawn_ray(h.shading.to_world(bs.wo));
+            dir = ray.d;
         };
         if deltas == 0 || self.lights.shape_light(hit.shape as usize) != Some(li) {
             return LightPath::Blocked;

@@ -467,7 +467,9 @@ impl PathTracer<'_> {
         wl: &SampledWavelengths,
     ) -> SampledSpectrum {
         let mut tr = SampledSpectrum::splat(1.0);
-        for _ in 0..MAX_NULL_CROSSINGS {
+        let dir = ray.d;
+        // As many sheets as a segment of the path crosses ([`MAX_NULL_CROSSINGS`]), then the end.
+        for crossed in 0..=MAX_NULL_CROSSINGS {
             let hit = self.accel.intersect(&ray);
             if let Some(m) = media.medium(medium) {
                 let t_max = hit.as_ref().map_or(ray.tmax, |h| h.t);
@@ -479,7 +481,10 @@ impl PathTracer<'_> {
             if tr.is_black() {
                 return tr;
             }
-            let Some((t, next)) = self.pass_sheet::<SampledSpectrum>(&h, &ray, wl, false) else {
+            if crossed == MAX_NULL_CROSSINGS {
+                return SampledSpectrum::splat(0.0);
+            }
+            let Some((t, next)) = self.pass_sheet::<SampledSpectrum>(&h, &ray, dir, wl, false) else {
                 return SampledSpectrum::splat(0.0);
             };
             tr *= t;
