@@ -590,6 +590,21 @@ fn depth_is_the_distance_to_the_first_hit() {
 #[path = "integrator/polarized.rs"]
 mod polarized;
 
+/// Asserts that the scenes `with` and `without` (two seeds each at `spp`) have the same image
+/// mean within 4 standard errors of the difference, with that error below 0.5 % of the mean.
+fn assert_same_mean(label: &str, with: &str, without: &str, spp: u32) {
+    let render = |xml: &str, seed: u64| render_xml(xml, spp, seed);
+    let (a, se_a) = crate::ptracer::mean_of_two(&render(with, 1), &render(with, 2));
+    let (b, se_b) = crate::ptracer::mean_of_two(&render(without, 3), &render(without, 4));
+    let se = se_a.hypot(se_b);
+    println!("{label}: {a:.5} with, {b:.5} without (± {se:.5})");
+    assert!(se < 0.005 * b, "{label}: noise {se} against {b}");
+    assert!(
+        (a - b).abs() < 4.0 * se,
+        "{label}: {a} with, {b} without (± {se})"
+    );
+}
+
 /// Null sheets are invisible at every `max_depth` (`thin_shadows`): the scene of
 /// `ptracer::sheets_scene` (a floor lit by an area light, two small lights and a constant
 /// environment, seen and lit through two null rectangles) has the image mean of the same scene
@@ -601,21 +616,7 @@ mod polarized;
 fn null_sheets_are_invisible_at_the_last_segment() {
     let path = r#"<integrator type="path"><integer name="max_depth" value="2"/></integrator>"#;
     let scene = |sheets: bool| crate::ptracer::sheets_scene(path, sheets.then_some("null"), 0.05);
-    let (with, se_with) = crate::ptracer::mean_of_two(
-        &render_xml(&scene(true), 256, 1),
-        &render_xml(&scene(true), 256, 2),
-    );
-    let (without, se_without) = crate::ptracer::mean_of_two(
-        &render_xml(&scene(false), 256, 3),
-        &render_xml(&scene(false), 256, 4),
-    );
-    let se = se_with.hypot(se_without);
-    println!("null sheets at max_depth 2: {with:.5} with, {without:.5} without (± {se:.5})");
-    assert!(se < 0.01 * without, "noise {se} against {without}");
-    assert!(
-        (with - without).abs() < 4.0 * se,
-        "{with} with the sheets, {without} without (± {se})"
-    );
+    assert_same_mean("null sheets at max_depth 2", &scene(true), &scene(false), 256);
 }
 
 /// regression: sheets were counted over the whole path, not per segment. A floor under a
@@ -670,18 +671,8 @@ fn each_segment_may_cross_as_many_sheets_as_a_shadow_ray() {
         )
     };
     for (integrator, sheets) in [("path", 40), ("path", 64), ("volpath", 63)] {
-        let render = |n: usize, seed: u64| render_xml(&scene(integrator, n), 64, seed);
-        let (with, se_with) = crate::ptracer::mean_of_two(&render(sheets, 1), &render(sheets, 2));
-        let (without, se_without) = crate::ptracer::mean_of_two(&render(0, 3), &render(0, 4));
-        let se = se_with.hypot(se_without);
-        println!(
-            "{integrator}, {sheets} null sheets each way: {with:.5} with, {without:.5} without (± {se:.5})"
-        );
-        assert!(se < 0.005 * without, "{integrator}: noise {se} against {without}");
-        assert!(
-            (with - without).abs() < 4.0 * se,
-            "{integrator}: {with} with {sheets} sheets, {without} without (± {se})"
-        );
+        let label = format!("{integrator}, {sheets} null sheets each way");
+        assert_same_mean(&label, &scene(integrator, sheets), &scene(integrator, 0), 64);
     }
 }
 
@@ -719,15 +710,5 @@ fn shadow_rays_through_many_sheets_still_reach_an_area_light() {
             </scene>"#
         )
     };
-    let (with, se_with) =
-        crate::ptracer::mean_of_two(&render_xml(&scene(10), 64, 1), &render_xml(&scene(10), 64, 2));
-    let (without, se_without) =
-        crate::ptracer::mean_of_two(&render_xml(&scene(0), 64, 3), &render_xml(&scene(0), 64, 4));
-    let se = se_with.hypot(se_without);
-    println!("10 null sheets under an area light: {with:.5} with, {without:.5} without (± {se:.5})");
-    assert!(se < 0.005 * without, "noise {se} against {without}");
-    assert!(
-        (with - without).abs() < 4.0 * se,
-        "{with} with the sheets, {without} without (± {se})"
-    );
+    assert_same_mean("10 null sheets under an area light", &scene(10), &scene(0), 64);
 }
