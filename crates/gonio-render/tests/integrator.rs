@@ -590,6 +590,19 @@ fn depth_is_the_distance_to_the_first_hit() {
 #[path = "integrator/polarized.rs"]
 mod polarized;
 
+/// `count` null rectangles 3 × 3 wide, parallel to the floor, from z = 1 upwards `spacing` apart.
+fn null_stack(count: usize, spacing: f32) -> String {
+    (0..count)
+        .map(|k| {
+            format!(
+                r#"<shape type="rectangle"><bsdf type="null"/>
+                    <transform name="to_world"><scale value="1.5"/><translate z="{}"/></transform></shape>"#,
+                1.0 + k as f32 * spacing
+            )
+        })
+        .collect()
+}
+
 /// Asserts that the scenes `with` and `without` (two seeds each at `spp`) have the same image
 /// mean within 4 standard errors of the difference, with that error below 0.5 % of the mean.
 fn assert_same_mean(label: &str, with: &str, without: &str, spp: u32) {
@@ -639,15 +652,7 @@ fn each_segment_may_cross_as_many_sheets_as_a_shadow_ray() {
         } else {
             ""
         };
-        let stack: String = (0..sheets)
-            .map(|k| {
-                format!(
-                    r#"<shape type="rectangle"><bsdf type="null"/>
-                        <transform name="to_world"><scale value="1.5"/><translate z="{}"/></transform></shape>"#,
-                    1.0 + k as f32 * 0.015
-                )
-            })
-            .collect();
+        let stack = null_stack(sheets, 0.015);
         format!(
             r#"<scene version="3.0.0">
                 <integrator type="{integrator}"><integer name="max_depth" value="3"/></integrator>
@@ -685,15 +690,7 @@ fn each_segment_may_cross_as_many_sheets_as_a_shadow_ray() {
 #[test]
 fn shadow_rays_through_many_sheets_still_reach_an_area_light() {
     let scene = |sheets: usize| {
-        let stack: String = (0..sheets)
-            .map(|k| {
-                format!(
-                    r#"<shape type="rectangle"><bsdf type="null"/>
-                        <transform name="to_world"><scale value="1.5"/><translate z="{}"/></transform></shape>"#,
-                    1.0 + k as f32 * 0.1
-                )
-            })
-            .collect();
+        let stack = null_stack(sheets, 0.1);
         format!(
             r#"<scene version="3.0.0">
                 <integrator type="path"><integer name="max_depth" value="2"/></integrator>
