@@ -622,14 +622,20 @@ fn assert_same_mean(label: &str, with: &str, without: &str, spp: u32) {
 /// `ptracer::sheets_scene` (a floor lit by an area light, two small lights and a constant
 /// environment, seen and lit through two null rectangles) has the image mean of the same scene
 /// without them within 4 standard errors at `max_depth` 2, where the path's last segment
-/// crosses a sheet. (Before, the path ended at the sheet while next-event estimation from the
-/// floor had counted on it for the light beyond: 3.4 % darker in the scene without the small
-/// lights.)
+/// crosses a sheet, and at `max_depth` 1, where the camera's only segment does (the lights and
+/// the environment seen through the sheets). (Before, the path ended at the sheet while
+/// next-event estimation from the floor had counted on it for the light beyond: 3.4 % darker in
+/// the scene without the small lights.)
 #[test]
 fn null_sheets_are_invisible_at_the_last_segment() {
-    let path = r#"<integrator type="path"><integer name="max_depth" value="2"/></integrator>"#;
-    let scene = |sheets: bool| crate::ptracer::sheets_scene(path, sheets.then_some("null"), 0.05);
-    assert_same_mean("null sheets at max_depth 2", &scene(true), &scene(false), 256);
+    for max_depth in [2, 1] {
+        let path = format!(
+            r#"<integrator type="path"><integer name="max_depth" value="{max_depth}"/></integrator>"#
+        );
+        let scene = |sheets: bool| crate::ptracer::sheets_scene(&path, sheets.then_some("null"), 0.05);
+        let label = format!("null sheets at max_depth {max_depth}");
+        assert_same_mean(&label, &scene(true), &scene(false), 256);
+    }
 }
 
 /// regression: sheets were counted over the whole path, not per segment. A floor under a
