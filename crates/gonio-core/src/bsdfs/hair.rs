@@ -110,7 +110,7 @@ impl HairLobes {
             cos_2k_alpha[k] = cos_2k_alpha[k - 1].powi(2) - sin_2k_alpha[k - 1].powi(2);
         }
         let v = [v0, 0.25 * v0, 4.0 * v0, 4.0 * v0];
-        let logistic_lo = logistic_cdf(-PI, s);
+        let (logistic_lo, logistic_mass) = logistic_on_pi(s);
         Self {
             v,
             s,
@@ -119,7 +119,7 @@ impl HairLobes {
             two_sinh_kappa: v.map(|v| 2.0 * (1.0 / v).sinh()),
             exp_m2_over_v: v.map(|v| (-2.0 / v).exp()),
             logistic_lo,
-            logistic_mass: logistic_cdf(PI, s) - logistic_lo,
+            logistic_mass,
         }
     }
 
@@ -225,14 +225,22 @@ fn logistic_cdf(x: f32, s: f32) -> f32 {
 /// The logistic of scale s restricted to [−π, π] and renormalized.
 #[inline]
 pub fn trimmed_logistic(x: f32, s: f32) -> f32 {
-    logistic(x, s) / (logistic_cdf(PI, s) - logistic_cdf(-PI, s))
+    logistic(x, s) / logistic_on_pi(s).1
+}
+
+/// The logistic's cdf at −π and its mass on [−π, π] (what trimming to [−π, π] subtracts and
+/// divides by).
+#[inline]
+fn logistic_on_pi(s: f32) -> (f32, f32) {
+    let lo = logistic_cdf(-PI, s);
+    (lo, logistic_cdf(PI, s) - lo)
 }
 
 /// Inverse cdf of [`trimmed_logistic`].
 #[inline]
 pub fn sample_trimmed_logistic(u: f32, s: f32) -> f32 {
-    let lo = logistic_cdf(-PI, s);
-    sample_trimmed_logistic_with(u, s, lo, logistic_cdf(PI, s) - lo)
+    let (lo, mass) = logistic_on_pi(s);
+    sample_trimmed_logistic_with(u, s, lo, mass)
 }
 
 /// [`sample_trimmed_logistic`] given the cdf at −π, `lo`, and the mass on [−π, π], `k`.
@@ -257,14 +265,7 @@ fn wrap_pi(phi: f32) -> f32 {
 /// Φ_p = 2p γt − 2γi + pπ.
 #[inline]
 pub fn azimuthal(delta_phi: f32, p: usize, s: f32, gamma_i: f32, gamma_t: f32) -> f32 {
-    azimuthal_with(
-        delta_phi,
-        p,
-        s,
-        logistic_cdf(PI, s) - logistic_cdf(-PI, s),
-        gamma_i,
-        gamma_t,
-    )
+    azimuthal_with(delta_phi, p, s, logistic_on_pi(s).1, gamma_i, gamma_t)
 }
 
 /// [`azimuthal`] given the logistic's mass on [−π, π], `mass`.
@@ -437,15 +438,14 @@ impl<S: SpectralValue> Hair<S> {
         let sin_o = wo.y.clamp(-1.0, 1.0);
         let cos_o = (1.0 - sin_o * sin_o).max(0.0).sqrt();
         let delta_phi = wo.z.atan2(wo.x) - inc.phi;
+        let l = &self.lobes;
         let mut sum = zero;
         for (p, w) in weights.iter().enumerate().take(P_MAX) {
-            let (sin_ip, cos_ip) = self.lobes.tilted(inc.sin_theta, inc.cos_theta, p);
-            let l = &self.lobes;
+            let (sin_ip, cos_ip) = l.tilted(inc.sin_theta, inc.cos_theta, p);
             let m = longitudinal_with(sin_ip, cos_ip, sin_o, cos_o, l.v[p], || l.two_sinh_kappa[p]);
             let n = azimuthal_with(delta_phi, p, l.s, l.logistic_mass, inc.gamma_i, inc.gamma_t);
             sum = sum + *w * (m * TAU * n);
         }
-        let l = &self.lobes;
         let (sin_i, cos_i) = (inc.sin_theta, inc.cos_theta);
         let m = longitudinal_with(sin_i, cos_i, sin_o, cos_o, l.v[P_MAX], || l.two_sinh_kappa[P_MAX]);
         sum + weights[P_MAX] * m

@@ -102,11 +102,7 @@ pub fn cie_y_5nm(lambda: f32) -> f32 {
 /// variants).
 #[inline]
 pub fn tint_luminance(c: SampledSpectrum, wl: &SampledWavelengths) -> f32 {
-    let mut sum = 0.0;
-    for k in 0..N_SPECTRUM_SAMPLES {
-        sum += cie_y_5nm(wl.lambda(k)) * c[k];
-    }
-    sum / N_SPECTRUM_SAMPLES as f32
+    tint_luminances([c], wl)[0]
 }
 
 /// [`tint_luminance`] of several values at the same wavelengths, reading ȳ once per wavelength

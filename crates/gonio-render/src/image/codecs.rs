@@ -248,6 +248,7 @@ mod tests {
         assert!(decode_jpeg(whole).is_ok());
         for keep in [whole.len() - 2, whole.len() / 2, 2000] {
             let err = decode_jpeg(&whole[..keep]).unwrap_err();
+            eprintln!("{keep} bytes: {err}");
             assert!(
                 err.contains("truncated") || err.contains("end"),
                 "{keep} bytes: {err}"

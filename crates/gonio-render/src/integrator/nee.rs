@@ -211,18 +211,21 @@ impl PathTracer<'_> {
         let next = if ray.tmax.is_finite() {
             let to_end = ray.o + ray.d * ray.tmax - o;
             let (along, length) = (to_end.dot(ray.d), to_end.length());
-            (along > 0.0).then(|| match length.is_finite() && length > 0.0 {
-                true => Ray {
-                    o,
-                    d: to_end / length,
-                    tmax: length,
-                },
-                // A segment too long to square (a far clip of 1e20): kept parallel.
-                false => Ray {
-                    o,
-                    d: ray.d,
-                    tmax: along,
-                },
+            // A segment too long (a far clip of 1e20) or too short to square stays parallel.
+            (along > 0.0).then(|| {
+                if length.is_finite() && length > 0.0 {
+                    Ray {
+                        o,
+                        d: to_end / length,
+                        tmax: length,
+                    }
+                } else {
+                    Ray {
+                        o,
+                        d: ray.d,
+                        tmax: along,
+                    }
+                }
             })
         } else {
             Some(Ray {
