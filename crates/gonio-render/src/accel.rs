@@ -84,7 +84,7 @@ pub struct Accel {
     embree: Option<embree::Triangles>,
     bvh: Option<CwBvh>,
     /// Used instead of `bvh` for a few primitives (then `prims` are in scene order).
-    flat: Option<flat::FlatBoxes>,
+    flat: Option<flat::FlatList>,
     prims: Vec<Prim>,
     build_time: Duration,
     /// Some shape is hit only from outside (the curves: [`WorldShape::outside_only`]).
@@ -290,7 +290,7 @@ impl Accel {
                     Prim::Tri { .. } => true,
                     Prim::Analytic { shape } => matches!(shapes[shape as usize].kind, ShapeKind::Mesh(_)),
                 });
-                flat::FlatBoxes::new(&aabbs, triangles)
+                flat::FlatList::new(&shapes, &prims, &aabbs, triangles)
             });
             return Self {
                 shapes,
