@@ -7,8 +7,9 @@
 //! indirection per candidate; triangles carry their three vertices inline. The choice of crate and
 //! its measured speed are in `ARCHITECTURE.md` and `benches/accel.rs`.
 //!
-//! Scenes of at most 16 primitives skip the BVH: their boxes are tested four at a time from a
-//! flat list (`accel/flat.rs`, where the measurement that chose this is).
+//! Scenes of at most 16 primitives skip the BVH: a flat list (`accel/flat.rs`, where the
+//! measurements that chose it are) tests their spheres, rectangles and disks exactly four at a
+//! time in lanes, and the boxes of the other primitives four at a time.
 //!
 //! [`Intersect`] is the interface the integrator uses; [`BruteForce`] implements it by testing
 //! every primitive and serves as the test oracle for [`Accel`].

@@ -1,4 +1,4 @@
-//! The `Accel` (obvhs BVH, or the flat box list of small scenes) against the brute-force oracle on random mixed scenes.
+//! The `Accel` (obvhs BVH, or the flat list of small scenes) against the brute-force oracle on random mixed scenes.
 
 use glam::{Affine3A, Quat, Vec3};
 use gonio_core::hash::{GOLDEN_GAMMA, mix64, unit_f32};
@@ -507,7 +507,7 @@ fn straight_up_shadow_ray_is_blocked_by_a_sphere_above() {
 }
 
 /// A scene of `n_tris + 8` primitives: 3 spheres, 2 rectangles, 2 disks, an axis-aligned
-/// triangle (flat box) and `n_tris` random triangles — small enough for the flat box list when
+/// triangle (flat box) and `n_tris` random triangles — small enough for the flat list when
 /// `n_tris <= 8`, the BVH above. `None`: the 7 analytic shapes alone, no mesh.
 fn small_scene(rng: &mut Rng, n_tris: Option<u32>) -> Vec<WorldShape> {
     let mut shapes = Vec::new();
@@ -561,7 +561,7 @@ fn small_scene(rng: &mut Rng, n_tris: Option<u32>) -> Vec<WorldShape> {
 
 #[test]
 fn small_scenes_agree_with_brute_force_on_both_sides_of_the_flat_list_limit() {
-    // 15 and 16 primitives take the flat box list, 17 the BVH; random and axis-aligned rays,
+    // 15 and 16 primitives take the flat list, 17 the BVH; random and axis-aligned rays,
     // every query, against the oracle. Analytic shapes alone (7) take the flat list without the
     // triangle test's ray set-up.
     let dirs = axis_aligned_directions();
@@ -621,17 +621,66 @@ fn small_scenes_agree_with_brute_force_on_both_sides_of_the_flat_list_limit() {
     }
 }
 
+/// A scene for the flat list's lanes: `spheres` spheres and `planes` rectangles and disks
+/// (alternating), randomly placed, and one triangle.
+fn lane_scene(rng: &mut Rng, spheres: usize, planes: usize) -> Vec<WorldShape> {
+    let mut shapes: Vec<ShapeDesc> = (0..spheres)
+        .map(|_| {
+            let (c, r) = (rng.v3(-3.0, 3.0), rng.range(0.2, 0.9));
+            shape(Geometry::Sphere { center: c, radius: r }, Affine3A::IDENTITY)
+        })
+        .collect();
+    for i in 0..planes {
+        let q = Quat::from_scaled_axis(rng.v3(-2.0, 2.0));
+        let m = Affine3A::from_scale_rotation_translation(
+            Vec3::new(rng.range(0.4, 1.5), rng.range(0.4, 1.5), 1.0),
+            q,
+            rng.v3(-3.0, 3.0),
+        );
+        let g = if i % 2 == 0 {
+            Geometry::Rectangle
+        } else {
+            Geometry::Disk
+        };
+        shapes.push(shape(g, m));
+    }
+    let mesh = TriangleMesh {
+        positions: vec![rng.v3(-3.0, 3.0), rng.v3(-3.0, 3.0), rng.v3(-3.0, 3.0)],
+        indices: vec![[0, 1, 2]],
+        ..Default::default()
+    };
+    shapes.push(shape(Geometry::Mesh(Arc::new(mesh)), Affine3A::IDENTITY));
+    shapes
+        .iter()
+        .enumerate()
+        .map(|(i, s)| WorldShape::from_scene(s, &i.to_string()).unwrap())
+        .collect()
+}
+
+/// A scene made from a seeded generator.
+type SceneMaker = fn(&mut Rng) -> Vec<WorldShape>;
+
 #[test]
 fn flat_list_lanes_find_the_scalar_tests_hits_bit_for_bit() {
-    // The flat list tests spheres, rectangles, disks and triangles four at a time in lanes with
-    // the scalar tests' arithmetic: the same primitive must come out at the same distance and
-    // the same point, to the bit (the brute force runs the scalar tests). Rays from inside and
-    // outside the shapes, random and axis-aligned directions, short and unbounded; also rays
-    // from points on the shapes (the next segment of a path).
+    // The flat list tests spheres, rectangles and disks four of a kind at a time in lanes with
+    // the scalar tests' arithmetic: the same primitive must come out at the same distance, point
+    // and surface coordinates, to the bit (the brute force runs the scalar tests). Scenes with
+    // one partial chunk of each kind, and with several chunks (the distance found in one bounds
+    // the next), full and partial. Rays from inside and outside the shapes, random and
+    // axis-aligned directions, short and unbounded; also rays from points on the shapes (the
+    // next segment of a path).
     let dirs = axis_aligned_directions();
-    for (seed, n_tris) in [(21u64, Some(8u32)), (22, Some(3)), (23, None)] {
+    let scenes: [(u64, SceneMaker); 5] = [
+        (21, |r| small_scene(r, Some(8))),
+        (22, |r| small_scene(r, Some(3))),
+        (23, |r| small_scene(r, None)),
+        (24, |r| lane_scene(r, 7, 6)),
+        (25, |r| lane_scene(r, 9, 5)),
+    ];
+    for (seed, make) in scenes {
         let mut rng = Rng(seed);
-        let shapes = small_scene(&mut rng, n_tris);
+        let shapes = make(&mut rng);
+        assert!(shapes.len() <= 16, "the flat list's size");
         let accel = Accel::new(shapes.clone());
         let brute = BruteForce::new(shapes);
         let (mut same, mut ties) = (0, 0);

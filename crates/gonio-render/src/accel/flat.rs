@@ -26,7 +26,9 @@
 //! Closest-hit and any-hit queries take the lanes; the query that visits every hit
 //! ([`FlatList::each`]) tests all boxes in primitive order, as before. A closest hit met by two
 //! primitives at exactly the same distance goes to the first tested (spheres, then planes, then
-//! the rest), not to the first in scene order.
+//! the rest), not to the first in scene order; and an `sdfgrid` behind them is searched up to the
+//! nearer distance they leave (its root search clips its interval there), so its hit may move by
+//! a few ulps against a search up to a farther one.
 
 use super::{Prim, prim_ids, prim_test, slab_inverse};
 use crate::geometry::shape::{PrimHit, TriRay};
@@ -144,7 +146,7 @@ fn nearest_lane(hit: BVec4A, t: Vec4) -> (usize, f32) {
     )
 }
 
-/// The mask of the first `n` lanes, from a chunk's bit mask of valid lanes.
+/// A chunk's bit mask of valid lanes (bit `i` for lane `i`) as a lane mask.
 fn lane_mask(valid: u32) -> BVec4A {
     BVec4A::new(valid & 1 != 0, valid & 2 != 0, valid & 4 != 0, valid & 8 != 0)
 }
@@ -173,9 +175,9 @@ impl FlatList {
         }
         let spheres = chunks_of(&spheres, |c, valid, ids| {
             let (mut centre, mut r2) = ([[0.0f32; 4]; 3], [0.0f32; 4]);
-            for (lane, &((c, rr), _)) in c.iter().enumerate() {
+            for (lane, &((at, rr), _)) in c.iter().enumerate() {
                 for k in 0..3 {
-                    centre[k][lane] = c[k];
+                    centre[k][lane] = at[k];
                 }
                 r2[lane] = rr;
             }
