@@ -559,6 +559,21 @@ fn small_scene(rng: &mut Rng, n_tris: Option<u32>) -> Vec<WorldShape> {
     world(shapes)
 }
 
+/// Ray `i` of the small-scene tests: from a random point of the scenes' cube, in a random
+/// direction (even `i`) or along one of `dirs` (odd), every third one short.
+fn mixed_ray(rng: &mut Rng, dirs: &[Vec3], i: usize) -> Ray {
+    let d = if i.is_multiple_of(2) {
+        rng.dir()
+    } else {
+        dirs[(i / 2) % dirs.len()]
+    };
+    let mut ray = Ray::new(rng.v3(-3.5, 3.5), d);
+    if i.is_multiple_of(3) {
+        ray.tmax = rng.range(0.5, 6.0);
+    }
+    ray
+}
+
 #[test]
 fn small_scenes_agree_with_brute_force_on_both_sides_of_the_flat_list_limit() {
     // 15 and 16 primitives take the flat list, 17 the BVH; random and axis-aligned rays,
@@ -573,15 +588,7 @@ fn small_scenes_agree_with_brute_force_on_both_sides_of_the_flat_list_limit() {
         assert_eq!(accel.prim_count(), n_tris.map_or(7, |n| n as usize + 8));
         let (mut hits, mut misses) = (0, 0);
         for i in 0..6000 {
-            let d = if i % 2 == 0 {
-                rng.dir()
-            } else {
-                dirs[(i / 2) % dirs.len()]
-            };
-            let mut ray = Ray::new(rng.v3(-3.5, 3.5), d);
-            if i % 3 == 0 {
-                ray.tmax = rng.range(0.5, 6.0);
-            }
+            let ray = mixed_ray(&mut rng, &dirs, i);
             let a = accel.intersect(&ray).map(|h| (h.t, h.shape, h.prim));
             let b = brute.intersect(&ray).map(|h| (h.t, h.shape, h.prim));
             match (a, b) {
@@ -680,20 +687,12 @@ fn flat_list_lanes_find_the_scalar_tests_hits_bit_for_bit() {
     for (seed, make) in scenes {
         let mut rng = Rng(seed);
         let shapes = make(&mut rng);
-        assert!(shapes.len() <= 16, "the flat list's size");
         let accel = Accel::new(shapes.clone());
+        assert!(accel.prim_count() <= 16, "the flat list's size");
         let brute = BruteForce::new(shapes);
         let (mut same, mut ties) = (0, 0);
         for i in 0..8000 {
-            let d = if i % 2 == 0 {
-                rng.dir()
-            } else {
-                dirs[(i / 2) % dirs.len()]
-            };
-            let mut ray = Ray::new(rng.v3(-3.5, 3.5), d);
-            if i % 3 == 0 {
-                ray.tmax = rng.range(0.5, 6.0);
-            }
+            let ray = mixed_ray(&mut rng, &dirs, i);
             let from_surface = brute.intersect(&ray).map(|h| h.spawn_ray(rng.dir()));
             for ray in std::iter::once(ray).chain(from_surface) {
                 let (a, b) = (accel.intersect(&ray), brute.intersect(&ray));
