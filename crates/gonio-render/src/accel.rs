@@ -8,7 +8,7 @@
 //! its measured speed are in `ARCHITECTURE.md` and `benches/accel.rs`.
 //!
 //! Scenes of at most 16 primitives skip the BVH: a flat list (`accel/flat.rs`, where the
-//! measurements that chose it are) tests their spheres, rectangles and disks exactly four at a
+//! measurements that chose it are) tests their spheres, rectangles and disks exactly, four at a
 //! time in lanes, and the boxes of the other primitives four at a time.
 //!
 //! [`Intersect`] is the interface the integrator uses; [`BruteForce`] implements it by testing
@@ -287,11 +287,7 @@ impl Accel {
             let prims = all_prims(&shapes, meshes_elsewhere);
             let flat = (!prims.is_empty()).then(|| {
                 let aabbs: Vec<Aabb> = prims.iter().map(|p| prim_aabb(&shapes, p)).collect();
-                let triangles = prims.iter().any(|p| match *p {
-                    Prim::Tri { .. } => true,
-                    Prim::Analytic { shape } => matches!(shapes[shape as usize].kind, ShapeKind::Mesh(_)),
-                });
-                flat::FlatList::new(&shapes, &prims, &aabbs, triangles)
+                flat::FlatList::new(&shapes, &prims, &aabbs)
             });
             return Self {
                 shapes,

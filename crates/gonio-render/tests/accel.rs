@@ -644,7 +644,7 @@ fn lane_scene(rng: &mut Rng, spheres: usize, planes: usize) -> Vec<WorldShape> {
             q,
             rng.v3(-3.0, 3.0),
         );
-        let g = if i % 2 == 0 {
+        let g = if i.is_multiple_of(2) {
             Geometry::Rectangle
         } else {
             Geometry::Disk
@@ -669,13 +669,13 @@ type SceneMaker = fn(&mut Rng) -> Vec<WorldShape>;
 
 #[test]
 fn flat_list_lanes_find_the_scalar_tests_hits_bit_for_bit() {
-    // The flat list tests spheres, rectangles and disks four of a kind at a time in lanes with
-    // the scalar tests' arithmetic: the same primitive must come out at the same distance, point
-    // and surface coordinates, to the bit (the brute force runs the scalar tests). Scenes with
-    // one partial chunk of each kind, and with several chunks (the distance found in one bounds
-    // the next), full and partial. Rays from inside and outside the shapes, random and
-    // axis-aligned directions, short and unbounded; also rays from points on the shapes (the
-    // next segment of a path).
+    // The flat list tests spheres, and rectangles and disks, four at a time in lanes with the
+    // scalar tests' arithmetic: the same primitive must come out at the same distance, point
+    // and surface coordinates, to the bit (the brute force runs the scalar tests), and a ray
+    // must be occluded exactly when it hits. Scenes with one chunk of each kind, and with
+    // several chunks (the distance found in one bounds the next), full and partial. Rays from
+    // inside and outside the shapes, random and axis-aligned directions, short and unbounded;
+    // also rays from points on the shapes (the next segment of a path).
     let dirs = axis_aligned_directions();
     let scenes: [(u64, SceneMaker); 5] = [
         (21, |r| small_scene(r, Some(8))),
@@ -697,6 +697,11 @@ fn flat_list_lanes_find_the_scalar_tests_hits_bit_for_bit() {
             for ray in std::iter::once(ray).chain(from_surface) {
                 let (a, b) = (accel.intersect(&ray), brute.intersect(&ray));
                 assert_eq!(a.is_some(), b.is_some(), "seed {seed}, ray {i} {ray:?}");
+                assert_eq!(
+                    accel.occluded(&ray),
+                    b.is_some(),
+                    "seed {seed}, ray {i}: occlusion"
+                );
                 let (Some(a), Some(b)) = (a, b) else { continue };
                 if (a.shape, a.prim) != (b.shape, b.prim) {
                     // Two primitives at exactly the same distance: the lanes take the first
@@ -705,22 +710,22 @@ fn flat_list_lanes_find_the_scalar_tests_hits_bit_for_bit() {
                     ties += 1;
                     continue;
                 }
+                // uv: a rectangle's or disk's comes straight from the lane's object-space (x, y).
+                let bits = |h: &SurfaceInteraction| {
+                    (
+                        h.t.to_bits(),
+                        h.p.to_array().map(f32::to_bits),
+                        h.uv.to_array().map(f32::to_bits),
+                        h.bary.to_array().map(f32::to_bits),
+                    )
+                };
                 assert_eq!(
-                    (
-                        a.t.to_bits(),
-                        a.p.to_array().map(f32::to_bits),
-                        a.bary.to_array().map(f32::to_bits)
-                    ),
-                    (
-                        b.t.to_bits(),
-                        b.p.to_array().map(f32::to_bits),
-                        b.bary.to_array().map(f32::to_bits)
-                    ),
+                    bits(&a),
+                    bits(&b),
                     "seed {seed}, ray {i} {ray:?}: shape {} primitive {}",
                     a.shape,
                     a.prim
                 );
-                assert_eq!(accel.occluded(&ray), brute.occluded(&ray), "seed {seed}, ray {i}");
                 same += 1;
             }
         }

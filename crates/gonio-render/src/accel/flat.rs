@@ -1,7 +1,7 @@
 //! The accelerator of scenes with a handful of primitives: a flat list, with no tree.
 //!
-//! Spheres, rectangles and disks are tested exactly, four of one kind at a time, one lane each
-//! (the arithmetic of [`intersect_sphere`](crate::geometry::shape::intersect_sphere) and of the
+//! Spheres, and planes (rectangles and disks), are tested exactly, four spheres or four planes
+//! at a time, one lane each (the arithmetic of [`intersect_sphere`](crate::geometry::shape::intersect_sphere) and of the
 //! planar test, operation for operation, so a lane finds the distance the scalar test finds,
 //! bit for bit). The other primitives (triangles, instances, grids) have their bounding boxes
 //! tested four at a time with one slab test per lane (Kay and Kajiya 1986), then the exact
@@ -14,7 +14,8 @@
 //! Testing each primitive exactly one at a time (no boxes) was slower still, since an analytic
 //! shape's scalar test costs several box tests; in lanes the exact test of four spheres or
 //! planes costs about what the four box tests did, and replaces them and the scalar tests behind
-//! them (callgrind, furnace: 6.5 % fewer estimated cycles per sample, materials 2 %). Triangles
+//! them (callgrind, furnace: 6.5 % fewer estimated cycles per sample, materials 2 % fewer
+//! instructions). Triangles
 //! in lanes (the watertight test four at a time) were measured and not kept: thin-vs-thick's
 //! cube ran no faster, the boxes culling most of its triangles for fewer instructions. Above
 //! [`MAX_PRIMS`] the BVH takes over.
@@ -24,7 +25,7 @@
 //! Traversal") so that rounding in the slab test never culls a box a ray grazes.
 //!
 //! Closest-hit and any-hit queries take the lanes; the query that visits every hit
-//! ([`FlatList::each`]) tests all boxes in primitive order, as before. A closest hit met by two
+//! ([`FlatList::each`]) tests the boxes of all primitives in list order. A closest hit met by two
 //! primitives at exactly the same distance goes to the first tested (spheres, then planes, then
 //! the rest), not to the first in scene order; and an `sdfgrid` behind them is searched up to the
 //! nearer distance they leave (its root search clips its interval there), so its hit may move by
@@ -44,7 +45,7 @@ const FAR_SLACK: f32 = 1.0 + 4.0 * f32::EPSILON;
 
 /// Four boxes, structure-of-arrays.
 #[derive(Clone, Copy, Debug)]
-struct Chunk {
+struct Boxes {
     lo: [Vec4; 3],
     hi: [Vec4; 3],
     /// Bit `i` set when lane `i` holds a box (the last chunk may be partly empty).
@@ -53,12 +54,16 @@ struct Chunk {
     ids: [u32; 4],
 }
 
-/// Four spheres, structure-of-arrays: centres and squared radii.
+/// Four spheres, structure-of-arrays.
 #[derive(Clone, Copy, Debug)]
 struct Spheres {
-    c: [Vec4; 3],
+    /// Centres, component by component.
+    center: [Vec4; 3],
+    /// Squared radii.
     r2: Vec4,
+    /// The lanes that hold a sphere (the last chunk may be partly empty).
     valid: BVec4A,
+    /// The primitive (index in the list) of each lane.
     ids: [u32; 4],
 }
 
@@ -66,12 +71,15 @@ struct Spheres {
 /// of the linear part, component by component, and the translation) and which lanes are disks.
 #[derive(Clone, Copy, Debug)]
 struct Planes {
-    /// `m[j][k]`: component `k` of column `j`.
+    /// `m[j][k]`: component `k` of column `j` of the linear part.
     m: [[Vec4; 3]; 3],
+    /// The translation, component by component.
     t: [Vec4; 3],
     /// The lanes that are disks (the others rectangles).
     disk: BVec4A,
+    /// The lanes that hold a plane.
     valid: BVec4A,
+    /// The primitive (index in the list) of each lane.
     ids: [u32; 4],
 }
 
@@ -81,9 +89,9 @@ pub(super) struct FlatList {
     spheres: Vec<Spheres>,
     planes: Vec<Planes>,
     /// The boxes of the other primitives (closest-hit and any-hit queries).
-    rest: Vec<Chunk>,
+    rest: Vec<Boxes>,
     /// The boxes of all primitives, in list order (the query that visits every hit).
-    all: Vec<Chunk>,
+    all: Vec<Boxes>,
     /// Some primitive is a triangle: queries prepare the ray for the triangle test.
     triangles: bool,
 }
@@ -108,21 +116,21 @@ impl LaneRay {
             d: splat3(ray.d),
         }
     }
+}
 
-    /// The inverse direction for the slab test (made only where boxes are tested: its three
-    /// divisions are a sphere-only scene's largest cost per query after the sphere test).
-    #[inline(always)]
-    fn inverse(ray: &Ray) -> [Vec4; 3] {
-        splat3(Vec3::new(
-            slab_inverse(ray.d.x),
-            slab_inverse(ray.d.y),
-            slab_inverse(ray.d.z),
-        ))
-    }
+/// `ray`'s inverse direction for the slab test, splatted (made only where boxes are tested: its
+/// three divisions are a sphere-only scene's largest cost per query after the sphere test).
+#[inline(always)]
+fn inverse_direction(ray: &Ray) -> [Vec4; 3] {
+    splat3(Vec3::new(
+        slab_inverse(ray.d.x),
+        slab_inverse(ray.d.y),
+        slab_inverse(ray.d.z),
+    ))
 }
 
 /// Groups `items` (lane payload, primitive index) four by four into chunks made by `make`.
-fn chunks_of<T: Copy, C>(items: &[(T, u32)], make: impl Fn(&[(T, u32)], u32, [u32; 4]) -> C) -> Vec<C> {
+fn chunks_of<T, C>(items: &[(T, u32)], make: impl Fn(&[(T, u32)], u32, [u32; 4]) -> C) -> Vec<C> {
     items
         .chunks(4)
         .map(|c| {
@@ -136,8 +144,10 @@ fn chunks_of<T: Copy, C>(items: &[(T, u32)], make: impl Fn(&[(T, u32)], u32, [u3
 }
 
 /// The lane of the smallest `t` among the lanes of `hit` (the first of equals), and that `t`.
+/// Some lane must be set (the callers ask `hit.any()` first; a NaN distance never is one).
 #[inline(always)]
 fn nearest_lane(hit: BVec4A, t: Vec4) -> (usize, f32) {
+    debug_assert!(hit.any());
     let t = Vec4::select(hit, t, Vec4::INFINITY);
     let m = t.min_element();
     (
@@ -152,9 +162,12 @@ fn lane_mask(valid: u32) -> BVec4A {
 }
 
 impl FlatList {
-    /// The list of `prims` (over `shapes`) with their `boxes` (one per primitive, same order);
-    /// `triangles` when some primitive is tested as a triangle.
-    pub(super) fn new(shapes: &[WorldShape], prims: &[Prim], boxes: &[Aabb], triangles: bool) -> Self {
+    /// The list of `prims` (over `shapes`) with their `boxes` (one per primitive, same order).
+    pub(super) fn new(shapes: &[WorldShape], prims: &[Prim], boxes: &[Aabb]) -> Self {
+        let triangles = prims.iter().any(|p| match *p {
+            Prim::Tri { .. } => true,
+            Prim::Analytic { shape } => matches!(shapes[shape as usize].kind, ShapeKind::Mesh(_)),
+        });
         let mut spheres = Vec::new();
         let mut planes = Vec::new();
         let mut rest = Vec::new();
@@ -174,15 +187,15 @@ impl FlatList {
             }
         }
         let spheres = chunks_of(&spheres, |c, valid, ids| {
-            let (mut centre, mut r2) = ([[0.0f32; 4]; 3], [0.0f32; 4]);
+            let (mut center, mut r2) = ([[0.0f32; 4]; 3], [0.0f32; 4]);
             for (lane, &((at, rr), _)) in c.iter().enumerate() {
                 for k in 0..3 {
-                    centre[k][lane] = at[k];
+                    center[k][lane] = at[k];
                 }
                 r2[lane] = rr;
             }
             Spheres {
-                c: centre.map(Vec4::from_array),
+                center: center.map(Vec4::from_array),
                 r2: Vec4::from_array(r2),
                 valid: lane_mask(valid),
                 ids,
@@ -205,7 +218,7 @@ impl FlatList {
             Planes {
                 m: m.map(|col| col.map(Vec4::from_array)),
                 t: t.map(Vec4::from_array),
-                disk: BVec4A::new(disk[0], disk[1], disk[2], disk[3]),
+                disk: BVec4A::from_array(disk),
                 valid: lane_mask(valid),
                 ids,
             }
@@ -232,7 +245,7 @@ impl FlatList {
 
     /// Lanes of chunk `c` whose box the ray enters within `(0, tmax]` (bit `i` for lane `i`).
     #[inline(always)]
-    fn entered(c: &Chunk, r: &LaneRay, inv: &[Vec4; 3], tmax: f32) -> u32 {
+    fn entered(c: &Boxes, r: &LaneRay, inv: &[Vec4; 3], tmax: f32) -> u32 {
         let t0x = (c.lo[0] - r.o[0]) * inv[0];
         let t1x = (c.hi[0] - r.o[0]) * inv[0];
         let t0y = (c.lo[1] - r.o[1]) * inv[1];
@@ -253,7 +266,7 @@ impl FlatList {
     /// stable root `q = −b − sign(b)·√disc`, roots `c/q` and `q`, the nearer one in range).
     #[inline(always)]
     fn sphere_hits(s: &Spheres, r: &LaneRay, tmax: f32) -> (BVec4A, Vec4) {
-        let f = [r.o[0] - s.c[0], r.o[1] - s.c[1], r.o[2] - s.c[2]];
+        let f = [r.o[0] - s.center[0], r.o[1] - s.center[1], r.o[2] - s.center[2]];
         let dot = |a: &[Vec4; 3], b: &[Vec4; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let b = dot(&f, &r.d);
         let c = dot(&f, &f) - s.r2;
@@ -319,14 +332,14 @@ impl FlatList {
             if hit.any() {
                 let (lane, t) = nearest_lane(hit, t);
                 q.tmax = t;
-                let (a, b) = (x.to_array()[lane], y.to_array()[lane]);
+                let (a, b) = (x[lane], y[lane]);
                 best = Some((PrimHit { t, a, b }, p.ids[lane] as usize));
             }
         }
         if self.rest.is_empty() {
             return best;
         }
-        let (tri, inv) = (self.tri_ray(ray), LaneRay::inverse(ray));
+        let (tri, inv) = (self.tri_ray(ray), inverse_direction(ray));
         for c in &self.rest {
             let mut m = Self::entered(c, &lanes, &inv, q.tmax);
             while m != 0 {
@@ -359,7 +372,7 @@ impl FlatList {
         if self.rest.is_empty() {
             return false;
         }
-        let (tri, inv) = (self.tri_ray(ray), LaneRay::inverse(ray));
+        let (tri, inv) = (self.tri_ray(ray), inverse_direction(ray));
         for c in &self.rest {
             let mut m = Self::entered(c, &lanes, &inv, ray.tmax);
             while m != 0 {
@@ -381,7 +394,7 @@ impl FlatList {
         ray: &Ray,
         f: &mut dyn FnMut(&SurfaceInteraction) -> bool,
     ) -> bool {
-        let (tri, lanes, inv) = (self.tri_ray(ray), LaneRay::new(ray), LaneRay::inverse(ray));
+        let (tri, lanes, inv) = (self.tri_ray(ray), LaneRay::new(ray), inverse_direction(ray));
         for c in &self.all {
             let mut m = Self::entered(c, &lanes, &inv, ray.tmax);
             while m != 0 {
@@ -407,7 +420,7 @@ impl FlatList {
 }
 
 /// Boxes (with their primitive indices) in chunks of four.
-fn box_chunks(boxes: &[(Aabb, u32)]) -> Vec<Chunk> {
+fn box_chunks(boxes: &[(Aabb, u32)]) -> Vec<Boxes> {
     chunks_of(boxes, |c, valid, ids| {
         let mut lo = [[0.0f32; 4]; 3];
         let mut hi = [[0.0f32; 4]; 3];
@@ -417,7 +430,7 @@ fn box_chunks(boxes: &[(Aabb, u32)]) -> Vec<Chunk> {
                 hi[axis][lane] = b.max[axis];
             }
         }
-        Chunk {
+        Boxes {
             lo: lo.map(Vec4::from_array),
             hi: hi.map(Vec4::from_array),
             valid,
