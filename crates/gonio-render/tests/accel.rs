@@ -89,6 +89,11 @@ fn random_scene(rng: &mut Rng) -> Vec<WorldShape> {
         ..Default::default()
     };
     shapes.push(shape(Geometry::Mesh(Arc::new(quad)), Affine3A::IDENTITY));
+    world(&shapes)
+}
+
+/// The world-space shapes of `shapes`, each named by its index.
+fn world(shapes: &[ShapeDesc]) -> Vec<WorldShape> {
     shapes
         .iter()
         .enumerate()
@@ -529,15 +534,8 @@ fn small_scene(rng: &mut Rng, n_tris: Option<u32>) -> Vec<WorldShape> {
             Affine3A::from_scale_rotation_translation(Vec3::splat(rng.range(0.5, 2.0)), q, rng.v3(-3.0, 3.0));
         shapes.push(shape(g, m));
     }
-    let world = |shapes: Vec<ShapeDesc>| -> Vec<WorldShape> {
-        shapes
-            .iter()
-            .enumerate()
-            .map(|(i, s)| WorldShape::from_scene(s, &i.to_string()).unwrap())
-            .collect()
-    };
     let Some(n_tris) = n_tris else {
-        return world(shapes);
+        return world(&shapes);
     };
     let mut mesh = TriangleMesh {
         positions: vec![
@@ -556,7 +554,7 @@ fn small_scene(rng: &mut Rng, n_tris: Option<u32>) -> Vec<WorldShape> {
         mesh.indices.push([3 * i, 3 * i + 1, 3 * i + 2]);
     }
     shapes.push(shape(Geometry::Mesh(Arc::new(mesh)), Affine3A::IDENTITY));
-    world(shapes)
+    world(&shapes)
 }
 
 /// Ray `i` of the small-scene tests: from a random point of the scenes' cube, in a random
@@ -657,11 +655,7 @@ fn lane_scene(rng: &mut Rng, spheres: usize, planes: usize) -> Vec<WorldShape> {
         ..Default::default()
     };
     shapes.push(shape(Geometry::Mesh(Arc::new(mesh)), Affine3A::IDENTITY));
-    shapes
-        .iter()
-        .enumerate()
-        .map(|(i, s)| WorldShape::from_scene(s, &i.to_string()).unwrap())
-        .collect()
+    world(&shapes)
 }
 
 /// A scene made from a seeded generator.
