@@ -1,9 +1,9 @@
 //! The accelerator of scenes with a handful of primitives: a flat list, with no tree.
 //!
 //! Spheres, and planes (rectangles and disks), are tested exactly, four spheres or four planes
-//! at a time, one lane each (the arithmetic of [`intersect_sphere`](crate::geometry::shape::intersect_sphere) and of the
-//! planar test, operation for operation, so a lane finds the distance the scalar test finds,
-//! bit for bit). The other primitives (triangles, instances, grids) have their bounding boxes
+//! at a time, one lane each (the arithmetic of
+//! [`intersect_sphere`](crate::geometry::shape::intersect_sphere) and of the planar test,
+//! operation for operation, so a lane finds the distance the scalar test finds, bit for bit). The other primitives (triangles, instances, grids) have their bounding boxes
 //! tested four at a time with one slab test per lane (Kay and Kajiya 1986), then the exact
 //! primitive test for the boxes the ray enters.
 //!
@@ -15,10 +15,9 @@
 //! shape's scalar test costs several box tests; in lanes the exact test of four spheres or
 //! planes costs about what the four box tests did, and replaces them and the scalar tests behind
 //! them (callgrind, furnace: 6.5 % fewer estimated cycles per sample, materials 2 % fewer
-//! instructions). Triangles
-//! in lanes (the watertight test four at a time) were measured and not kept: thin-vs-thick's
-//! cube ran no faster, the boxes culling most of its triangles for fewer instructions. Above
-//! [`MAX_PRIMS`] the BVH takes over.
+//! instructions). Triangles in lanes (the watertight test four at a time) were measured and not
+//! kept: thin-vs-thick's cube ran no faster, the boxes culling most of its triangles for fewer
+//! instructions. Above [`MAX_PRIMS`] the BVH takes over.
 //!
 //! Boxes are the same padded boxes the BVH is built from, so a primitive is tested whenever its
 //! box is entered; the far distance gets a slack of a few ulps (Ize 2013, "Robust BVH Ray
@@ -263,7 +262,9 @@ impl FlatList {
 
     /// The lanes of `s` the ray hits in `(0, tmax)` and each lane's distance: `intersect_sphere`
     /// in four lanes (`f = o − c`, `b = f·d`, `c = |f|² − r²`, `disc = r² − |f − b d|²`, the
-    /// stable root `q = −b − sign(b)·√disc`, roots `c/q` and `q`, the nearer one in range).
+    /// stable root `q = −b − sign(b)·√disc`, roots `c/q` and `q`, the nearer one in range). Where
+    /// the scalar test returns early (`disc < 0`), √disc is NaN and so are both roots, which no
+    /// range check passes.
     #[inline(always)]
     fn sphere_hits(s: &Spheres, r: &LaneRay, tmax: f32) -> (BVec4A, Vec4) {
         let f = [r.o[0] - s.center[0], r.o[1] - s.center[1], r.o[2] - s.center[2]];
@@ -272,7 +273,6 @@ impl FlatList {
         let c = dot(&f, &f) - s.r2;
         let l = [f[0] - b * r.d[0], f[1] - b * r.d[1], f[2] - b * r.d[2]];
         let disc = s.r2 - dot(&l, &l);
-        let real = !disc.cmplt(Vec4::ZERO);
         let q = -b - disc.sqrt().copysign(b);
         let nonzero = q.cmpne(Vec4::ZERO);
         let t0 = Vec4::select(nonzero, c / q, Vec4::ZERO);
@@ -283,7 +283,7 @@ impl FlatList {
         let near_in = near.cmpgt(Vec4::ZERO) & near.cmplt(tmax);
         let far_in = far.cmpgt(Vec4::ZERO) & far.cmplt(tmax);
         let t = Vec4::select(near_in, near, far);
-        ((near_in | far_in) & real & s.valid, t)
+        ((near_in | far_in) & s.valid, t)
     }
 
     /// The lanes of `p` the ray hits in `(0, tmax)`, with each lane's distance and object-space
