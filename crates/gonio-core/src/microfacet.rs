@@ -298,8 +298,10 @@ impl MicrofacetDistribution {
     }
 
     /// All normals, pdf D(m) cos θm (Walter et al. 2007; Mitsuba 3 `sample`,
-    /// `sample_visible = false`).
-    fn sample_all_normals(&self, u: Vec2) -> Vec3 {
+    /// `sample_visible = false`), whatever [`Self::sample_visible`] says; the density is left to
+    /// the caller ([`Self::pdf`] with `sample_visible` false).
+    #[inline]
+    pub fn sample_all_normals(&self, u: Vec2) -> Vec3 {
         let (sin_phi, cos_phi, alpha_2) = if self.is_anisotropic() {
             let ratio = self.alpha_v / self.alpha_u;
             let tmp = ratio * (2.0 * PI * u.y).tan();

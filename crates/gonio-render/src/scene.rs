@@ -99,6 +99,10 @@ pub struct IntegratorDesc {
     /// lobe are left to BSDF sampling there (default true; see
     /// `emitter::Lights::left_to_bsdf`).
     pub narrow_lobes: bool,
+    /// Ours: candidates of resampled next-event estimation at a single-scattering
+    /// `roughconductor` lit by an environment map alone (default 8; 0, Mitsuba's estimator: one
+    /// light sample and one BSDF sample weighed by MIS; see `integrator::resampled`).
+    pub ris_candidates: u32,
     /// Exponent β of the power heuristic between next-event estimation and BSDF sampling
     /// (default 1.25; Mitsuba's 2).
     pub mis_exponent: f32,
@@ -240,6 +244,7 @@ impl IntegratorDesc {
             split_visible_glass: false,
             split_lights: 0,
             narrow_lobes: false,
+            ris_candidates: 0,
             mis_exponent: 2.0,
             rr_scale: 1.0,
             ..Self::default()
@@ -266,6 +271,7 @@ impl Default for IntegratorDesc {
             split_visible_glass: true,
             split_lights: 2,
             narrow_lobes: true,
+            ris_candidates: 8,
             mis_exponent: 1.25,
             kind: IntegratorKind::Path,
             stokes: false,

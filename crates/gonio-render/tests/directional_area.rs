@@ -72,6 +72,7 @@ fn floor_point(p: Vec3) -> LightRef {
         hemisphere: true,
         mis: true,
         resolved_density: 0.0,
+        resampled: false,
     }
 }
 
@@ -263,6 +264,7 @@ fn directionalarea_inward_sphere_sends_two_beams_through_its_inside() {
         hemisphere: false,
         mis: true,
         resolved_density: 0.0,
+        resampled: false,
     };
     let gain = (big_r / r).powi(2);
     // u.x < ½: the near side (light arriving from +w); else the antipode (from −w).

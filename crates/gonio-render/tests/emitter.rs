@@ -131,6 +131,7 @@ fn constant_light_sampling_matches_pdf() {
             hemisphere,
             mis: false,
             resolved_density: 0.0,
+            resampled: false,
         };
         let integral = integrate_sphere(|d| c.pdf_dir(&r, d), 300);
         assert!(
@@ -156,6 +157,7 @@ fn constant_light_sampling_matches_pdf() {
         hemisphere: true,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
     let s = light.sample_li_nonarea(&r, Vec2::new(0.2, 0.7), &wl).unwrap();
     assert_eq!(s.li[0], 0.7);
@@ -176,6 +178,7 @@ fn point_light_irradiance_and_power() {
         hemisphere: true,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
     let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
     assert!((s.dist - 5.0).abs() < 1e-5);
@@ -202,6 +205,7 @@ fn directional_light_irradiance_and_power() {
         hemisphere: true,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
     let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
     assert_eq!(s.wi, Vec3::Y);
@@ -245,6 +249,7 @@ fn spot_light_falloff_and_power() {
         hemisphere: true,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
     let s = light.sample_li_nonarea(&r, Vec2::ZERO, &wl).unwrap();
     assert!((s.li[1] - 5.0 / 4.0).abs() < 1e-5 && (s.wi - Vec3::Y).length() < 1e-6);
@@ -255,6 +260,7 @@ fn spot_light_falloff_and_power() {
         hemisphere: true,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
     assert!(light.sample_li_nonarea(&off, Vec2::ZERO, &wl).is_none());
 }
@@ -377,6 +383,7 @@ fn selection_by_position_is_a_consistent_distribution() {
             hemisphere: true,
             mis: false,
             resolved_density: 0.0,
+            resampled: false,
         };
         let pmf: Vec<f32> = (0..4).map(|i| set.pmf_at(&r, i)).collect();
         assert!((pmf.iter().sum::<f32>() - 1.0).abs() < 1e-5, "{pmf:?}");
@@ -406,6 +413,7 @@ fn selection_by_position_is_a_consistent_distribution() {
         hemisphere: true,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
     assert!(set.pmf_at(&below_first, 0) > 5.0 * set.pmf_at(&below_first, 1));
     let facing_down = LightRef {
@@ -414,6 +422,7 @@ fn selection_by_position_is_a_consistent_distribution() {
         hemisphere: true,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
     assert!((set.pmf_at(&facing_down, 0) - 0.1 * set.pmf(0)).abs() < 1e-6);
 }
@@ -452,6 +461,7 @@ fn light_samples_and_their_densities_agree_for_every_light_kind() {
             hemisphere: true,
             mis: false,
             resolved_density: 0.0,
+            resampled: false,
         };
         let Some((_, ls)) = lights.sample_li_indexed(shapes, &r, rng.next_f32(), rng.next_2d(), &wl) else {
             continue;

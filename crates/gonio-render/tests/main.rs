@@ -42,6 +42,7 @@ mod reference_scenes;
 mod refracted;
 mod render;
 mod render_stats;
+mod resampled;
 mod russian_roulette;
 mod sampler;
 mod sggx;

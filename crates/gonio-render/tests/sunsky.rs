@@ -183,6 +183,7 @@ fn next_event_samples_integrate_the_sky_and_sun() {
         hemisphere: false,
         mis: true,
         resolved_density: 0.0,
+        resampled: false,
     };
     let y_up = "<transform name=\"to_world\"><rotate x=\"1\" angle=\"-90\"/></transform>";
     let sheared = "<transform name=\"to_world\"><matrix value=\"1.5 0.4 0 0  0 0.8 0.3 0  0.2 0 1.1 0  0 0 0 1\"/></transform>";
@@ -394,6 +395,7 @@ fn selection_estimate_follows_the_sun_and_the_sky() {
             hemisphere,
             mis: true,
             resolved_density: 0.0,
+            resampled: false,
         };
         light.local_importance(&r, light.mean_emission())
     };

@@ -26,6 +26,7 @@ use super::{
 use super::{CircularPolarizer, Polarizer, Retarder};
 use crate::bsdf::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, LobeSplit};
 use crate::ior::SampledIor;
+use crate::microfacet::MicrofacetDistribution;
 use crate::mueller::Mueller;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
@@ -350,6 +351,19 @@ impl<'a> SurfaceBsdf<'a> {
             Some(Node::Leaf(LeafBsdf::Plastic(p))) if *ctx == BsdfContext::radiance() => {
                 p.sample_split(wi, u2, wl)
             }
+            _ => None,
+        }
+    }
+
+    /// The microfacet distribution when the tree is one single-scattering `roughconductor`
+    /// (a glossy lobe that only reflects, f = F·D·G/(4 cos θi cos θo)); `None` for every other
+    /// material. Resampled next-event estimation draws its candidates from it.
+    pub fn single_rough_conductor(&self) -> Option<MicrofacetDistribution> {
+        if self.len != 1 {
+            return None;
+        }
+        match self.node(0) {
+            Some(Node::Leaf(LeafBsdf::RoughConductor(c))) if !c.multiple_scattering => Some(c.distribution),
             _ => None,
         }
     }

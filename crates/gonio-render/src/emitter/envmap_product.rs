@@ -307,13 +307,20 @@ fn pick(cdf: &[f32], below: usize, u: f32) -> Option<(usize, f32, f32)> {
     (p > 0.0).then(|| (i, p, ((u - cdf[i]) / p).clamp(0.0, ONE_MINUS_EPSILON)))
 }
 
-/// The octahedral-map cell of a unit direction: the octahedron |x| + |y| + |z| = 1 unfolded
-/// onto [−1, 1]², its lower half folded over the corners, cut into `CELLS × CELLS`.
+/// The octahedral-map cell of a unit direction among [`CELLS`] × [`CELLS`]
+/// ([`octahedral_cell_of`]).
 #[inline]
 fn octahedral_cell(n: Vec3) -> usize {
+    octahedral_cell_of(n, CELLS)
+}
+
+/// The octahedral-map cell of a unit direction: the octahedron |x| + |y| + |z| = 1 unfolded
+/// onto [−1, 1]², its lower half folded over the corners, cut into `cells × cells` (row-major).
+#[inline]
+pub(super) fn octahedral_cell_of(n: Vec3, cells: usize) -> usize {
     let p = octahedral_encode(n);
-    let cell = |c: f32| (((c + 1.0) * 0.5 * CELLS as f32) as usize).min(CELLS - 1);
-    cell(p.y) * CELLS + cell(p.x)
+    let cell = |c: f32| (((c + 1.0) * 0.5 * cells as f32) as usize).min(cells - 1);
+    cell(p.y) * cells + cell(p.x)
 }
 
 fn octahedral_encode(n: Vec3) -> Vec2 {
@@ -334,11 +341,21 @@ fn sign(x: f32) -> f32 {
     if x >= 0.0 { 1.0 } else { -1.0 }
 }
 
-/// The unit direction at the centre of octahedral cell `k` (the inverse map of
-/// [`octahedral_cell`]'s encoding).
+/// The unit direction at the centre of octahedral cell `k` among [`CELLS`] × [`CELLS`].
 fn octahedral_centre(k: usize) -> Vec3 {
-    let c = |i: usize| (i as f32 + 0.5) / CELLS as f32 * 2.0 - 1.0;
-    let p = Vec2::new(c(k % CELLS), c(k / CELLS));
+    octahedral_centre_of(k, CELLS)
+}
+
+/// The unit direction at the centre of octahedral cell `k` among `cells × cells` (the inverse
+/// map of [`octahedral_cell_of`]'s encoding).
+pub(super) fn octahedral_centre_of(k: usize, cells: usize) -> Vec3 {
+    let c = |i: usize| (i as f32 + 0.5) / cells as f32 * 2.0 - 1.0;
+    octahedral_decode(Vec2::new(c(k % cells), c(k / cells)))
+}
+
+/// The unit direction at point `p` ∈ [−1, 1]² of the octahedral map (the inverse of
+/// [`octahedral_encode`]).
+fn octahedral_decode(p: Vec2) -> Vec3 {
     let z = 1.0 - p.x.abs() - p.y.abs();
     let (x, y) = if z >= 0.0 {
         (p.x, p.y)

@@ -84,6 +84,12 @@ pub struct LightRef {
     /// here (`SurfaceBsdf::resolved_light_density`, with `mis`; 0 where none is): such lights are
     /// left to BSDF sampling from here ([`Lights::left_to_bsdf`]).
     pub resolved_density: f32,
+    /// True when resampled next-event estimation lights this point (the scene's one light, an
+    /// environment map, at a single-scattering `roughconductor`; `integrator/resampled.rs`):
+    /// that estimator alone adds the map's light arriving straight from it, so a BSDF sample
+    /// leaving from here that escapes adds none ([`Lights::le_escaped`]). The light being the
+    /// scene's only one, no other light's densities ([`Lights::pmf_at`]) need to know.
+    pub resampled: bool,
 }
 
 impl LightRef {
@@ -95,6 +101,7 @@ impl LightRef {
         hemisphere: false,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
 }
 
@@ -670,7 +677,8 @@ impl Lights {
     /// The radiance of the light at infinity `li` arriving along −`dir` (a ray that left the
     /// scene) and, when `r` is the vertex that drew `dir` by its BSDF, the density with which
     /// [`Self::for_each_sample`] from `r` produces `dir` (selection × solid angle; 0 without `r` or
-    /// where the light is black, which nothing then weighs).
+    /// where the light is black, which nothing then weighs). Nothing at all where resampled
+    /// next-event estimation lit `r` ([`LightRef::resampled`]).
     #[inline]
     pub fn le_escaped(
         &self,
@@ -683,6 +691,10 @@ impl Lights {
         let Some(r) = r else {
             return (light.le_infinite(dir, wl), 0.0);
         };
+        if r.resampled {
+            // Resampled next-event estimation at `r` added this light whole.
+            return (SampledSpectrum::ZERO, 0.0);
+        }
         let (le, pdf_dir) = light.le_pdf_infinite(r, dir, wl);
         if le.is_black() {
             return (le, 0.0);

@@ -89,6 +89,14 @@
 //! (`integrator/manifold.rs`); the path tracer evaluates that strategy's density for the same
 //! paths and the two share them by the power heuristic.
 //!
+//! # Resampled next-event estimation (beyond Mitsuba)
+//!
+//! With `ris_candidates` (default 8), at a single-scattering `roughconductor` of narrow lobe in a
+//! scene lit by an `envmap` alone, the light sample is replaced by one direction resampled from
+//! that many candidates drawn from the lobe (Talbot et al. 2005), weighed by the lobe times a
+//! coarse table of the map; it alone adds the map's direct light there, so the BSDF sample
+//! from that vertex adds none when it escapes (`integrator/resampled.rs`).
+//!
 //! # Caustic light paths (beyond Mitsuba)
 //!
 //! With `caustic_paths` (the default; active when the scene has an area light and a delta lobe),
@@ -121,13 +129,15 @@ pub mod polarized;
 mod ptracer;
 mod record;
 mod refracted;
+mod resampled;
+pub use resampled::MAX_CANDIDATES as MAX_RIS_CANDIDATES;
 mod volpath;
 
 use path_state::{PathState, PrevVertex, StepFrom};
 
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
-use crate::emitter::{LightRef, Lights};
+use crate::emitter::{Light, LightRef, Lights};
 use crate::film::Channels;
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::material::{Material, ShadingPoint};
@@ -233,6 +243,8 @@ pub struct PathTracer<'a> {
     /// Lights at infinity without features as narrow as a rough lobe are left to BSDF sampling
     /// there ([`crate::emitter::Lights::left_to_bsdf`]).
     narrow_lobes: bool,
+    /// Candidates of resampled next-event estimation where it applies ([`resampled`]; 0: off).
+    ris_candidates: u32,
     /// Exponent of the power heuristic between next-event estimation and BSDF sampling
     /// ([`PathTracer::mis`]).
     mis_exponent: f32,
@@ -334,6 +346,13 @@ impl<'a> PathTracer<'a> {
             // Spectral renders only (the split lobes' weights are spectra).
             split_visible_glass: settings.split_visible_glass && !polarized,
             narrow_lobes: settings.narrow_lobes,
+            // The path tracer's spectral renders only (the estimator is the path tracer's
+            // strategy, [`resampled`]).
+            ris_candidates: if settings.kind == IntegratorKind::Path && !polarized {
+                settings.ris_candidates
+            } else {
+                0
+            },
             mis_exponent: settings.mis_exponent,
             light_shapes: if settings.split_escapes {
                 lobe_split::LightShapes::new(lights, accel.shapes())
@@ -368,6 +387,15 @@ impl<'a> PathTracer<'a> {
             && tracer.refracted_light.iter().any(|&l| l);
         if settings.manifold_nee && settings.kind == IntegratorKind::Path && !polarized && !any_thin {
             tracer.manifold = manifold::Setup::new(&tracer);
+        }
+        // Resampling's table of the map ([`resampled`]), built before the render's threads ask.
+        if tracer.ris_candidates > 0
+            && let [Light::EnvMap(map)] = lights.lights()
+            && materials
+                .iter()
+                .any(|m| m.flags().contains(BsdfFlags::GLOSSY_REFLECTION))
+        {
+            map.prepare_resampling();
         }
         tracer
     }
@@ -635,7 +663,8 @@ impl<'a> PathTracer<'a> {
     {
         let flags = v.bsdf.flags();
         // The path samples the BSDF at every vertex it samples a light from.
-        let light_ref = self.light_ref(v, flags, true);
+        let mut light_ref = self.light_ref(v, flags, true);
+        light_ref.resampled = self.resampling_applies(v, &light_ref);
 
         // Random numbers: a vertex with a smooth lobe takes five (light choice, light point,
         // lobe, direction), a purely delta one only its lobe choice (it samples no light and

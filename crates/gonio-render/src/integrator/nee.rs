@@ -35,6 +35,7 @@ impl PathTracer<'_> {
             } else {
                 0.0
             },
+            resampled: false,
         }
     }
 
@@ -59,6 +60,9 @@ impl PathTracer<'_> {
     where
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
+        if r.resampled {
+            return self.resampled_next_event(v, beta, u_sel, u, wl);
+        }
         let mut sum = W::ZERO;
         self.lights
             .for_each_sample(self.accel.shapes(), r, (u_sel, u), wl, |li, ls| {

@@ -127,6 +127,7 @@ impl PathTracer<'_> {
                     // The camera's view of the light: no BSDF sampling covers it.
                     mis: false,
                     resolved_density: 0.0,
+                    resampled: false,
                 };
                 let Some(ls) = light.sample_li_nonarea(&r, u_pos, wl) else {
                     return;

@@ -293,6 +293,7 @@ impl PathTracer<'_> {
                 mis: true,
                 // Area lights only, which are never left to BSDF sampling.
                 resolved_density: 0.0,
+                resampled: false,
             };
             self.lights.pmf_at(&r, li) * dir_pdf
         };

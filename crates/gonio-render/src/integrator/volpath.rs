@@ -109,6 +109,7 @@ impl PathTracer<'_> {
                         hemisphere: false,
                         mis: true,
                         resolved_density: 0.0,
+                        resampled: false,
                     };
                     if m.sample_emitters {
                         let u = (sampler.next_1d(), sampler.next_2d());
@@ -376,6 +377,7 @@ impl PathTracer<'_> {
             hemisphere: !flags.is_transmission(),
             mis: true,
             resolved_density: 0.0,
+            resampled: false,
         }
     }
 

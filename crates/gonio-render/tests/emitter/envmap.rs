@@ -41,6 +41,7 @@ fn at(mis: bool) -> LightRef {
         hemisphere: false,
         mis,
         resolved_density: 0.0,
+        resampled: false,
     }
 }
 
@@ -53,6 +54,7 @@ fn facing(n: Vec3) -> LightRef {
         hemisphere: true,
         mis: true,
         resolved_density: 0.0,
+        resampled: false,
     }
 }
 

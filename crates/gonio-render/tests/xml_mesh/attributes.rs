@@ -294,6 +294,7 @@ fn a_volume_radiance_is_the_grid_at_the_light_point() {
         hemisphere: false,
         mis: false,
         resolved_density: 0.0,
+        resampled: false,
     };
     let mut seen = (f32::INFINITY, f32::NEG_INFINITY);
     for k in 0..64 {

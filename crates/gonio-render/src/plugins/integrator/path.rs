@@ -94,6 +94,13 @@ const NARROW_LOBES: ParamSpec = ParamSpec::new(
     "(ours) a light at infinity whose radiance has no feature as narrow as the lobe of a single-scattering `roughconductor` or `roughdielectric` is not sampled at that surface: BSDF sampling alone finds it, weighted 1 (the light's largest density max L/∫L dω at most 0.05 (Beckmann) or 0.005 (GGX) times the lobe's peak 1/(4π α_u α_v): under Mitsuba's `museum.exr` Beckmann α ≤ 0.028, GGX α ≤ 0.0087)",
 )
 .mitsuba(DefaultValue::Bool(false));
+const RIS_CANDIDATES: ParamSpec = ParamSpec::new(
+    "ris_candidates",
+    ParamType::Integer,
+    DefaultValue::Int(8),
+    "(ours) where the scene's one light is an `envmap` and the surface a single-scattering `roughconductor` of narrow lobe (α_u, α_v ≤ 0.15), next-event estimation resamples this many directions drawn from the lobe's normals by a coarse estimate of f·cos θ·L and traces one shadow ray (resampled importance sampling, Talbot et al. 2005), which alone then adds the map's direct light there; 0 takes one light sample and one BSDF sample weighed by MIS; from 0 to 64",
+)
+.mitsuba(DefaultValue::Int(0));
 const MIS_EXPONENT: ParamSpec = ParamSpec::new(
     "mis_exponent",
     ParamType::Float,
@@ -132,6 +139,7 @@ pub static PLUGIN: Plugin<IntegratorDesc> = Plugin {
         SPLIT_VISIBLE_GLASS,
         SPLIT_LIGHTS,
         NARROW_LOBES,
+        RIS_CANDIDATES,
         MIS_EXPONENT,
         SAMPLES_PER_PASS,
         TIMEOUT,
@@ -172,6 +180,7 @@ pub(super) fn with_estimator_defaults(p: &Params<'_>, desc: IntegratorDesc) -> I
         split_visible_glass: p.default_of(&SPLIT_VISIBLE_GLASS).bool(),
         split_lights: p.default_of(&SPLIT_LIGHTS).int() as u32,
         narrow_lobes: p.default_of(&NARROW_LOBES).bool(),
+        ris_candidates: p.default_of(&RIS_CANDIDATES).int() as u32,
         mis_exponent: p.default_of(&MIS_EXPONENT).float() as f32,
         ..desc
     }
@@ -202,6 +211,12 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
     )?;
     let split_lights = p.int_in(SPLIT_LIGHTS.name, p.default_of(&SPLIT_LIGHTS).int(), 0, 1024)? as u32;
     let narrow_lobes = p.bool(NARROW_LOBES.name, p.default_of(&NARROW_LOBES).bool())?;
+    let ris_candidates = p.int_in(
+        RIS_CANDIDATES.name,
+        p.default_of(&RIS_CANDIDATES).int(),
+        0,
+        crate::integrator::MAX_RIS_CANDIDATES as i64,
+    )? as u32;
     let mis_exponent = p.float_checked(
         MIS_EXPONENT.name,
         p.default_of(&MIS_EXPONENT).float(),
@@ -224,6 +239,7 @@ fn build<'d>(_: &mut Builder<'d>, p: &mut Params<'d>) -> Result<IntegratorDesc, 
         split_visible_glass,
         split_lights,
         narrow_lobes,
+        ris_candidates,
         mis_exponent,
         kind: IntegratorKind::Path,
         stokes: false,
