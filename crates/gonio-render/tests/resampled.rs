@@ -19,11 +19,8 @@ use std::sync::atomic::AtomicBool;
 /// the last two keep the light sample and the BSDF sample. On a diffuse floor, with `extra`,
 /// under `emitter`.
 fn metals(candidates: u32, extra: &str, emitter: &str) -> String {
-    format!(
-        r#"<scene version="3.0.0">
-    <integrator type="path"><integer name="ris_candidates" value="{candidates}"/></integrator>
-    {SENSOR}
-    <shape type="sphere">
+    let shapes = format!(
+        r#"<shape type="sphere">
         <point name="center" value="-0.6, 0.5, 0"/><float name="radius" value="0.5"/>
         <bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.1"/></bsdf>
     </shape>
@@ -42,7 +39,19 @@ fn metals(candidates: u32, extra: &str, emitter: &str) -> String {
         <transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform>
         <bsdf type="diffuse"/>
     </shape>
-    {extra}
+    {extra}"#
+    );
+    scene(candidates, &shapes, emitter)
+}
+
+/// A scene of `shapes` under `emitter`, seen by the statistical tests' camera, rendered by the
+/// path tracer with `candidates` for `ris_candidates`.
+fn scene(candidates: u32, shapes: &str, emitter: &str) -> String {
+    format!(
+        r#"<scene version="3.0.0">
+    <integrator type="path"><integer name="ris_candidates" value="{candidates}"/></integrator>
+    {SENSOR}
+    {shapes}
     {emitter}
 </scene>"#
     )
@@ -86,25 +95,16 @@ fn resampling_keeps_the_expectation_beside_glass_and_behind_a_pane() {
 /// the lobe is this narrow the BSDF sample's weight was nearly 1 anyway.)
 #[test]
 fn resampling_leaves_light_through_glass_to_the_bsdf_sample() {
-    let scene = |candidates: u32| {
-        format!(
-            r#"<scene version="3.0.0">
-    <integrator type="path"><integer name="ris_candidates" value="{candidates}"/></integrator>
-    {SENSOR}
-    <shape type="sphere">
+    let shapes = r#"<shape type="sphere">
         <point name="center" value="0, 0.55, 0"/><float name="radius" value="0.5"/>
         <bsdf type="dielectric"/>
     </shape>
     <shape type="rectangle">
         <transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform>
         <bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.15"/></bsdf>
-    </shape>
-    {MUSEUM}
-</scene>"#
-        )
-    };
-    let on = prepare(&scene(8), false);
-    let off = prepare(&scene(0), false);
+    </shape>"#;
+    let on = prepare(&scene(8, shapes, MUSEUM), false);
+    let off = prepare(&scene(0, shapes, MUSEUM), false);
     same_mean_less_noise(&on, &off, 16, "a copper floor under a glass ball", 0.95);
 }
 
