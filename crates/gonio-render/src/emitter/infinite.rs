@@ -58,7 +58,8 @@
 //! it holds plus a tenth of the largest the lookup weighs anywhere in it (so that no
 //! direction's light is more than ten times what the table says: the mean alone leaves the
 //! bilinear fringe of a lone bright texel, a sun, in cells that hold none of its weight; the
-//! bound alone is as wide as a glossy lobe), built on first use (64 KB).
+//! bound alone is as wide as a glossy lobe), 64 KB, built before rendering where it may serve
+//! (otherwise on first use).
 
 use super::LightRef;
 use super::envmap_product::{CosineProduct, octahedral_cell_of, octahedral_centre_of};

@@ -67,7 +67,7 @@
 //!
 //! Wider lobes keep them too. Measured under `museum.exr` (a copper sphere, then a copper
 //! floor, the pixel variance with 8 candidates over that without): 0.43–0.58 (sphere) and
-//! 0.82–0.88 (floor) for α = 0.06–0.15, 0.94–1.06 at 0.2, 1.18–1.33 at 0.3 and 2.0–2.4 at 0.5:
+//! 0.82–0.88 (floor) for α = 0.06–0.15, 0.90–1.06 at 0.2, 1.18–1.33 at 0.3 and 2.0–2.4 at 0.5:
 //! eight candidates from a wide lobe cover it thinly, where the map's product with the cosine
 //! (the light sample) follows it well.
 //!
@@ -91,7 +91,7 @@ use gonio_core::{BsdfContext, SampledWavelengths};
 
 /// The widest lobe resampled, as the larger of its roughnesses α_u, α_v: wider lobes keep the
 /// light sample and the BSDF sample (module docs: measured, resampling's eight candidates lose
-/// to them from α ≈ 0.2 on).
+/// to them on a sphere from α = 0.2, on a floor from 0.3).
 pub const MAX_RESAMPLED_ALPHA: f32 = 0.15;
 
 /// The most candidates (`ris_candidates` is at most this).
