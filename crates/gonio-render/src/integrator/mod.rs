@@ -130,6 +130,7 @@ mod ptracer;
 mod record;
 mod refracted;
 mod resampled;
+mod scatter;
 pub use resampled::MAX_CANDIDATES as MAX_RIS_CANDIDATES;
 mod volpath;
 
@@ -137,7 +138,7 @@ use path_state::{PathState, PrevVertex, StepFrom};
 
 use crate::accel::{Accel, Intersect};
 use crate::camera::Camera;
-use crate::emitter::{Light, LightRef, Lights};
+use crate::emitter::{LightRef, Lights};
 use crate::film::Channels;
 use crate::geometry::{Ray, SurfaceInteraction};
 use crate::material::{Material, ShadingPoint};
@@ -148,7 +149,7 @@ use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::sensor_response::SensorResponse;
 use gonio_core::weight::{BsdfWeight, Weight};
-use gonio_core::{Bsdf, BsdfContext, BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
+use gonio_core::{BsdfFlags, BsdfSample, SampledSpectrum, SampledWavelengths};
 
 /// One camera sample, as the render loop hands it to an [`Integrator`].
 #[derive(Debug)]
@@ -388,15 +389,7 @@ impl<'a> PathTracer<'a> {
         if settings.manifold_nee && settings.kind == IntegratorKind::Path && !polarized && !any_thin {
             tracer.manifold = manifold::Setup::new(&tracer);
         }
-        // Resampling's table of the map ([`resampled`]), built before the render's threads ask.
-        if tracer.ris_candidates > 0
-            && let [Light::EnvMap(map)] = lights.lights()
-            && materials
-                .iter()
-                .any(|m| m.flags().contains(BsdfFlags::GLOSSY_REFLECTION))
-        {
-            map.prepare_resampling();
-        }
+        tracer.prepare_resampling(materials);
         tracer
     }
 
@@ -644,106 +637,6 @@ impl<'a> PathTracer<'a> {
             if !self.russian_roulette(&mut state, sampler) {
                 break;
             }
-        }
-    }
-
-    /// Next-event estimation, light-subpath connections and BSDF sampling at one vertex, while
-    /// the BSDF exists.
-    fn scatter<W: Weight, L: caustics::LightWeight<W>>(
-        &self,
-        v: &Vertex,
-        state: &PathState<W>,
-        arrival: caustics::Arrival,
-        light: &caustics::LightSubpath<L>,
-        sampler: &mut impl PathSampler,
-        wl: &mut SampledWavelengths,
-    ) -> VertexOutcome<W>
-    where
-        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
-    {
-        let flags = v.bsdf.flags();
-        // The path samples the BSDF at every vertex it samples a light from.
-        let mut light_ref = self.light_ref(v, flags, true);
-        light_ref.resampled = self.resampling_applies(v, &light_ref);
-
-        // Random numbers: a vertex with a smooth lobe takes five (light choice, light point,
-        // lobe, direction), a purely delta one only its lobe choice (it samples no light and
-        // needs no direction), so the sampler's structured dimensions reach the smooth vertices
-        // behind glass and mirrors. The count is a function of the path, as it must be.
-        let smooth = flags.has_smooth();
-        let manifold_here = self.manifold_applies(state);
-        let mut nee = W::ZERO;
-        if smooth {
-            let u_sel = sampler.next_1d();
-            let u_light = sampler.next_2d();
-            // What the walk through glass needs of the path, only where it can take place.
-            let path = self.refracted_nee.then_some(refracted::PathContext {
-                depth: state.depth,
-                arrival,
-                chain: state.chain,
-            });
-            nee = self.next_event(
-                v,
-                &light_ref,
-                state.beta,
-                u_sel,
-                u_light,
-                wl,
-                (1.0, 1.0),
-                path.as_ref(),
-            );
-            if manifold_here {
-                // Spectral paths only (`manifold` is off in polarized mode).
-                let c = self.manifold_next_event(v, u_sel, u_light, wl);
-                nee += state.beta * W::from_spectrum(c);
-            }
-            if !light.is_empty() {
-                let c: W = self.connect_light_vertices(v.bsdf, v.si, v.wi, state.depth, light, wl);
-                nee += state.beta * c;
-            }
-        }
-
-        let u_lobe = sampler.next_1d();
-        let u_dir = if smooth {
-            sampler.next_2d()
-        } else {
-            Vec2::splat(0.5)
-        };
-        // After a delta lobe, a smooth sample here needs the light tracer's density of the
-        // reverse direction for the MIS ratio.
-        let want_reverse = self.traces_caustics() && state.after_delta();
-        if let Some(pair) = self.lobe_pair(v, u_lobe, u_dir, wl, want_reverse) {
-            return VertexOutcome {
-                nee,
-                light_ref,
-                manifold_here,
-                step: Step::Split(pair),
-            };
-        }
-        let ctx = BsdfContext::radiance();
-        let sample = v
-            .bsdf
-            .sample_weight(&ctx, v.wi, u_lobe, u_dir, wl)
-            .filter(|bs| {
-                bs.weight.intensity().is_finite()
-                    && !bs.weight.is_black()
-                    && (bs.flags.is_delta() || bs.pdf > 0.0)
-            })
-            .map(|bs| BsdfSample {
-                weight: bs.weight.local_to_world(&v.si.shading),
-                ..bs
-            });
-        let reverse_pdf = match &sample {
-            Some(bs) if want_reverse && !bs.flags.is_delta() => {
-                v.bsdf.pdf(&BsdfContext::importance(), bs.wo, v.wi, wl)
-            }
-            _ => 0.0,
-        };
-        VertexOutcome {
-            nee,
-            light_ref,
-            manifold_here,
-            step: Step::Sampled { sample, reverse_pdf },
         }
     }
 }

@@ -72,19 +72,20 @@
 //! (the light sample) follows it well.
 //!
 //! Measured on the copper preview (`bench/RESULTS.md`): relMSE −20 % with 8 candidates (16 spp,
-//! one thread, eight seeds against the 16384-spp reference; 4 candidates −12 %, 16 −22 %), for
-//! about 16 % more estimated cycles per sample (callgrind), most of it the shadow ray, which a
-//! sample in the lobe traces where a light sample outside it stopped at f = 0.
+//! one thread, eight seeds against the 16384-spp reference; 4 candidates −13 %, 16 −22 %), for
+//! 16 % more estimated cycles per sample (callgrind; 4: 10 %, 16: 29 %), most of it the shadow
+//! ray, which a sample in the lobe traces where a light sample outside it stopped at f = 0.
 //!
 //! [`EnvMapLight::resampling_luminance`]: crate::emitter::infinite::EnvMapLight::resampling_luminance
 //! [`LightRef::resampled`]: crate::emitter::LightRef::resampled
 //! [`Lights::le_escaped`]: crate::emitter::Lights::le_escaped
 
 use super::{PathTracer, Vertex};
-use crate::emitter::{Light, LightRef};
+use crate::emitter::{EnvMapLight, Light, LightRef};
+use crate::material::{BumpMapMaterial, Material, NormalMapMaterial, RoughConductorMaterial};
 use glam::Vec2;
 use gonio_core::bsdfs::SurfaceBsdf;
-use gonio_core::microfacet::MicrofacetDistribution;
+use gonio_core::math::floor;
 use gonio_core::rng::ONE_MINUS_EPSILON;
 use gonio_core::weight::{BsdfWeight, Weight};
 use gonio_core::{BsdfContext, SampledWavelengths};
@@ -101,25 +102,58 @@ pub const MAX_CANDIDATES: u32 = 64;
 /// light point shifted by j times it.
 const R2: Vec2 = Vec2::new(0.754_877_7, 0.569_840_3);
 
+/// True when `material` may put a single-scattering `roughconductor` alone at a vertex: it is
+/// one, or a `bumpmap` or `normalmap` around one (they change its frame, not its tree).
+fn may_resample(material: &Material) -> bool {
+    let mut m = material;
+    loop {
+        if let Some(c) = m.get::<RoughConductorMaterial>() {
+            return !c.model.multiple_scattering;
+        } else if let Some(b) = m.get::<BumpMapMaterial>() {
+            m = &b.nested;
+        } else if let Some(n) = m.get::<NormalMapMaterial>() {
+            m = &n.nested;
+        } else {
+            return false;
+        }
+    }
+}
+
 /// `u` (in [0, 1)²) shifted by `j` times [`R2`], wrapped into [0, 1)².
 #[inline]
 fn shifted(u: Vec2, j: u32) -> Vec2 {
-    // j·R2 mod 1 without a floor (a library call on the baseline target): j < 2²⁴, exact in f64.
-    let wrap = |x: f64| (x - (x as u64) as f64) as f32;
-    let offset = Vec2::new(wrap(j as f64 * R2.x as f64), wrap(j as f64 * R2.y as f64));
-    let s = u + offset;
-    let s = Vec2::select(s.cmpge(Vec2::ONE), s - Vec2::ONE, s);
-    s.min(Vec2::splat(ONE_MINUS_EPSILON))
+    let s = u + R2 * j as f32;
+    Vec2::new(s.x - floor(s.x), s.y - floor(s.y)).min(Vec2::splat(ONE_MINUS_EPSILON))
 }
 
 impl PathTracer<'_> {
+    /// Builds the map's table for resampling now, before the render's threads ask for it, where
+    /// the scene may resample: an `envmap` its only light and a material that may be a lone
+    /// `roughconductor` ([`may_resample`]). Elsewhere a table would cost its build for nothing
+    /// (45–53 ms for a 512 × 256 map), or is built by its first use.
+    pub(super) fn prepare_resampling(&self, materials: &[Material]) {
+        if let Some(map) = self.resampled_map()
+            && materials.iter().any(may_resample)
+        {
+            map.prepare_resampling();
+        }
+    }
+
+    /// The map resampled next-event estimation samples: the scene's only light, if an `envmap`,
+    /// and only with candidates to draw.
+    fn resampled_map(&self) -> Option<&EnvMapLight> {
+        match self.lights.lights() {
+            [Light::EnvMap(map)] if self.ris_candidates > 0 => Some(map),
+            _ => None,
+        }
+    }
+
     /// True when resampled next-event estimation lights `v` (module docs), given where lights are
     /// sampled from there (`r`, which says whether `narrow_lobes` leaves the lights to BSDF
     /// sampling).
     pub(super) fn resampling_applies(&self, v: &Vertex, r: &LightRef) -> bool {
-        self.ris_candidates > 0
+        self.resampled_map().is_some()
             && v.wi.z > 0.0
-            && matches!(self.lights.lights(), [Light::EnvMap(_)])
             && !self.lights.left_to_bsdf(r, 0)
             && v.bsdf
                 .single_rough_conductor()
@@ -141,14 +175,9 @@ impl PathTracer<'_> {
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
         // What `resampling_applies` checked, whose `LightRef` sent the vertex here.
-        let (Some(lobe), [Light::EnvMap(map)]) = (v.bsdf.single_rough_conductor(), self.lights.lights())
-        else {
+        let (Some(lobe), Some(map)) = (v.bsdf.single_rough_conductor(), self.resampled_map()) else {
             debug_assert!(false, "resampled next-event estimation where it does not apply");
             return W::ZERO;
-        };
-        let normals = MicrofacetDistribution {
-            sample_visible: false,
-            ..lobe
         };
         let wi = v.wi;
         let m_count = self.ris_candidates.min(MAX_CANDIDATES);
@@ -176,7 +205,7 @@ impl PathTracer<'_> {
         // The chosen one again (one more draw instead of keeping them all), and the candidates'
         // density p = D(m)·cos θm/(4 ωi·m) there.
         let (m, wo, w) = candidate(k as u32);
-        let pdf = normals.pdf(wi, m) / (4.0 * wi.dot(m));
+        let pdf = lobe.d(m) * m.z / (4.0 * wi.dot(m));
         if !(w > 0.0 && pdf > 0.0 && pdf.is_finite()) {
             return W::ZERO;
         }
