@@ -146,9 +146,11 @@ impl<const N: usize, X: Isa> MicrofacetLanes<N, X> {
         (m, (ok & pdf.is_finite()).and_then(pdf))
     }
 
-    /// All normals, pdf D(m) cos θm.
+    /// A normal per lane drawn from all normals, density D(m) cos θm, as
+    /// [`MicrofacetDistribution::sample_all_normals`] (Walter et al. 2007) with the lanes'
+    /// logarithm and sine.
     #[inline(always)]
-    fn sample_all_normals(&self, u: [F32s<N, X>; 2]) -> Vec3s<N, X> {
+    pub fn sample_all_normals(&self, u: [F32s<N, X>; 2]) -> Vec3s<N, X> {
         let (s, c) = sin_cos(2.0 * PI * u[1]);
         let aniso = self.alpha_u.ne(self.alpha_v);
         let (sin_phi, cos_phi, alpha_2) = if aniso.any() {

@@ -316,13 +316,14 @@ fn octahedral_cell(n: Vec3) -> usize {
 
 /// The octahedral-map cell of a unit direction: the octahedron |x| + |y| + |z| = 1 unfolded
 /// onto [−1, 1]², its lower half folded over the corners, cut into `cells × cells` (row-major).
-#[inline]
+#[inline(always)]
 pub(super) fn octahedral_cell_of(n: Vec3, cells: usize) -> usize {
     let p = octahedral_encode(n);
     let cell = |c: f32| (((c + 1.0) * 0.5 * cells as f32) as usize).min(cells - 1);
     cell(p.y) * cells + cell(p.x)
 }
 
+#[inline(always)]
 fn octahedral_encode(n: Vec3) -> Vec2 {
     let l1 = n.x.abs() + n.y.abs() + n.z.abs();
     if !(l1 > 0.0) {
@@ -336,7 +337,7 @@ fn octahedral_encode(n: Vec3) -> Vec2 {
     }
 }
 
-#[inline]
+#[inline(always)]
 fn sign(x: f32) -> f32 {
     if x >= 0.0 { 1.0 } else { -1.0 }
 }

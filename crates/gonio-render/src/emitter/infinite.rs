@@ -71,6 +71,7 @@ use rayon::prelude::*;
 use std::f32::consts::{PI, TAU};
 
 mod resampling;
+pub use resampling::ResamplingLookup;
 
 /// `constant`: the same radiance from every direction.
 #[derive(Clone, Debug)]

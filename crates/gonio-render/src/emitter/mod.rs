@@ -48,7 +48,7 @@ pub use directional_area::DirectionalAreaLight;
 pub use emission::EmittedRay;
 pub use from_scene::EmitterError;
 pub use gonio_core::sampling::{Distribution1D, Distribution2D};
-pub use infinite::{ConstantLight, EnvMapLight};
+pub use infinite::{ConstantLight, EnvMapLight, ResamplingLookup};
 pub use projector::ProjectorLight;
 pub use sunsky::SunSkyLight;
 

@@ -26,6 +26,22 @@ const RESAMPLING_PROBE_SPACING: f32 = 0.007;
 /// any direction is at most 1/share times the table (10).
 const RESAMPLING_BOUND_SHARE: f32 = 0.1;
 
+/// [`EnvMapLight::resampling_luminance`] with its table at hand
+/// ([`EnvMapLight::resampling_lookup`]): what a lane kernel calls lane by lane.
+#[derive(Clone, Copy, Debug)]
+pub struct ResamplingLookup<'a> {
+    table: &'a [f32],
+    floor: f32,
+}
+
+impl ResamplingLookup<'_> {
+    /// [`EnvMapLight::resampling_luminance`] of world direction `dir`.
+    #[inline(always)]
+    pub fn luminance(&self, dir: Vec3) -> f32 {
+        self.table[octahedral_cell_of(dir, RESAMPLING_CELLS)] + self.floor
+    }
+}
+
 impl EnvMapLight {
     /// A coarse stand-in for the luminance arriving from world direction `dir` (× the scale;
     /// module docs): the table's cell, at least a tenth of the luminance the lookup gives
@@ -35,10 +51,19 @@ impl EnvMapLight {
     /// noise).
     #[inline]
     pub fn resampling_luminance(&self, dir: Vec3) -> f32 {
-        let table = self
-            .resampling_table
-            .get_or_init(|| self.build_resampling_table());
-        table[octahedral_cell_of(dir, RESAMPLING_CELLS)] + 1e-3 * self.mean_luminance
+        self.resampling_lookup().luminance(dir)
+    }
+
+    /// [`Self::resampling_luminance`] for many lookups: the table (built on first use) and the
+    /// floor every entry adds.
+    #[inline]
+    pub fn resampling_lookup(&self) -> ResamplingLookup<'_> {
+        ResamplingLookup {
+            table: self
+                .resampling_table
+                .get_or_init(|| self.build_resampling_table()),
+            floor: 1e-3 * self.mean_luminance,
+        }
     }
 
     /// Builds [`Self::resampling_luminance`]'s table now, if not yet built (it is otherwise built
