@@ -355,15 +355,25 @@ impl<'a> SurfaceBsdf<'a> {
         }
     }
 
-    /// The microfacet distribution when the tree is one single-scattering `roughconductor`
-    /// (a glossy lobe that only reflects, f = F·D·G/(4 cos θi cos θo)); `None` for every other
-    /// material. Resampled next-event estimation draws its candidates from it.
-    pub fn single_rough_conductor(&self) -> Option<MicrofacetDistribution> {
-        if self.len != 1 {
-            return None;
-        }
-        match self.node(0) {
+    /// The microfacet distribution of the lobe that reflects light arriving from `wi` when that
+    /// lobe is one single-scattering `roughconductor` (f = F·D·G/(4 cos θi cos θo), reflection
+    /// only), and whether it lies below the surface: the tree's lone conductor, seen from its
+    /// front (cos θi > 0; `false`), or the side of a `twosided` whose two sides are such
+    /// conductors that `wi` faces (`true` for the back, cos θi < 0, which the tree evaluates
+    /// with both directions mirrored, z ↦ −z). `None` for every other material and at grazing
+    /// incidence. Resampled next-event estimation draws its candidates from it, in the
+    /// mirrored frame for the back.
+    pub fn single_rough_conductor(&self, wi: Vec3) -> Option<(MicrofacetDistribution, bool)> {
+        let conductor = |i: u8| match self.node(i) {
             Some(Node::Leaf(LeafBsdf::RoughConductor(c))) if !c.multiple_scattering => Some(c.distribution),
+            _ => None,
+        };
+        match (self.len, self.node(self.len.wrapping_sub(1))) {
+            (1, _) if wi.z > 0.0 => conductor(0).map(|d| (d, false)),
+            (_, Some(Node::TwoSided { front, back })) if wi.z != 0.0 => {
+                let back_side = wi.z < 0.0;
+                conductor(if back_side { *back } else { *front }).map(|d| (d, back_side))
+            }
             _ => None,
         }
     }
@@ -682,5 +692,46 @@ mod tests {
         }
         assert_eq!(tree.push_leaf(LeafBsdf::Diffuse(d)), Err(TooManyNodes));
         assert_eq!(tree.len(), MAX_NODES);
+    }
+
+    /// `single_rough_conductor` names the lobe that reflects light from `wi` only where it is one
+    /// single-scattering rough conductor: a lone one from its front, and the side of a
+    /// `twosided` that `wi` faces (the back flagged, for the mirrored frame); nothing from a lone
+    /// conductor's back, a `twosided` side of another model, a blend, or at grazing incidence.
+    #[test]
+    fn single_rough_conductor_finds_the_side_wi_faces() {
+        use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
+        let wl = SampledWavelengths::sample_visible(0.4);
+        let lobe = |a: f32| MicrofacetDistribution::new(MicrofacetKind::Beckmann, a, a, true);
+        let copper = |a: f32| RoughConductor::new(Spectrum::Constant(0.2), Spectrum::Constant(3.1), lobe(a));
+        let (front, back, grazing) = (Vec3::new(0.3, 0.1, 0.9), Vec3::new(0.3, 0.1, -0.9), Vec3::X);
+        let (c1, c2) = (copper(0.1), copper(0.2));
+        let diffuse = Diffuse::new(Spectrum::Constant(0.5));
+
+        let mut lone = SurfaceBsdf::new();
+        lone.push_leaf(LeafBsdf::RoughConductor(c1.at(&wl))).unwrap();
+        assert_eq!(lone.single_rough_conductor(front), Some((lobe(0.1), false)));
+        assert_eq!(lone.single_rough_conductor(back), None);
+
+        let mut two = SurfaceBsdf::new();
+        let f = two.push_leaf(LeafBsdf::RoughConductor(c1.at(&wl))).unwrap();
+        let b = two.push_leaf(LeafBsdf::RoughConductor(c2.at(&wl))).unwrap();
+        two.push_two_sided(f, b).unwrap();
+        assert_eq!(two.single_rough_conductor(front), Some((lobe(0.1), false)));
+        assert_eq!(two.single_rough_conductor(back), Some((lobe(0.2), true)));
+        assert_eq!(two.single_rough_conductor(grazing), None);
+
+        let mut half = SurfaceBsdf::new();
+        let f = half.push_leaf(LeafBsdf::RoughConductor(c1.at(&wl))).unwrap();
+        let b = half.push_leaf(LeafBsdf::Diffuse(diffuse.at(&wl))).unwrap();
+        half.push_two_sided(f, b).unwrap();
+        assert_eq!(half.single_rough_conductor(front), Some((lobe(0.1), false)));
+        assert_eq!(half.single_rough_conductor(back), None);
+
+        let mut blend = SurfaceBsdf::new();
+        let a = blend.push_leaf(LeafBsdf::RoughConductor(c1.at(&wl))).unwrap();
+        let d = blend.push_leaf(LeafBsdf::Diffuse(diffuse.at(&wl))).unwrap();
+        blend.push_blend(0.5, a, d).unwrap();
+        assert_eq!(blend.single_rough_conductor(front), None);
     }
 }

@@ -25,7 +25,8 @@
 //! weight"). Its variance falls towards that of sampling p̂ itself as `M` grows, for the price of
 //! `M` cheap candidates and one shadow ray.
 //!
-//! Here, at a single-scattering `roughconductor` with incident direction ωi (cos θi > 0):
+//! Here, at a single-scattering `roughconductor` with incident direction ωi (cos θi > 0; below,
+//! where it applies):
 //!
 //! * the candidates are reflections of microfacet normals drawn ∝ D(m)·cos θm (all normals,
 //!   Walter et al. 2007: one logarithm and a sine and cosine each, where the visible normals'
@@ -49,7 +50,9 @@
 //! # Where it applies, and MIS
 //!
 //! At a vertex of the path tracer ([`PathTracer::resampling_applies`]) whose BSDF is one
-//! single-scattering `roughconductor` seen from its front (cos θi > 0) with both roughnesses at
+//! single-scattering `roughconductor` seen from its front (cos θi > 0), or a `twosided` whose
+//! side facing ωi is one (its back is resampled in the mirrored frame, z ↦ −z, in which the
+//! tree evaluates it; `SurfaceBsdf::single_rough_conductor`), with both roughnesses at
 //! most [`MAX_RESAMPLED_ALPHA`] = 0.15, in a scene whose only light is an `envmap`, unless
 //! `narrow_lobes` leaves the map to BSDF sampling there (cheaper, and as good where the lobe
 //! resolves the map alone).
@@ -155,11 +158,10 @@ impl PathTracer<'_> {
     /// sampling).
     pub(super) fn resampling_applies(&self, v: &Vertex, r: &LightRef) -> bool {
         self.resampled_map().is_some()
-            && v.wi.z > 0.0
             && !self.lights.left_to_bsdf(r, 0)
             && v.bsdf
-                .single_rough_conductor()
-                .is_some_and(|lobe| lobe.alpha_u.max(lobe.alpha_v) <= MAX_RESAMPLED_ALPHA)
+                .single_rough_conductor(v.wi)
+                .is_some_and(|(lobe, _)| lobe.alpha_u.max(lobe.alpha_v) <= MAX_RESAMPLED_ALPHA)
     }
 
     /// The map's direct light at `v` by resampled importance sampling (module docs): β·f·cos θ·L·V
@@ -177,11 +179,20 @@ impl PathTracer<'_> {
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
         // What `resampling_applies` checked, whose `LightRef` sent the vertex here.
-        let (Some(lobe), Some(map)) = (v.bsdf.single_rough_conductor(), self.resampled_map()) else {
+        let (Some((lobe, back)), Some(map)) = (v.bsdf.single_rough_conductor(v.wi), self.resampled_map())
+        else {
             debug_assert!(false, "resampled next-event estimation where it does not apply");
             return W::ZERO;
         };
-        let wi = v.wi;
+        // The back of a `twosided` reflects in the mirrored frame (z ↦ −z): the candidates are
+        // drawn there, above its surface, as for a front.
+        let mirror = |w: Vec3| if back { Vec3::new(w.x, w.y, -w.z) } else { w };
+        let shading = &v.si.shading;
+        let frame = Frame {
+            n: if back { -shading.n } else { shading.n },
+            ..*shading
+        };
+        let wi = mirror(v.wi);
         let m_count = self.ris_candidates.min(MAX_CANDIDATES) as usize;
         // The candidates, all at once on lanes: their normals and weights w = p̂/p.
         let mut normals = [Vec3::ZERO; MAX_CANDIDATES as usize];
@@ -190,7 +201,7 @@ impl PathTracer<'_> {
             lobe,
             wi,
             u,
-            frame: &v.si.shading,
+            frame: &frame,
             light: map.resampling_lookup(),
             normals: &mut normals[..m_count],
             weights: &mut weights[..m_count],
@@ -201,17 +212,18 @@ impl PathTracer<'_> {
         // The chosen one, and the candidates' density p = D(m)·cos θm/(4 ωi·m) there.
         let (m, w) = (normals[k], weights[k]);
         let cos_im = wi.dot(m);
-        let wo = 2.0 * cos_im * m - wi;
+        let wo_lobe = 2.0 * cos_im * m - wi;
+        let wo = mirror(wo_lobe);
         let pdf = lobe.d(m) * m.z / (4.0 * cos_im);
         if !(w > 0.0 && pdf > 0.0 && pdf.is_finite()) {
             return W::ZERO;
         }
         let ctx = BsdfContext::radiance();
-        let f: W = v.bsdf.eval_weight(&ctx, wi, wo, wl).local_to_world(&v.si.shading);
+        let f: W = v.bsdf.eval_weight(&ctx, v.wi, wo, wl).local_to_world(shading);
         if f.is_black() {
             return W::ZERO;
         }
-        let dir = v.si.shading.to_world(wo);
+        let dir = shading.to_world(wo);
         let le = map.le(dir, wl);
         if le.is_black() {
             return W::ZERO;
@@ -221,7 +233,7 @@ impl PathTracer<'_> {
             return W::ZERO;
         }
         // f·cos θ·L·V / p̂ · Σw/M, with p̂ = w·p at the chosen candidate.
-        (beta * f).through_then_source(t, le) * (wo.z * w_sum / (m_count as f32 * w * pdf))
+        (beta * f).through_then_source(t, le) * (wo_lobe.z * w_sum / (m_count as f32 * w * pdf))
     }
 }
 
