@@ -54,6 +54,7 @@ pub use sunsky::SunSkyLight;
 
 use crate::geometry::{SurfaceInteraction, WorldShape};
 use glam::{Vec2, Vec3};
+use gonio_core::rng::ONE_MINUS_EPSILON;
 use gonio_core::{SampledSpectrum, SampledWavelengths};
 
 /// A sphere bounding the scene (centre, radius), for lights at infinity.
@@ -84,11 +85,13 @@ pub struct LightRef {
     /// here (`SurfaceBsdf::resolved_light_density`, with `mis`; 0 where none is): such lights are
     /// left to BSDF sampling from here ([`Lights::left_to_bsdf`]).
     pub resolved_density: f32,
-    /// True when resampled next-event estimation lights this point (the scene's one light, an
-    /// environment map, at a single-scattering `roughconductor`; `integrator/resampled.rs`):
-    /// that estimator alone adds the map's light arriving straight from it, so a BSDF sample
-    /// leaving from here that escapes adds none ([`Lights::le_escaped`]). The light being the
-    /// scene's only one, no other light's densities ([`Lights::pmf_at`]) need to know.
+    /// True when resampled next-event estimation lights this point with the scene's environment
+    /// map ([`Lights::sole_envmap`], at a single-scattering `roughconductor`;
+    /// `integrator/resampled.rs`): that estimator alone adds the map's light arriving straight
+    /// from it, so a BSDF sample leaving from here that escapes adds none of the map's
+    /// ([`Lights::le_escaped`]). It takes the map's turn of next-event estimation (the map's
+    /// selection probability is unchanged), so the other lights' densities ([`Lights::pmf_at`])
+    /// need not know.
     pub resampled: bool,
 }
 
@@ -440,6 +443,8 @@ pub struct Lights {
     split: bool,
     /// [`Light::feature_density`] of each light.
     feature_density: Vec<f32>,
+    /// The index of the scene's environment map when it has exactly one.
+    sole_envmap: Option<u32>,
 }
 
 impl Lights {
@@ -459,6 +464,11 @@ impl Lights {
         }
         let means = lights.iter().map(Light::mean_emission).collect();
         let feature_density = lights.iter().map(Light::feature_density).collect();
+        let mut maps = (0..lights.len()).filter(|&i| matches!(lights[i], Light::EnvMap(_)));
+        let sole_envmap = match (maps.next(), maps.next()) {
+            (Some(i), None) => Some(i as u32),
+            _ => None,
+        };
         Self {
             lights,
             selection,
@@ -468,7 +478,15 @@ impl Lights {
             means,
             split: false,
             feature_density,
+            sole_envmap,
         }
+    }
+
+    /// The index of the scene's environment map (`envmap`), when it has exactly one (resampled
+    /// next-event estimation samples it).
+    #[inline]
+    pub fn sole_envmap(&self) -> Option<usize> {
+        self.sole_envmap.map(|i| i as usize)
     }
 
     /// True when next-event estimation from `r` leaves light `i` to BSDF sampling: the BSDF
@@ -546,21 +564,34 @@ impl Lights {
     /// Picks a light for next-event estimation from `r`: (index, probability).
     #[inline]
     pub fn select_at(&self, r: &LightRef, u: f32) -> Option<(usize, f32)> {
+        self.select_at_remapped(r, u).map(|(i, p, _)| (i, p))
+    }
+
+    /// [`Self::select_at`], with `u` remapped into [0, 1) within the light's share: a number
+    /// independent of the choice, for the sampling that follows it.
+    #[inline]
+    pub fn select_at_remapped(&self, r: &LightRef, u: f32) -> Option<(usize, f32, f32)> {
         let mut p = [0.0f32; MAX_LOCAL_LIGHTS];
         if !self.local_pmf(r, &mut p) {
-            return self.select(u);
+            if self.lights.is_empty() {
+                return None;
+            }
+            let (i, p, ur) = self.selection.sample_discrete(u);
+            return (p > 0.0).then_some((i, p, ur));
         }
         let n = self.lights.len();
         let mut acc = 0.0f32;
         let mut last = None;
+        let remap = |u: f32, start: f32, pi: f32| ((u - start) / pi).clamp(0.0, ONE_MINUS_EPSILON);
         for (i, &pi) in p.iter().enumerate().take(n) {
             if pi <= 0.0 {
                 continue;
             }
+            let start = acc;
             acc += pi;
-            last = Some((i, pi));
+            last = Some((i, pi, remap(u, start, pi)));
             if u < acc {
-                return Some((i, pi));
+                return last;
             }
         }
         last
@@ -677,8 +708,8 @@ impl Lights {
     /// The radiance of the light at infinity `li` arriving along −`dir` (a ray that left the
     /// scene) and, when `r` is the vertex that drew `dir` by its BSDF, the density with which
     /// [`Self::for_each_sample`] from `r` produces `dir` (selection × solid angle; 0 without `r` or
-    /// where the light is black, which nothing then weighs). Nothing at all where resampled
-    /// next-event estimation lit `r` ([`LightRef::resampled`]).
+    /// where the light is black, which nothing then weighs). Nothing at all of the map that
+    /// resampled next-event estimation lit `r` with ([`LightRef::resampled`]).
     #[inline]
     pub fn le_escaped(
         &self,
@@ -691,7 +722,7 @@ impl Lights {
         let Some(r) = r else {
             return (light.le_infinite(dir, wl), 0.0);
         };
-        if r.resampled {
+        if r.resampled && self.sole_envmap() == Some(li) {
             // Resampled next-event estimation at `r` added this light whole.
             return (SampledSpectrum::ZERO, 0.0);
         }

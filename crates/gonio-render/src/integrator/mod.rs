@@ -92,7 +92,7 @@
 //! # Resampled next-event estimation (beyond Mitsuba)
 //!
 //! With `ris_candidates` (default 8), at a single-scattering `roughconductor` of narrow lobe in a
-//! scene lit by an `envmap` alone, the light sample is replaced by one direction resampled from
+//! scene with one `envmap`, the map's light sample is replaced by one direction resampled from
 //! that many candidates drawn from the lobe (Talbot et al. 2005), weighed by the lobe times a
 //! coarse table of the map; it alone adds the map's direct light there, so the BSDF sample
 //! from that vertex adds none when it escapes (`integrator/resampled.rs`).

@@ -61,7 +61,7 @@ impl PathTracer<'_> {
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
         if r.resampled {
-            return self.resampled_next_event(v, beta, u_sel, u, wl);
+            return self.resampled_next_events(v, r, beta, (u_sel, u), wl, counts, path);
         }
         let mut sum = W::ZERO;
         self.lights
@@ -69,6 +69,60 @@ impl PathTracer<'_> {
                 sum += self.light_contribution(v, beta, (li, ls), wl, counts, path);
             });
         sum
+    }
+
+    /// [`Self::next_event`] where resampled next-event estimation takes the map's turn
+    /// ([`LightRef::resampled`]): the map's light by [`Self::resampled_next_event`] (divided by
+    /// the probability of choosing the map, when one light is chosen), every other light's by
+    /// its own light sample, as at any vertex.
+    #[allow(clippy::too_many_arguments)]
+    fn resampled_next_events<W: Weight>(
+        &self,
+        v: &Vertex,
+        r: &LightRef,
+        beta: W,
+        (u_sel, u): (f32, Vec2),
+        wl: &SampledWavelengths,
+        counts: (f32, f32),
+        path: Option<&refracted::PathContext>,
+    ) -> W
+    where
+        for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
+    {
+        let Some(map) = self.lights.sole_envmap() else {
+            return W::ZERO;
+        };
+        let shapes = self.accel.shapes();
+        let other = |li: usize, p_sel: f32| {
+            if self.lights.left_to_bsdf(r, li) {
+                return W::ZERO;
+            }
+            match self.lights.lights()[li].sample_li(shapes, r, u, wl) {
+                Some(ls) => {
+                    let ls = LightSample {
+                        pdf: p_sel * ls.pdf,
+                        ..ls
+                    };
+                    self.light_contribution(v, beta, (li, &ls), wl, counts, path)
+                }
+                None => W::ZERO,
+            }
+        };
+        if self.lights.split() {
+            let mut sum = self.resampled_next_event(v, beta, u_sel, u, wl);
+            for li in (0..self.lights.lights().len()).filter(|&li| li != map) {
+                sum += other(li, 1.0);
+            }
+            sum
+        } else {
+            match self.lights.select_at_remapped(r, u_sel) {
+                Some((li, p_sel, u_rest)) if li == map => {
+                    self.resampled_next_event(v, beta, u_rest, u, wl) * (1.0 / p_sel)
+                }
+                Some((li, p_sel, _)) => other(li, p_sel),
+                None => W::ZERO,
+            }
+        }
     }
 
     /// One light sample `ls` of light `li` (density `ls.pdf`, selection included) at `v`:

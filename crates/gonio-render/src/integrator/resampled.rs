@@ -53,11 +53,13 @@
 //! single-scattering `roughconductor` seen from its front (cos θi > 0), or a `twosided` whose
 //! side facing ωi is one (its back is resampled in the mirrored frame, z ↦ −z, in which the
 //! tree evaluates it; `SurfaceBsdf::single_rough_conductor`), with both roughnesses at
-//! most [`MAX_RESAMPLED_ALPHA`] = 0.15, in a scene whose only light is an `envmap`, unless
-//! `narrow_lobes` leaves the map to BSDF sampling there (cheaper, and as good where the lobe
-//! resolves the map alone).
+//! most [`MAX_RESAMPLED_ALPHA`] = 0.15, in a scene with one `envmap` (beside any other lights),
+//! unless `narrow_lobes` leaves the map to BSDF sampling there (cheaper, and as good where the
+//! lobe resolves the map alone).
 //!
-//! There the estimator replaces next-event estimation and owns the map's light arriving
+//! There the estimator takes the map's turn of next-event estimation (whenever the map is
+//! chosen, divided by the probability of choosing it, or always where every light is sampled at
+//! each vertex; the other lights keep their light samples) and owns the map's light arriving
 //! straight at the vertex: the path's own BSDF sample from it, if it leaves the scene (possibly
 //! through `thindielectric` sheets or null surfaces, which the shadow ray crosses too), adds
 //! nothing ([`LightRef::resampled`], [`Lights::le_escaped`]). Light arriving through smooth glass
@@ -133,22 +135,23 @@ fn may_resample(material: &Material) -> bool {
 
 impl PathTracer<'_> {
     /// Builds the map's table for resampling now, before the render's threads ask for it, where
-    /// the scene may resample: an `envmap` its only light and a material that may be a lone
+    /// the scene may resample: one `envmap` among its lights and a material that may be a lone
     /// `roughconductor` ([`may_resample`]). Elsewhere a table would cost its build for nothing
     /// (45–53 ms for a 512 × 256 map), or is built by its first use.
     pub(super) fn prepare_resampling(&self, materials: &[Material]) {
-        if let Some(map) = self.resampled_map()
+        if let Some((_, map)) = self.resampled_map()
             && materials.iter().any(may_resample)
         {
             map.prepare_resampling();
         }
     }
 
-    /// The map resampled next-event estimation samples: the scene's only light, if an `envmap`,
-    /// and only with candidates to draw.
-    fn resampled_map(&self) -> Option<&EnvMapLight> {
-        match self.lights.lights() {
-            [Light::EnvMap(map)] if self.ris_candidates > 0 => Some(map),
+    /// The map resampled next-event estimation samples, and its index among the lights: the
+    /// scene's `envmap`, if it has one and only one, and only with candidates to draw.
+    fn resampled_map(&self) -> Option<(usize, &EnvMapLight)> {
+        let i = self.lights.sole_envmap().filter(|_| self.ris_candidates > 0)?;
+        match &self.lights.lights()[i] {
+            Light::EnvMap(map) => Some((i, map)),
             _ => None,
         }
     }
@@ -157,8 +160,8 @@ impl PathTracer<'_> {
     /// sampled from there (`r`, which says whether `narrow_lobes` leaves the lights to BSDF
     /// sampling).
     pub(super) fn resampling_applies(&self, v: &Vertex, r: &LightRef) -> bool {
-        self.resampled_map().is_some()
-            && !self.lights.left_to_bsdf(r, 0)
+        self.resampled_map()
+            .is_some_and(|(i, _)| !self.lights.left_to_bsdf(r, i))
             && v.bsdf
                 .single_rough_conductor(v.wi)
                 .is_some_and(|(lobe, _)| lobe.alpha_u.max(lobe.alpha_v) <= MAX_RESAMPLED_ALPHA)
@@ -179,7 +182,8 @@ impl PathTracer<'_> {
         for<'b> SurfaceBsdf<'b>: BsdfWeight<W>,
     {
         // What `resampling_applies` checked, whose `LightRef` sent the vertex here.
-        let (Some((lobe, back)), Some(map)) = (v.bsdf.single_rough_conductor(v.wi), self.resampled_map())
+        let (Some((lobe, back)), Some((_, map))) =
+            (v.bsdf.single_rough_conductor(v.wi), self.resampled_map())
         else {
             debug_assert!(false, "resampled next-event estimation where it does not apply");
             return W::ZERO;

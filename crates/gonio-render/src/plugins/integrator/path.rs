@@ -98,7 +98,7 @@ const RIS_CANDIDATES: ParamSpec = ParamSpec::new(
     "ris_candidates",
     ParamType::Integer,
     DefaultValue::Int(8),
-    "(ours) where the scene's one light is an `envmap` and the surface a single-scattering `roughconductor` of narrow lobe (α_u, α_v ≤ 0.15), next-event estimation resamples this many directions drawn from the lobe's normals by a coarse estimate of f·cos θ·L and traces one shadow ray (resampled importance sampling, Talbot et al. 2005), which alone then adds the map's direct light there (spectral renders, not where `narrow_lobes` leaves the map to BSDF sampling); 0 takes one light sample and one BSDF sample weighed by MIS; from 0 to 64",
+    "(ours) where the scene has one `envmap` and the surface is a single-scattering `roughconductor` of narrow lobe (α_u, α_v ≤ 0.15; either side of a `twosided`), next-event estimation of the map resamples this many directions drawn from the lobe's normals by a coarse estimate of f·cos θ·L and traces one shadow ray (resampled importance sampling, Talbot et al. 2005), which alone then adds the map's direct light there (spectral renders, not where `narrow_lobes` leaves the map to BSDF sampling); 0 takes one light sample and one BSDF sample weighed by MIS; from 0 to 64",
 )
 .mitsuba(DefaultValue::Int(0));
 const MIS_EXPONENT: ParamSpec = ParamSpec::new(
