@@ -24,7 +24,7 @@ pub fn find_interval(a: &[f32], x: f32) -> usize {
 /// (1.7 % of the copper preview's, from the lookups of environment maps, bitmaps, spectra and
 /// the film). Values of magnitude 2²³ and above, and NaN, are their own floor; below, the
 /// truncation toward zero, one less where it rounded up.
-#[inline]
+#[inline(always)]
 pub fn floor(x: f32) -> f32 {
     if !(x.abs() < 8_388_608.0) {
         return x;

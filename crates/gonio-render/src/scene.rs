@@ -99,9 +99,10 @@ pub struct IntegratorDesc {
     /// lobe are left to BSDF sampling there (default true; see
     /// `emitter::Lights::left_to_bsdf`).
     pub narrow_lobes: bool,
-    /// Ours: candidates of resampled next-event estimation at a single-scattering
-    /// `roughconductor` lit by an environment map alone (default 8; 0, Mitsuba's estimator: one
-    /// light sample and one BSDF sample weighed by MIS; see `integrator::resampled`).
+    /// Ours: candidates of resampled next-event estimation of the environment map at a
+    /// single-scattering `roughconductor` (alone, or a side of a `twosided`) in a scene with one
+    /// `envmap` (default 8; 0, Mitsuba's estimator: one light sample and one BSDF sample weighed
+    /// by MIS; see `integrator::resampled`).
     pub ris_candidates: u32,
     /// Exponent β of the power heuristic between next-event estimation and BSDF sampling
     /// (default 1.25; Mitsuba's 2).

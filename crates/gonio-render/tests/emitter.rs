@@ -568,6 +568,62 @@ fn projector_irradiance_on_a_facing_plane_is_constant() {
     assert_eq!(light.li_at(Vec3::new(0.0, 0.0, -1.0), &wl)[0], 0.0);
 }
 
+/// `Lights::select_at_remapped` picks the light `select_at` picks, with its probability, and
+/// hands on what is left of the number: the numbers that pick a light, remapped, spread evenly
+/// over [0, 1), and each light is picked by a share of them equal to its probability. Checked
+/// with the position-aware choice (three point lights) and the global one (nine).
+#[test]
+fn select_at_remapped_hands_on_an_even_number() {
+    let bounds = BoundingSphere {
+        center: Vec3::ZERO,
+        radius: 10.0,
+    };
+    let point = |i: usize| {
+        Light::Point(PointLight {
+            position: Vec3::new(i as f32 - 1.0, 2.0, 0.5 * i as f32),
+            intensity: Spectrum::Constant(1.0 + 3.0 * i as f32),
+        })
+    };
+    let r = LightRef {
+        p: Vec3::new(0.3, 0.0, -0.2),
+        n: Vec3::Y,
+        hemisphere: true,
+        mis: true,
+        resolved_density: 0.0,
+        resampled: false,
+    };
+    for count in [3, 9] {
+        let lights = Lights::new((0..count).map(point).collect(), 0, 10.0, bounds);
+        let k = 1 << 14;
+        let mut remapped: Vec<Vec<f32>> = vec![Vec::new(); count];
+        for j in 0..k {
+            let u = (j as f32 + 0.5) / k as f32;
+            let (i, p, ur) = lights.select_at_remapped(&r, u).expect("a light");
+            assert_eq!(lights.select_at(&r, u), Some((i, p)), "{count} lights, u = {u}");
+            assert_eq!(p, lights.pmf_at(&r, i));
+            assert!((0.0..1.0).contains(&ur), "{ur}");
+            remapped[i].push(ur);
+        }
+        for (i, us) in remapped.iter_mut().enumerate() {
+            let p = lights.pmf_at(&r, i) as f64;
+            let n = us.len();
+            assert!(
+                (n as f64 / k as f64 - p).abs() <= 2.0 / k as f64,
+                "light {i}: {n} of {k}, p {p}"
+            );
+            // Sorted, the j-th is (j + ½)/n up to one step of the grid it came from.
+            us.sort_by(f32::total_cmp);
+            for (j, &ur) in us.iter().enumerate() {
+                let even = (j as f64 + 0.5) / n as f64;
+                assert!(
+                    (ur as f64 - even).abs() <= 1.5 / n as f64,
+                    "light {i}: {j}-th {ur}, {even}"
+                );
+            }
+        }
+    }
+}
+
 /// `Light::sample_ray` (in its own file: this one is long).
 mod emission;
 

@@ -380,21 +380,21 @@ impl<'a> SurfaceBsdf<'a> {
 
     /// The largest density max L/∫L dω of a light at infinity that BSDF sampling resolves alone
     /// here ([`MicrofacetDistribution::resolved_light_density`](crate::microfacet::MicrofacetDistribution::resolved_light_density))
-    /// when the tree is one single-scattering `roughconductor` or `roughdielectric`, whose
-    /// samples' weights f·|cos θo|/p are bounded; 0 for every other material (a wide or mixed
-    /// lobe, a delta lobe, a random walk).
-    pub fn resolved_light_density(&self) -> f32 {
-        if self.len != 1 {
-            return 0.0;
-        }
-        match self.node(0) {
-            Some(Node::Leaf(LeafBsdf::RoughConductor(c))) if !c.multiple_scattering => {
+    /// when the tree is one single-scattering `roughconductor` or `roughdielectric`, or a
+    /// `twosided` whose side facing `wi` is such a conductor ([`Self::single_rough_conductor`]),
+    /// whose samples' weights f·|cos θo|/p are bounded; 0 for every other material (a wide or
+    /// mixed lobe, a delta lobe, a random walk).
+    pub fn resolved_light_density(&self, wi: Vec3) -> f32 {
+        match (self.len, self.node(0)) {
+            (1, Some(Node::Leaf(LeafBsdf::RoughConductor(c)))) if !c.multiple_scattering => {
                 c.distribution.resolved_light_density()
             }
-            Some(Node::Leaf(LeafBsdf::RoughDielectric(d))) if !d.multiple_scattering => {
+            (1, Some(Node::Leaf(LeafBsdf::RoughDielectric(d)))) if !d.multiple_scattering => {
                 d.distribution.resolved_light_density()
             }
-            _ => 0.0,
+            _ => self
+                .single_rough_conductor(wi)
+                .map_or(0.0, |(d, _)| d.resolved_light_density()),
         }
     }
 
@@ -698,6 +698,8 @@ mod tests {
     /// single-scattering rough conductor: a lone one from its front, and the side of a
     /// `twosided` that `wi` faces (the back flagged, for the mirrored frame); nothing from a lone
     /// conductor's back, a `twosided` side of another model, a blend, or at grazing incidence.
+    /// `resolved_light_density` follows it for a `twosided` (a lone conductor's does not depend
+    /// on the side).
     #[test]
     fn single_rough_conductor_finds_the_side_wi_faces() {
         use crate::microfacet::{MicrofacetDistribution, MicrofacetKind};
@@ -720,6 +722,19 @@ mod tests {
         assert_eq!(two.single_rough_conductor(front), Some((lobe(0.1), false)));
         assert_eq!(two.single_rough_conductor(back), Some((lobe(0.2), true)));
         assert_eq!(two.single_rough_conductor(grazing), None);
+        // `narrow_lobes` reads the same side.
+        assert_eq!(
+            two.resolved_light_density(back),
+            lobe(0.2).resolved_light_density()
+        );
+        assert_eq!(
+            two.resolved_light_density(front),
+            lobe(0.1).resolved_light_density()
+        );
+        assert_eq!(
+            lone.resolved_light_density(back),
+            lobe(0.1).resolved_light_density()
+        );
 
         let mut half = SurfaceBsdf::new();
         let f = half.push_leaf(LeafBsdf::RoughConductor(c1.at(&wl))).unwrap();

@@ -95,7 +95,7 @@
 //! scene with one `envmap`, the map's light sample is replaced by one direction resampled from
 //! that many candidates drawn from the lobe (Talbot et al. 2005), weighed by the lobe times a
 //! coarse table of the map; it alone adds the map's direct light there, so the BSDF sample
-//! from that vertex adds none when it escapes (`integrator/resampled.rs`).
+//! from that vertex adds none of the map's when it escapes (`integrator/resampled.rs`).
 //!
 //! # Caustic light paths (beyond Mitsuba)
 //!

@@ -31,7 +31,7 @@ impl PathTracer<'_> {
             hemisphere: !flags.is_transmission(),
             mis,
             resolved_density: if mis && self.narrow_lobes {
-                v.bsdf.resolved_light_density()
+                v.bsdf.resolved_light_density(v.wi)
             } else {
                 0.0
             },

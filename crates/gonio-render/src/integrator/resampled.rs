@@ -44,8 +44,9 @@
 //! The candidates take the light sample's random numbers: the 2D light point shifted by
 //! multiples of the R2 sequence's generator (Roberts 2018; a rank-1 lattice, so the candidates of
 //! one vertex are spread evenly over the square, and a pixel's samples stay stratified in the
-//! first), and the light choice selects among them. The sampler's dimensions per vertex are
-//! unchanged.
+//! first), and the light choice's number selects among them (where one light is chosen per
+//! vertex, what is left of it once the map is chosen; where every light is sampled, the other
+//! lights' samples take the same 2D point). The sampler's dimensions per vertex are unchanged.
 //!
 //! # Where it applies, and MIS
 //!
@@ -62,11 +63,12 @@
 //! each vertex; the other lights keep their light samples) and owns the map's light arriving
 //! straight at the vertex: the path's own BSDF sample from it, if it leaves the scene (possibly
 //! through `thindielectric` sheets or null surfaces, which the shadow ray crosses too), adds
-//! nothing ([`LightRef::resampled`], [`Lights::le_escaped`]). Light arriving through smooth glass
-//! is not direct light for the shadow ray (glass blocks it), so the BSDF sample that refracts
-//! its way out keeps it whole: refracted next-event estimation does not start from such a
-//! vertex, and its density from there reads as 0 ([`PathTracer::straight_light_pdf`] through
-//! [`Lights::le_escaped`]). The `direct` integrator, polarized renders and `volpath` where the
+//! none of the map's ([`LightRef::resampled`], [`Lights::le_escaped`]). The map's light arriving
+//! through smooth glass is not direct light for the shadow ray (glass blocks it), so the BSDF
+//! sample that refracts its way out keeps it whole: refracted next-event estimation does not
+//! start from such a vertex towards the map, and the map's density from there reads as 0
+//! ([`PathTracer::straight_light_pdf`] through [`Lights::le_escaped`]); towards other lights it
+//! does, as from any vertex. The `direct` integrator, polarized renders and `volpath` where the
 //! scene has media keep the light sample and the BSDF sample (`volpath` without media is the
 //! path tracer, and resamples).
 //!
@@ -93,7 +95,7 @@
 
 use super::{PathTracer, Vertex};
 use crate::emitter::{EnvMapLight, Light, LightRef, ResamplingLookup};
-use crate::material::{BumpMapMaterial, Material, NormalMapMaterial, RoughConductorMaterial};
+use crate::material::{Material, RoughConductorMaterial, TwoSidedMaterial};
 use glam::{Vec2, Vec3};
 use gonio_core::bsdfs::SurfaceBsdf;
 use gonio_core::frame::Frame;
@@ -116,27 +118,25 @@ pub const MAX_CANDIDATES: u32 = 64;
 /// light point shifted by j times it.
 const R2: Vec2 = Vec2::new(0.754_877_7, 0.569_840_3);
 
-/// True when `material` may put a single-scattering `roughconductor` alone at a vertex: it is
-/// one, or a `bumpmap` or `normalmap` around one (they change its frame, not its tree).
+/// True when `material` may put a single-scattering `roughconductor` alone on a side of a
+/// vertex: it is one, or a `twosided` with one on either side
+/// ([`SurfaceBsdf::single_rough_conductor`]). (`bumpmap` and `normalmap` add a perturbed frame
+/// to the tree, which that does not look through.)
 fn may_resample(material: &Material) -> bool {
-    let mut m = material;
-    loop {
-        if let Some(c) = m.get::<RoughConductorMaterial>() {
-            return !c.model.multiple_scattering;
-        } else if let Some(b) = m.get::<BumpMapMaterial>() {
-            m = &b.nested;
-        } else if let Some(n) = m.get::<NormalMapMaterial>() {
-            m = &n.nested;
-        } else {
-            return false;
-        }
-    }
+    let conductor = |m: &Material| {
+        m.get::<RoughConductorMaterial>()
+            .is_some_and(|c| !c.model.multiple_scattering)
+    };
+    conductor(material)
+        || material
+            .get::<TwoSidedMaterial>()
+            .is_some_and(|t| conductor(&t.front) || t.back.as_ref().is_some_and(conductor))
 }
 
 impl PathTracer<'_> {
     /// Builds the map's table for resampling now, before the render's threads ask for it, where
-    /// the scene may resample: one `envmap` among its lights and a material that may be a lone
-    /// `roughconductor` ([`may_resample`]). Elsewhere a table would cost its build for nothing
+    /// the scene may resample: one `envmap` among its lights and a material that may put a
+    /// `roughconductor` alone at a vertex ([`may_resample`]). Elsewhere a table would cost its build for nothing
     /// (45–53 ms for a 512 × 256 map), or is built by its first use.
     pub(super) fn prepare_resampling(&self, materials: &[Material]) {
         if let Some((_, map)) = self.resampled_map()
