@@ -284,7 +284,14 @@ impl LaneKernel for Candidates<'_> {
             let wo = (2.0 * cos_im) * m - wi;
             let reflects = cos_im.gt(0.0) & wo.z.gt(0.0) & m.z.gt(0.0);
             let world = frame[0] * wo.x + frame[1] * wo.y + frame[2] * wo.z;
-            let light = F32s::<N, X>::from_fn(|k| self.light.luminance(world.lane(k)));
+            // Lanes past the last candidate look nothing up (a table read is a cache miss).
+            let light = F32s::<N, X>::from_fn(|k| {
+                if start + k < count {
+                    self.light.luminance(world.lane(k))
+                } else {
+                    0.0
+                }
+            });
             let w = lobe.g(wi, wo, m) * cos_im / (wi.z * m.z) * light;
             let w = (reflects & w.is_finite()).and_then(w.max(0.0));
             for k in 0..N.min(count - start) {
