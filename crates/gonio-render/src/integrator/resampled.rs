@@ -85,9 +85,9 @@
 //!
 //! Measured on the copper preview (`bench/RESULTS.md`): relMSE −20 % with 8 candidates (16 spp,
 //! one thread, eight seeds against the 16384-spp reference; 4 candidates −13 %, 16 −22 %), for
-//! 7 % more CPU time than without resampling (16 candidates: 8.5 %; on an AVX-512 host), most of
-//! it the shadow ray, which a sample in the lobe traces where a light sample outside it stopped
-//! at f = 0.
+//! 7 % more CPU time than without resampling (16 candidates: 10 %; medians of six runs on an
+//! AVX-512 host), most of it the shadow ray, which a sample in the lobe traces where a light
+//! sample outside it stopped at f = 0.
 //!
 //! [`EnvMapLight::resampling_luminance`]: crate::emitter::infinite::EnvMapLight::resampling_luminance
 //! [`LightRef::resampled`]: crate::emitter::LightRef::resampled
