@@ -57,6 +57,30 @@ fn scene(candidates: u32, shapes: &str, emitter: &str) -> String {
     )
 }
 
+/// A ball (`ball`: its BSDF, the height of its centre, its radius) over a 4 × 4 floor of
+/// `floor_bsdf` (its normal up, or down with `face_down`), and `extra`, under the museum map.
+fn ball_over_floor(
+    candidates: u32,
+    (ball, height, radius): (&str, f32, f32),
+    floor_bsdf: &str,
+    face_down: bool,
+    extra: &str,
+) -> String {
+    let angle = if face_down { 90 } else { -90 };
+    let shapes = format!(
+        r#"<shape type="sphere">
+        <point name="center" value="0, {height}, 0"/><float name="radius" value="{radius}"/>
+        {ball}
+    </shape>
+    <shape type="rectangle">
+        <transform name="to_world"><scale value="4"/><rotate x="1" angle="{angle}"/></transform>
+        {floor_bsdf}
+    </shape>
+    {extra}"#
+    );
+    scene(candidates, &shapes, MUSEUM)
+}
+
 /// The metals under Mitsuba's preview map: the same mean, and at most 0.8 times the pixel
 /// variance (measured 0.69).
 #[test]
@@ -97,16 +121,17 @@ fn resampling_keeps_the_expectation_beside_glass_and_behind_a_pane() {
 /// the lobe is this narrow the BSDF sample's weight was nearly 1 anyway.)
 #[test]
 fn resampling_leaves_light_through_glass_to_the_bsdf_sample() {
-    let shapes = r#"<shape type="sphere">
-        <point name="center" value="0, 0.55, 0"/><float name="radius" value="0.5"/>
-        <bsdf type="dielectric"/>
-    </shape>
-    <shape type="rectangle">
-        <transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform>
-        <bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.15"/></bsdf>
-    </shape>"#;
-    let on = prepare(&scene(8, shapes, MUSEUM), false);
-    let off = prepare(&scene(0, shapes, MUSEUM), false);
+    let copper = r#"<bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.15"/></bsdf>"#;
+    let xml = |candidates| {
+        ball_over_floor(
+            candidates,
+            (r#"<bsdf type="dielectric"/>"#, 0.55, 0.5),
+            copper,
+            false,
+            "",
+        )
+    };
+    let (on, off) = (prepare(&xml(8), false), prepare(&xml(0), false));
     same_mean_less_noise(&on, &off, 16, "a copper floor under a glass ball", 0.95);
 }
 
@@ -116,19 +141,20 @@ fn resampling_leaves_light_through_glass_to_the_bsdf_sample() {
 /// times the pixel variance (measured 0.72).
 #[test]
 fn resampling_lights_the_back_of_a_twosided_metal() {
-    let shapes = r#"<shape type="sphere">
-        <point name="center" value="0, 0.45, 0"/><float name="radius" value="0.45"/>
-        <bsdf type="diffuse"/>
-    </shape>
-    <shape type="rectangle">
-        <transform name="to_world"><scale value="4"/><rotate x="1" angle="90"/></transform>
-        <bsdf type="twosided">
+    let copper = r#"<bsdf type="twosided">
             <bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.1"/></bsdf>
             <bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.12"/></bsdf>
-        </bsdf>
-    </shape>"#;
-    let on = prepare(&scene(8, shapes, MUSEUM), false);
-    let off = prepare(&scene(0, shapes, MUSEUM), false);
+        </bsdf>"#;
+    let xml = |candidates| {
+        ball_over_floor(
+            candidates,
+            (r#"<bsdf type="diffuse"/>"#, 0.45, 0.45),
+            copper,
+            true,
+            "",
+        )
+    };
+    let (on, off) = (prepare(&xml(8), false), prepare(&xml(0), false));
     same_mean_less_noise(&on, &off, 16, "the back of a twosided copper floor", 0.8);
 }
 
@@ -172,21 +198,21 @@ fn resampling_keeps_the_expectation_under_a_sun() {
 /// low.
 #[test]
 fn resampling_takes_the_maps_turn_beside_a_lamp() {
-    let shapes = r#"<shape type="sphere">
-        <point name="center" value="0, 0.45, 0"/><float name="radius" value="0.45"/>
-        <bsdf type="diffuse"/>
-    </shape>
-    <shape type="sphere">
+    let copper = r#"<bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.1"/></bsdf>"#;
+    let lamp = r#"<shape type="sphere">
         <point name="center" value="1.2, 1.6, 0.8"/><float name="radius" value="0.1"/>
         <emitter type="area"><rgb name="radiance" value="20"/></emitter>
-    </shape>
-    <shape type="rectangle">
-        <transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform>
-        <bsdf type="roughconductor"><string name="material" value="Cu"/><float name="alpha" value="0.1"/></bsdf>
     </shape>"#;
     for (split, gain) in [(2, 0.95), (0, 1.0)] {
         let xml = |candidates| {
-            scene(candidates, shapes, MUSEUM).replace(
+            ball_over_floor(
+                candidates,
+                (r#"<bsdf type="diffuse"/>"#, 0.45, 0.45),
+                copper,
+                false,
+                lamp,
+            )
+            .replace(
                 "</integrator>",
                 &format!(r#"<integer name="split_lights" value="{split}"/></integrator>"#),
             )
