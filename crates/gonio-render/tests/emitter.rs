@@ -568,8 +568,8 @@ fn projector_irradiance_on_a_facing_plane_is_constant() {
     assert_eq!(light.li_at(Vec3::new(0.0, 0.0, -1.0), &wl)[0], 0.0);
 }
 
-/// `Lights::select_at_remapped` picks the light `select_at` picks, with its probability, and
-/// hands on what is left of the number: the numbers that pick a light, remapped, spread evenly
+/// `Lights::select_at_remapped` picks the light whose share of [0, 1) (the running sum of
+/// `pmf_at`) holds the number, with its probability, and hands on what is left of the number: the numbers that pick a light, remapped, spread evenly
 /// over [0, 1), and each light is picked by a share of them equal to its probability. Checked
 /// with the position-aware choice (three point lights) and the global one (nine).
 #[test]
@@ -596,11 +596,20 @@ fn select_at_remapped_hands_on_an_even_number() {
         let lights = Lights::new((0..count).map(point).collect(), 0, 10.0, bounds);
         let k = 1 << 14;
         let mut remapped: Vec<Vec<f32>> = vec![Vec::new(); count];
+        // The light each number should pick: the first whose running sum of `pmf_at` exceeds it.
+        let pmf: Vec<f32> = (0..count).map(|i| lights.pmf_at(&r, i)).collect();
+        let expected = |u: f32| {
+            let mut acc = 0.0f32;
+            pmf.iter().position(|&p| {
+                acc += p;
+                u < acc
+            })
+        };
         for j in 0..k {
             let u = (j as f32 + 0.5) / k as f32;
             let (i, p, ur) = lights.select_at_remapped(&r, u).expect("a light");
-            assert_eq!(lights.select_at(&r, u), Some((i, p)), "{count} lights, u = {u}");
-            assert_eq!(p, lights.pmf_at(&r, i));
+            assert_eq!(Some(i), expected(u), "{count} lights, u = {u}");
+            assert_eq!(p, pmf[i]);
             assert!((0.0..1.0).contains(&ur), "{ur}");
             remapped[i].push(ur);
         }

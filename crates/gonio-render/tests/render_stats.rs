@@ -14,7 +14,7 @@ pub const MUSEUM: &str = r#"<emitter type="envmap">
         <transform name="to_world"><rotate x="1" angle="-90"/></transform>
     </emitter>"#;
 
-/// A diffuse floor (4 × 4 in y = 0) and a small bright lamp above it, beside the statistical
+/// A diffuse floor (8 × 8 in y = 0) and a small bright lamp above it, beside the statistical
 /// scenes' objects.
 pub const FLOOR_AND_LAMP: &str = r#"<shape type="rectangle">
         <transform name="to_world"><scale value="4"/><rotate x="1" angle="-90"/></transform>

@@ -57,7 +57,7 @@ fn scene(candidates: u32, shapes: &str, emitter: &str) -> String {
     )
 }
 
-/// A ball (`ball`: its BSDF, the height of its centre, its radius) over a 4 × 4 floor of
+/// A ball (`ball`: its BSDF, the height of its centre, its radius) over an 8 × 8 floor of
 /// `floor_bsdf` (its normal up, or down with `face_down`), and `extra`, under the museum map.
 fn ball_over_floor(
     candidates: u32,

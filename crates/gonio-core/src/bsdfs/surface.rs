@@ -358,9 +358,9 @@ impl<'a> SurfaceBsdf<'a> {
     /// The microfacet distribution of the lobe that reflects light arriving from `wi` when that
     /// lobe is one single-scattering `roughconductor` (f = F·D·G/(4 cos θi cos θo), reflection
     /// only), and whether it lies below the surface: the tree's lone conductor, seen from its
-    /// front (cos θi > 0; `false`), or the side of a `twosided` whose two sides are such
-    /// conductors that `wi` faces (`true` for the back, cos θi < 0, which the tree evaluates
-    /// with both directions mirrored, z ↦ −z). `None` for every other material and at grazing
+    /// front (cos θi > 0; `false`), or the side of a `twosided` that `wi` faces when that side is
+    /// such a conductor (`true` for the back, cos θi < 0, which the tree evaluates with both
+    /// directions mirrored, z ↦ −z; the other side may be anything). `None` for every other material and at grazing
     /// incidence. Resampled next-event estimation draws its candidates from it, in the
     /// mirrored frame for the back.
     pub fn single_rough_conductor(&self, wi: Vec3) -> Option<(MicrofacetDistribution, bool)> {

@@ -54,7 +54,6 @@ pub use sunsky::SunSkyLight;
 
 use crate::geometry::{SurfaceInteraction, WorldShape};
 use glam::{Vec2, Vec3};
-use gonio_core::rng::ONE_MINUS_EPSILON;
 use gonio_core::{SampledSpectrum, SampledWavelengths};
 
 /// A sphere bounding the scene (centre, radius), for lights at infinity.
@@ -582,7 +581,8 @@ impl Lights {
         let n = self.lights.len();
         let mut acc = 0.0f32;
         let mut last = None;
-        let remap = |u: f32, start: f32, pi: f32| ((u - start) / pi).clamp(0.0, ONE_MINUS_EPSILON);
+        // As `Distribution1D::sample_discrete` rescales (the global branch above).
+        let remap = |u: f32, start: f32, pi: f32| ((u - start) / pi).clamp(0.0, 1.0 - f32::EPSILON);
         for (i, &pi) in p.iter().enumerate().take(n) {
             if pi <= 0.0 {
                 continue;

@@ -69,8 +69,7 @@ impl EnvMapLight {
     /// Builds [`Self::resampling_luminance`]'s table now, if not yet built (it is otherwise built
     /// by its first use, while the render's other threads wait for it).
     pub fn prepare_resampling(&self) {
-        self.resampling_table
-            .get_or_init(|| self.build_resampling_table());
+        self.resampling_lookup();
     }
 
     /// [`Self::resampling_luminance`]'s table (module docs): per octahedral cell, the mean

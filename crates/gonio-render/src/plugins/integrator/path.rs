@@ -91,7 +91,7 @@ const NARROW_LOBES: ParamSpec = ParamSpec::new(
     "narrow_lobes",
     ParamType::Boolean,
     DefaultValue::Bool(true),
-    "(ours) a light at infinity whose radiance has no feature as narrow as the lobe of a single-scattering `roughconductor` or `roughdielectric` is not sampled at that surface: BSDF sampling alone finds it, weighted 1 (the light's largest density max L/∫L dω at most 0.05 (Beckmann) or 0.005 (GGX) times the lobe's peak 1/(4π α_u α_v): under Mitsuba's `museum.exr` Beckmann α ≤ 0.028, GGX α ≤ 0.0087)",
+    "(ours) a light at infinity whose radiance has no feature as narrow as the lobe of a single-scattering `roughconductor` or `roughdielectric` (or the side of a `twosided` a ray meets, when a `roughconductor`) is not sampled at that surface: BSDF sampling alone finds it, weighted 1 (the light's largest density max L/∫L dω at most 0.05 (Beckmann) or 0.005 (GGX) times the lobe's peak 1/(4π α_u α_v): under Mitsuba's `museum.exr` Beckmann α ≤ 0.028, GGX α ≤ 0.0087)",
 )
 .mitsuba(DefaultValue::Bool(false));
 const RIS_CANDIDATES: ParamSpec = ParamSpec::new(
