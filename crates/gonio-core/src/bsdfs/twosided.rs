@@ -47,9 +47,10 @@ impl std::fmt::Debug for TwoSided<'_> {
     }
 }
 
-/// Mirror through the surface plane: (x, y, z) → (x, y, −z).
+/// Mirror through the surface plane: (x, y, z) → (x, y, −z), the frame in which a `twosided`
+/// evaluates its back.
 #[inline]
-fn flip(w: Vec3) -> Vec3 {
+pub fn flip(w: Vec3) -> Vec3 {
     Vec3::new(w.x, w.y, -w.z)
 }
 

@@ -659,6 +659,51 @@ impl Lights {
         }
     }
 
+    /// [`Self::for_each_sample`] with light `own`'s turn handed to `own_turn` instead of a light
+    /// sample of it: called with the probability of that turn (1 where every light is sampled,
+    /// else the probability of choosing `own`) and the number for what follows (`u_sel`, or
+    /// what is left of it once `own` is chosen). Resampled next-event estimation takes the
+    /// environment map's turn this way.
+    #[allow(clippy::too_many_arguments)]
+    #[inline]
+    pub fn for_each_sample_but(
+        &self,
+        shapes: &[WorldShape],
+        r: &LightRef,
+        (u_sel, u): (f32, Vec2),
+        wl: &SampledWavelengths,
+        own: usize,
+        mut own_turn: impl FnMut(f32, f32),
+        mut f: impl FnMut(usize, &LightSample),
+    ) {
+        if self.split {
+            for (li, light) in self.lights.iter().enumerate() {
+                if self.left_to_bsdf(r, li) {
+                    continue;
+                }
+                if li == own {
+                    own_turn(1.0, u_sel);
+                } else if let Some(ls) = light.sample_li(shapes, r, u, wl) {
+                    f(li, &ls);
+                }
+            }
+        } else if let Some((li, p_sel, u_rest)) = self.select_at_remapped(r, u_sel) {
+            if li == own {
+                own_turn(p_sel, u_rest);
+            } else if !self.left_to_bsdf(r, li)
+                && let Some(ls) = self.lights[li].sample_li(shapes, r, u, wl)
+            {
+                f(
+                    li,
+                    &LightSample {
+                        pdf: p_sel * ls.pdf,
+                        ..ls
+                    },
+                );
+            }
+        }
+    }
+
     /// One light picked by [`Self::select_at`] with `u_sel` and a direction towards it drawn with
     /// `u`, with the light's index; the sample's `pdf` includes the selection probability.
     #[inline]

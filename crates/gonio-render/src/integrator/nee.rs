@@ -92,37 +92,17 @@ impl PathTracer<'_> {
         let Some(map) = self.lights.sole_envmap() else {
             return W::ZERO;
         };
-        let shapes = self.accel.shapes();
-        let other = |li: usize, p_sel: f32| {
-            if self.lights.left_to_bsdf(r, li) {
-                return W::ZERO;
-            }
-            match self.lights.lights()[li].sample_li(shapes, r, u, wl) {
-                Some(ls) => {
-                    let ls = LightSample {
-                        pdf: p_sel * ls.pdf,
-                        ..ls
-                    };
-                    self.light_contribution(v, beta, (li, &ls), wl, counts, path)
-                }
-                None => W::ZERO,
-            }
-        };
-        if self.lights.split() {
-            let mut sum = self.resampled_next_event(v, beta, u_sel, u, wl);
-            for li in (0..self.lights.lights().len()).filter(|&li| li != map) {
-                sum += other(li, 1.0);
-            }
-            sum
-        } else {
-            match self.lights.select_at_remapped(r, u_sel) {
-                Some((li, p_sel, u_rest)) if li == map => {
-                    self.resampled_next_event(v, beta, u_rest, u, wl) * (1.0 / p_sel)
-                }
-                Some((li, p_sel, _)) => other(li, p_sel),
-                None => W::ZERO,
-            }
-        }
+        let (mut own, mut others) = (W::ZERO, W::ZERO);
+        self.lights.for_each_sample_but(
+            self.accel.shapes(),
+            r,
+            (u_sel, u),
+            wl,
+            map,
+            |p_turn, u_rest| own += self.resampled_next_event(v, beta, u_rest, u, wl) * (1.0 / p_turn),
+            |li, ls| others += self.light_contribution(v, beta, (li, ls), wl, counts, path),
+        );
+        own + others
     }
 
     /// One light sample `ls` of light `li` (density `ls.pdf`, selection included) at `v`:

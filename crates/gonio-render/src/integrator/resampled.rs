@@ -97,7 +97,7 @@ use super::{PathTracer, Vertex};
 use crate::emitter::{EnvMapLight, Light, LightRef, ResamplingLookup};
 use crate::material::{Material, RoughConductorMaterial, TwoSidedMaterial};
 use glam::{Vec2, Vec3};
-use gonio_core::bsdfs::SurfaceBsdf;
+use gonio_core::bsdfs::{SurfaceBsdf, twosided};
 use gonio_core::frame::Frame;
 use gonio_core::lanes::{self, F32s, Isa, LaneKernel, Vec3s};
 use gonio_core::math::floor;
@@ -190,7 +190,7 @@ impl PathTracer<'_> {
         };
         // The back of a `twosided` reflects in the mirrored frame (z ↦ −z): the candidates are
         // drawn there, above its surface, as for a front.
-        let mirror = |w: Vec3| if back { Vec3::new(w.x, w.y, -w.z) } else { w };
+        let mirror = |w: Vec3| if back { twosided::flip(w) } else { w };
         let shading = &v.si.shading;
         let frame = Frame {
             n: if back { -shading.n } else { shading.n },
